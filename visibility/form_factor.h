@@ -1,0 +1,21 @@
+// Exact shading quantities of polygons seen from a point.
+#pragma once
+
+#include <span>
+
+#include "visibility/vec3.h"
+
+namespace penumbra::vis {
+
+// Area of a planar polygon (any orientation). Approximate (double), Newell's method.
+double polygonArea(std::span<const Vec3> polygon);
+
+// Point-to-polygon form factor by Lambert's formula:
+//   F = 1/(2 pi) * sum_i Theta_i * (n . Gamma_i)
+// with Theta_i the angle subtended at x by edge i (atan2 of |a x b| and a . b, never acos) and
+// Gamma_i the unit normal of the plane through x and edge i. n is the unit receiver normal.
+// The polygon is taken as seen (no horizon clipping): clip it to n's hemisphere first.
+// Returns a non-negative value for a polygon whose front faces x.
+double formFactor(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon);
+
+}  // namespace penumbra::vis

@@ -1,0 +1,63 @@
+// HistoryTree: the exact visibility between one receiver polygon B and one light polygon L,
+// recorded as the binary CSG history of the set of lines stabbing B and L (Mora & Aveneau 2005).
+//
+// Each inner node stores one oriented occluder edge (v0 -> v1). Its hyperplane in Plücker space
+// splits line space: a line from y to z is on the node's positive side when
+// orient3d(y, z, v0, v1) > 0 (plucker.h), and then follows child[0]; on the negative side it
+// follows child[1]. Leaves are encoded in the child slots as kVisibleLeaf / kHiddenLeaf.
+// 16 bytes per node, as in the paper.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "visibility/polygon_mesh.h"
+
+namespace penumbra::vis {
+
+inline constexpr uint32_t kVisibleLeaf = 0xFFFFFFFFu;
+inline constexpr uint32_t kHiddenLeaf = 0xFFFFFFFEu;
+constexpr bool isLeaf(uint32_t child) { return child >= kHiddenLeaf; }
+
+struct HistoryNode {
+    uint32_t v0 = 0, v1 = 0;  // oriented edge; vertex ids (see HistoryTree::vertex)
+    uint32_t child[2] = {kVisibleLeaf, kVisibleLeaf};  // [0] positive side, [1] negative side
+};
+static_assert(sizeof(HistoryNode) == 16);
+
+// What a (receiver, light) pair calls for. Only Penumbra pairs get a tree.
+enum class PairKind : uint8_t {
+    BackFacing,    // L entirely behind B's plane or B entirely behind L's plane: no light
+    FullyVisible,  // no occluder can block any line between B and L
+    FullyHidden,   // every line between B and L is blocked
+    Penumbra,      // partly blocked: the tree decides per line
+};
+std::string_view toString(PairKind k);
+
+struct HistoryTree {
+    uint32_t receiver = 0;
+    uint32_t light = 0;
+    PairKind kind = PairKind::FullyVisible;
+    std::string_view why;  // one sentence: why this kind (static string)
+
+    std::vector<HistoryNode> nodes;  // nodes[0] is the root when kind == Penumbra
+    // Vertex ids below meshVertexCount refer to the mesh; the others to extraVertices: vertices
+    // constructed by clipping occluders to the region between B's and L's planes (rounded
+    // constructions, see pair_setup.cpp).
+    uint32_t meshVertexCount = 0;
+    std::vector<Vec3> extraVertices;
+    // Debug information, not part of the 16-byte budget: the occluder face of each node.
+    std::vector<uint32_t> nodeOccluder;
+
+    Vec3 vertex(const PolygonMesh& mesh, uint32_t id) const {
+        return id < meshVertexCount ? mesh.vertices[id] : extraVertices[id - meshVertexCount];
+    }
+    // Storage the tree needs: nodes and constructed vertices (not the debug information).
+    size_t bytes() const { return nodes.size() * sizeof(HistoryNode) + extraVertices.size() * sizeof(Vec3); }
+    uint32_t depth() const;
+    uint32_t leafCount(bool visible) const;
+};
+
+}  // namespace penumbra::vis

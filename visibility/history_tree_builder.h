@@ -1,0 +1,34 @@
+// Building the history tree of one (receiver, light) pair: P2PQuery, Algorithm 1 of Mora & Aveneau
+// 2005, with the conservative classification of line_polytope.h.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "visibility/history_tree.h"
+
+namespace penumbra::vis {
+
+struct BuildOptions {
+    bool mergeLeaves = true;     // merge sibling leaves with the same label (paper 3.2)
+    bool quadricPruning = true;  // drop splits whose one side holds no real line
+};
+
+struct BuildStats {
+    uint32_t occludersInShaft = 0;  // faces that may block a line between B and L
+    uint32_t occludersInserted = 0;
+    uint64_t classifications = 0;   // leaf-against-hyperplane decisions
+    uint64_t lpSolves = 0;          // linear programs solved for them
+    uint64_t uncertain = 0;         // decisions that could not be certified (took the split)
+    uint64_t prunedSplits = 0;      // splits dropped by the real-line (quadric) test
+    uint64_t mergedLeaves = 0;
+    double seconds = 0;
+};
+
+// candidates: the faces that may occlude (e.g. from a BVH shaft query); empty = all faces.
+HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
+                             const BuildOptions& options = {},
+                             std::span<const uint32_t> candidates = {},
+                             BuildStats* stats = nullptr);
+
+}  // namespace penumbra::vis

@@ -1,0 +1,18 @@
+#include "visibility/polygon_mesh.h"
+
+namespace penumbra::vis {
+
+Vec3 PolygonMesh::faceAreaNormal(uint32_t f) const {
+    const auto& idx = faces[f];
+    Vec3 n{};
+    for (size_t i = 0; i < idx.size(); ++i) {
+        const Vec3& a = vertices[idx[i]];
+        const Vec3& b = vertices[idx[(i + 1) % idx.size()]];
+        n += cross(a, b);
+    }
+    return n;
+}
+
+double PolygonMesh::faceArea(uint32_t f) const { return 0.5 * length(faceAreaNormal(f)); }
+
+}  // namespace penumbra::vis

@@ -1,0 +1,70 @@
+// Exact geometric predicates on input points.
+//
+// orient3d is the one predicate the visibility core is built on: the Plücker side operator of
+// line(p,q) and line(a,b) *is* orient3d(p,q,a,b) (plucker.h), so every decision "which side of an
+// occluder edge does this line pass" is an orient3d sign.
+//
+// What is exact here:
+//   - orientSign() returns the exact sign of the determinant of the given doubles. A floating-point
+//     filter (Shewchuk's static-permanent error bound for this evaluation order) decides the
+//     common case; when the filter cannot certify the sign, the determinant is re-evaluated in
+//     exact rational arithmetic (GMP), so the answer is never wrong.
+//   - orientValue() returns the determinant's value together with a rigorous bound on the error of
+//     that double; an exact zero is reported with error 0, and a certified sign is guaranteed
+//     whenever |value| > error.
+// Rule for exact zeros: the predicates report Sign::Zero honestly (three-valued, as CGAL's
+// Orientation). The algorithms that consume them state what they do with Zero; in the visibility
+// core a zero always concerns a set of lines or points of measure zero (lines meeting an edge's
+// supporting line, points on a splitting plane), which may go to either side without changing any
+// area, so each algorithm assigns it to a fixed side (documented at the call site) instead of
+// perturbing the input symbolically.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "visibility/vec3.h"
+
+namespace penumbra::vis {
+
+enum class Sign : int8_t { Negative = -1, Zero = 0, Positive = 1 };
+
+constexpr Sign operator-(Sign s) { return static_cast<Sign>(-static_cast<int>(s)); }
+constexpr int toInt(Sign s) { return static_cast<int>(s); }
+
+// A double together with a bound on its absolute error: |exact - value| <= error.
+struct BoundedValue {
+    double value = 0;
+    double error = 0;
+
+    // The exact sign when it is certain from the bound, Zero when the value is an exact zero.
+    // `certain` is false when |value| <= error and the value is not an exact zero.
+    constexpr bool certain() const { return error == 0 || std::fabs(value) > error; }
+    constexpr Sign sign() const {
+        return value > 0 ? Sign::Positive : (value < 0 ? Sign::Negative : Sign::Zero);
+    }
+};
+
+// det[b-a, c-a, d-a] = (b-a) . ((c-a) x (d-a)). Positive when d lies on the side of the plane
+// (a,b,c) that the normal (b-a)x(c-a) points to, i.e. (a,b,c) counter-clockwise seen from d.
+double orient3dApprox(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+// Exact sign of orient3dApprox's determinant (filtered, exact fallback).
+Sign orientSign(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+// The determinant as a double with a rigorous error bound. Where the filter fails the exact value
+// is computed and rounded, so the sign of the result is always the exact sign.
+BoundedValue orientValue(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+// Same sign as orientSign but always through the exact path (for benchmarks and tests).
+Sign orientSignExact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+// The floating-point filter alone: the sign when the filter certifies it, Zero-free; nullopt when
+// the exact fallback would be needed (benchmarks count these).
+std::optional<Sign> orientSignFiltered(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+// The naive double determinant's sign, no filter: what "plain double predicates" would decide.
+// Approximate; used only by the benchmark that measures what exactness costs.
+Sign orientSignNaive(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+
+}  // namespace penumbra::vis
