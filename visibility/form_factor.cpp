@@ -1,0 +1,32 @@
+#include "visibility/form_factor.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace penumbra::vis {
+
+double polygonArea(std::span<const Vec3> polygon) {
+    if (polygon.size() < 3) return 0;
+    // Newell's normal relative to the first vertex (better conditioned far from the origin).
+    const Vec3 o = polygon[0];
+    Vec3 n{};
+    for (size_t i = 1; i + 1 < polygon.size(); ++i) n += cross(polygon[i] - o, polygon[i + 1] - o);
+    return 0.5 * length(n);
+}
+
+double formFactor(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon) {
+    if (polygon.size() < 3) return 0;
+    long double sum = 0;
+    for (size_t i = 0; i < polygon.size(); ++i) {
+        const Vec3 a = polygon[i] - x;
+        const Vec3 b = polygon[(i + 1) % polygon.size()] - x;
+        const Vec3 c = cross(a, b);
+        const double cl = length(c);
+        if (cl == 0) continue;  // edge collinear with x: subtends no angle
+        const double theta = std::atan2(cl, dot(a, b));
+        sum += static_cast<long double>(theta) * (dot(n, c) / cl);
+    }
+    return static_cast<double>(std::fabs(sum) / (2 * std::numbers::pi_v<long double>));
+}
+
+}  // namespace penumbra::vis

@@ -1,0 +1,269 @@
+#include "visibility/history_tree_builder.h"
+
+#include <chrono>
+#include <deque>
+
+#include "visibility/line_polytope.h"
+#include "visibility/pair_occluders.h"
+
+namespace penumbra::vis {
+namespace {
+
+// Where a leaf hangs: a child slot of a node, or the root.
+struct Slot {
+    uint32_t node = UINT32_MAX;  // UINT32_MAX = the root slot
+    int child = 0;
+};
+
+class Builder {
+public:
+    Builder(const PolygonMesh& mesh, uint32_t receiver, uint32_t light, const PairOccluders& occ,
+            const BuildOptions& options, BuildStats& stats)
+        : mesh_(mesh),
+          occ_(occ),
+          options_(options),
+          stats_(stats),
+          space_(polygon(mesh, receiver), polygon(mesh, light)),
+          meshVertexCount_(static_cast<uint32_t>(mesh.vertices.size())) {}
+
+    void insert(const Occluder& o) {
+        edgeRows_.clear();
+        edges_.clear();
+        const size_t k = o.vertexIds.size();
+        for (size_t i = 0; i < k; ++i) {
+            const uint32_t a = o.vertexIds[i], b = o.vertexIds[(i + 1) % k];
+            rowStore_.push_back(space_.row(vertex(a), vertex(b)));
+            edgeRows_.push_back(&rowStore_.back());
+            edges_.push_back({a, b});
+        }
+        occluder_ = &o;
+        walk(Slot{}, space_.allWitnesses());
+        ++stats_.occludersInserted;
+    }
+
+    uint32_t root() const { return root_; }
+
+    // Reachable nodes in depth-first order, root first.
+    void emit(HistoryTree& tree) const {
+        if (isLeaf(root_)) return;
+        std::vector<uint32_t> order, remap(nodes_.size(), UINT32_MAX);
+        std::vector<uint32_t> stack{root_};
+        while (!stack.empty()) {
+            const uint32_t n = stack.back();
+            stack.pop_back();
+            remap[n] = static_cast<uint32_t>(order.size());
+            order.push_back(n);
+            for (int c = 1; c >= 0; --c)
+                if (!isLeaf(nodes_[n].child[c])) stack.push_back(nodes_[n].child[c]);
+        }
+        tree.nodes.resize(order.size());
+        tree.nodeOccluder.resize(order.size());
+        for (size_t i = 0; i < order.size(); ++i) {
+            HistoryNode node = nodes_[order[i]];
+            for (uint32_t& c : node.child)
+                if (!isLeaf(c)) c = remap[c];
+            tree.nodes[i] = node;
+            tree.nodeOccluder[i] = nodeOccluder_[order[i]];
+        }
+    }
+
+private:
+    static std::vector<Vec3> polygon(const PolygonMesh& mesh, uint32_t f) {
+        std::vector<Vec3> p;
+        for (uint32_t v : mesh.faces[f]) p.push_back(mesh.vertices[v]);
+        return p;
+    }
+    Vec3 vertex(uint32_t id) const {
+        return id < meshVertexCount_ ? mesh_.vertices[id] : occ_.extraVertices[id - meshVertexCount_];
+    }
+    uint32_t get(Slot s) const { return s.node == UINT32_MAX ? root_ : nodes_[s.node].child[s.child]; }
+    void set(Slot s, uint32_t v) {
+        if (s.node == UINT32_MAX)
+            root_ = v;
+        else
+            nodes_[s.node].child[s.child] = v;
+    }
+
+    // Walk the tree with the path of half-spaces; process every visible leaf.
+    void walk(Slot s, const WitnessMask& inside) {
+        const uint32_t v = get(s);
+        if (v == kHiddenLeaf) return;
+        if (v == kVisibleLeaf) {
+            processLeaf(s, inside);
+            return;
+        }
+        const HyperplaneRow* row = nodeRow_[v];
+        path_.push_back({row, +1});
+        walk(Slot{v, 0}, inside & row->certainNonNegative);
+        path_.back().sign = -1;
+        walk(Slot{v, 1}, inside & row->certainNonPositive);
+        path_.pop_back();
+        mergeIfSameLeaves(s);
+    }
+
+    void mergeIfSameLeaves(Slot s) {
+        if (!options_.mergeLeaves) return;
+        const uint32_t v = get(s);
+        if (isLeaf(v)) return;
+        const HistoryNode& n = nodes_[v];
+        if (isLeaf(n.child[0]) && n.child[0] == n.child[1]) {
+            set(s, n.child[0]);
+            ++stats_.mergedLeaves;
+        }
+    }
+
+    Side classify(const WitnessMask& inside, const HyperplaneRow& row) {
+        ++stats_.classifications;
+        Side c = space_.classify(path_, inside, row, polyStats_);
+        if (c == Side::Mixed && options_.quadricPruning) {
+            if (space_.provablyNoRealLine(path_, inside, row, -1, kPruneLevels, polyStats_)) {
+                ++stats_.prunedSplits;
+                c = Side::Positive;
+            } else if (space_.provablyNoRealLine(path_, inside, row, +1, kPruneLevels, polyStats_)) {
+                ++stats_.prunedSplits;
+                c = Side::Negative;
+            }
+        }
+        return c;
+    }
+
+    // Algorithm 1 for one visible leaf and the current occluder. A line is blocked iff it lies on
+    // the same strict side (blockedSign, or either when 0) of every edge hyperplane.
+    void processLeaf(Slot s, const WitnessMask& inside) {
+        const size_t k = edgeRows_.size();
+        std::vector<Side> cls(k);
+        bool anyPos = false, anyNeg = false;
+        for (size_t i = 0; i < k; ++i) {
+            cls[i] = classify(inside, *edgeRows_[i]);
+            anyPos |= cls[i] == Side::Positive;
+            anyNeg |= cls[i] == Side::Negative;
+            // Entirely on the unblocked side of one edge: the occluder touches none of its lines.
+            const int b = occluder_->blockedSign;
+            if ((b > 0 && anyNeg) || (b < 0 && anyPos) || (b == 0 && anyPos && anyNeg)) return;
+        }
+        splitChain(s, inside, 0, occluder_->blockedSign, cls, false);
+    }
+
+    void splitChain(Slot s, WitnessMask inside, size_t start, int sign, std::vector<Side> cls,
+                    bool shrunk) {
+        size_t pushed = 0;
+        for (size_t i = start; i < cls.size(); ++i) {
+            Side c = cls[i];
+            if (c == Side::Mixed && shrunk) c = classify(inside, *edgeRows_[i]);
+            const HyperplaneRow* row = edgeRows_[i];
+            if (sign == 0) {
+                if (c != Side::Mixed) {
+                    sign = c == Side::Positive ? +1 : -1;
+                    continue;
+                }
+                const uint32_t n = newNode(i);
+                set(s, n);
+                path_.push_back({row, +1});
+                splitChain(Slot{n, 0}, inside & row->certainNonNegative, i + 1, +1, cls, true);
+                path_.back().sign = -1;
+                splitChain(Slot{n, 1}, inside & row->certainNonPositive, i + 1, -1, cls, true);
+                path_.pop_back();
+                for (; pushed > 0; --pushed) path_.pop_back();
+                return;
+            }
+            if (toInt(static_cast<Sign>(c)) == -sign) {  // this part is untouched
+                for (; pushed > 0; --pushed) path_.pop_back();
+                return;
+            }
+            if (c != Side::Mixed) continue;  // already on the blocked side of this edge
+            const uint32_t n = newNode(i);
+            set(s, n);
+            s = Slot{n, sign > 0 ? 0 : 1};  // the other child stays a visible leaf
+            path_.push_back({row, sign});
+            ++pushed;
+            inside &= sign > 0 ? row->certainNonNegative : row->certainNonPositive;
+            shrunk = true;
+        }
+        set(s, kHiddenLeaf);
+        for (; pushed > 0; --pushed) path_.pop_back();
+    }
+
+    uint32_t newNode(size_t edge) {
+        HistoryNode node;
+        node.v0 = edges_[edge].first;
+        node.v1 = edges_[edge].second;
+        nodes_.push_back(node);
+        nodeRow_.push_back(edgeRows_[edge]);
+        nodeOccluder_.push_back(occluder_->face);
+        return static_cast<uint32_t>(nodes_.size() - 1);
+    }
+
+    static constexpr int kPruneLevels = 3;
+
+    const PolygonMesh& mesh_;
+    const PairOccluders& occ_;
+    const BuildOptions& options_;
+    BuildStats& stats_;
+    LinePolytopeSpace space_;
+    uint32_t meshVertexCount_;
+    PolytopeStats polyStats_;
+
+    uint32_t root_ = kVisibleLeaf;
+    std::vector<HistoryNode> nodes_;
+    std::vector<const HyperplaneRow*> nodeRow_;
+    std::vector<uint32_t> nodeOccluder_;
+    std::deque<HyperplaneRow> rowStore_;  // stable addresses
+
+    const Occluder* occluder_ = nullptr;
+    std::vector<const HyperplaneRow*> edgeRows_;
+    std::vector<std::pair<uint32_t, uint32_t>> edges_;
+    std::vector<Constraint> path_;
+
+public:
+    const PolytopeStats& polytopeStats() const { return polyStats_; }
+};
+
+}  // namespace
+
+HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
+                             const BuildOptions& options, std::span<const uint32_t> candidates,
+                             BuildStats* statsOut) {
+    const auto t0 = std::chrono::steady_clock::now();
+    BuildStats stats;
+    HistoryTree tree;
+    tree.receiver = receiver;
+    tree.light = light;
+    tree.meshVertexCount = static_cast<uint32_t>(mesh.vertices.size());
+    const PairOccluders occ = gatherOccluders(mesh, receiver, light, candidates);
+    if (occ.backFacing) {
+        tree.kind = PairKind::BackFacing;
+        tree.why = "the light is behind the receiver's plane or the receiver behind the light's";
+    } else if (occ.occluders.empty()) {
+        tree.kind = PairKind::FullyVisible;
+        tree.why = "no occluder between the receiver and the light";
+    } else {
+        stats.occludersInShaft = static_cast<uint32_t>(occ.occluders.size());
+        Builder builder(mesh, receiver, light, occ, options, stats);
+        for (const Occluder& o : occ.occluders) {
+            builder.insert(o);
+            if (builder.root() == kHiddenLeaf) break;
+        }
+        stats.lpSolves = builder.polytopeStats().lpSolves;
+        stats.uncertain = builder.polytopeStats().uncertain;
+        stats.realLineTests = builder.polytopeStats().realLineTests;
+        stats.realLineWitness = builder.polytopeStats().realLineWitness;
+        if (builder.root() == kVisibleLeaf) {
+            tree.kind = PairKind::FullyVisible;
+            tree.why = "occluders lie in the shaft but block no line between receiver and light";
+        } else if (builder.root() == kHiddenLeaf) {
+            tree.kind = PairKind::FullyHidden;
+            tree.why = stats.occludersInserted == 1 ? "a single occluder blocks every line"
+                                                    : "the occluders together block every line";
+        } else {
+            tree.kind = PairKind::Penumbra;
+            tree.why = "partly blocked: the history tree decides per line";
+            builder.emit(tree);
+            tree.extraVertices = occ.extraVertices;
+        }
+    }
+    stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (statsOut) *statsOut = stats;
+    return tree;
+}
+
+}  // namespace penumbra::vis

@@ -1,0 +1,282 @@
+#include "visibility/line_polytope.h"
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <optional>
+
+#include "visibility/dual_simplex.h"
+#include "visibility/plucker.h"
+#include "visibility/polygon_clip.h"
+
+namespace penumbra::vis {
+namespace {
+
+constexpr double kUnit = DBL_EPSILON;  // 2^-52, twice the unit roundoff: generous bounds
+
+WitnessMask strictPositive(const HyperplaneRow& r) {
+    return r.certainNonNegative & ~r.certainNonPositive;
+}
+WitnessMask strictNegative(const HyperplaneRow& r) {
+    return r.certainNonPositive & ~r.certainNonNegative;
+}
+
+// A deterministic low-discrepancy point in a convex polygon: fan triangle chosen by area, then a
+// uniform point of that triangle (square-root warp).
+Vec3 pointInPolygon(std::span<const Vec3> p, double u, double v, double w) {
+    std::vector<double> cum;
+    double total = 0;
+    for (size_t i = 1; i + 1 < p.size(); ++i) {
+        total += length(cross(p[i] - p[0], p[i + 1] - p[0]));
+        cum.push_back(total);
+    }
+    size_t t = 0;
+    while (t + 1 < cum.size() && u * total > cum[t]) ++t;
+    const double su = std::sqrt(v);
+    const double a = 1 - su, b = su * (1 - w), c = su * w;
+    return p[0] * a + p[t + 1] * b + p[t + 2] * c;
+}
+
+double radicalInverse(uint32_t i, uint32_t base) {
+    double inv = 1.0 / base, f = inv, r = 0;
+    for (; i > 0; i /= base, f *= inv) r += f * (i % base);
+    return r;
+}
+
+// Rigorous check of the certificate: for every generator g,
+//   sign*h[g] - sum_k mu_k * sign_k * row_k[g] >= 0
+// with the rounding of this very evaluation and the error of every entry accounted for.
+bool verifyCertificate(std::span<const Constraint> path, const HyperplaneRow& h, int sign,
+                       std::span<const double> mu) {
+    const size_t n = h.value.size();
+    const double gamma = static_cast<double>(path.size() + 3) * kUnit;
+    for (size_t g = 0; g < n; ++g) {
+        double r = sign * h.value[g];
+        double bound = h.error[g];
+        double absSum = std::fabs(r);
+        for (size_t k = 0; k < path.size(); ++k) {
+            if (mu[k] == 0) continue;
+            const double t = mu[k] * (path[k].sign * path[k].row->value[g]);
+            r -= t;
+            bound += mu[k] * path[k].row->error[g];
+            absSum += std::fabs(t);
+        }
+        if (absSum > 0) bound += gamma * absSum + 1e-300;
+        if (!(r >= bound)) return false;
+    }
+    return true;
+}
+
+HyperplaneRow restrictRow(const HyperplaneRow& row, const std::vector<std::vector<double>>& w,
+                          size_t nB, size_t nL) {
+    HyperplaneRow out;
+    out.value.assign(w.size() * nL, 0.0);
+    out.error.assign(w.size() * nL, 0.0);
+    const double gamma = static_cast<double>(nB + 2) * kUnit;
+    for (size_t k = 0; k < w.size(); ++k)
+        for (size_t j = 0; j < nL; ++j) {
+            double v = 0, e = 0, a = 0;
+            for (size_t i = 0; i < nB; ++i) {
+                if (w[k][i] == 0) continue;
+                const double t = w[k][i] * row.value[i * nL + j];
+                v += t;
+                e += w[k][i] * row.error[i * nL + j];
+                a += std::fabs(t);
+            }
+            if (a > 0) e += gamma * a + 1e-300;
+            out.value[k * nL + j] = v;
+            out.error[k * nL + j] = e;
+        }
+    return out;
+}
+
+}  // namespace
+
+LinePolytopeSpace::LinePolytopeSpace(std::span<const Vec3> receiver, std::span<const Vec3> light)
+    : b_(receiver.begin(), receiver.end()), l_(light.begin(), light.end()) {
+    samples_.reserve(kSampleWitnesses);
+    for (uint32_t s = 0; s < kSampleWitnesses; ++s) {
+        const uint32_t i = s + 1;
+        samples_.push_back({pointInPolygon(b_, radicalInverse(i, 2), radicalInverse(i, 3),
+                                           radicalInverse(i, 5)),
+                            pointInPolygon(l_, radicalInverse(i, 7), radicalInverse(i, 11),
+                                           radicalInverse(i, 13))});
+    }
+}
+
+WitnessMask LinePolytopeSpace::allWitnesses() const {
+    WitnessMask m;
+    for (size_t g = 0; g < std::min(generatorCount(), kGeneratorWitnesses); ++g) m.set(g);
+    for (size_t s = 0; s < samples_.size(); ++s) m.set(kGeneratorWitnesses + s);
+    return m;
+}
+
+HyperplaneRow LinePolytopeSpace::row(const Vec3& a, const Vec3& b) const {
+    const size_t n = generatorCount();
+    HyperplaneRow r;
+    r.edgeFrom = a;
+    r.edgeTo = b;
+    r.value.resize(n);
+    r.error.resize(n);
+    double maxAbs = 0;
+    for (size_t i = 0; i < b_.size(); ++i)
+        for (size_t j = 0; j < l_.size(); ++j) {
+            const BoundedValue v = sideValue(b_[i], l_[j], a, b);
+            const size_t g = i * l_.size() + j;
+            r.value[g] = v.value;
+            r.error[g] = v.error;
+            maxAbs = std::max(maxAbs, std::fabs(v.value));
+            if (g < kGeneratorWitnesses && v.certain()) {
+                if (v.value >= 0) r.certainNonNegative.set(g);
+                if (v.value <= 0) r.certainNonPositive.set(g);
+            }
+        }
+    for (size_t s = 0; s < samples_.size(); ++s) {
+        const std::optional<Sign> sg = orientSignFiltered(samples_[s].first, samples_[s].second, a, b);
+        if (!sg) continue;
+        if (*sg == Sign::Positive) r.certainNonNegative.set(kGeneratorWitnesses + s);
+        if (*sg == Sign::Negative) r.certainNonPositive.set(kGeneratorWitnesses + s);
+    }
+    if (maxAbs > 0) {
+        int exp = 0;
+        std::frexp(maxAbs, &exp);
+        for (size_t g = 0; g < n; ++g) {  // scaling by a power of two is exact
+            r.value[g] = std::ldexp(r.value[g], -exp);
+            r.error[g] = std::ldexp(r.error[g], -exp);
+        }
+    }
+    return r;
+}
+
+bool LinePolytopeSpace::certifyNonNegative(std::span<const Constraint> path, const HyperplaneRow& h,
+                                           int sign, PolytopeStats& stats,
+                                           std::vector<double>* witness) const {
+    const size_t n = h.value.size();
+    const size_t m = path.size();
+    std::vector<double> mu(m, 0.0);
+    if (verifyCertificate(path, h, sign, mu)) return true;  // every generator already >= 0
+    if (m == 0) return false;
+    double cmin = INFINITY;
+    for (size_t g = 0; g < n; ++g) cmin = std::min(cmin, sign * h.value[g]);
+    std::vector<double> M(m * n), rhs(n);
+    for (size_t k = 0; k < m; ++k)
+        for (size_t g = 0; g < n; ++g) M[k * n + g] = path[k].sign * path[k].row->value[g];
+    for (size_t g = 0; g < n; ++g) rhs[g] = sign * h.value[g] - cmin;
+    ++stats.lpSolves;
+    // Run until the bound t = cmin + tau clears zero with some margin, or to optimality.
+    const DualSimplexResult res = solveDualSimplex(M, m, n, rhs, 1e8, -cmin + 1e-6);
+    if (verifyCertificate(path, h, sign, res.mu)) return true;
+    if (cmin + res.tau >= 0) ++stats.uncertain;  // the LP believed it, the proof did not hold
+    if (witness) *witness = res.primal;
+    return false;
+}
+
+Side LinePolytopeSpace::classify(std::span<const Constraint> path, const WitnessMask& inside,
+                                 const HyperplaneRow& h, PolytopeStats& stats) const {
+    const bool hasPos = (inside & strictPositive(h)).any();
+    const bool hasNeg = (inside & strictNegative(h)).any();
+    if (hasPos && hasNeg) return Side::Mixed;
+    if (!hasNeg) {
+        if (certifyNonNegative(path, h, +1, stats, nullptr)) return Side::Positive;
+        if (hasPos) return Side::Mixed;
+        return certifyNonNegative(path, h, -1, stats, nullptr) ? Side::Negative : Side::Mixed;
+    }
+    return certifyNonNegative(path, h, -1, stats, nullptr) ? Side::Negative : Side::Mixed;
+}
+
+bool LinePolytopeSpace::provablyNoRealLine(std::span<const Constraint> path, const WitnessMask& inside,
+                                           const HyperplaneRow& h, int side, int maxLevels,
+                                           PolytopeStats& stats) const {
+    // A generator strictly on that side is a real line there.
+    ++stats.realLineTests;
+    if ((inside & (side > 0 ? strictPositive(h) : strictNegative(h))).any() ||
+        findRealLine(path, inside, h, side, {})) {
+        ++stats.realLineWitness;
+        return false;
+    }
+    const size_t nB = b_.size();
+    {
+        std::vector<double> primal;
+        if (certifyNonNegative(path, h, -side, stats, &primal)) {
+            ++stats.realLineProofs;  // even the relaxation has nothing there
+            return true;
+        }
+        if (!primal.empty()) {
+            Vec3 b{};
+            for (size_t i = 0; i < nB; ++i)
+                for (size_t j = 0; j < l_.size(); ++j) b += b_[i] * primal[i * l_.size() + j];
+            if (findRealLine(path, {}, h, side, std::span<const Vec3>(&b, 1))) {
+                ++stats.realLineWitness;
+                return false;
+            }
+        }
+    }
+    for (size_t i = 1; i + 1 < nB; ++i) {  // fan triangles of B cover B
+        std::vector<std::vector<double>> w(3, std::vector<double>(nB, 0.0));
+        w[0][0] = 1;
+        w[1][i] = 1;
+        w[2][i + 1] = 1;
+        if (!provePieceEmpty(path, h, side, w, maxLevels, stats)) return false;
+    }
+    ++stats.realLineProofs;
+    return true;
+}
+
+bool LinePolytopeSpace::findRealLine(std::span<const Constraint> path, const WitnessMask& inside,
+                                     const HyperplaneRow& h, int side,
+                                     std::span<const Vec3> extraPoints) const {
+    constexpr size_t kMaxPoints = 12;
+    std::vector<Vec3> points(extraPoints.begin(), extraPoints.end());
+    for (size_t s = 0; s < samples_.size() && points.size() < kMaxPoints / 2; ++s)
+        if (inside.test(kGeneratorWitnesses + s)) points.push_back(samples_[s].first);
+    for (size_t g = 0; g < std::min(generatorCount(), kGeneratorWitnesses); ++g)
+        if (inside.test(g) && points.size() < kMaxPoints) points.push_back(b_[g / l_.size()]);
+    Vec3 centroid{};
+    for (const Vec3& p : b_) centroid += p / static_cast<double>(b_.size());
+    points.push_back(centroid);
+    for (const Vec3& p : b_) points.push_back(p);
+    for (const Vec3& p : b_) points.push_back((p + centroid) * 0.5);
+    for (const Vec3& x : points) {
+        // Lines through x: their side of edge (a, c) is the side of their L-point against the
+        // plane through x, a, c (orient3d(x, y, a, c) == orient3d(x, a, c, y)).
+        std::vector<Vec3> poly(l_.begin(), l_.end());
+        auto keep = [&](const HyperplaneRow& row, int s) {
+            const OrientedPlane plane{x, row.edgeFrom, row.edgeTo};
+            ClipResult parts = clipConvex(poly, plane);
+            poly = s > 0 ? std::move(parts.positive) : std::move(parts.negative);
+            return poly.size() >= 3;
+        };
+        bool ok = keep(h, side);
+        for (size_t k = 0; ok && k < path.size(); ++k) ok = keep(*path[k].row, path[k].sign);
+        if (ok) return true;
+    }
+    return false;
+}
+
+bool LinePolytopeSpace::provePieceEmpty(std::span<const Constraint> path, const HyperplaneRow& h,
+                                        int side, const std::vector<std::vector<double>>& w,
+                                        int levelsLeft, PolytopeStats& stats) const {
+    const size_t nB = b_.size(), nL = l_.size();
+    std::vector<HyperplaneRow> rows;
+    rows.reserve(path.size());
+    for (const Constraint& c : path) rows.push_back(restrictRow(*c.row, w, nB, nL));
+    std::vector<Constraint> sub(path.size());
+    for (size_t k = 0; k < path.size(); ++k) sub[k] = {&rows[k], path[k].sign};
+    const HyperplaneRow hs = restrictRow(h, w, nB, nL);
+    // No line of the piece strictly on `side`: min over the piece of (-side) * h >= 0.
+    if (certifyNonNegative(sub, hs, -side, stats, nullptr)) return true;
+    if (levelsLeft <= 0) return false;
+    auto mid = [&](size_t a, size_t b) {
+        std::vector<double> m(nB);
+        for (size_t i = 0; i < nB; ++i) m[i] = 0.5 * (w[a][i] + w[b][i]);  // dyadic: exact
+        return m;
+    };
+    const auto m01 = mid(0, 1), m12 = mid(1, 2), m20 = mid(2, 0);
+    const std::vector<std::vector<double>> pieces[4] = {
+        {w[0], m01, m20}, {m01, w[1], m12}, {m20, m12, w[2]}, {m01, m12, m20}};
+    for (const auto& p : pieces)
+        if (!provePieceEmpty(path, h, side, p, levelsLeft - 1, stats)) return false;
+    return true;
+}
+
+}  // namespace penumbra::vis

@@ -1,0 +1,48 @@
+// The occluders of one (receiver B, light L) pair: the parts of the other faces that can block a
+// line segment from B to L.
+//
+// Each candidate face is clipped to the region strictly in front of both B's and L's planes (the
+// only region a segment from a point of B to a point of L that each face the other can cross), so
+// a stabbing line that meets the clipped occluder meets it between B and L. Sides of input
+// vertices are exact (orient3d); the crossing points of the clip are rounded constructions, stored
+// as extra vertices of the tree.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "visibility/history_tree.h"
+#include "visibility/predicates.h"
+
+namespace penumbra::vis {
+
+struct Occluder {
+    uint32_t face = 0;
+    std::vector<uint32_t> vertexIds;  // clipped polygon, ids as in HistoryTree::vertex
+    // Which side of each of its edge hyperplanes (edge i = vertexIds[i] -> vertexIds[i+1]) the
+    // blocked lines (oriented from B to L) lie on: +1 or -1 when the occluder's plane separates B
+    // from L (all crossings in one direction), 0 when it cuts B or L and both can occur.
+    int blockedSign = 0;
+    double area = 0;
+};
+
+struct PairOccluders {
+    bool backFacing = false;
+    std::vector<Vec3> extraVertices;   // ids from meshVertexCount on
+    std::vector<Occluder> occluders;   // most important first (largest clipped area)
+};
+
+// candidates: faces that may occlude (superset is fine); empty = every face of the mesh.
+PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
+                              std::span<const uint32_t> candidates);
+
+// The three input vertices that define a face's plane for exact side tests (the first three:
+// faces are validated planar and strictly convex on load).
+struct FacePlane {
+    Vec3 a, b, c;
+    Sign side(const Vec3& y) const { return orientSign(a, b, c, y); }
+};
+FacePlane facePlane(const PolygonMesh& mesh, uint32_t face);
+
+}  // namespace penumbra::vis

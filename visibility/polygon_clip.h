@@ -1,0 +1,34 @@
+// Clipping a convex polygon by a plane, with the side of every vertex decided exactly.
+#pragma once
+
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "visibility/predicates.h"
+
+namespace penumbra::vis {
+
+// The plane through three points; side(y) = orient3d(a, b, c, y): exact sign for any double y.
+struct OrientedPlane {
+    Vec3 a, b, c;
+    Sign side(const Vec3& y) const { return orientSign(a, b, c, y); }
+    double value(const Vec3& y) const { return orient3dApprox(a, b, c, y); }
+    bool degenerate() const;  // a, b, c collinear (exact)
+};
+
+struct ClipResult {
+    std::vector<Vec3> positive;  // part with side >= 0 (empty unless some vertex is strictly > 0)
+    std::vector<Vec3> negative;  // part with side <= 0 (empty unless some vertex is strictly < 0)
+};
+
+// Splits a convex polygon. A vertex exactly on the plane goes to both parts and creates no new
+// vertex, so a plane through a vertex leaves no sliver and loses no area; a part without a strict
+// vertex has zero area and is returned empty. Crossing points are rounded constructions, placed on
+// the segment between the two strictly separated vertices (never outside it).
+ClipResult clipConvex(std::span<const Vec3> polygon, const OrientedPlane& plane);
+
+// Only the part with side > 0 (same rules).
+std::vector<Vec3> clipConvexPositive(std::span<const Vec3> polygon, const OrientedPlane& plane);
+
+}  // namespace penumbra::vis
