@@ -1,5 +1,7 @@
 #include "visibility/fp_query.h"
 
+#include <deque>
+
 #include "visibility/pair_occluders.h"
 #include "visibility/polygon_clip.h"
 
@@ -11,10 +13,13 @@ struct Walker {
     const HistoryTree& tree;
     const Vec3& x;
     FromPointResult& out;
+    // Two polygon buffers per depth, reused along the walk (no allocation per node).
+    // A deque: growing it keeps the references held by shallower levels valid.
+    std::deque<std::pair<std::vector<Vec3>, std::vector<Vec3>>> buffers;
 
-    void visit(uint32_t node, std::vector<Vec3> poly) {
+    void visit(uint32_t node, const std::vector<Vec3>& poly, size_t depth) {
         if (node == kVisibleLeaf) {
-            out.fragments.push_back(std::move(poly));
+            out.fragments.push_back(poly);
             return;
         }
         if (node == kHiddenLeaf) return;
@@ -26,12 +31,17 @@ struct Walker {
         // vertex. When x, v0, v1 are collinear the plane is undefined and every line through x
         // meets the edge's line: all signs are zero and the whole polygon follows child[0]
         // (a measure-zero set of points x; documented rule).
-        const OrientedPlane plane{x, tree.vertex(mesh, n.v0), tree.vertex(mesh, n.v1)};
         // orient3d(x, v0, v1, y) == orient3d(x, y, v0, v1) (a cyclic, hence even, permutation).
-        ClipResult parts = clipConvex(poly, plane);
-        if (parts.positive.empty() && parts.negative.empty()) parts.positive = std::move(poly);
-        if (!parts.positive.empty()) visit(n.child[0], std::move(parts.positive));
-        if (!parts.negative.empty()) visit(n.child[1], std::move(parts.negative));
+        const OrientedPlane plane{x, tree.vertex(mesh, n.v0), tree.vertex(mesh, n.v1)};
+        if (buffers.size() <= depth) buffers.resize(depth + 1);
+        auto& [pos, neg] = buffers[depth];
+        clipConvexInto(poly, plane, pos, neg);
+        if (pos.empty() && neg.empty()) {
+            visit(n.child[0], poly, depth + 1);
+            return;
+        }
+        if (!pos.empty()) visit(n.child[0], pos, depth + 1);
+        if (!neg.empty()) visit(n.child[1], neg, depth + 1);
     }
 };
 
@@ -52,7 +62,7 @@ FromPointResult fromPointQuery(const PolygonMesh& mesh, const HistoryTree& tree,
         out.fragments.push_back(std::move(light));
         return out;
     }
-    Walker{mesh, tree, x, out}.visit(0, std::move(light));
+    Walker{mesh, tree, x, out, {}}.visit(0, light, 0);
     return out;
 }
 

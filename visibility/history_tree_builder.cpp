@@ -24,6 +24,8 @@ public:
           options_(options),
           stats_(stats),
           space_(polygon(mesh, receiver), polygon(mesh, light)),
+          receiverPoints_(polygon(mesh, receiver)),
+          lightPoints_(polygon(mesh, light)),
           meshVertexCount_(static_cast<uint32_t>(mesh.vertices.size())) {}
 
     void insert(const Occluder& o) {
@@ -37,6 +39,8 @@ public:
             edges_.push_back({a, b});
         }
         occluder_ = &o;
+        occluderPoints_.clear();
+        for (uint32_t id : o.vertexIds) occluderPoints_.push_back(vertex(id));
         walk(Slot{}, space_.allWitnesses());
         ++stats_.occludersInserted;
     }
@@ -93,12 +97,37 @@ private:
             return;
         }
         const HyperplaneRow* row = nodeRow_[v];
+        // Line-space shaft culling: when every line meeting B (or L) and the occluder lies on one
+        // closed side of this node's hyperplane, the other subtree holds no line the occluder can
+        // block (its lines are strictly on the other side) and is not visited.
+        const Sign occluderSide = occluderSideOf(nodes_[v].v0, nodes_[v].v1);
         path_.push_back({row, +1});
-        walk(Slot{v, 0}, inside & row->certainNonNegative);
+        if (occluderSide != Sign::Negative) walk(Slot{v, 0}, inside & row->certainNonNegative);
         path_.back().sign = -1;
-        walk(Slot{v, 1}, inside & row->certainNonPositive);
+        if (occluderSide != Sign::Positive) walk(Slot{v, 1}, inside & row->certainNonPositive);
         path_.pop_back();
         mergeIfSameLeaves(s);
+    }
+
+    // Positive / Negative when all lines from B to the occluder, or all lines from the occluder
+    // to L, lie on that closed side of edge (v0, v1)'s hyperplane (they span cones that contain
+    // every line stabbing B, the occluder and L); Zero when neither is certain. Exact signs.
+    Sign occluderSideOf(uint32_t v0, uint32_t v1) const {
+        const Vec3 a = vertex(v0), b = vertex(v1);
+        auto coneSide = [&](std::span<const Vec3> from, std::span<const Vec3> to) {
+            bool pos = true, neg = true;
+            for (const Vec3& p : from)
+                for (const Vec3& q : to) {
+                    const Sign s = orientSign(p, q, a, b);
+                    pos &= s != Sign::Negative;
+                    neg &= s != Sign::Positive;
+                    if (!pos && !neg) return Sign::Zero;
+                }
+            return pos ? Sign::Positive : (neg ? Sign::Negative : Sign::Zero);
+        };
+        const Sign fromB = coneSide(receiverPoints_, occluderPoints_);
+        if (fromB != Sign::Zero) return fromB;
+        return coneSide(occluderPoints_, lightPoints_);
     }
 
     void mergeIfSameLeaves(Slot s) {
@@ -200,6 +229,7 @@ private:
     const BuildOptions& options_;
     BuildStats& stats_;
     LinePolytopeSpace space_;
+    std::vector<Vec3> receiverPoints_, lightPoints_, occluderPoints_;
     uint32_t meshVertexCount_;
     PolytopeStats polyStats_;
 
@@ -247,6 +277,7 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
         stats.uncertain = builder.polytopeStats().uncertain;
         stats.realLineTests = builder.polytopeStats().realLineTests;
         stats.realLineWitness = builder.polytopeStats().realLineWitness;
+        stats.exactCertificates = builder.polytopeStats().exactCertificates;
         if (builder.root() == kVisibleLeaf) {
             tree.kind = PairKind::FullyVisible;
             tree.why = "occluders lie in the shaft but block no line between receiver and light";

@@ -20,6 +20,7 @@ struct BuildStats {
     uint64_t classifications = 0;   // leaf-against-hyperplane decisions
     uint64_t lpSolves = 0;          // linear programs solved for them
     uint64_t uncertain = 0;         // decisions that could not be certified (took the split)
+    uint64_t exactCertificates = 0; // decisions certified by the exact rational fallback
     uint64_t prunedSplits = 0;      // splits dropped by the real-line (quadric) test
     uint64_t realLineTests = 0;     // real-line tests run (each side of a Mixed split)
     uint64_t realLineWitness = 0;   // ... settled by finding a real line (no proof needed)

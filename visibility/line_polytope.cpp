@@ -4,8 +4,12 @@
 #include <cfloat>
 #include <cmath>
 #include <optional>
+#include <unordered_map>
+
+#include <gmpxx.h>
 
 #include "visibility/dual_simplex.h"
+#include "visibility/exact_orient.h"
 #include "visibility/plucker.h"
 #include "visibility/polygon_clip.h"
 
@@ -70,6 +74,7 @@ bool verifyCertificate(std::span<const Constraint> path, const HyperplaneRow& h,
 HyperplaneRow restrictRow(const HyperplaneRow& row, const std::vector<std::vector<double>>& w,
                           size_t nB, size_t nL) {
     HyperplaneRow out;
+    out.restricted = true;
     out.value.assign(w.size() * nL, 0.0);
     out.error.assign(w.size() * nL, 0.0);
     const double gamma = static_cast<double>(nB + 2) * kUnit;
@@ -92,8 +97,16 @@ HyperplaneRow restrictRow(const HyperplaneRow& row, const std::vector<std::vecto
 
 }  // namespace
 
+struct LinePolytopeSpace::ExactCache {
+    std::unordered_map<const HyperplaneRow*, std::vector<mpq_class>> rows;
+};
+
+LinePolytopeSpace::~LinePolytopeSpace() = default;
+
 LinePolytopeSpace::LinePolytopeSpace(std::span<const Vec3> receiver, std::span<const Vec3> light)
-    : b_(receiver.begin(), receiver.end()), l_(light.begin(), light.end()) {
+    : exact_(std::make_unique<ExactCache>()),
+      b_(receiver.begin(), receiver.end()),
+      l_(light.begin(), light.end()) {
     samples_.reserve(kSampleWitnesses);
     for (uint32_t s = 0; s < kSampleWitnesses; ++s) {
         const uint32_t i = s + 1;
@@ -140,6 +153,7 @@ HyperplaneRow LinePolytopeSpace::row(const Vec3& a, const Vec3& b) const {
     if (maxAbs > 0) {
         int exp = 0;
         std::frexp(maxAbs, &exp);
+        r.scaleExp = exp;
         for (size_t g = 0; g < n; ++g) {  // scaling by a power of two is exact
             r.value[g] = std::ldexp(r.value[g], -exp);
             r.error[g] = std::ldexp(r.error[g], -exp);
@@ -166,13 +180,131 @@ bool LinePolytopeSpace::certifyNonNegative(std::span<const Constraint> path, con
     // Run until the bound t = cmin + tau clears zero with some margin, or to optimality.
     const DualSimplexResult res = solveDualSimplex(M, m, n, rhs, 1e8, -cmin + 1e-6);
     if (verifyCertificate(path, h, sign, res.mu)) return true;
-    if (cmin + res.tau >= 0) ++stats.uncertain;  // the LP believed it, the proof did not hold
+    if (cmin + res.tau >= -1e-9) {  // the LP believes it: a zero margin the doubles cannot see
+        if (certifyExactly(path, h, sign, res.mu)) {
+            ++stats.exactCertificates;
+            return true;
+        }
+        ++stats.uncertain;
+    }
     if (witness) *witness = res.primal;
     return false;
 }
 
+bool LinePolytopeSpace::certifyExactly(std::span<const Constraint> path, const HyperplaneRow& h,
+                                       int sign, std::span<const double> mu) const {
+    if (h.restricted) return false;
+    const size_t n = h.value.size();
+    // Support of the multipliers: the half-spaces the certificate combines.
+    double muMax = 0;
+    for (double v : mu) muMax = std::max(muMax, v);
+    std::vector<size_t> support;
+    for (size_t k = 0; k < mu.size(); ++k)
+        if (mu[k] > 1e-12 * muMax) support.push_back(k);
+    if (support.empty() || support.size() > 5) return false;
+    auto exactRow = [&](const HyperplaneRow& r) -> const std::vector<mpq_class>& {
+        auto it = exact_->rows.find(&r);
+        if (it != exact_->rows.end()) return it->second;
+        std::vector<mpq_class> v(n);
+        for (size_t i = 0; i < b_.size(); ++i)
+            for (size_t j = 0; j < l_.size(); ++j)
+                v[i * l_.size() + j] = orientExact(b_[i], l_[j], r.edgeFrom, r.edgeTo);
+        return exact_->rows.emplace(&r, std::move(v)).first->second;
+    };
+    // Exact rows, as scaled in the LP: the multipliers are then comparable to mu.
+    const std::vector<mpq_class>& hx = exactRow(h);
+    std::vector<const std::vector<mpq_class>*> ax;
+    for (size_t k : support) {
+        if (path[k].row->restricted) return false;
+        ax.push_back(&exactRow(*path[k].row));
+    }
+    auto scaled = [](const mpq_class& v, int exp) {
+        mpq_class r = v;
+        if (exp > 0) mpq_div_2exp(r.get_mpq_t(), r.get_mpq_t(), static_cast<mp_bitcnt_t>(exp));
+        if (exp < 0) mpq_mul_2exp(r.get_mpq_t(), r.get_mpq_t(), static_cast<mp_bitcnt_t>(-exp));
+        return r;
+    };
+    const size_t s = support.size();
+    std::vector<mpq_class> c(n);
+    std::vector<std::vector<mpq_class>> a(s, std::vector<mpq_class>(n));
+    for (size_t g = 0; g < n; ++g) {
+        c[g] = scaled(hx[g], h.scaleExp) * sign;
+        for (size_t q = 0; q < s; ++q)
+            a[q][g] = scaled((*ax[q])[g], path[support[q]].row->scaleExp) * path[support[q]].sign;
+    }
+    // Tight generators (r_g ~ 0 in double), most tight first.
+    std::vector<std::pair<double, size_t>> tight;
+    for (size_t g = 0; g < n; ++g) {
+        double r = sign * h.value[g];
+        for (size_t q = 0; q < s; ++q)
+            r -= mu[support[q]] * path[support[q]].sign * path[support[q]].row->value[g];
+        tight.push_back({std::fabs(r), g});
+    }
+    std::sort(tight.begin(), tight.end());
+    // Solve sum_q m_q a[q][g] = c[g] on s independent tight generators (Gaussian elimination in
+    // rationals, choosing generators greedily), then verify m >= 0 and every residual >= 0.
+    std::vector<std::vector<mpq_class>> sys;  // rows: [a[0][g] .. a[s-1][g] | c[g]]
+    for (const auto& [res, g] : tight) {
+        if (sys.size() == s) break;
+        std::vector<mpq_class> row(s + 1);
+        for (size_t q = 0; q < s; ++q) row[q] = a[q][g];
+        row[s] = c[g];
+        // Reduce against the rows chosen so far (each has a pivot column).
+        for (size_t r = 0; r < sys.size(); ++r) {
+            size_t p = 0;
+            while (p < s && sgn(sys[r][p]) == 0) ++p;
+            if (p == s || sgn(row[p]) == 0) continue;
+            const mpq_class f = row[p] / sys[r][p];
+            for (size_t q = 0; q <= s; ++q) row[q] -= f * sys[r][q];
+        }
+        bool independent = false;
+        for (size_t q = 0; q < s; ++q) independent |= sgn(row[q]) != 0;
+        if (independent) sys.push_back(std::move(row));
+    }
+    if (sys.size() != s) return false;
+    // Back-substitute: bring the system to reduced echelon form.
+    std::vector<size_t> pivot(s);
+    for (size_t r = 0; r < s; ++r) {
+        size_t p = 0;
+        while (p < s && sgn(sys[r][p]) == 0) ++p;
+        pivot[r] = p;
+    }
+    for (size_t r = s; r-- > 0;) {
+        const mpq_class d = sys[r][pivot[r]];
+        for (size_t q = 0; q <= s; ++q) sys[r][q] /= d;
+        for (size_t o = 0; o < s; ++o) {
+            if (o == r || sgn(sys[o][pivot[r]]) == 0) continue;
+            const mpq_class f = sys[o][pivot[r]];
+            for (size_t q = 0; q <= s; ++q) sys[o][q] -= f * sys[r][q];
+        }
+    }
+    std::vector<mpq_class> m(s);
+    for (size_t r = 0; r < s; ++r) {
+        if (pivot[r] >= s) return false;
+        m[pivot[r]] = sys[r][s];
+    }
+    for (const mpq_class& v : m)
+        if (sgn(v) < 0) return false;
+    for (size_t g = 0; g < n; ++g) {
+        mpq_class r = c[g];
+        for (size_t q = 0; q < s; ++q) r -= m[q] * a[q][g];
+        if (sgn(r) < 0) return false;
+    }
+    return true;
+}
+
 Side LinePolytopeSpace::classify(std::span<const Constraint> path, const WitnessMask& inside,
                                  const HyperplaneRow& h, PolytopeStats& stats) const {
+    // The hyperplane of an edge already on the path (occluders sharing an edge, or collinear
+    // edges): the polytope lies on the known side of it. Decided exactly, with no linear program:
+    // the rounded rows of the same hyperplane cannot certify a zero margin.
+    for (const Constraint& c : path) {
+        const HyperplaneRow& r = *c.row;
+        if (collinear(r.edgeFrom, r.edgeTo, h.edgeFrom) && collinear(r.edgeFrom, r.edgeTo, h.edgeTo)) {
+            const int same = dot(h.edgeTo - h.edgeFrom, r.edgeTo - r.edgeFrom) > 0 ? 1 : -1;
+            return same * c.sign > 0 ? Side::Positive : Side::Negative;
+        }
+    }
     const bool hasPos = (inside & strictPositive(h)).any();
     const bool hasNeg = (inside & strictNegative(h)).any();
     if (hasPos && hasNeg) return Side::Mixed;

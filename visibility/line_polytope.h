@@ -27,6 +27,7 @@
 
 #include <bitset>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -52,6 +53,8 @@ struct HyperplaneRow {
     WitnessMask certainNonNegative;  // witness lines certainly on the closed positive side
     WitnessMask certainNonPositive;  // witness lines certainly on the closed negative side
     Vec3 edgeFrom, edgeTo;           // the oriented edge whose hyperplane this is
+    int scaleExp = 0;                // value = exact * 2^-scaleExp
+    bool restricted = false;         // rows of a sub-polygon of B (no exact fallback for these)
 };
 
 // One half-space on a polytope's path: sign * row . lambda >= 0.
@@ -64,7 +67,8 @@ enum class Side : int8_t { Negative = -1, Mixed = 0, Positive = 1 };
 
 struct PolytopeStats {
     uint64_t lpSolves = 0;
-    uint64_t uncertain = 0;  // an LP said one-sided but the certificate did not verify
+    uint64_t uncertain = 0;  // an LP said one-sided but no certificate verified (took the split)
+    uint64_t exactCertificates = 0;  // certificates that needed the exact rational fallback
     uint64_t realLineTests = 0;    // provablyNoRealLine calls
     uint64_t realLineWitness = 0;  // ... answered by a witness line (cheap "may hold lines")
     uint64_t realLineProofs = 0;   // ... proven empty
@@ -74,6 +78,9 @@ class LinePolytopeSpace {
 public:
     // B and L: the receiver's and the light's vertices (convex polygons).
     LinePolytopeSpace(std::span<const Vec3> receiver, std::span<const Vec3> light);
+    ~LinePolytopeSpace();
+    LinePolytopeSpace(const LinePolytopeSpace&) = delete;
+    LinePolytopeSpace& operator=(const LinePolytopeSpace&) = delete;
 
     size_t generatorCount() const { return b_.size() * l_.size(); }
     // All witness lines (generators and samples).
@@ -105,6 +112,14 @@ private:
     bool provePieceEmpty(std::span<const Constraint> path, const HyperplaneRow& h, int side,
                          const std::vector<std::vector<double>>& weights, int levelsLeft,
                          PolytopeStats& stats) const;
+
+    // Exact fallback of the certificate when the rounded one fails with a zero margin (touching
+    // occluders make the optimum exactly zero): the multipliers are re-solved in rational
+    // arithmetic on the tight generators and verified exactly.
+    bool certifyExactly(std::span<const Constraint> path, const HyperplaneRow& h, int sign,
+                        std::span<const double> mu) const;
+    struct ExactCache;
+    std::unique_ptr<ExactCache> exact_;  // exact row values, computed on demand
 
     std::vector<Vec3> b_, l_;
     std::vector<std::pair<Vec3, Vec3>> samples_;  // sample lines (point on B, point on L)

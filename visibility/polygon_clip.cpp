@@ -25,39 +25,51 @@ Vec3 crossing(const Vec3& p, const Vec3& q, double dp, double dq) {
 
 }  // namespace
 
-ClipResult clipConvex(std::span<const Vec3> polygon, const OrientedPlane& plane) {
-    ClipResult r;
+void clipConvexInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
+                    std::vector<Vec3>& positive, std::vector<Vec3>& negative) {
+    positive.clear();
+    negative.clear();
     const size_t n = polygon.size();
-    if (n < 3) return r;
-    std::vector<Sign> s(n);
-    std::vector<double> d(n);
+    if (n < 3) return;
+    constexpr size_t kInline = 32;
+    BoundedValue inlineVals[kInline];
+    std::vector<BoundedValue> heapVals;
+    BoundedValue* d = inlineVals;
+    if (n > kInline) {
+        heapVals.resize(n);
+        d = heapVals.data();
+    }
     bool anyPos = false, anyNeg = false;
     for (size_t i = 0; i < n; ++i) {
-        s[i] = plane.side(polygon[i]);
-        d[i] = plane.value(polygon[i]);
-        anyPos |= s[i] == Sign::Positive;
-        anyNeg |= s[i] == Sign::Negative;
+        // orientValue's sign is exact (filtered, exact fallback), its value is for placement.
+        d[i] = orientValue(plane.a, plane.b, plane.c, polygon[i]);
+        anyPos |= d[i].value > 0;
+        anyNeg |= d[i].value < 0;
     }
     if (!anyNeg) {
-        if (anyPos) r.positive.assign(polygon.begin(), polygon.end());
-        return r;
+        if (anyPos) positive.assign(polygon.begin(), polygon.end());
+        return;
     }
     if (!anyPos) {
-        r.negative.assign(polygon.begin(), polygon.end());
-        return r;
+        negative.assign(polygon.begin(), polygon.end());
+        return;
     }
-    r.positive.reserve(n + 1);
-    r.negative.reserve(n + 1);
     for (size_t i = 0; i < n; ++i) {
-        const size_t j = (i + 1) % n;
-        if (s[i] != Sign::Negative) r.positive.push_back(polygon[i]);
-        if (s[i] != Sign::Positive) r.negative.push_back(polygon[i]);
-        if (toInt(s[i]) * toInt(s[j]) < 0) {
-            const Vec3 p = crossing(polygon[i], polygon[j], d[i], d[j]);
-            r.positive.push_back(p);
-            r.negative.push_back(p);
+        const size_t j = i + 1 == n ? 0 : i + 1;
+        const double si = d[i].value, sj = d[j].value;
+        if (si >= 0) positive.push_back(polygon[i]);
+        if (si <= 0) negative.push_back(polygon[i]);
+        if ((si > 0 && sj < 0) || (si < 0 && sj > 0)) {
+            const Vec3 p = crossing(polygon[i], polygon[j], si, sj);
+            positive.push_back(p);
+            negative.push_back(p);
         }
     }
+}
+
+ClipResult clipConvex(std::span<const Vec3> polygon, const OrientedPlane& plane) {
+    ClipResult r;
+    clipConvexInto(polygon, plane, r.positive, r.negative);
     return r;
 }
 

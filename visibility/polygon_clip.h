@@ -17,6 +17,11 @@ struct OrientedPlane {
     bool degenerate() const;  // a, b, c collinear (exact)
 };
 
+// Splits `polygon` into `positive` and `negative` (cleared first, capacity kept: callers reuse
+// buffers in hot loops). Same rules as clipConvex.
+void clipConvexInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
+                    std::vector<Vec3>& positive, std::vector<Vec3>& negative);
+
 struct ClipResult {
     std::vector<Vec3> positive;  // part with side >= 0 (empty unless some vertex is strictly > 0)
     std::vector<Vec3> negative;  // part with side <= 0 (empty unless some vertex is strictly < 0)

@@ -1,5 +1,7 @@
 #include "visibility/predicates.h"
 
+#include "visibility/exact_orient.h"
+
 #include <gmpxx.h>
 
 #include <cfloat>
@@ -87,6 +89,25 @@ BoundedValue orientValue(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
     const double ulp = std::nextafter(mag, INFINITY) - mag;
     // Strictly smaller than |v| unless v is the smallest subnormal; keep the sign certain.
     return {v, std::fmin(ulp, mag * 0.5)};
+}
+
+bool collinear(const Vec3& a, const Vec3& b, const Vec3& c) {
+    // Filter: each cross-product component is a 2x2 determinant of differences; Shewchuk's orient2d
+    // bound (3 + 16 eps) eps times its permanent certifies a non-zero component.
+    const double ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z;
+    const double vx = c.x - a.x, vy = c.y - a.y, vz = c.z - a.z;
+    const double comps[3][2] = {{uy * vz, uz * vy}, {uz * vx, ux * vz}, {ux * vy, uy * vx}};
+    for (const auto& p : comps)
+        if (std::fabs(p[0] - p[1]) > (3.0 + 16.0 * kEps) * kEps * (std::fabs(p[0]) + std::fabs(p[1])))
+            return false;
+    const mpq_class ax(a.x), ay(a.y), az(a.z);
+    const mpq_class qux = mpq_class(b.x) - ax, quy = mpq_class(b.y) - ay, quz = mpq_class(b.z) - az;
+    const mpq_class qvx = mpq_class(c.x) - ax, qvy = mpq_class(c.y) - ay, qvz = mpq_class(c.z) - az;
+    return quy * qvz == quz * qvy && quz * qvx == qux * qvz && qux * qvy == quy * qvx;
+}
+
+mpq_class orientExact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    return exactDet(a, b, c, d);
 }
 
 Sign orientSignExact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {

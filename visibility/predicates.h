@@ -56,6 +56,9 @@ Sign orientSign(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 // is computed and rounded, so the sign of the result is always the exact sign.
 BoundedValue orientValue(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
+// Exactly: do a, b, c lie on one line (a zero cross product (b-a) x (c-a))?
+bool collinear(const Vec3& a, const Vec3& b, const Vec3& c);
+
 // Same sign as orientSign but always through the exact path (for benchmarks and tests).
 Sign orientSignExact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 

@@ -1,0 +1,51 @@
+// The subcommands of the `penumbra` executable and what they share.
+//
+// Each subcommand lives in its own file app/<name>_command.cpp and exposes one
+// register<Name>Command(CLI::App&) that adds the subcommand to the app with its options and a
+// callback that runs it. A callback reports failure by throwing CommandError (or SceneError, an
+// input error); main() turns every exception into "penumbra: error: ..." on stderr and an exit
+// code (ExitCode). Commands write their results to stdout only.
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "engine/scene.h"
+
+namespace CLI {
+class App;
+}  // namespace CLI
+
+namespace penumbra::cli {
+
+enum ExitCode : int {
+    kExitOk = 0,
+    kExitInputError = 1,  // a file that cannot be read or is malformed, a value out of range
+    kExitUsageError = 2,  // bad command line: unknown flag, missing or malformed value
+};
+
+// A failure of a command, with the exit code it calls for. what() is the message without the
+// "penumbra: error: " prefix.
+struct CommandError : std::runtime_error {
+    CommandError(int exitCode_, const std::string& message)
+        : std::runtime_error(message), exitCode(exitCode_) {}
+    int exitCode;
+};
+
+inline CommandError usageError(const std::string& message) {
+    return CommandError(kExitUsageError, message);
+}
+inline CommandError inputError(const std::string& message) {
+    return CommandError(kExitInputError, message);
+}
+
+// Loads a scene file, choosing the reader by extension (case-insensitive): .obj (with its MTL
+// libraries). Throws CommandError (input error) for a missing file or an unknown extension, and
+// SceneError for a malformed scene.
+Scene loadSceneFile(const std::filesystem::path& path);
+
+// `penumbra query`: exact light visibility at points (app/query_command.cpp).
+void registerQueryCommand(CLI::App& app);
+
+}  // namespace penumbra::cli

@@ -1,0 +1,41 @@
+// Scene validation: the geometric contract the visibility core relies on, checked once on load.
+//
+// Every face must be a planar, strictly convex, non-degenerate polygon:
+//   - at least 3 vertices, all indices in range, no vertex index repeated, finite coordinates;
+//   - no two consecutive vertices at the same position ("zero-length edge");
+//   - not all vertices collinear ("degenerate (zero area)"), decided exactly;
+//   - planar: with n the Newell normal and c the centroid of the face's vertices, every vertex lies
+//     within 1e-9 * D of the plane through c with normal n, where D is the face diameter (the
+//     largest distance between two of its vertices; for faces of more than 1024 vertices the
+//     diagonal of their bounding box is used instead, which is at most sqrt(3) times larger).
+//     Triangles are always planar. The error reports the measured deviation;
+//   - strictly convex: projected onto the coordinate plane that drops the dominant axis of n, every
+//     turn (p[i-1], p[i], p[i+1]) has the same strict sign, decided exactly (filtered orient2d with
+//     a GMP fallback). A zero turn is an error ("collinear vertices": it would make a zero-length
+//     edge hyperplane downstream), a turn of the other sign is a reflex vertex ("non-convex"), and
+//     a polygon whose turns all agree but whose edges wind around more than once (a pentagram) is
+//     self-intersecting ("non-convex").
+// Messages name faces and vertices by their 0-based index in the scene (for a scene read from an
+// OBJ file the vertex's OBJ index is one more), and give the face's source line as the location.
+// Scene-wide: at most 2^30 vertices and 2^30 faces (so 32-bit ids are safe), faceMaterial and
+// faceSourceLine either empty or one per face, material indices in range, lights naming faces.
+#pragma once
+
+#include <cstddef>
+
+#include "engine/scene.h"
+#include "engine/scene_error.h"
+
+namespace penumbra {
+
+// The most vertices, and the most faces, a scene may have.
+inline constexpr size_t kMaxSceneElements = size_t{1} << 30;
+
+// The planarity tolerance, relative to the face diameter.
+inline constexpr double kPlanarityTolerance = 1e-9;
+
+// Throws SceneError naming scene.sourcePath, the face index and the face's source line on the first
+// face (in face order) that breaks the contract above. Returns normally when the scene is valid.
+void validateScene(const Scene& scene);
+
+}  // namespace penumbra

@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# CI entry point: installs the dependencies, then builds and tests twice:
+#   build/       RelWithDebInfo
+#   build-asan/  RelWithDebInfo with -DPENUMBRA_SANITIZE=ON (ASan + UBSan), PENUMBRA_TEST_SCALE=0.25
+# Runs every configuration even after a failure, prints "N passed, M failed" over both runs as
+# its last line, and exits non-zero if anything (configure, build or a test) failed.
+set -uo pipefail
+cd "$(dirname "$0")/.." || exit 1
+
+bash scripts/install_deps.sh || { echo "run_tests: installing dependencies failed" >&2; exit 1; }
+
+total_passed=0
+total_failed=0
+problems=()
+
+# run_suite NAME BUILD_DIR TEST_SCALE [extra cmake args...]
+run_suite() {
+  local name=$1 dir=$2 scale=$3
+  shift 3
+  echo "=== ${name}: configure ${dir}"
+  local generator=()
+  # Keep whatever generator an existing build directory was made with (cmake refuses to switch).
+  [[ -f "${dir}/CMakeCache.txt" ]] || generator=(-G Ninja)
+  if ! cmake -S . -B "${dir}" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo "$@"; then
+    problems+=("${name}: configure failed")
+    return
+  fi
+  echo "=== ${name}: build"
+  if ! cmake --build "${dir}"; then
+    problems+=("${name}: build failed")
+    return
+  fi
+  echo "=== ${name}: test (PENUMBRA_TEST_SCALE=${scale})"
+  local log
+  log=$(mktemp)
+  (cd "${dir}" && PENUMBRA_TEST_SCALE="${scale}" ctest --output-on-failure --no-tests=error -j2) \
+    2>&1 | tee "${log}"
+  local rc=${PIPESTATUS[0]}
+  # ctest's summary: "100% tests passed, 0 tests failed out of 42"
+  local summary failed total
+  summary=$(grep -Eo '[0-9]+ tests? failed out of [0-9]+' "${log}" | tail -n 1)
+  rm -f "${log}"
+  if [[ -n "${summary}" ]]; then
+    failed=$(awk '{print $1}' <<<"${summary}")
+    total=$(awk '{print $NF}' <<<"${summary}")
+    total_passed=$((total_passed + total - failed))
+    total_failed=$((total_failed + failed))
+    echo "=== ${name}: $((total - failed)) passed, ${failed} failed"
+  fi
+  if ((rc != 0)); then
+    problems+=("${name}: ctest exited with ${rc}")
+  elif [[ -z "${summary}" ]]; then
+    problems+=("${name}: no ctest summary found")
+  fi
+}
+
+run_suite release build 1
+# Assignments in front of a function call are exported to what the function runs (ctest).
+UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}" \
+  run_suite sanitize build-asan 0.25 -DPENUMBRA_SANITIZE=ON
+
+for p in "${problems[@]}"; do
+  echo "run_tests: ${p}" >&2
+done
+echo "${total_passed} passed, ${total_failed} failed"
+if ((${#problems[@]} > 0 || total_failed > 0)); then
+  exit 1
+fi

@@ -1,0 +1,282 @@
+// FPQuery against independent references: the exact CGAL computation of L minus the central
+// projections of the occluders (tests/support/exact_reference.h), and a Monte Carlo estimate with
+// independent double-precision segment tests. Plus the properties of the fragments.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+
+#include "engine/procedural_scenes.h"
+#include "tests/support/exact_reference.h"
+#include "tests/test_scale.h"
+#include "visibility/form_factor.h"
+#include "visibility/fp_query.h"
+#include "visibility/history_tree_builder.h"
+#include "visibility/pair_occluders.h"
+#include "visibility/polygon_clip.h"
+
+namespace penumbra {
+namespace {
+
+using vis::Vec3;
+
+struct QueryOutcome {
+    double fraction = 0, visibleArea = 0, formFactor = 0;
+    vis::FromPointResult raw;
+};
+
+Vec3 unitNormal(const vis::PolygonMesh& m, uint32_t f) { return vis::normalize(m.faceAreaNormal(f)); }
+
+QueryOutcome evaluate(const vis::PolygonMesh& m, const vis::HistoryTree& t, const Vec3& x) {
+    QueryOutcome q;
+    q.raw = vis::fromPointQuery(m, t, x);
+    const Vec3 n = unitNormal(m, t.receiver);
+    for (const auto& f : q.raw.fragments) {
+        q.visibleArea += vis::polygonArea(f);
+        q.formFactor += vis::formFactor(x, n, f);
+    }
+    q.fraction = q.visibleArea / m.faceArea(t.light);
+    return q;
+}
+
+// A random point strictly inside a convex face (a random convex combination of its vertices).
+Vec3 randomPointOn(const vis::PolygonMesh& m, uint32_t f, std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> u(0.02, 1.0);
+    Vec3 p{};
+    double total = 0;
+    for (uint32_t v : m.faces[f]) {
+        const double w = u(rng);
+        p += m.vertices[v] * w;
+        total += w;
+    }
+    return p / total;
+}
+
+struct Trees {
+    const vis::PolygonMesh& mesh;
+    vis::BuildOptions options;
+    std::map<std::pair<uint32_t, uint32_t>, vis::HistoryTree> cache;
+    const vis::HistoryTree& get(uint32_t r, uint32_t l) {
+        auto it = cache.find({r, l});
+        if (it == cache.end())
+            it = cache.emplace(std::make_pair(r, l), vis::buildHistoryTree(mesh, r, l, options)).first;
+        return it->second;
+    }
+};
+
+// Compares FPQuery with the exact reference at `points` random points on random receivers.
+void checkAgainstReference(const Scene& scene, int points, uint64_t seed, const char* name) {
+    ASSERT_FALSE(scene.lights.empty());
+    const vis::PolygonMesh& m = scene.mesh;
+    Trees trees{m, {}, {}};
+    std::mt19937_64 rng(seed);
+    std::uniform_int_distribution<uint32_t> faceDist(0, scene.faceCount() - 1);
+    int compared = 0, nonTrivial = 0;
+    for (int i = 0; i < points; ++i) {
+        const uint32_t r = faceDist(rng);
+        const uint32_t l = scene.lights[rng() % scene.lights.size()];
+        if (r == l) continue;
+        const Vec3 x = randomPointOn(m, r, rng);
+        const QueryOutcome q = evaluate(m, trees.get(r, l), x);
+        const test::ReferenceResult ref = test::exactReference(m, r, l, x);
+        ++compared;
+        nonTrivial += ref.fraction > 1e-9 && ref.fraction < 1 - 1e-9;
+        EXPECT_NEAR(q.fraction, ref.fraction, 1e-9)
+            << name << ": receiver " << r << " light " << l << " x " << vis::toString(x);
+        EXPECT_NEAR(q.formFactor, ref.formFactor, 1e-9 * std::max(ref.formFactor, 1e-6))
+            << name << ": receiver " << r << " light " << l << " x " << vis::toString(x);
+        if (::testing::Test::HasFailure()) return;  // one report per scene is enough
+    }
+    EXPECT_GT(compared, points / 2) << name;
+    ::testing::Test::RecordProperty(std::string(name) + "_penumbra_points", nonTrivial);
+}
+
+TEST(FpQuery, StairsMatchExactReference) { checkAgainstReference(makeStairs(), test::scaled(1500), 1, "stairs"); }
+TEST(FpQuery, TableMatchesExactReference) { checkAgainstReference(makeTable(), test::scaled(1000), 2, "table"); }
+TEST(FpQuery, GridsMatchExactReference) { checkAgainstReference(makeGrids(), test::scaled(1500), 3, "grids"); }
+TEST(FpQuery, CornellBoxMatchesExactReference) { checkAgainstReference(makeCornellBox(), test::scaled(1500), 4, "cornell"); }
+
+TEST(FpQuery, HardCasesMatchExactReference) {
+    uint64_t seed = 10;
+    for (const auto& [name, scene] : makeHardCases()) checkAgainstReference(scene, test::scaled(1000), seed++, name.c_str());
+}
+
+TEST(FpQuery, RandomSoupsMatchExactReference) {
+    for (uint64_t seed = 0; seed < 3; ++seed)
+        checkAgainstReference(makeRandomSoup(40, seed), test::scaled(700), 100 + seed, "soup");
+}
+
+// The penumbra points must actually exercise the trees: in the grids scene most receiver points
+// under the grid see a partly hidden light.
+TEST(FpQuery, GridsHaveRealPenumbrae) {
+    const Scene s = makeGrids();
+    Trees trees{s.mesh, {}, {}};
+    std::mt19937_64 rng(5);
+    int partial = 0, total = 0;
+    for (uint32_t f = 0; f < s.faceCount() && total < 400; ++f) {
+        if (f == s.lights[0]) continue;
+        const auto& t = trees.get(f, s.lights[0]);
+        if (t.kind != vis::PairKind::Penumbra) continue;
+        for (int i = 0; i < 5; ++i) {
+            const QueryOutcome q = evaluate(s.mesh, t, randomPointOn(s.mesh, f, rng));
+            partial += q.fraction > 1e-6 && q.fraction < 1 - 1e-6;
+            ++total;
+        }
+    }
+    EXPECT_GT(total, 20);
+    EXPECT_GT(partial, total / 4);
+}
+
+TEST(FpQuery, MonteCarloAgrees) {
+    const Scene s = makeRandomSoup(40, 7);
+    Trees trees{s.mesh, {}, {}};
+    std::mt19937_64 rng(9);
+    const uint32_t l = s.lights[0];
+    int checked = 0;
+    for (int i = 0; i < 40 && checked < 12; ++i) {
+        const uint32_t r = static_cast<uint32_t>(rng() % s.faceCount());
+        if (r == l) continue;
+        const Vec3 x = randomPointOn(s.mesh, r, rng);
+        const QueryOutcome q = evaluate(s.mesh, trees.get(r, l), x);
+        double sd = 0;
+        const double mc = test::monteCarloFraction(s.mesh, r, l, x, 20000, 1000 + i, &sd);
+        EXPECT_NEAR(q.fraction, mc, 5 * std::max(sd, 2e-4)) << "receiver " << r << " x " << vis::toString(x);
+        ++checked;
+    }
+    EXPECT_GE(checked, 10);
+}
+
+// Fragments are disjoint, lie inside L, and their areas add up to the visible area.
+TEST(FpQuery, FragmentsAreDisjointAndInsideTheLight) {
+    const Scene s = makeRandomSoup(40, 3);
+    const vis::PolygonMesh& m = s.mesh;
+    Trees trees{m, {}, {}};
+    std::mt19937_64 rng(11);
+    const uint32_t l = s.lights[0];
+    const vis::FacePlane lp = vis::facePlane(m, l);
+    int multi = 0;
+    for (int i = 0; i < test::scaled(200); ++i) {
+        const uint32_t r = static_cast<uint32_t>(rng() % s.faceCount());
+        if (r == l) continue;
+        const Vec3 x = randomPointOn(m, r, rng);
+        const QueryOutcome q = evaluate(m, trees.get(r, l), x);
+        const auto& frags = q.raw.fragments;
+        multi += frags.size() > 1;
+        const double lightArea = m.faceArea(l);
+        const double scale = std::sqrt(lightArea);
+        for (const auto& f : frags) {
+            ASSERT_GE(f.size(), 3u);
+            for (const Vec3& p : f) {
+                // In L's plane and inside every edge's half-plane (within rounding).
+                const Vec3 n = vis::normalize(m.faceAreaNormal(l));
+                EXPECT_NEAR(vis::dot(n, p - lp.a), 0, 1e-9 * scale);
+                const auto& li = m.faces[l];
+                for (size_t e = 0; e < li.size(); ++e) {
+                    const Vec3 a = m.vertices[li[e]], b = m.vertices[li[(e + 1) % li.size()]];
+                    EXPECT_GE(vis::dot(vis::cross(b - a, p - a), n), -1e-9 * scale * scale);
+                }
+            }
+        }
+        // Pairwise overlap: clip one fragment by the other's edge planes (planes through each
+        // edge, perpendicular to L), the remaining area must vanish.
+        const Vec3 n = vis::normalize(m.faceAreaNormal(l));
+        for (size_t a = 0; a < frags.size(); ++a)
+            for (size_t b = a + 1; b < frags.size(); ++b) {
+                std::vector<Vec3> piece = frags[a];
+                const auto& fb = frags[b];
+                for (size_t e = 0; e < fb.size() && piece.size() >= 3; ++e) {
+                    const Vec3 p = fb[e], q2 = fb[(e + 1) % fb.size()];
+                    // keep the side of the edge towards fragment b's interior (b is CCW about n
+                    // like L, or CW: pick the side where b's centroid lies)
+                    Vec3 c{};
+                    for (const Vec3& v : fb) c += v / static_cast<double>(fb.size());
+                    vis::OrientedPlane plane{p, q2, p + n};
+                    if (plane.side(c) == vis::Sign::Negative) plane = {q2, p, q2 + n};
+                    piece = vis::clipConvexPositive(piece, plane);
+                }
+                const double overlap = piece.size() >= 3 ? vis::polygonArea(piece) : 0.0;
+                EXPECT_LT(overlap, 1e-9 * lightArea) << "fragments " << a << " and " << b << " overlap";
+            }
+        double sum = 0;
+        for (const auto& f : frags) sum += vis::polygonArea(f);
+        const test::ReferenceResult ref = test::exactReference(m, r, l, x);
+        EXPECT_NEAR(sum, ref.visibleArea, 1e-9 * lightArea);
+    }
+    EXPECT_GT(multi, 5);  // the property was exercised on real multi-fragment answers
+}
+
+// Leaf merging and quadric pruning change the tree, never the answer.
+TEST(FpQuery, OptimisationsDoNotChangeResults) {
+    const Scene s = makeRandomSoup(30, 5);
+    const vis::PolygonMesh& m = s.mesh;
+    const uint32_t l = s.lights[0];
+    std::mt19937_64 rng(13);
+    size_t nodesAll = 0, nodesNone = 0;
+    for (int i = 0; i < 6; ++i) {
+        const uint32_t r = static_cast<uint32_t>(rng() % s.faceCount());
+        if (r == l) continue;
+        vis::HistoryTree trees[4];
+        for (int k = 0; k < 4; ++k)
+            trees[k] = vis::buildHistoryTree(m, r, l, {.mergeLeaves = (k & 1) != 0, .quadricPruning = (k & 2) != 0});
+        nodesAll += trees[3].nodes.size();
+        nodesNone += trees[0].nodes.size();
+        for (int p = 0; p < 30; ++p) {
+            const Vec3 x = randomPointOn(m, r, rng);
+            const QueryOutcome base = evaluate(m, trees[0], x);
+            for (int k = 1; k < 4; ++k) {
+                const QueryOutcome q = evaluate(m, trees[k], x);
+                EXPECT_NEAR(q.fraction, base.fraction, 1e-12) << "variant " << k;
+                EXPECT_NEAR(q.formFactor, base.formFactor, 1e-12 * std::max(1.0, base.formFactor));
+            }
+        }
+    }
+    EXPECT_LE(nodesAll, nodesNone);
+}
+
+// A point exactly on a splitting plane: no sliver, no lost area.
+TEST(FpQuery, PointOnSplittingPlaneLosesNoArea) {
+    // Floor [0,4]^2 at z=0, light [1,3]^2 at z=4 facing down, occluder square [1.5,2.5]^2 at z=2.
+    vis::PolygonMesh m;
+    m.vertices = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}, {1, 1, 4}, {1, 3, 4}, {3, 3, 4}, {3, 1, 4},
+                  {1.5, 1.5, 2}, {2.5, 1.5, 2}, {2.5, 2.5, 2}, {1.5, 2.5, 2}};
+    m.faces = {{0, 1, 2, 3}, {4, 5, 6, 7}, {8, 9, 10, 11}};
+    const vis::HistoryTree t = vis::buildHistoryTree(m, 0, 1);
+    ASSERT_EQ(t.kind, vis::PairKind::Penumbra);
+    // The occluder's shadow from x on the light's plane is x + 2 (o - x). Hand-derived:
+    struct Case { Vec3 x; double visible; };
+    const Case cases[] = {
+        {{2, 2, 0}, 0.0},      // shadow exactly [1,3]^2: all four planes pass through L's edges
+        {{1, 2, 0}, 2.0},      // shadow x in [2, 4]: blocks [2,3] x [1,3]
+        {{0.5, 2, 0}, 3.0},    // shadow x in [2.5, 4.5], y in [1, 3]: blocks 1
+        {{2, 1, 0}, 2.0},      // shadow y in [2, 4]: blocks [1,3] x [2,3]; x planes through L's edges
+        {{1.5, 1.5, 0}, 1.75},  // shadow [1.5, 3.5]^2: blocks [1.5, 3]^2 = 2.25
+    };
+    for (const Case& c : cases) {
+        const QueryOutcome q = evaluate(m, t, c.x);
+        EXPECT_NEAR(q.visibleArea, c.visible, 1e-12) << vis::toString(c.x);
+        EXPECT_NEAR(test::exactReference(m, 0, 1, c.x).visibleArea, c.visible, 1e-12);
+        for (const auto& f : q.raw.fragments) EXPECT_GT(vis::polygonArea(f), 1e-3) << "sliver";
+    }
+}
+
+TEST(HistoryTree, NodesAreSixteenBytesAndPairsAreClassified) {
+    static_assert(sizeof(vis::HistoryNode) == 16);
+    vis::PolygonMesh m;
+    m.vertices = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}, {1, 1, 4}, {1, 3, 4}, {3, 3, 4}, {3, 1, 4},
+                  {-10, -10, 2}, {10, -10, 2}, {10, 10, 2}, {-10, 10, 2}};
+    // No occluder: fully visible.
+    m.faces = {{0, 1, 2, 3}, {4, 5, 6, 7}};
+    EXPECT_EQ(vis::buildHistoryTree(m, 0, 1).kind, vis::PairKind::FullyVisible);
+    // A huge plate in between: fully hidden by a single occluder.
+    m.faces.push_back({8, 9, 10, 11});
+    vis::HistoryTree t = vis::buildHistoryTree(m, 0, 1);
+    EXPECT_EQ(t.kind, vis::PairKind::FullyHidden);
+    EXPECT_TRUE(t.nodes.empty());
+    // Light facing away from the receiver: back-facing.
+    m.faces = {{0, 1, 2, 3}, {7, 6, 5, 4}};
+    EXPECT_EQ(vis::buildHistoryTree(m, 0, 1).kind, vis::PairKind::BackFacing);
+}
+
+}  // namespace
+}  // namespace penumbra
