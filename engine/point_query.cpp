@@ -144,14 +144,39 @@ FaceLookup findFaceContaining(const Scene& scene, const Vec3& x) {
     return out;
 }
 
-const vis::HistoryTree& TreeCache::tree(const Scene& scene, uint32_t receiver, uint32_t lightFace) {
-    if (scene_ == nullptr) scene_ = &scene;
+const vis::HistoryTree& TreeCache::tree(const Scene& scene, uint32_t receiver, uint32_t lightFace,
+                                        const Vec3& x) {
+    if (scene_ == nullptr) {
+        scene_ = &scene;
+        Vec3 lo = scene.mesh.vertices.empty() ? Vec3{} : scene.mesh.vertices[0], hi = lo;
+        for (const Vec3& v : scene.mesh.vertices) {
+            lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
+            hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
+        }
+        maxPatchDiameter_ = patchFraction_ > 0 ? patchFraction_ * vis::length(hi - lo) : 0;
+    }
     if (scene_ != &scene) throw std::logic_error("TreeCache used with a second scene");
-    const auto key = std::make_pair(receiver, lightFace);
+    auto pit = patches_.find(receiver);
+    if (pit == patches_.end()) {
+        std::vector<Vec3> face;
+        for (uint32_t v : scene.mesh.faces[receiver]) face.push_back(scene.mesh.vertices[v]);
+        pit = patches_.emplace(receiver, vis::subdivideReceiver(face, maxPatchDiameter_)).first;
+    }
+    const vis::ReceiverPatches& patches = pit->second;
+    const uint32_t patch = patches.find(x);
+    const auto key = std::make_tuple(receiver, patch, lightFace);
     auto it = trees_.find(key);
-    if (it == trees_.end())
-        it = trees_.emplace(key, vis::buildHistoryTree(scene.mesh, receiver, lightFace, options_))
+    if (it == trees_.end()) {
+        // A face that is its own single patch gets the tree of the whole face.
+        const bool whole = patches.patches.size() == 1;
+        it = trees_
+                 .emplace(key, vis::buildHistoryTree(scene.mesh, receiver, lightFace, options_, {},
+                                                     nullptr,
+                                                     whole ? std::span<const Vec3>{}
+                                                           : std::span<const Vec3>(
+                                                                 patches.patches[patch])))
                  .first;
+    }
     return it->second;
 }
 
@@ -184,7 +209,7 @@ std::vector<LightAtPoint> queryPoint(const Scene& scene, uint32_t face, const Ve
             out.push_back(std::move(r));
             continue;
         }
-        const vis::HistoryTree& tree = cache.tree(scene, face, r.lightFace);
+        const vis::HistoryTree& tree = cache.tree(scene, face, r.lightFace, x);
         r.kind = tree.kind;
         vis::FromPointResult q = vis::fromPointQuery(mesh, tree, x);
         r.fragments = std::move(q.fragments);

@@ -7,6 +7,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "visibility/fp_query.h"
 #include "visibility/history_tree.h"
 #include "visibility/history_tree_builder.h"
+#include "visibility/receiver_patches.h"
 
 namespace penumbra {
 
@@ -47,16 +49,23 @@ FaceLookup findFaceContaining(const Scene& scene, const Vec3& x);
 // Builds each (receiver face, light face) history tree once and keeps it, so that many points on
 // the same face share it. A cache serves one scene: using it with another throws std::logic_error.
 class TreeCache {
-  public:
-    explicit TreeCache(vis::BuildOptions options = {}) : options_(options) {}
-
-    const vis::HistoryTree& tree(const Scene& scene, uint32_t receiver, uint32_t lightFace);
+public:
+    // patchFraction: receivers larger than this fraction of the scene's bounding-box diagonal are
+    // split into patches with a tree each (visibility/receiver_patches.h); 0 = never split.
+    explicit TreeCache(vis::BuildOptions options = {}, double patchFraction = 1.0 / 16)
+        : options_(options), patchFraction_(patchFraction) {}
+    // The tree of the (receiver patch containing x, light) pair, built on first use.
+    const vis::HistoryTree& tree(const Scene& scene, uint32_t receiver, uint32_t lightFace,
+                                 const Vec3& x);
     size_t size() const { return trees_.size(); }
 
-  private:
+private:
     vis::BuildOptions options_;
+    double patchFraction_;
+    double maxPatchDiameter_ = 0;
     const Scene* scene_ = nullptr;
-    std::map<std::pair<uint32_t, uint32_t>, vis::HistoryTree> trees_;
+    std::map<uint32_t, vis::ReceiverPatches> patches_;
+    std::map<std::tuple<uint32_t, uint32_t, uint32_t>, vis::HistoryTree> trees_;
 };
 
 // One light as seen from a point x on a receiver face.

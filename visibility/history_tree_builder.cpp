@@ -17,14 +17,14 @@ struct Slot {
 
 class Builder {
 public:
-    Builder(const PolygonMesh& mesh, uint32_t receiver, uint32_t light, const PairOccluders& occ,
-            const BuildOptions& options, BuildStats& stats)
+    Builder(const PolygonMesh& mesh, std::span<const Vec3> receiver, uint32_t light,
+            const PairOccluders& occ, const BuildOptions& options, BuildStats& stats)
         : mesh_(mesh),
           occ_(occ),
           options_(options),
           stats_(stats),
-          space_(polygon(mesh, receiver), polygon(mesh, light)),
-          receiverPoints_(polygon(mesh, receiver)),
+          space_(receiver, polygon(mesh, light)),
+          receiverPoints_(receiver.begin(), receiver.end()),
           lightPoints_(polygon(mesh, light)),
           meshVertexCount_(static_cast<uint32_t>(mesh.vertices.size())) {}
 
@@ -252,14 +252,17 @@ public:
 
 HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
                              const BuildOptions& options, std::span<const uint32_t> candidates,
-                             BuildStats* statsOut) {
+                             BuildStats* statsOut, std::span<const Vec3> receiverPatch) {
     const auto t0 = std::chrono::steady_clock::now();
     BuildStats stats;
     HistoryTree tree;
     tree.receiver = receiver;
     tree.light = light;
     tree.meshVertexCount = static_cast<uint32_t>(mesh.vertices.size());
-    const PairOccluders occ = gatherOccluders(mesh, receiver, light, candidates);
+    std::vector<Vec3> region(receiverPatch.begin(), receiverPatch.end());
+    if (region.empty())
+        for (uint32_t v : mesh.faces[receiver]) region.push_back(mesh.vertices[v]);
+    const PairOccluders occ = gatherOccluders(mesh, receiver, light, candidates, region);
     if (occ.backFacing) {
         tree.kind = PairKind::BackFacing;
         tree.why = "the light is behind the receiver's plane or the receiver behind the light's";
@@ -268,7 +271,7 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
         tree.why = "no occluder between the receiver and the light";
     } else {
         stats.occludersInShaft = static_cast<uint32_t>(occ.occluders.size());
-        Builder builder(mesh, receiver, light, occ, options, stats);
+        Builder builder(mesh, region, light, occ, options, stats);
         for (const Occluder& o : occ.occluders) {
             builder.insert(o);
             if (builder.root() == kHiddenLeaf) break;

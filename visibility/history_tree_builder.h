@@ -29,9 +29,12 @@ struct BuildStats {
 };
 
 // candidates: the faces that may occlude (e.g. from a BVH shaft query); empty = all faces.
+// receiverPatch: a convex part of the receiver face (receiver_patches.h) the tree is built for;
+// empty = the whole face. The tree is exact for the lines through that region.
 HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
                              const BuildOptions& options = {},
                              std::span<const uint32_t> candidates = {},
-                             BuildStats* stats = nullptr);
+                             BuildStats* stats = nullptr,
+                             std::span<const Vec3> receiverPatch = {});
 
 }  // namespace penumbra::vis

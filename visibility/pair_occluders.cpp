@@ -28,7 +28,8 @@ FacePlane facePlane(const PolygonMesh& mesh, uint32_t face) {
 }
 
 PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
-                              std::span<const uint32_t> candidates) {
+                              std::span<const uint32_t> candidates,
+                              std::span<const Vec3> receiverRegion) {
     PairOccluders out;
     const FacePlane pb = facePlane(mesh, receiver), pl = facePlane(mesh, light);
     // Back-facing: L has no point strictly in front of B, or B none strictly in front of L.
@@ -37,12 +38,14 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
             if (plane.side(mesh.vertices[v]) == Sign::Positive) return true;
         return false;
     };
-    if (!anyFront(pb, light) || !anyFront(pl, receiver)) {
+    bool regionInFront = false;
+    for (const Vec3& p : receiverRegion) regionInFront |= pl.side(p) == Sign::Positive;
+    if (!anyFront(pb, light) || !anyFront(pl, receiver) || !regionInFront) {
         out.backFacing = true;
         return out;
     }
     Box shaft;
-    for (uint32_t v : mesh.faces[receiver]) shaft.add(mesh.vertices[v]);
+    for (const Vec3& p : receiverRegion) shaft.add(p);
     for (uint32_t v : mesh.faces[light]) shaft.add(mesh.vertices[v]);
 
     const uint32_t meshVertexCount = static_cast<uint32_t>(mesh.vertices.size());
@@ -62,8 +65,8 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
         // Which way do segments from B to L cross the occluder's plane?
         const FacePlane po = facePlane(mesh, f);
         int bPos = 0, bNeg = 0, lPos = 0, lNeg = 0;
-        for (uint32_t v : mesh.faces[receiver]) {
-            const Sign s = po.side(mesh.vertices[v]);
+        for (const Vec3& p : receiverRegion) {
+            const Sign s = po.side(p);
             bPos += s == Sign::Positive;
             bNeg += s == Sign::Negative;
         }

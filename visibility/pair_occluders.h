@@ -34,8 +34,10 @@ struct PairOccluders {
 };
 
 // candidates: faces that may occlude (superset is fine); empty = every face of the mesh.
+// receiverRegion: the part of the receiver face the pair is about (all of it, or a patch).
 PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
-                              std::span<const uint32_t> candidates);
+                              std::span<const uint32_t> candidates,
+                              std::span<const Vec3> receiverRegion);
 
 // The three input vertices that define a face's plane for exact side tests (the first three:
 // faces are validated planar and strictly convex on load).
