@@ -47,5 +47,6 @@ Scene loadSceneFile(const std::filesystem::path& path);
 
 // `penumbra query`: exact light visibility at points (app/query_command.cpp).
 void registerQueryCommand(CLI::App& app);
+void registerBenchCommand(CLI::App& app);
 
 }  // namespace penumbra::cli

@@ -28,6 +28,7 @@ int run(int argc, char** argv) {
     app.set_version_flag("--version", kVersion, "Print the version and exit");
     app.require_subcommand(1);
     penumbra::cli::registerQueryCommand(app);
+    penumbra::cli::registerBenchCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {  // --help, --version

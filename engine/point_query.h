@@ -52,7 +52,7 @@ class TreeCache {
 public:
     // patchFraction: receivers larger than this fraction of the scene's bounding-box diagonal are
     // split into patches with a tree each (visibility/receiver_patches.h); 0 = never split.
-    explicit TreeCache(vis::BuildOptions options = {}, double patchFraction = 1.0 / 16)
+    explicit TreeCache(vis::BuildOptions options = {}, double patchFraction = 1.0 / 4)
         : options_(options), patchFraction_(patchFraction) {}
     // The tree of the (receiver patch containing x, light) pair, built on first use.
     const vis::HistoryTree& tree(const Scene& scene, uint32_t receiver, uint32_t lightFace,

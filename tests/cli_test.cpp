@@ -353,7 +353,7 @@ TEST(PointQuery, CoplanarFacesPickTheLowestIndexOtherwiseAmbiguous) {
 
 TEST(PointQuery, MatchesTheExactReference) {
     const Scene scene = testScene();
-    TreeCache cache;
+    TreeCache cache({}, 0.0);  // whole faces: one tree per (receiver, light) pair
     const Vec3 points[] = {{0, 0, 0},      {0.3, 0.2, 0}, {-1, -1, 0},
                            {0.7, -1.3, 0}, {1.9, 0.1, 0}, {-0.1, 0.4, 0}};
     for (const Vec3& x : points) {

@@ -292,7 +292,18 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
             tree.kind = PairKind::Penumbra;
             tree.why = "partly blocked: the history tree decides per line";
             builder.emit(tree);
-            tree.extraVertices = occ.extraVertices;
+            // Keep only the constructed vertices the nodes use, renumbered.
+            std::vector<uint32_t> remap(occ.extraVertices.size(), UINT32_MAX);
+            for (HistoryNode& n : tree.nodes)
+                for (uint32_t* id : {&n.v0, &n.v1}) {
+                    if (*id < tree.meshVertexCount) continue;
+                    uint32_t& r = remap[*id - tree.meshVertexCount];
+                    if (r == UINT32_MAX) {
+                        r = tree.meshVertexCount + static_cast<uint32_t>(tree.extraVertices.size());
+                        tree.extraVertices.push_back(occ.extraVertices[*id - tree.meshVertexCount]);
+                    }
+                    *id = r;
+                }
         }
     }
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -21,45 +21,38 @@ P2 project(const Vec3& p, int drop) {
     return drop == 0 ? P2{p.y, p.z} : (drop == 1 ? P2{p.z, p.x} : P2{p.x, p.y});
 }
 
-// How far outside the convex polygon x lies: the largest signed distance past an edge, relative
-// to that edge's length (<= 0 inside). Approximate: only chooses between overlapping patches.
-double outside(std::span<const Vec3> poly, const Vec3& x, int drop) {
-    const size_t n = poly.size();
-    double orient = 0;
-    for (size_t i = 0; i < n; ++i) {
-        const P2 a = project(poly[i], drop), b = project(poly[(i + 1) % n], drop);
-        orient += a.u * b.v - a.v * b.u;
-    }
-    const double s = orient >= 0 ? 1.0 : -1.0;
-    const P2 q = project(x, drop);
-    double worst = -std::numeric_limits<double>::infinity();
-    for (size_t i = 0; i < n; ++i) {
-        const P2 a = project(poly[i], drop), b = project(poly[(i + 1) % n], drop);
-        const double eu = b.u - a.u, ev = b.v - a.v;
-        const double len = std::hypot(eu, ev);
-        if (len == 0) continue;
-        const double cross = eu * (q.v - a.v) - ev * (q.u - a.u);
-        worst = std::max(worst, -s * cross / len);
-    }
-    return worst;
-}
-
 }  // namespace
 
 uint32_t ReceiverPatches::find(const Vec3& x) const {
+    if (patches.size() <= 1) return 0;
+    const int k = cellsPerSide;
+    const uint32_t perFan = static_cast<uint32_t>(k * k);
+    const P2 q = project(x, dropAxis);
     uint32_t best = 0;
     double bestOut = std::numeric_limits<double>::infinity();
-    for (uint32_t i = 0; i < patches.size(); ++i) {
-        const double o = outside(patches[i], x, dropAxis);
-        if (o < bestOut) {
-            bestOut = o;
-            best = i;
+    for (size_t t = 1; t + 1 < face.size(); ++t) {
+        // Barycentric coordinates (u along a->b, v along a->c) in the projection.
+        const P2 a = project(face[0], dropAxis), b = project(face[t], dropAxis),
+                 c = project(face[t + 1], dropAxis);
+        const double det = (b.u - a.u) * (c.v - a.v) - (b.v - a.v) * (c.u - a.u);
+        if (det == 0) continue;
+        const double u = ((q.u - a.u) * (c.v - a.v) - (q.v - a.v) * (c.u - a.u)) / det;
+        const double v = ((b.u - a.u) * (q.v - a.v) - (b.v - a.v) * (q.u - a.u)) / det;
+        const double out = std::max({-u, -v, u + v - 1});
+        if (out < bestOut) {
+            bestOut = out;
+            // Cell (i, j) of the grid, clamped into the triangle; lower or upper triangle of it.
+            const double su = std::clamp(u, 0.0, 1.0) * k, sv = std::clamp(v, 0.0, 1.0) * k;
+            int i = std::min(k - 1, static_cast<int>(su));
+            int j = std::min(k - 1 - i, static_cast<int>(sv));
+            const bool upper = i + j + 1 < k && (su - i) + (sv - j) > 1;
+            // Patches were emitted per i, then per j: lower (i, j) then upper (i, j) if any.
+            uint32_t index = static_cast<uint32_t>(t - 1) * perFan;
+            for (int r = 0; r < i; ++r) index += static_cast<uint32_t>(2 * (k - r) - 1);
+            index += static_cast<uint32_t>(2 * j) + (upper ? 1 : 0);
+            best = index;
         }
-        if (o < 0) {
-            // Prefer the patch where x is deepest inside: the one whose tree margin is largest.
-            // Cheap: the first strictly-inside patch whose depth beats a relative threshold.
-            if (-o > 1e-6 * diameter(patches[i])) return i;
-        }
+        if (out <= 0) break;
     }
     return best;
 }
@@ -70,6 +63,7 @@ ReceiverPatches subdivideReceiver(std::span<const Vec3> face, double maxDiameter
     for (size_t i = 1; i + 1 < face.size(); ++i) n += cross(face[i] - face[0], face[i + 1] - face[0]);
     const double ax = std::fabs(n.x), ay = std::fabs(n.y), az = std::fabs(n.z);
     out.dropAxis = ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
+    out.face.assign(face.begin(), face.end());
     const double d = diameter(face);
     if (maxDiameter <= 0 || d <= maxDiameter) {
         out.patches.emplace_back(face.begin(), face.end());
@@ -77,6 +71,7 @@ ReceiverPatches subdivideReceiver(std::span<const Vec3> face, double maxDiameter
     }
     const int levels = std::min(8, static_cast<int>(std::ceil(std::log2(d / maxDiameter))));
     const int k = 1 << levels;  // each fan triangle becomes k*k triangles
+    out.cellsPerSide = k;
     for (size_t t = 1; t + 1 < face.size(); ++t) {
         const Vec3 a = face[0], b = face[t], c = face[t + 1];
         auto at = [&](int i, int j) {  // barycentric grid point (i along ab, j along ac)

@@ -19,9 +19,13 @@ namespace penumbra::vis {
 
 struct ReceiverPatches {
     std::vector<std::vector<Vec3>> patches;  // convex (triangles), counter-clockwise like the face
-    // The patch containing x (x on the face's plane); the nearest one when x is outside them all.
+    // The patch containing x (x on the face's plane), found in constant time per fan triangle
+    // from x's barycentric coordinates; the nearest one when x is outside the face.
     uint32_t find(const Vec3& x) const;
-    int dropAxis = 2;  // coordinate dropped to work in 2D (the face normal's dominant axis)
+
+    std::vector<Vec3> face;      // the face's vertices (fan triangles (0, t, t+1))
+    int cellsPerSide = 1;        // k: each fan triangle is a k x k triangular grid
+    int dropAxis = 2;            // coordinate dropped to work in 2D (the normal's dominant axis)
 };
 
 // Subdivides until every patch has a diameter <= maxDiameter (a face already that small is one
