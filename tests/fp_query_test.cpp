@@ -89,7 +89,7 @@ void checkAgainstReference(const Scene& scene, int points, uint64_t seed, const 
 }
 
 TEST(FpQuery, StairsMatchExactReference) { checkAgainstReference(makeStairs(), test::scaled(2000), 1, "stairs"); }
-TEST(FpQuery, TableMatchesExactReference) { checkAgainstReference(makeTable(), test::scaled(200), 2, "table"); }
+TEST(FpQuery, TableMatchesExactReference) { checkAgainstReference(makeTable(), test::scaled(60), 2, "table"); }
 TEST(FpQuery, GridsMatchExactReference) { checkAgainstReference(makeGrids(), test::scaled(2000), 3, "grids"); }
 TEST(FpQuery, CornellBoxMatchesExactReference) { checkAgainstReference(makeCornellBox(), test::scaled(2000), 4, "cornell"); }
 
