@@ -41,12 +41,7 @@ void benchScene(const std::string& path, const BenchOptions& o) {
     const Scene scene = loadSceneFile(path);
     const vis::PolygonMesh& mesh = scene.mesh;
     const EmbreeScene embree(mesh);
-    Vec3 lo = mesh.vertices[0], hi = lo;
-    for (const Vec3& v : mesh.vertices) {
-        lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
-        hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
-    }
-    const double maxPatch = o.patchFraction * vis::length(hi - lo);
+    const double maxPatch = o.patchFraction * mesh.bounds().diagonal();
 
     // Precompute every pair.
     std::vector<vis::ReceiverPatches> patches(scene.faceCount());

@@ -33,28 +33,6 @@ std::string formatFaceList(const std::vector<uint32_t>& faces) {
     return s;
 }
 
-struct Box {
-    Vec3 lo{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-            std::numeric_limits<double>::infinity()};
-    Vec3 hi{-std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
-            -std::numeric_limits<double>::infinity()};
-
-    void add(const Vec3& p) {
-        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-    }
-    bool containsGrown(const Vec3& p, double tol) const {
-        return p.x >= lo.x - tol && p.x <= hi.x + tol && p.y >= lo.y - tol && p.y <= hi.y + tol &&
-               p.z >= lo.z - tol && p.z <= hi.z + tol;
-    }
-};
-
-Box faceBox(const vis::PolygonMesh& mesh, uint32_t f) {
-    Box b;
-    for (uint32_t v : mesh.faces[f]) b.add(mesh.vertices[v]);
-    return b;
-}
-
 Vec3 unitNormal(const vis::PolygonMesh& mesh, uint32_t f) {
     return normalize(mesh.faceAreaNormal(f));
 }
@@ -101,10 +79,7 @@ std::vector<Vec3> facePolygon(const vis::PolygonMesh& mesh, uint32_t f) {
 }  // namespace
 
 double pointTolerance(const Scene& scene, const Vec3& x) {
-    Box box;
-    for (const Vec3& p : scene.mesh.vertices) box.add(p);
-    const double diagonal = scene.mesh.vertices.empty() ? 0.0 : length(box.hi - box.lo);
-    return 1e-9 * diagonal + 1e-12 * length(x);
+    return 1e-9 * scene.mesh.bounds().diagonal() + 1e-12 * length(x);
 }
 
 FaceLookup findFaceContaining(const Scene& scene, const Vec3& x) {
@@ -116,7 +91,7 @@ FaceLookup findFaceContaining(const Scene& scene, const Vec3& x) {
     const vis::PolygonMesh& mesh = scene.mesh;
     const double tol = pointTolerance(scene, x);
     for (uint32_t f = 0; f < scene.faceCount(); ++f) {
-        if (mesh.faces[f].size() < 3 || !faceBox(mesh, f).containsGrown(x, tol)) continue;
+        if (mesh.faces[f].size() < 3 || !mesh.faceBounds(f).containsGrown(x, tol)) continue;
         const Vec3 n = unitNormal(mesh, f);
         if (planeDistance(mesh, f, n, x) > tol) continue;
         if (insideProjected(mesh, f, n, x, tol)) out.candidates.push_back(f);
@@ -148,12 +123,7 @@ const vis::HistoryTree& TreeCache::tree(const Scene& scene, uint32_t receiver, u
                                         const Vec3& x) {
     if (scene_ == nullptr) {
         scene_ = &scene;
-        Vec3 lo = scene.mesh.vertices.empty() ? Vec3{} : scene.mesh.vertices[0], hi = lo;
-        for (const Vec3& v : scene.mesh.vertices) {
-            lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
-            hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
-        }
-        maxPatchDiameter_ = patchFraction_ > 0 ? patchFraction_ * vis::length(hi - lo) : 0;
+        maxPatchDiameter_ = patchFraction_ > 0 ? patchFraction_ * scene.mesh.bounds().diagonal() : 0;
     }
     if (scene_ != &scene) throw std::logic_error("TreeCache used with a second scene");
     auto pit = patches_.find(receiver);

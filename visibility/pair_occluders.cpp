@@ -6,21 +6,6 @@
 #include "visibility/polygon_clip.h"
 
 namespace penumbra::vis {
-namespace {
-
-struct Box {
-    Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
-    void add(const Vec3& p) {
-        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-    }
-    bool overlaps(const Box& o) const {  // closed boxes: touching counts (conservative)
-        return lo.x <= o.hi.x && o.lo.x <= hi.x && lo.y <= o.hi.y && o.lo.y <= hi.y &&
-               lo.z <= o.hi.z && o.lo.z <= hi.z;
-    }
-};
-
-}  // namespace
 
 FacePlane facePlane(const PolygonMesh& mesh, uint32_t face) {
     const auto& f = mesh.faces[face];
@@ -44,7 +29,7 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
         out.backFacing = true;
         return out;
     }
-    Box shaft;
+    Bounds3 shaft;
     for (const Vec3& p : receiverRegion) shaft.add(p);
     for (uint32_t v : mesh.faces[light]) shaft.add(mesh.vertices[v]);
 
@@ -53,9 +38,8 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
     auto consider = [&](uint32_t f) {
         if (f == receiver || f == light) return;
         const auto& idx = mesh.faces[f];
-        Box box;
-        for (uint32_t v : idx) box.add(mesh.vertices[v]);
-        if (!box.overlaps(shaft)) return;
+        // Closed boxes, touching counts: conservative.
+        if (!mesh.faceBounds(f).overlaps(shaft)) return;
         std::vector<Vec3> poly;
         for (uint32_t v : idx) poly.push_back(mesh.vertices[v]);
         poly = clipConvexPositive(poly, clipB);

@@ -4,14 +4,6 @@
 
 namespace penumbra::vis {
 
-bool OrientedPlane::degenerate() const {
-    // Collinear iff the cross product vanishes; test exactly with orient3d against the three
-    // coordinate-offset points (a zero normal makes all three zero).
-    const Vec3 ex = a + Vec3{1, 0, 0}, ey = a + Vec3{0, 1, 0}, ez = a + Vec3{0, 0, 1};
-    return orientSign(a, b, c, ex) == Sign::Zero && orientSign(a, b, c, ey) == Sign::Zero &&
-           orientSign(a, b, c, ez) == Sign::Zero;
-}
-
 namespace {
 
 Vec3 crossing(const Vec3& p, const Vec3& q, double dp, double dq) {

@@ -14,7 +14,6 @@ struct OrientedPlane {
     Vec3 a, b, c;
     Sign side(const Vec3& y) const { return orientSign(a, b, c, y); }
     double value(const Vec3& y) const { return orient3dApprox(a, b, c, y); }
-    bool degenerate() const;  // a, b, c collinear (exact)
 };
 
 // Splits `polygon` into `positive` and `negative` (cleared first, capacity kept: callers reuse

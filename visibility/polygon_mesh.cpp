@@ -15,4 +15,16 @@ Vec3 PolygonMesh::faceAreaNormal(uint32_t f) const {
 
 double PolygonMesh::faceArea(uint32_t f) const { return 0.5 * length(faceAreaNormal(f)); }
 
+Bounds3 PolygonMesh::faceBounds(uint32_t f) const {
+    Bounds3 b;
+    for (uint32_t v : faces[f]) b.add(vertices[v]);
+    return b;
+}
+
+Bounds3 PolygonMesh::bounds() const {
+    Bounds3 b;
+    for (const Vec3& v : vertices) b.add(v);
+    return b;
+}
+
 }  // namespace penumbra::vis

@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "visibility/bounds3.h"
 #include "visibility/vec3.h"
 
 namespace penumbra::vis {
@@ -20,6 +21,8 @@ struct PolygonMesh {
     // Area-weighted normal (length = 2 * area), Newell's method. Approximate.
     Vec3 faceAreaNormal(uint32_t f) const;
     double faceArea(uint32_t f) const;
+    Bounds3 faceBounds(uint32_t f) const;
+    Bounds3 bounds() const;  // of all vertices
 };
 
 }  // namespace penumbra::vis

@@ -51,12 +51,6 @@ Sign signOf(const mpq_class& q) {
 
 }  // namespace
 
-std::string toString(const Vec3& v) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "(%.17g, %.17g, %.17g)", v.x, v.y, v.z);
-    return buf;
-}
-
 double orient3dApprox(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
     return evaluate(a, b, c, d).det;
 }
