@@ -237,10 +237,10 @@ void runQuery(const CLI::App& sub, const QueryOptions& options) {
         faces.push_back(*lookup.face);
     }
 
-    TreeCache cache;
+    VisibilityStore store(scene);
     for (size_t i = 0; i < points.size(); ++i) {
         const std::vector<LightAtPoint> lights =
-            queryPoint(scene, faces[i], points[i].x, lightFlag, cache);
+            queryPoint(store, faces[i], points[i].x, lightFlag);
         std::cout << toJson(points[i], faces[i], lights).dump() << '\n';
     }
     std::cout.flush();

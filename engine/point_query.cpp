@@ -119,39 +119,9 @@ FaceLookup findFaceContaining(const Scene& scene, const Vec3& x) {
     return out;
 }
 
-const vis::HistoryTree& TreeCache::tree(const Scene& scene, uint32_t receiver, uint32_t lightFace,
-                                        const Vec3& x) {
-    if (scene_ == nullptr) {
-        scene_ = &scene;
-        maxPatchDiameter_ = patchFraction_ > 0 ? patchFraction_ * scene.mesh.bounds().diagonal() : 0;
-    }
-    if (scene_ != &scene) throw std::logic_error("TreeCache used with a second scene");
-    auto pit = patches_.find(receiver);
-    if (pit == patches_.end()) {
-        std::vector<Vec3> face;
-        for (uint32_t v : scene.mesh.faces[receiver]) face.push_back(scene.mesh.vertices[v]);
-        pit = patches_.emplace(receiver, vis::subdivideReceiver(face, maxPatchDiameter_)).first;
-    }
-    const vis::ReceiverPatches& patches = pit->second;
-    const uint32_t patch = patches.find(x);
-    const auto key = std::make_tuple(receiver, patch, lightFace);
-    auto it = trees_.find(key);
-    if (it == trees_.end()) {
-        // A face that is its own single patch gets the tree of the whole face.
-        const bool whole = patches.patches.size() == 1;
-        it = trees_
-                 .emplace(key, vis::buildHistoryTree(scene.mesh, receiver, lightFace, options_, {},
-                                                     nullptr,
-                                                     whole ? std::span<const Vec3>{}
-                                                           : std::span<const Vec3>(
-                                                                 patches.patches[patch])))
-                 .first;
-    }
-    return it->second;
-}
-
-std::vector<LightAtPoint> queryPoint(const Scene& scene, uint32_t face, const Vec3& x,
-                                     std::optional<uint32_t> onlyLight, TreeCache& cache) {
+std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, const Vec3& x,
+                                     std::optional<uint32_t> onlyLight) {
+    const Scene& scene = store.scene();
     if (face >= scene.faceCount())
         throw std::out_of_range("face " + std::to_string(face) + " out of range (the scene has " +
                                 std::to_string(scene.faceCount()) + " faces)");
@@ -179,7 +149,7 @@ std::vector<LightAtPoint> queryPoint(const Scene& scene, uint32_t face, const Ve
             out.push_back(std::move(r));
             continue;
         }
-        const vis::HistoryTree& tree = cache.tree(scene, face, r.lightFace, x);
+        const vis::HistoryTree& tree = store.getOrBuild(store.keyAt(face, x, r.lightFace)).tree;
         r.kind = tree.kind;
         vis::FromPointResult q = vis::fromPointQuery(mesh, tree, x);
         r.fragments = std::move(q.fragments);

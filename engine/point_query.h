@@ -15,7 +15,7 @@
 #include "visibility/fp_query.h"
 #include "visibility/history_tree.h"
 #include "visibility/history_tree_builder.h"
-#include "visibility/receiver_patches.h"
+#include "engine/visibility_store.h"
 
 namespace penumbra {
 
@@ -46,28 +46,6 @@ double pointTolerance(const Scene& scene, const Vec3& x);
 // the error lists the candidate faces.
 FaceLookup findFaceContaining(const Scene& scene, const Vec3& x);
 
-// Builds each (receiver face, light face) history tree once and keeps it, so that many points on
-// the same face share it. A cache serves one scene: using it with another throws std::logic_error.
-class TreeCache {
-public:
-    // patchFraction: receivers larger than this fraction of the scene's bounding-box diagonal are
-    // split into patches with a tree each (visibility/receiver_patches.h); 0 = never split.
-    explicit TreeCache(vis::BuildOptions options = {}, double patchFraction = 1.0 / 4)
-        : options_(options), patchFraction_(patchFraction) {}
-    // The tree of the (receiver patch containing x, light) pair, built on first use.
-    const vis::HistoryTree& tree(const Scene& scene, uint32_t receiver, uint32_t lightFace,
-                                 const Vec3& x);
-    size_t size() const { return trees_.size(); }
-
-private:
-    vis::BuildOptions options_;
-    double patchFraction_;
-    double maxPatchDiameter_ = 0;
-    const Scene* scene_ = nullptr;
-    std::map<uint32_t, vis::ReceiverPatches> patches_;
-    std::map<std::tuple<uint32_t, uint32_t, uint32_t>, vis::HistoryTree> trees_;
-};
-
 // One light as seen from a point x on a receiver face.
 struct LightAtPoint {
     uint32_t light = 0;      // light number (index into Scene::lights)
@@ -86,11 +64,12 @@ struct LightAtPoint {
     vis::PairKind kind = vis::PairKind::BackFacing;  // what the (receiver, light) pair is
 };
 
-// Every light (or only light `onlyLight`) as seen from x on face `face` (x is not projected onto
-// the face). A point behind a light's plane gets fraction 0 and form factors 0; so does the light's
-// own face (kind BackFacing, no tree built). Throws std::out_of_range for a face or light number
-// out of range.
-std::vector<LightAtPoint> queryPoint(const Scene& scene, uint32_t face, const Vec3& x,
-                                     std::optional<uint32_t> onlyLight, TreeCache& cache);
+// Every light (or only light `onlyLight`) of the store's scene as seen from x on face `face` (x is
+// not projected onto the face). A point behind a light's plane gets fraction 0 and form factors 0;
+// so does the light's own face (kind BackFacing, no tree built). Missing trees are built on the
+// calling thread (VisibilityStore::getOrBuild). Throws std::out_of_range for a face or light
+// number out of range.
+std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, const Vec3& x,
+                                     std::optional<uint32_t> onlyLight);
 
 }  // namespace penumbra

@@ -18,6 +18,20 @@ PACKAGES=(
   libgtest-dev
   libembree-dev
   libtbb-dev
+  libopenmesh-dev
+  libtinygltf-dev
+  libstb-dev
+  libglfw3-dev
+  libglm-dev
+  libimgui-dev
+  libosmesa6-dev
+  libegl-dev
+  libgl1-mesa-dri
+  python3-matplotlib
+  xvfb
+  xauth
+  xdotool
+  imagemagick
 )
 
 is_installed() {

@@ -353,12 +353,14 @@ TEST(PointQuery, CoplanarFacesPickTheLowestIndexOtherwiseAmbiguous) {
 
 TEST(PointQuery, MatchesTheExactReference) {
     const Scene scene = testScene();
-    TreeCache cache({}, 0.0);  // whole faces: one tree per (receiver, light) pair
+    VisibilityStore::Options options;
+    options.patchFraction = 0.0;  // whole faces: one tree per (receiver, light) pair
+    VisibilityStore store(scene, nullptr, options);
     const Vec3 points[] = {{0, 0, 0},      {0.3, 0.2, 0}, {-1, -1, 0},
                            {0.7, -1.3, 0}, {1.9, 0.1, 0}, {-0.1, 0.4, 0}};
     for (const Vec3& x : points) {
         SCOPED_TRACE(vis::toString(x));
-        const std::vector<LightAtPoint> result = queryPoint(scene, 0, x, std::nullopt, cache);
+        const std::vector<LightAtPoint> result = queryPoint(store, 0, x, std::nullopt);
         ASSERT_EQ(result.size(), 1u);
         const LightAtPoint& l = result[0];
         const test::ReferenceResult ref = test::exactReference(scene.mesh, 0, 1, x);
@@ -373,14 +375,14 @@ TEST(PointQuery, MatchesTheExactReference) {
         for (const vis::Polygon3& fragment : l.fragments)
             for (const Vec3& v : fragment) EXPECT_NEAR(v.z, 2.0, 1e-12);
     }
-    EXPECT_EQ(cache.size(), 1u);  // one (receiver, light) pair, built once
+    EXPECT_EQ(store.treeCount(), 1u);  // one (receiver, light) pair, built once
 }
 
 TEST(PointQuery, BehindTheLightAndOnTheLight) {
     const Scene scene = testScene();
-    TreeCache cache;
+    VisibilityStore store(scene);
     for (const auto& [face, x] : {std::pair<uint32_t, Vec3>{3, {0, 0, 3}}, {1, {0, 0, 2}}}) {
-        const std::vector<LightAtPoint> result = queryPoint(scene, face, x, 0u, cache);
+        const std::vector<LightAtPoint> result = queryPoint(store, face, x, 0u);
         ASSERT_EQ(result.size(), 1u);
         EXPECT_EQ(result[0].fraction, 0.0);
         EXPECT_EQ(result[0].formFactor, 0.0);
@@ -388,10 +390,8 @@ TEST(PointQuery, BehindTheLightAndOnTheLight) {
         EXPECT_TRUE(result[0].fragments.empty());
         EXPECT_EQ(result[0].kind, vis::PairKind::BackFacing);
     }
-    EXPECT_THROW(queryPoint(scene, 4, {0, 0, 0}, std::nullopt, cache), std::out_of_range);
-    EXPECT_THROW(queryPoint(scene, 0, {0, 0, 0}, 1u, cache), std::out_of_range);
-    const Scene other = testScene();
-    EXPECT_THROW(queryPoint(other, 0, {0, 0, 0}, std::nullopt, cache), std::logic_error);
+    EXPECT_THROW(queryPoint(store, 4, {0, 0, 0}, std::nullopt), std::out_of_range);
+    EXPECT_THROW(queryPoint(store, 0, {0, 0, 0}, 1u), std::out_of_range);
 }
 
 }  // namespace

@@ -57,8 +57,10 @@ Vec3 randomPointOn(const vis::PolygonMesh& m, uint32_t f, std::mt19937_64& rng) 
 // Trees per (receiver patch, light), as the query command builds them.
 struct Trees {
     const Scene& scene;
-    TreeCache cache{};
-    const vis::HistoryTree& get(uint32_t r, uint32_t l, const Vec3& x) { return cache.tree(scene, r, l, x); }
+    VisibilityStore store{scene};
+    const vis::HistoryTree& get(uint32_t r, uint32_t l, const Vec3& x) {
+        return store.getOrBuild(store.keyAt(r, x, l)).tree;
+    }
 };
 
 // Compares FPQuery with the exact reference at `points` random points on random receivers.
