@@ -159,6 +159,8 @@ private:
     // Algorithm 1 for one visible leaf and the current occluder. A line is blocked iff it lies on
     // the same strict side (blockedSign, or either when 0) of every edge hyperplane.
     void processLeaf(Slot s, const WitnessMask& inside) {
+        if (options_.cancel != nullptr && options_.cancel->load(std::memory_order_relaxed))
+            throw BuildCancelled();
         const size_t k = edgeRows_.size();
         std::vector<Side> cls(k);
         bool anyPos = false, anyNeg = false;

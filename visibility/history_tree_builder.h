@@ -2,8 +2,10 @@
 // 2005, with the conservative classification of line_polytope.h.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 
 #include "visibility/history_tree.h"
 
@@ -12,6 +14,14 @@ namespace penumbra::vis {
 struct BuildOptions {
     bool mergeLeaves = true;     // merge sibling leaves with the same label (paper 3.2)
     bool quadricPruning = true;  // drop splits whose one side holds no real line
+    // When set and it becomes true, the build stops at the next leaf it processes (within one
+    // classification: well under a millisecond) by throwing BuildCancelled.
+    const std::atomic<bool>* cancel = nullptr;
+};
+
+// Thrown by buildHistoryTree when BuildOptions::cancel is raised. No partial tree is returned.
+struct BuildCancelled : std::runtime_error {
+    BuildCancelled() : std::runtime_error("history tree build cancelled") {}
 };
 
 struct BuildStats {

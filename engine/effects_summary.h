@@ -1,0 +1,26 @@
+// EffectsSummary: what a scene calls for and what the renderer simulates for it (the third promise
+// of the product: simulate only the effects a scene calls for, and say so).
+//
+// CONTRACT HEADER (see renderer.h): filled by the renderer and the precompute, printed by the
+// commands, shown by the viewer.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+namespace penumbra {
+
+struct EffectsSummary {
+    // (receiver patch, light) pairs by what they call for; only penumbra pairs get a tree.
+    size_t pairsBackFacing = 0, pairsFullyVisible = 0, pairsFullyHidden = 0, pairsPenumbra = 0;
+    size_t pairsNeverSeen = 0;  // pairs of receivers no primary ray hit: not computed
+    // Materials of the receivers by how they are shaded.
+    size_t materialsAnalytic = 0;  // diffuse: form factor of the exact fragments, no samples
+    size_t materialsSampled = 0;   // glossy: samples inside the visible fragments only
+    size_t areaLights = 0;
+    size_t pointLights = 0;        // one shadow ray each
+    // Multi-line human-readable text (what, how many, why).
+    std::string text() const;
+};
+
+}  // namespace penumbra
