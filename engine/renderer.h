@@ -7,8 +7,9 @@
 // in a Film; a pass can be cancelled (the partial pass is discarded, the film keeps whole passes).
 // Direct illumination only (emitted + one bounce from the area and point lights).
 //   Exact:     the visible fragments of each area light from the shading point (FPQuery through the
-//              VisibilityStore). Diffuse: form factor x Le x kd/pi x pi... analytic, no samples;
-//              glossy: samples drawn only inside the visible fragments.
+//              VisibilityStore). Diffuse: L = kd * Le * F with F the point-to-polygon form factor
+//              of the fragments (irradiance pi Le F, times kd / pi): analytic, no samples.
+//              Glossy: samples drawn only inside the visible fragments.
 //   Sampled:   N stratified shadow rays per light per shading point (Embree), the paper's baseline.
 //   Reference: the same as Sampled with many rays (referenceSamples).
 #pragma once
