@@ -124,15 +124,16 @@ void benchScene(const std::string& path, const BenchOptions& o) {
     }
     double sink = 0;
     size_t visited = 0, fragments = 0;
+    vis::FromPointQuery query;  // one reusable workspace, as a renderer thread keeps
     const auto q0 = Clock::now();
     for (Sample& s : samples) {
         const Vec3 n = vis::normalize(mesh.faceAreaNormal(s.face));
         s.patch = patches[s.face].find(s.x);
         const vis::HistoryTree& t = trees[0][s.face][s.patch];
-        const vis::FromPointResult r = vis::fromPointQuery(mesh, t, s.x);
-        for (const auto& frag : r.fragments) sink += vis::formFactor(s.x, n, frag);
-        visited += r.nodesVisited;
-        fragments += r.fragments.size();
+        const vis::FragmentList& r = query.run(mesh, t, s.x);
+        for (size_t i = 0; i < r.size(); ++i) sink += vis::formFactor(s.x, n, r[i]);
+        visited += query.nodesVisited();
+        fragments += r.size();
     }
     const double exactUs = seconds(q0, Clock::now()) / samples.size() * 1e6;
     auto timeRays = [&](int n) {

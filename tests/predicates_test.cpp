@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "visibility/expansion.h"
 #include "visibility/plucker.h"
 #include "visibility/predicates.h"
 
@@ -85,6 +86,76 @@ TEST(Predicates, ExactlyCoplanarIntegerGridIsZero) {
     EXPECT_EQ(orientSign(a, b, c, d), Sign::Zero);
     EXPECT_EQ(orientValue(a, b, c, d).value, 0.0);
     EXPECT_EQ(orientValue(a, b, c, d).error, 0.0);
+}
+
+// det[b-a, c-a, d-a] in rationals by cofactor expansion (for values, not only signs).
+mpq_class referenceValue(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    const mpq_class ux = mpq_class(b.x) - a.x, uy = mpq_class(b.y) - a.y, uz = mpq_class(b.z) - a.z;
+    const mpq_class vx = mpq_class(c.x) - a.x, vy = mpq_class(c.y) - a.y, vz = mpq_class(c.z) - a.z;
+    const mpq_class wx = mpq_class(d.x) - a.x, wy = mpq_class(d.y) - a.y, wz = mpq_class(d.z) - a.z;
+    return ux * (vy * wz - vz * wy) + uy * (vz * wx - vx * wz) + uz * (vx * wy - vy * wx);
+}
+
+// The exact stage alone (expansion arithmetic), over magnitudes from 1e-40 to 1e40, far from the
+// origin, on exactly coplanar points and points nudged by ulps off their plane: the sign equals the
+// rational reference, and the approximation is within its claimed relative error.
+TEST(Predicates, ExpansionStageIsExact) {
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> u(-1, 1);
+    const double scales[] = {1e-40, 1e-7, 1.0, 3.7e5, 1e40};
+    const double offsets[] = {0.0, 1e5, -7.25e8};
+    int zeros = 0, nonzeros = 0;
+    for (double scale : scales)
+        for (double offset : offsets)
+            for (int i = 0; i < 400; ++i) {
+                const Vec3 o{offset * scale, -offset * scale, 0.5 * offset * scale};
+                const Vec3 a = o + Vec3{u(rng), u(rng), u(rng)} * scale;
+                const Vec3 b = o + Vec3{u(rng), u(rng), u(rng)} * scale;
+                const Vec3 c = o + Vec3{u(rng), u(rng), u(rng)} * scale;
+                Vec3 d;
+                if (i % 3 == 0) {
+                    // Exactly coplanar points on a power-of-two grid (exactly representable).
+                    const double g = scale * 0x1p-10;
+                    const Vec3 base{std::round(o.x / g) * g, std::round(o.y / g) * g,
+                                    std::round(o.z / g) * g};
+                    const Vec3 pa = base + Vec3{1, 2, 0} * g, pb = base + Vec3{3, -1, 0} * g,
+                               pc = base + Vec3{-2, 5, 0} * g,
+                               pd = base + Vec3{double(rng() % 100), double(rng() % 100), 0} * g;
+                    int s;
+                    double approx;
+                    ASSERT_TRUE(orient3dExpansion(pa, pb, pc, pd, s, approx));
+                    const int ref = sgn(referenceValue(pa, pb, pc, pd));
+                    EXPECT_EQ(s, ref);
+                    EXPECT_EQ(toInt(orientSign(pa, pb, pc, pd)), ref);
+                    zeros += ref == 0;
+                    continue;
+                }
+                d = a + (b - a) * u(rng) + (c - a) * u(rng);
+                const int nudge = static_cast<int>(rng() % 5) - 2;
+                for (int k = 0; k < std::abs(nudge); ++k)
+                    d.z = std::nextafter(d.z, nudge > 0 ? INFINITY : -INFINITY);
+                int s;
+                double approx;
+                ASSERT_TRUE(orient3dExpansion(a, b, c, d, s, approx));
+                const mpq_class exact = referenceValue(a, b, c, d);
+                EXPECT_EQ(s, sgn(exact));
+                EXPECT_EQ(toInt(orientSign(a, b, c, d)), sgn(exact));
+                if (sgn(exact) != 0) {
+                    ++nonzeros;
+                    const mpq_class rel = abs((exact - mpq_class(approx)) / exact);
+                    EXPECT_LE(rel.get_d(), 0x1p-48);
+                    const BoundedValue v = orientValue(a, b, c, d);
+                    EXPECT_LE(std::fabs(mpq_class(exact - mpq_class(v.value)).get_d()), v.error);
+                    EXPECT_EQ(toInt(v.sign()), sgn(exact));
+                }
+            }
+    EXPECT_GT(zeros, 100);
+    EXPECT_GT(nonzeros, 1000);
+    // Outside the safe range the stage declines (the GMP stage takes over).
+    int s;
+    double approx;
+    EXPECT_FALSE(orient3dExpansion({1e300, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}, s, approx));
+    EXPECT_EQ(orientSign({1e300, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1e300, 0, 0}), Sign::Zero);
 }
 
 TEST(Predicates, FilteredValueBoundHoldsAgainstExact) {

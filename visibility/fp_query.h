@@ -1,9 +1,15 @@
 // FPQuery (Mora & Aveneau 2005, Algorithm 2): the exactly visible fragments of the light L from a
 // point x on the receiver B, by walking B's history tree with the 3D plane through x and each
 // stored edge and clipping L.
+//
+// Two interfaces: FromPointQuery is a reusable workspace for hot loops (a renderer thread keeps
+// one; after warm-up a query allocates nothing); fromPointQuery() is the one-shot convenience.
 #pragma once
 
 #include <cstdint>
+#include <deque>
+#include <span>
+#include <utility>
 #include <vector>
 
 #include "visibility/history_tree.h"
@@ -12,14 +18,62 @@ namespace penumbra::vis {
 
 using Polygon3 = std::vector<Vec3>;
 
+// Convex polygons stored back to back.
+class FragmentList {
+  public:
+    size_t size() const { return begin_.size() - 1; }
+    bool empty() const { return size() == 0; }
+    std::span<const Vec3> operator[](size_t i) const {
+        return {vertices_.data() + begin_[i], begin_[i + 1] - begin_[i]};
+    }
+    void clear() {
+        vertices_.clear();
+        begin_.assign(1, 0);
+    }
+    void add(std::span<const Vec3> polygon) {
+        vertices_.insert(vertices_.end(), polygon.begin(), polygon.end());
+        begin_.push_back(static_cast<uint32_t>(vertices_.size()));
+    }
+
+  private:
+    std::vector<Vec3> vertices_;
+    std::vector<uint32_t> begin_{0};
+};
+
+// A reusable FPQuery. Not thread-safe: one per thread.
+class FromPointQuery {
+  public:
+    // The visible fragments of tree.light from x (x should lie on the receiver face; it is not
+    // projected): disjoint convex parts of L, counter-clockwise as L. Applies the receiver's front
+    // hemisphere and the light's one-sided emission: a point behind the light gets no fragment.
+    // When `path` is given, the visited node ids are appended in depth-first order. The result is
+    // valid until the next run.
+    const FragmentList& run(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x,
+                            std::vector<uint32_t>* path = nullptr);
+    uint32_t nodesVisited() const { return nodesVisited_; }
+
+  private:
+    void visit(uint32_t node, std::span<const Vec3> poly, size_t depth);
+
+    const PolygonMesh* mesh_ = nullptr;
+    const HistoryTree* tree_ = nullptr;
+    Vec3 x_;
+    std::vector<uint32_t>* path_ = nullptr;
+    uint32_t nodesVisited_ = 0;
+    FragmentList fragments_;
+    std::vector<Vec3> light_, lightClipped_, discard_;
+    // Two polygon buffers per depth, reused along the walk and across runs. A deque: growing it
+    // keeps the references held by shallower levels valid.
+    std::deque<std::pair<std::vector<Vec3>, std::vector<Vec3>>> buffers_;
+};
+
 struct FromPointResult {
     std::vector<Polygon3> fragments;  // disjoint convex parts of L visible from x (CCW as L)
     std::vector<uint32_t> path;       // node ids visited, in depth-first order
     uint32_t nodesVisited = 0;
 };
 
-// x should lie on the receiver face (it is not projected). Applies the receiver's front hemisphere
-// and the light's one-sided emission: a point behind the light gets no fragment.
+// One-shot FromPointQuery::run with the path recorded.
 FromPointResult fromPointQuery(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x);
 
 }  // namespace penumbra::vis

@@ -17,26 +17,29 @@ Vec3 crossing(const Vec3& p, const Vec3& q, double dp, double dq) {
 
 }  // namespace
 
-void clipConvexInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
-                    std::vector<Vec3>& positive, std::vector<Vec3>& negative) {
+namespace {
+
+// Splits the polygon given each vertex's signed value (its sign decides, zero = on the plane).
+template <typename ValueOf>
+void splitBy(std::span<const Vec3> polygon, ValueOf valueOf, std::vector<Vec3>& positive,
+             std::vector<Vec3>& negative) {
     positive.clear();
     negative.clear();
     const size_t n = polygon.size();
     if (n < 3) return;
     constexpr size_t kInline = 32;
-    BoundedValue inlineVals[kInline];
-    std::vector<BoundedValue> heapVals;
-    BoundedValue* d = inlineVals;
+    double inlineVals[kInline];
+    std::vector<double> heapVals;
+    double* d = inlineVals;
     if (n > kInline) {
         heapVals.resize(n);
         d = heapVals.data();
     }
     bool anyPos = false, anyNeg = false;
     for (size_t i = 0; i < n; ++i) {
-        // orientValue's sign is exact (filtered, exact fallback), its value is for placement.
-        d[i] = orientValue(plane.a, plane.b, plane.c, polygon[i]);
-        anyPos |= d[i].value > 0;
-        anyNeg |= d[i].value < 0;
+        d[i] = valueOf(polygon[i]);
+        anyPos |= d[i] > 0;
+        anyNeg |= d[i] < 0;
     }
     if (!anyNeg) {
         if (anyPos) positive.assign(polygon.begin(), polygon.end());
@@ -48,7 +51,7 @@ void clipConvexInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
     }
     for (size_t i = 0; i < n; ++i) {
         const size_t j = i + 1 == n ? 0 : i + 1;
-        const double si = d[i].value, sj = d[j].value;
+        const double si = d[i], sj = d[j];
         if (si >= 0) positive.push_back(polygon[i]);
         if (si <= 0) negative.push_back(polygon[i]);
         if ((si > 0 && sj < 0) || (si < 0 && sj > 0)) {
@@ -57,6 +60,30 @@ void clipConvexInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
             negative.push_back(p);
         }
     }
+}
+
+}  // namespace
+
+void clipConvexInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
+                    std::vector<Vec3>& positive, std::vector<Vec3>& negative) {
+    // The value's sign is exact (filtered, exact fallback), its magnitude is for placement.
+    splitBy(
+        polygon, [&](const Vec3& y) { return plane.value(y).value; }, positive, negative);
+}
+
+void clipConstructedInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
+                         std::span<const Vec3> inputVertices, std::vector<Vec3>& positive,
+                         std::vector<Vec3>& negative) {
+    splitBy(
+        polygon,
+        [&](const Vec3& y) {
+            BoundedValue v;
+            if (plane.orient.filtered(y, v)) return v.value;
+            for (const Vec3& input : inputVertices)
+                if (input.x == y.x && input.y == y.y && input.z == y.z) return plane.value(y).value;
+            return 0.0;
+        },
+        positive, negative);
 }
 
 ClipResult clipConvex(std::span<const Vec3> polygon, const OrientedPlane& plane) {

@@ -1,11 +1,12 @@
 #include "visibility/predicates.h"
 
-#include "visibility/exact_orient.h"
-
 #include <gmpxx.h>
 
 #include <cfloat>
 #include <cmath>
+
+#include "visibility/exact_orient.h"
+#include "visibility/expansion.h"
 
 namespace penumbra::vis {
 namespace {
@@ -35,6 +36,7 @@ Evaluated evaluate(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
     return {det, perm};
 }
 
+// GMP rationals: the exact stage of last resort (inputs outside the expansion's safe range).
 mpq_class exactDet(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
     // mpq_class(double) is exact, so is everything below.
     const mpq_class ax(a.x), ay(a.y), az(a.z);
@@ -47,6 +49,16 @@ mpq_class exactDet(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
 Sign signOf(const mpq_class& q) {
     const int s = sgn(q);
     return s > 0 ? Sign::Positive : (s < 0 ? Sign::Negative : Sign::Zero);
+}
+
+Sign signOf(int s) { return s > 0 ? Sign::Positive : (s < 0 ? Sign::Negative : Sign::Zero); }
+
+// The exact stage: expansion arithmetic (no allocation), GMP rationals outside its safe range.
+Sign exactSign(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    int s;
+    double approx;
+    if (orient3dExpansion(a, b, c, d, s, approx)) return signOf(s);
+    return signOf(exactDet(a, b, c, d));
 }
 
 }  // namespace
@@ -64,7 +76,7 @@ Sign orientSign(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
     if (e.det < -bound) {
         return Sign::Negative;
     }
-    return signOf(exactDet(a, b, c, d));
+    return exactSign(a, b, c, d);
 }
 
 BoundedValue orientValue(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
@@ -72,6 +84,13 @@ BoundedValue orientValue(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
     const double bound = kOrientBound * e.permanent;
     if (std::fabs(e.det) > bound) {
         return {e.det, bound};
+    }
+    int s;
+    double approx;
+    if (orient3dExpansion(a, b, c, d, s, approx)) {
+        if (s == 0) return {0.0, 0.0};
+        // approx has the exact sign and a relative error below 2^-50 (expansion.h); claim 2^-48.
+        return {approx, std::fabs(approx) * 0x1p-48};
     }
     const mpq_class q = exactDet(a, b, c, d);
     if (sgn(q) == 0) return {0.0, 0.0};
@@ -85,6 +104,37 @@ BoundedValue orientValue(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
     return {v, std::fmin(ulp, mag * 0.5)};
 }
 
+PlaneOrient::PlaneOrient(const Vec3& a_, const Vec3& b_, const Vec3& c_) : a(a_), b(b_), c(c_) {
+    // As evaluate(a, d, b, c): u = d - a, v = b - a, w = c - a; det = u . (v x w).
+    const double vx = b.x - a.x, vy = b.y - a.y, vz = b.z - a.z;
+    const double wx = c.x - a.x, wy = c.y - a.y, wz = c.z - a.z;
+    const double m1 = vy * wz, m2 = vz * wy;
+    const double m3 = vz * wx, m4 = vx * wz;
+    const double m5 = vx * wy, m6 = vy * wx;
+    n[0] = m1 - m2;
+    n[1] = m3 - m4;
+    n[2] = m5 - m6;
+    perm[0] = std::fabs(m1) + std::fabs(m2);
+    perm[1] = std::fabs(m3) + std::fabs(m4);
+    perm[2] = std::fabs(m5) + std::fabs(m6);
+}
+
+bool PlaneOrient::filtered(const Vec3& d, BoundedValue& out) const {
+    const double ux = d.x - a.x, uy = d.y - a.y, uz = d.z - a.z;
+    const double det = ux * n[0] + uy * n[1] + uz * n[2];
+    const double permanent =
+        std::fabs(ux) * perm[0] + std::fabs(uy) * perm[1] + std::fabs(uz) * perm[2];
+    const double bound = kOrientBound * permanent;
+    out = {det, bound};
+    return std::fabs(det) > bound;
+}
+
+BoundedValue PlaneOrient::value(const Vec3& d) const {
+    BoundedValue v;
+    if (filtered(d, v)) return v;
+    return orientValue(a, b, c, d);
+}
+
 bool collinear(const Vec3& a, const Vec3& b, const Vec3& c) {
     // Filter: each cross-product component is a 2x2 determinant of differences; Shewchuk's orient2d
     // bound (3 + 16 eps) eps times its permanent certifies a non-zero component.
@@ -92,7 +142,8 @@ bool collinear(const Vec3& a, const Vec3& b, const Vec3& c) {
     const double vx = c.x - a.x, vy = c.y - a.y, vz = c.z - a.z;
     const double comps[3][2] = {{uy * vz, uz * vy}, {uz * vx, ux * vz}, {ux * vy, uy * vx}};
     for (const auto& p : comps)
-        if (std::fabs(p[0] - p[1]) > (3.0 + 16.0 * kEps) * kEps * (std::fabs(p[0]) + std::fabs(p[1])))
+        if (std::fabs(p[0] - p[1]) >
+            (3.0 + 16.0 * kEps) * kEps * (std::fabs(p[0]) + std::fabs(p[1])))
             return false;
     const mpq_class ax(a.x), ay(a.y), az(a.z);
     const mpq_class qux = mpq_class(b.x) - ax, quy = mpq_class(b.y) - ay, quz = mpq_class(b.z) - az;
@@ -105,11 +156,10 @@ mpq_class orientExact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d
 }
 
 Sign orientSignExact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
-    return signOf(exactDet(a, b, c, d));
+    return exactSign(a, b, c, d);
 }
 
-std::optional<Sign> orientSignFiltered(const Vec3& a, const Vec3& b, const Vec3& c,
-                                       const Vec3& d) {
+std::optional<Sign> orientSignFiltered(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
     const Evaluated e = evaluate(a, b, c, d);
     const double bound = kOrientBound * e.permanent;
     if (e.det > bound) return Sign::Positive;

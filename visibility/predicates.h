@@ -7,8 +7,9 @@
 // What is exact here:
 //   - orientSign() returns the exact sign of the determinant of the given doubles. A floating-point
 //     filter (Shewchuk's static-permanent error bound for this evaluation order) decides the
-//     common case; when the filter cannot certify the sign, the determinant is re-evaluated in
-//     exact rational arithmetic (GMP), so the answer is never wrong.
+//     common case; when the filter cannot certify the sign, the determinant is re-evaluated
+//     exactly: in floating-point expansion arithmetic (expansion.h; no allocation), or in GMP
+//     rationals for coordinates outside its safe range, so the answer is never wrong.
 //   - orientValue() returns the determinant's value together with a rigorous bound on the error of
 //     that double; an exact zero is reported with error 0, and a certified sign is guaranteed
 //     whenever |value| > error.
@@ -56,10 +57,28 @@ Sign orientSign(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 // is computed and rounded, so the sign of the result is always the exact sign.
 BoundedValue orientValue(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
+// orient3d(a, b, c, d) for one plane (a, b, c) and many points d: the cross product of b - a and
+// c - a is formed once, and each point costs a dot product. The evaluation is that of
+// orientValue(a, d, b, c) (the same determinant: a cyclic permutation of its columns), so the same
+// filter bound holds; uncertain values go to the same exact stage. Same contract as orientValue.
+struct PlaneOrient {
+    PlaneOrient() = default;
+    PlaneOrient(const Vec3& a, const Vec3& b, const Vec3& c);
+    BoundedValue value(const Vec3& d) const;
+    Sign sign(const Vec3& d) const { return value(d).sign(); }
+    // The filter alone: false when it cannot certify the sign (then `out` holds the rounded value
+    // and its error bound, |value| <= error).
+    bool filtered(const Vec3& d, BoundedValue& out) const;
+
+    Vec3 a, b, c;
+    double n[3] = {0, 0, 0};     // (b - a) x (c - a), rounded as evaluate() rounds it
+    double perm[3] = {0, 0, 0};  // the matching permanent terms
+};
+
 // Exactly: do a, b, c lie on one line (a zero cross product (b-a) x (c-a))?
 bool collinear(const Vec3& a, const Vec3& b, const Vec3& c);
 
-// Same sign as orientSign but always through the exact path (for benchmarks and tests).
+// Same sign as orientSign but always through the exact stage (for benchmarks and tests).
 Sign orientSignExact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
 // The floating-point filter alone: the sign when the filter certifies it, Zero-free; nullopt when
