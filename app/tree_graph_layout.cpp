@@ -66,49 +66,54 @@ void buildItems(const HistoryTreeTopology& topo, const vis::HistoryTree& tree,
 
 }  // namespace
 
-TreeGraphLayout::TreeGraphLayout(const HistoryTreeTopology& topology, const vis::HistoryTree& tree,
-                                 std::span<const uint8_t> collapsed, const TreeGraphStyle& style)
-    : style_(style) {
+void TreeGraphLayout::compute(const HistoryTreeTopology& topology, const vis::HistoryTree& tree,
+                              std::span<const uint8_t> collapsed, const TreeGraphStyle& style) {
+    style_ = style;
+    items_.clear();
+    layerStart_.assign(1, 0);
+    layerItems_.clear();
+    bounds_ = {};
     buildItems(topology, tree, collapsed, items_, itemOfNode_);
     const uint32_t m = static_cast<uint32_t>(items_.size());
     if (m == 0) return;
 
     // Reingold-Tilford, bottom-up (reverse pre-order visits children before parents).
-    //   rel[v]: x of v relative to its parent (final once the parent is processed);
-    //   thread[v], threadOff[v]: for a childless v on a contour, the next contour node one layer
-    //     down and its x relative to v (set when a shallower sibling subtree is merged);
-    //   el/er[v]: leftmost / rightmost item on the deepest layer of v's subtree, elOff/erOff their
-    //     x relative to v; bottom[v]: that deepest layer.
+    //   rel: x of the item relative to its parent (final once the parent is processed);
+    //   thread, threadOff: for a childless item on a contour, the next contour item one layer
+    //     down and its x relative to this one (set when a shallower sibling subtree is merged);
+    //   el/er: leftmost / rightmost item on the deepest layer of the item's subtree, elOff/erOff
+    //     their x relative to the item; bottom: that deepest layer.
     // Merging the two subtrees of v walks the right contour of the left one and the left contour
     // of the right one down to the shallower one's bottom: O(n) in all (each step of the walk
     // is paid by a contour node that the merge then hides inside the combined subtree).
-    std::vector<double> rel(m, 0.0), threadOff(m, 0.0), elOff(m, 0.0), erOff(m, 0.0);
-    std::vector<uint32_t> thread(m, kNoIndex), el(m), er(m), bottom(m);
+    // One record per item (one cache line) rather than eight arrays: the contour walks jump.
+    std::vector<Contour>& ct = contour_;
+    ct.assign(m, Contour{});
     const auto half = [&](uint32_t i) { return halfWidth(items_[i]); };
     // Next node down the right (left) contour and the x step to it.
     const auto nextRight = [&](uint32_t v, double& step) {
         const uint32_t c = items_[v].child[1];
         if (c != kNoIndex) {
-            step = rel[c];
+            step = ct[c].rel;
             return c;
         }
-        step = threadOff[v];
-        return thread[v];
+        step = ct[v].threadOff;
+        return ct[v].thread;
     };
     const auto nextLeft = [&](uint32_t v, double& step) {
         const uint32_t c = items_[v].child[0];
         if (c != kNoIndex) {
-            step = rel[c];
+            step = ct[c].rel;
             return c;
         }
-        step = threadOff[v];
-        return thread[v];
+        step = ct[v].threadOff;
+        return ct[v].thread;
     };
     for (uint32_t v = m; v-- > 0;) {
         const GraphItem& it = items_[v];
         if (it.child[0] == kNoIndex) {
-            el[v] = er[v] = v;
-            bottom[v] = it.depth;
+            ct[v].el = ct[v].er = v;
+            ct[v].bottom = it.depth;
             continue;
         }
         const uint32_t left = it.child[0], right = it.child[1];
@@ -127,33 +132,33 @@ TreeGraphLayout::TreeGraphLayout(const HistoryTreeTopology& topology, const vis:
             l = nl;
             r = nr;
         }
-        rel[left] = -0.5 * distance;
-        rel[right] = 0.5 * distance;
+        ct[left].rel = -0.5 * distance;
+        ct[right].rel = 0.5 * distance;
         if (nl != kNoIndex) {
             // The left subtree is deeper: the right contour continues from the right subtree's
             // bottom-right item into the left subtree.
-            const uint32_t from = er[right];
-            thread[from] = nl;
-            threadOff[from] = (rel[left] + lOff + stepL) - (rel[right] + erOff[right]);
+            const uint32_t from = ct[right].er;
+            ct[from].thread = nl;
+            ct[from].threadOff = (ct[left].rel + lOff + stepL) - (ct[right].rel + ct[right].erOff);
         } else if (nr != kNoIndex) {
-            const uint32_t from = el[left];
-            thread[from] = nr;
-            threadOff[from] = (rel[right] + rOff + stepR) - (rel[left] + elOff[left]);
+            const uint32_t from = ct[left].el;
+            ct[from].thread = nr;
+            ct[from].threadOff = (ct[right].rel + rOff + stepR) - (ct[left].rel + ct[left].elOff);
         }
-        const uint32_t lowL = bottom[left] >= bottom[right] ? left : right;
-        const uint32_t lowR = bottom[right] >= bottom[left] ? right : left;
-        el[v] = el[lowL];
-        elOff[v] = rel[lowL] + elOff[lowL];
-        er[v] = er[lowR];
-        erOff[v] = rel[lowR] + erOff[lowR];
-        bottom[v] = std::max(bottom[left], bottom[right]);
+        const uint32_t lowL = ct[left].bottom >= ct[right].bottom ? left : right;
+        const uint32_t lowR = ct[right].bottom >= ct[left].bottom ? right : left;
+        ct[v].el = ct[lowL].el;
+        ct[v].elOff = ct[lowL].rel + ct[lowL].elOff;
+        ct[v].er = ct[lowR].er;
+        ct[v].erOff = ct[lowR].rel + ct[lowR].erOff;
+        ct[v].bottom = std::max(ct[left].bottom, ct[right].bottom);
     }
 
     // Absolute positions top-down (pre-order: parents first), then shift the left edge to 0.
     double minX = 0;
     for (uint32_t v = 0; v < m; ++v) {
         GraphItem& it = items_[v];
-        if (it.parent != kNoIndex) it.x = items_[it.parent].x + rel[v];
+        if (it.parent != kNoIndex) it.x = items_[it.parent].x + ct[v].rel;
         minX = std::min(minX, it.x - halfWidth(it));
     }
     bounds_ = {0, 0, 0, 0};
@@ -182,7 +187,8 @@ TreeGraphLayout::TreeGraphLayout(const HistoryTreeTopology& topology, const vis:
     for (const GraphItem& it : items_) ++layerStart_[it.depth + 1];
     for (uint32_t d = 0; d < layers; ++d) layerStart_[d + 1] += layerStart_[d];
     layerItems_.assign(m, 0);
-    std::vector<uint32_t> fill(layerStart_.begin(), layerStart_.end() - 1);
+    std::vector<uint32_t>& fill = stackScratch_;
+    fill.assign(layerStart_.begin(), layerStart_.end() - 1);
     for (uint32_t v = 0; v < m; ++v) layerItems_[fill[items_[v].depth]++] = v;
 #ifndef NDEBUG
     for (uint32_t d = 0; d < layers; ++d) {

@@ -68,7 +68,14 @@ class TreeGraphLayout {
     // collapsed[i] != 0 collapses node i (ignored where an ancestor is already collapsed); its
     // size must be the tree's node count. O(n) time and memory, n = drawn items.
     TreeGraphLayout(const HistoryTreeTopology& topology, const vis::HistoryTree& tree,
-                    std::span<const uint8_t> collapsed, const TreeGraphStyle& style = {});
+                    std::span<const uint8_t> collapsed, const TreeGraphStyle& style = {}) {
+        compute(topology, tree, collapsed, style);
+    }
+    // The same, reusing this object's buffers (no fresh allocations: cheaper when the panel
+    // relayouts after each collapse or expand). Throws std::invalid_argument when `collapsed`
+    // has the wrong size.
+    void compute(const HistoryTreeTopology& topology, const vis::HistoryTree& tree,
+                 std::span<const uint8_t> collapsed, const TreeGraphStyle& style = {});
 
     const TreeGraphStyle& style() const { return style_; }
     std::span<const GraphItem> items() const { return items_; }
@@ -103,7 +110,15 @@ class TreeGraphLayout {
     uint32_t firstInLayerFrom(uint32_t depth, double x) const;
 
   private:
+    // Per-item state of the Reingold-Tilford pass (see compute()), kept between computations.
+    struct Contour {
+        double rel = 0, threadOff = 0, elOff = 0, erOff = 0;
+        uint32_t thread = kNoIndex, el = 0, er = 0, bottom = 0;
+    };
+
     TreeGraphStyle style_;
+    std::vector<Contour> contour_;
+    std::vector<uint32_t> stackScratch_;
     std::vector<GraphItem> items_;
     std::vector<uint32_t> itemOfNode_;
     std::vector<uint32_t> layerStart_{0};  // layerCount() + 1 offsets into layerItems_

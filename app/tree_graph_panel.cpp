@@ -131,8 +131,9 @@ void TreeGraphPanel::setTree(const vis::HistoryTree* tree,
     }
 }
 
-void TreeGraphPanel::setView(double x, double y, double pixelsPerUnit) {
-    zoom_ = std::clamp(pixelsPerUnit, kMinZoom, kMaxZoom);
+void TreeGraphPanel::setView(double x, double y, double pixelsPerUnitX, double pixelsPerUnitY) {
+    zoomX_ = std::clamp(pixelsPerUnitX, kMinZoom, kMaxZoom);
+    zoomY_ = std::clamp(pixelsPerUnitY, kMinZoom, kMaxZoom);
     pendingCenter_ = {x, y};
     fitPending_ = false;
 }
@@ -140,7 +141,7 @@ void TreeGraphPanel::setView(double x, double y, double pixelsPerUnit) {
 void TreeGraphPanel::ensureLayout() {
     if (!topology_ || !layoutDirty_) return;
     const auto t0 = std::chrono::steady_clock::now();
-    layout_ = TreeGraphLayout(*topology_, *tree_, collapsed_);
+    layout_.compute(*topology_, *tree_, collapsed_);
     layoutMs_ =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     layoutDirty_ = false;
@@ -201,8 +202,17 @@ std::optional<ImVec2> TreeGraphPanel::screenPosOfNode(uint32_t node) const {
 }
 
 ImVec2 TreeGraphPanel::toScreen(double x, double y) const {
-    return ImVec2(canvasOrigin_.x + float((x - viewX0_) * zoom_),
-                  canvasOrigin_.y + float((y - viewY0_) * zoom_));
+    return ImVec2(canvasOrigin_.x + float((x - viewX0_) * zoomX_),
+                  canvasOrigin_.y + float((y - viewY0_) * zoomY_));
+}
+
+void TreeGraphPanel::glyphRect(uint32_t item, ImVec2& a, ImVec2& c) const {
+    const GraphItem& it = layout_.item(item);
+    const ImVec2 centre = toScreen(it.x, layout_.layerY(it.depth));
+    const float hx = float(layout_.halfWidth(it) * zoomX_);
+    const float hy = float(layout_.halfHeight(it) * std::min(zoomY_, zoomX_));
+    a = ImVec2(centre.x - hx, centre.y - hy);
+    c = ImVec2(centre.x + hx, centre.y + hy);
 }
 
 bool TreeGraphPanel::itemHighlighted(const GraphItem& it) const {
@@ -218,23 +228,27 @@ void TreeGraphPanel::fitTo(ImVec2 canvasSize) {
     const double w = std::max(b.x1 - b.x0, 1e-9), h = std::max(b.y1 - b.y0, 1e-9);
     const double zx = std::max(1.0, canvasSize.x - 2 * margin) / w;
     const double zy = std::max(1.0, canvasSize.y - 2 * margin) / h;
-    zoom_ = std::clamp(std::min({zx, zy, 60.0}), kMinZoom, kMaxZoom);
-    viewX0_ = 0.5 * (b.x0 + b.x1) - 0.5 * canvasSize.x / zoom_;
-    viewY0_ = 0.5 * (b.y0 + b.y1) - 0.5 * canvasSize.y / zoom_;
+    // Each axis fitted on its own, neither beyond 60 px per unit (a tiny tree stays small).
+    zoomX_ = std::clamp(std::min(zx, 60.0), kMinZoom, kMaxZoom);
+    zoomY_ = std::clamp(std::min(zy, 60.0), kMinZoom, kMaxZoom);
+    viewX0_ = 0.5 * (b.x0 + b.x1) - 0.5 * canvasSize.x / zoomX_;
+    viewY0_ = 0.5 * (b.y0 + b.y1) - 0.5 * canvasSize.y / zoomY_;
 }
 
 uint32_t TreeGraphPanel::pick(ImVec2 mouse) const {
-    const double x = viewX0_ + (mouse.x - canvasOrigin_.x) / zoom_;
-    const double y = viewY0_ + (mouse.y - canvasOrigin_.y) / zoom_;
-    const double r = kPickRadiusPx / zoom_;
+    const double x = viewX0_ + (mouse.x - canvasOrigin_.x) / zoomX_;
+    const double y = viewY0_ + (mouse.y - canvasOrigin_.y) / zoomY_;
+    const double rx = kPickRadiusPx / zoomX_, ry = kPickRadiusPx / zoomY_;
     std::vector<uint32_t> near;
-    layout_.query({x - r, y - r, x + r, y + r}, near);
+    layout_.query({x - rx, y - ry, x + rx, y + ry}, near);
     uint32_t best = kNoIndex;
     double bestD = 0;
     for (uint32_t i : near) {
         // Inside a box beats near one; boxes never overlap, so at most one contains the point.
         const GraphRect b = layout_.box(i);
-        const double dx = layout_.item(i).x - x, dy = layout_.layerY(layout_.item(i).depth) - y;
+        // Distance in pixels.
+        const double dx = (layout_.item(i).x - x) * zoomX_;
+        const double dy = (layout_.layerY(layout_.item(i).depth) - y) * zoomY_;
         const double d = b.contains(x, y) ? -1.0 : dx * dx + dy * dy;
         if (best == kNoIndex || d < bestD) {
             best = i;
@@ -293,6 +307,15 @@ void TreeGraphPanel::drawHeader() {
                 ImGui::Text("  path: %zu nodes", pathNodes_.size());
         }
         if (ImGui::Button("Fit")) fit();
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("Whole tree in view, x and y scaled independently");
+        ImGui::SameLine();
+        if (ImGui::Button("1:1")) {
+            // Same scale on both axes (the horizontal one), about the canvas centre.
+            const double cy = viewY0_ + 0.5 * canvasSize_.y / zoomY_;
+            zoomY_ = zoomX_;
+            viewY0_ = cy - 0.5 * canvasSize_.y / zoomY_;
+        }
         ImGui::SameLine();
         if (ImGui::Button("Expand all")) expandAll();
         ImGui::SameLine();
@@ -306,8 +329,8 @@ void TreeGraphPanel::drawHeader() {
         if (ImGui::IsItemHovered())
             ImGui::SetTooltip("Expand the highlighted nodes and their ancestors");
         ImGui::SameLine();
-        ImGui::TextDisabled("layout %.2f ms, %u items, %.3g px/unit", layoutMs_,
-                            layout_.itemCount(), zoom_);
+        ImGui::TextDisabled("layout %.2f ms, %u items, %.3g x %.3g px/unit", layoutMs_,
+                            layout_.itemCount(), zoomX_, zoomY_);
     }
     legendSwatch(kColorNode, "node", false);
     legendSwatch(kColorCollapsed, "collapsed (+hidden)", false);
@@ -334,8 +357,8 @@ void TreeGraphPanel::drawCanvas() {
     canvasSize_ = size;
     if (fitPending_) fitTo(size);
     if (pendingCenter_) {
-        viewX0_ = pendingCenter_->first - 0.5 * size.x / zoom_;
-        viewY0_ = pendingCenter_->second - 0.5 * size.y / zoom_;
+        viewX0_ = pendingCenter_->first - 0.5 * size.x / zoomX_;
+        viewY0_ = pendingCenter_->second - 0.5 * size.y / zoomY_;
         pendingCenter_.reset();
     }
 
@@ -344,15 +367,17 @@ void TreeGraphPanel::drawCanvas() {
                           ImGui::IsMouseDragging(ImGuiMouseButton_Right) ||
                           ImGui::IsMouseDragging(ImGuiMouseButton_Middle);
     if (active && dragging) {
-        viewX0_ -= io.MouseDelta.x / zoom_;
-        viewY0_ -= io.MouseDelta.y / zoom_;
+        viewX0_ -= io.MouseDelta.x / zoomX_;
+        viewY0_ -= io.MouseDelta.y / zoomY_;
     }
     if (hovered && io.MouseWheel != 0.0f) {
         const double mx = io.MousePos.x - p0.x, my = io.MousePos.y - p0.y;
-        const double lx = viewX0_ + mx / zoom_, ly = viewY0_ + my / zoom_;
-        zoom_ = std::clamp(zoom_ * std::pow(1.2, double(io.MouseWheel)), kMinZoom, kMaxZoom);
-        viewX0_ = lx - mx / zoom_;
-        viewY0_ = ly - my / zoom_;
+        const double lx = viewX0_ + mx / zoomX_, ly = viewY0_ + my / zoomY_;
+        const double f = std::pow(1.2, double(io.MouseWheel));
+        if (!io.KeyCtrl) zoomX_ = std::clamp(zoomX_ * f, kMinZoom, kMaxZoom);
+        if (!io.KeyShift) zoomY_ = std::clamp(zoomY_ * f, kMinZoom, kMaxZoom);
+        viewX0_ = lx - mx / zoomX_;
+        viewY0_ = ly - my / zoomY_;
     }
     // A left click that did not drag toggles the node under the mouse.
     const float threshold = io.MouseDragThreshold;
@@ -368,14 +393,15 @@ void TreeGraphPanel::drawCanvas() {
     dl->PushClipRect(p0, p1, true);
     dl->AddRectFilled(p0, p1, kColorBackground);
 
-    const GraphRect view{viewX0_, viewY0_, viewX0_ + size.x / zoom_, viewY0_ + size.y / zoom_};
+    const GraphRect view{viewX0_, viewY0_, viewX0_ + size.x / zoomX_, viewY0_ + size.y / zoomY_};
     scratch_.clear();
     layout_.query(view, scratch_);
     stats_ = {};
     stats_.itemsOnScreen = static_cast<uint32_t>(scratch_.size());
-    const float nodePx = float(layout_.style().nodeWidth * zoom_);
-    const float layerPx = float(layout_.style().layerSpacing * zoom_);
-    if (nodePx < kRasterBelowPx) {
+    const float nodePx = float(layout_.style().nodeWidth * zoomX_);
+    const float layerPx = float(layout_.style().layerSpacing * zoomY_);
+    // Raster when boxes would be under kRasterBelowPx wide or layers closer than that.
+    if (nodePx < kRasterBelowPx || layerPx < kRasterBelowPx) {
         stats_.detail = TreeGraphDetail::Raster;
         if (layerPx >= 2.0f && scratch_.size() <= kRasterEdgeBudget) drawEdges(dl);
         drawPath(dl);
@@ -391,8 +417,8 @@ void TreeGraphPanel::drawCanvas() {
     if (hovered && !dragging) {
         const uint32_t i = pick(io.MousePos);
         if (i != kNoIndex) {
-            const GraphRect b = layout_.box(i);
-            const ImVec2 a = toScreen(b.x0, b.y0), c = toScreen(b.x1, b.y1);
+            ImVec2 a, c;
+            glyphRect(i, a, c);
             dl->AddRect(ImVec2(a.x - 2, a.y - 2), ImVec2(c.x + 2, c.y + 2), kColorText, 0, 0, 1.5f);
             drawTooltip(i);
         }
@@ -405,9 +431,10 @@ void TreeGraphPanel::drawCanvas() {
 // both its ends are off screen.
 void TreeGraphPanel::drawEdges(ImDrawList* dl) {
     const TreeGraphStyle& st = layout_.style();
-    const double x0 = viewX0_, x1 = viewX0_ + canvasSize_.x / zoom_;
-    const double y0 = viewY0_, y1 = viewY0_ + canvasSize_.y / zoom_;
+    const double x0 = viewX0_, x1 = viewX0_ + canvasSize_.x / zoomX_;
+    const double y0 = viewY0_, y1 = viewY0_ + canvasSize_.y / zoomY_;
     if (layout_.layerCount() < 2) return;
+    const double glyphScaleY = std::min(zoomY_, zoomX_);  // as glyphRect()
     // Child layers whose edges (from the parent's layer to theirs) can reach the view.
     const double lo = std::floor(y0 / st.layerSpacing), hi = std::ceil(y1 / st.layerSpacing) + 1;
     if (hi < 1 || lo > layout_.layerCount() - 1) return;
@@ -423,8 +450,10 @@ void TreeGraphPanel::drawEdges(ImDrawList* dl) {
         for (uint32_t k = k0; k < l.size(); ++k) {
             const GraphItem& c = layout_.item(l[k]);
             const GraphItem& p = layout_.item(c.parent);
-            const ImVec2 a = toScreen(p.x, layout_.layerY(p.depth) + layout_.halfHeight(p));
-            const ImVec2 b = toScreen(c.x, layout_.layerY(c.depth) - layout_.halfHeight(c));
+            ImVec2 a = toScreen(p.x, layout_.layerY(p.depth));
+            ImVec2 b = toScreen(c.x, layout_.layerY(c.depth));
+            a.y += float(layout_.halfHeight(p) * glyphScaleY);
+            b.y -= float(layout_.halfHeight(c) * glyphScaleY);
             if (std::fabs(a.x - b.x) >= 1.0f || std::fabs(a.y - b.y) >= 1.0f) {
                 dl->AddLine(a, b, kColorEdge, 1.0f);
                 ++stats_.edgesDrawn;
@@ -458,8 +487,8 @@ void TreeGraphPanel::drawBoxes(ImDrawList* dl, const std::vector<uint32_t>& visi
     const float fontSize = ImGui::GetFontSize();
     for (uint32_t i : visible) {
         const GraphItem& it = layout_.item(i);
-        const GraphRect b = layout_.box(i);
-        const ImVec2 a = toScreen(b.x0, b.y0), c = toScreen(b.x1, b.y1);
+        ImVec2 a, c;
+        glyphRect(i, a, c);
         const bool highlight = itemHighlighted(it);
         switch (it.kind) {
             case GraphItemKind::Node:
@@ -482,7 +511,7 @@ void TreeGraphPanel::drawBoxes(ImDrawList* dl, const std::vector<uint32_t>& visi
             case GraphItemKind::VisibleLeaf:
                 if (labels)
                     dl->AddCircleFilled(ImVec2(0.5f * (a.x + c.x), 0.5f * (a.y + c.y)),
-                                        0.5f * (c.x - a.x), kColorVisible, 12);
+                                        0.5f * std::min(c.x - a.x, c.y - a.y), kColorVisible, 12);
                 else
                     dl->AddRectFilled(a, c, kColorVisible);
                 break;
@@ -507,7 +536,10 @@ void TreeGraphPanel::drawRaster(ImDrawList* dl, const std::vector<uint32_t>& vis
     rowHidden_.assign(size_t(width), 0);
     rowFlags_.assign(size_t(width), 0);
     enum : uint8_t { kNodeBit = 1, kCollapsedBit = 2, kHighlightBit = 4 };
-    const float glyphPx = std::max(1.0f, float(layout_.style().nodeHeight * zoom_));
+    // Rows as bands: as tall as the boxes, but leaving at least 40% of a layer free.
+    const float glyphPx =
+        std::clamp(float(layout_.style().nodeHeight * zoomY_), 1.0f,
+                   std::max(1.0f, 0.6f * float(layout_.style().layerSpacing * zoomY_)));
     int row = INT_MIN, minCol = width, maxCol = -1;
     float rowY = 0;
     const auto colorAt = [&](int c) -> std::optional<ImU32> {
@@ -549,8 +581,8 @@ void TreeGraphPanel::drawRaster(ImDrawList* dl, const std::vector<uint32_t>& vis
             rowY = float(r) + 0.5f;
         }
         const double hw = layout_.halfWidth(it);
-        const int c0 = std::clamp(int(std::floor((it.x - hw - viewX0_) * zoom_)), 0, width - 1);
-        const int c1 = std::clamp(int(std::floor((it.x + hw - viewX0_) * zoom_)), c0, width - 1);
+        const int c0 = std::clamp(int(std::floor((it.x - hw - viewX0_) * zoomX_)), 0, width - 1);
+        const int c1 = std::clamp(int(std::floor((it.x + hw - viewX0_) * zoomX_)), c0, width - 1);
         minCol = std::min(minCol, c0);
         maxCol = std::max(maxCol, c1);
         for (int c = c0; c <= c1; ++c) {

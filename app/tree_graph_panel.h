@@ -1,10 +1,12 @@
 // TreeGraphPanel: a Dear ImGui window that draws one history tree as a node graph (the viewer's
 // history-tree browser). Only ImGui calls and ImDrawList primitives: the host provides the backend.
 //
-// Interaction on the canvas: drag (any button) pans, the wheel zooms at the mouse, a left click on
+// Interaction on the canvas: drag (any button) pans, the wheel zooms at the mouse (with Shift only
+// horizontally, with Ctrl only vertically), a left click on
 // a node collapses or expands its subtree (the node stays under the mouse), hovering shows the
-// details of a node or leaf. Buttons: fit, expand all, collapse to depth N, reveal path (expand the
-// ancestors of every highlighted node). Visible and hidden leaves have their own colour and shape
+// details of a node or leaf. Buttons: fit (x and y scaled independently), 1:1 (same scale on
+// both axes), expand all, collapse to depth N, reveal path (expand the ancestors of every
+// highlighted node). Visible and hidden leaves have their own colour and shape
 // (legend in the header); the highlighted path (FPQuery's visited nodes) is drawn thick.
 //
 // Cost per frame: the layout is recomputed only when the tree or its collapsed set changes (O(n));
@@ -53,8 +55,12 @@ class TreeGraphPanel {
 
     // Programmatic control (what the buttons do; also for tests).
     void fit() { fitPending_ = true; }  // applied at the next draw()
-    // View centred on layout point (x, y) at `pixelsPerUnit` (applied at the next draw()).
-    void setView(double x, double y, double pixelsPerUnit);
+    // View centred on layout point (x, y) at `pixelsPerUnit` along both axes (applied at the next
+    // draw()).
+    void setView(double x, double y, double pixelsPerUnit) {
+        setView(x, y, pixelsPerUnit, pixelsPerUnit);
+    }
+    void setView(double x, double y, double pixelsPerUnitX, double pixelsPerUnitY);
     void toggleCollapsed(uint32_t node);
     void expandAll();
     void collapseToDepth(uint32_t depth);  // nodes at that depth collapse, shallower ones expand
@@ -81,6 +87,9 @@ class TreeGraphPanel {
     void drawTooltip(uint32_t item);
     uint32_t pick(ImVec2 mouse) const;
     ImVec2 toScreen(double x, double y) const;
+    // The on-screen rectangle of an item's glyph: its layout box, but no taller than it would be
+    // at zoomX_ (a vertically stretched view spreads the layers, not the boxes).
+    void glyphRect(uint32_t item, ImVec2& a, ImVec2& c) const;
     bool itemHighlighted(const GraphItem& it) const;
     void markLayoutDirty() { layoutDirty_ = true; }
     void relayoutKeeping(uint32_t node);
@@ -100,8 +109,9 @@ class TreeGraphPanel {
     bool layoutDirty_ = true;
     double layoutMs_ = 0;
 
-    // View: layout coordinates of the canvas's top-left corner, and pixels per layout unit.
-    double viewX0_ = 0, viewY0_ = 0, zoom_ = 40;
+    // View: layout coordinates of the canvas's top-left corner, and pixels per layout unit along
+    // x and y (fit() stretches them independently: a 50k-node tree is ~400 times wider than deep).
+    double viewX0_ = 0, viewY0_ = 0, zoomX_ = 40, zoomY_ = 40;
     bool fitPending_ = true;
     std::optional<std::pair<double, double>> pendingCenter_;
     ImVec2 canvasOrigin_{0, 0}, canvasSize_{0, 0};
