@@ -28,6 +28,7 @@ constexpr ImU32 kColorError = IM_COL32(255, 110, 100, 255);
 constexpr float kRasterBelowPx = 3.0f;        // node width under which nodes become pixel runs
 constexpr float kLabelsFromPx = 14.0f;        // node width from which boxes get borders and labels
 constexpr uint32_t kRasterEdgeBudget = 4000;  // edges drawn in Raster mode only below this
+constexpr size_t kBoxBudget = 20000;          // more items on screen than this: Raster mode
 constexpr double kMinZoom = 1e-5, kMaxZoom = 400.0;
 constexpr float kPickRadiusPx = 4.0f;
 
@@ -400,8 +401,9 @@ void TreeGraphPanel::drawCanvas() {
     stats_.itemsOnScreen = static_cast<uint32_t>(scratch_.size());
     const float nodePx = float(layout_.style().nodeWidth * zoomX_);
     const float layerPx = float(layout_.style().layerSpacing * zoomY_);
-    // Raster when boxes would be under kRasterBelowPx wide or layers closer than that.
-    if (nodePx < kRasterBelowPx || layerPx < kRasterBelowPx) {
+    // Raster when boxes would be under kRasterBelowPx wide or layers closer than that, or when
+    // so many are on screen that one primitive each would make a large draw list.
+    if (nodePx < kRasterBelowPx || layerPx < kRasterBelowPx || scratch_.size() > kBoxBudget) {
         stats_.detail = TreeGraphDetail::Raster;
         if (layerPx >= 2.0f && scratch_.size() <= kRasterEdgeBudget) drawEdges(dl);
         drawPath(dl);
@@ -525,37 +527,44 @@ void TreeGraphPanel::drawBoxes(ImDrawList* dl, const std::vector<uint32_t>& visi
     }
 }
 
-// Raster mode: nodes are narrower than kRasterBelowPx. All items that fall on one pixel row are
-// accumulated per pixel column, then each row is drawn as runs of equal colour: at most one
-// rectangle per changing pixel, however many items there are. A pixel's colour: the highlight if
-// it holds a highlighted item; else, if it holds leaves, the visible/hidden colours mixed by their
-// counts (in quarters); else the node or collapsed colour.
+// Raster mode: boxes under kRasterBelowPx wide, or layers closer than that. All items that fall
+// on one pixel row are accumulated per pixel column (difference arrays: O(1) per item, O(width)
+// per row), then each row is drawn as runs of equal colour: at most one rectangle per colour
+// change, however many items there are. A pixel's colour: the highlight if it holds a highlighted
+// item; else, if it holds leaves, the visible or the hidden colour when at least two thirds of
+// them are of that kind, and their half-way mix otherwise (approximate by design: an overview);
+// else the collapsed or node colour.
 void TreeGraphPanel::drawRaster(ImDrawList* dl, const std::vector<uint32_t>& visible) {
     const int width = std::max(1, int(std::ceil(canvasSize_.x)));
-    rowVisible_.assign(size_t(width), 0);
-    rowHidden_.assign(size_t(width), 0);
-    rowFlags_.assign(size_t(width), 0);
-    enum : uint8_t { kNodeBit = 1, kCollapsedBit = 2, kHighlightBit = 4 };
+    rasterDiff_.assign(size_t(width) + 1, RasterCell{});
     // Rows as bands: as tall as the boxes, but leaving at least 40% of a layer free.
     const float glyphPx =
         std::clamp(float(layout_.style().nodeHeight * zoomY_), 1.0f,
                    std::max(1.0f, 0.6f * float(layout_.style().layerSpacing * zoomY_)));
+    const ImU32 mixed = lerpColor(kColorVisible, kColorHidden, 0.5f);
     int row = INT_MIN, minCol = width, maxCol = -1;
     float rowY = 0;
-    const auto colorAt = [&](int c) -> std::optional<ImU32> {
-        if (rowFlags_[c] & kHighlightBit) return kColorHighlight;
-        const uint32_t v = rowVisible_[c], h = rowHidden_[c];
-        if (v + h > 0)
-            return lerpColor(kColorVisible, kColorHidden, std::round(4.0f * h / (v + h)) / 4);
-        if (rowFlags_[c] & kCollapsedBit) return kColorCollapsed;
-        if (rowFlags_[c] & kNodeBit) return kColorNode;
-        return std::nullopt;
-    };
     const auto flush = [&] {
         std::optional<ImU32> runColor;
         int runStart = 0;
+        RasterCell sum;
         for (int c = minCol; c <= maxCol + 1; ++c) {
-            const std::optional<ImU32> col = c <= maxCol ? colorAt(c) : std::nullopt;
+            std::optional<ImU32> col;
+            if (c <= maxCol) {
+                const RasterCell& d = rasterDiff_[size_t(c)];
+                sum.visible += d.visible, sum.hidden += d.hidden, sum.nodes += d.nodes;
+                sum.collapsed += d.collapsed, sum.highlighted += d.highlighted;
+                if (sum.highlighted > 0)
+                    col = kColorHighlight;
+                else if (sum.visible + sum.hidden > 0)
+                    col = 3 * sum.hidden <= sum.visible + sum.hidden    ? kColorVisible
+                          : 3 * sum.visible <= sum.visible + sum.hidden ? kColorHidden
+                                                                        : mixed;
+                else if (sum.collapsed > 0)
+                    col = kColorCollapsed;
+                else if (sum.nodes > 0)
+                    col = kColorNode;
+            }
             if (col != runColor) {
                 if (runColor) {
                     dl->AddRectFilled(ImVec2(canvasOrigin_.x + runStart, rowY - 0.5f * glyphPx),
@@ -566,7 +575,7 @@ void TreeGraphPanel::drawRaster(ImDrawList* dl, const std::vector<uint32_t>& vis
                 runColor = col;
                 runStart = c;
             }
-            if (c <= maxCol) rowVisible_[c] = rowHidden_[c] = rowFlags_[c] = 0;
+            rasterDiff_[size_t(c)] = RasterCell{};
         }
         minCol = width;
         maxCol = -1;
@@ -585,22 +594,29 @@ void TreeGraphPanel::drawRaster(ImDrawList* dl, const std::vector<uint32_t>& vis
         const int c1 = std::clamp(int(std::floor((it.x + hw - viewX0_) * zoomX_)), c0, width - 1);
         minCol = std::min(minCol, c0);
         maxCol = std::max(maxCol, c1);
-        for (int c = c0; c <= c1; ++c) {
-            switch (it.kind) {
-                case GraphItemKind::Node:
-                    rowFlags_[c] |= kNodeBit;
-                    break;
-                case GraphItemKind::CollapsedNode:
-                    rowFlags_[c] |= kCollapsedBit;
-                    break;
-                case GraphItemKind::VisibleLeaf:
-                    rowVisible_[c] = uint16_t(std::min(0xFFFF, rowVisible_[c] + 1));
-                    break;
-                case GraphItemKind::HiddenLeaf:
-                    rowHidden_[c] = uint16_t(std::min(0xFFFF, rowHidden_[c] + 1));
-                    break;
-            }
-            if (itemHighlighted(it)) rowFlags_[c] |= kHighlightBit;
+        // +1 over columns [c0, c1]: at c0, -1 at c1 + 1 (the array has width + 1 cells).
+        RasterCell& on = rasterDiff_[size_t(c0)];
+        RasterCell& off = rasterDiff_[size_t(c1) + 1];
+        int32_t RasterCell::*field = &RasterCell::nodes;
+        switch (it.kind) {
+            case GraphItemKind::Node:
+                field = &RasterCell::nodes;
+                break;
+            case GraphItemKind::CollapsedNode:
+                field = &RasterCell::collapsed;
+                break;
+            case GraphItemKind::VisibleLeaf:
+                field = &RasterCell::visible;
+                break;
+            case GraphItemKind::HiddenLeaf:
+                field = &RasterCell::hidden;
+                break;
+        }
+        ++(on.*field);
+        --(off.*field);
+        if (itemHighlighted(it)) {
+            ++on.highlighted;
+            --off.highlighted;
         }
     }
     flush();

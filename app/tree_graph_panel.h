@@ -119,9 +119,12 @@ class TreeGraphPanel {
     int collapseDepth_ = 4;
 
     TreeGraphFrameStats stats_;
-    std::vector<uint32_t> scratch_;                 // culling results, reused per frame
-    std::vector<uint16_t> rowVisible_, rowHidden_;  // raster mode, per pixel column
-    std::vector<uint8_t> rowFlags_;
+    std::vector<uint32_t> scratch_;  // culling results, reused per frame
+    // Raster mode: per pixel column of the current row, differences of item counts.
+    struct RasterCell {
+        int32_t visible = 0, hidden = 0, nodes = 0, collapsed = 0, highlighted = 0;
+    };
+    std::vector<RasterCell> rasterDiff_;
 };
 
 }  // namespace penumbra::ui
