@@ -52,6 +52,12 @@ void buildItems(const HistoryTreeTopology& topo, const vis::HistoryTree& tree,
             items.push_back(it);
             continue;
         }
+        // Checked again here (HistoryTreeTopology validated the tree): a layout must never loop or
+        // read out of range, even for a topology that does not match the tree.
+        if (p.code >= itemOfNode.size() || itemOfNode[p.code] != kNoIndex)
+            throw std::invalid_argument("tree graph layout: node " + std::to_string(p.code) +
+                                        " is out of range or reached twice: not a tree, or not "
+                                        "the tree the topology was computed for");
         it.node = p.code;
         it.kind = collapsed[p.code] ? GraphItemKind::CollapsedNode : GraphItemKind::Node;
         itemOfNode[p.code] = index;
@@ -214,7 +220,8 @@ uint32_t TreeGraphLayout::firstInLayerFrom(uint32_t depth, double x) const {
 }
 
 void TreeGraphLayout::query(const GraphRect& r, std::vector<uint32_t>& out) const {
-    if (items_.empty() || r.x1 < r.x0 || r.y1 < r.y0) return;
+    // (Also rejects NaN coordinates.)
+    if (items_.empty() || !(r.x0 <= r.x1 && r.y0 <= r.y1)) return;
     // Layers whose tallest possible box may reach [y0, y1] (rounded outwards; the exact test is
     // the box test below).
     const double reach = 0.5 * std::max(style_.nodeHeight, style_.leafHeight);

@@ -89,11 +89,16 @@ void legendSwatch(ImU32 color, const char* label, bool disc) {
 
 void TreeGraphPanel::setTree(const vis::HistoryTree* tree,
                              std::span<const uint32_t> highlightedPath) {
-    const bool same = tree && tree == tree_ && topology_ &&
+    // The same tree again (e.g. a new highlighted path): keep collapsed subtrees and the view.
+    const bool same = tree && tree == tree_ && topology_ && tree->nodes.data() == nodesData_ &&
                       topology_->nodeCount() == tree->nodes.size() &&
-                      collapsed_.size() == tree->nodes.size();
+                      collapsed_.size() == tree->nodes.size() && tree->receiver == receiver_ &&
+                      tree->light == light_;
     if (!same) {
         tree_ = tree;
+        nodesData_ = tree ? tree->nodes.data() : nullptr;
+        receiver_ = tree ? tree->receiver : 0;
+        light_ = tree ? tree->light : 0;
         topology_.reset();
         error_.clear();
         layout_ = TreeGraphLayout();
@@ -142,7 +147,14 @@ void TreeGraphPanel::setView(double x, double y, double pixelsPerUnitX, double p
 void TreeGraphPanel::ensureLayout() {
     if (!topology_ || !layoutDirty_) return;
     const auto t0 = std::chrono::steady_clock::now();
-    layout_.compute(*topology_, *tree_, collapsed_);
+    try {
+        layout_.compute(*topology_, *tree_, collapsed_);
+    } catch (const std::invalid_argument& e) {
+        error_ = e.what();
+        topology_.reset();
+        layout_ = TreeGraphLayout();
+        return;
+    }
     layoutMs_ =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     layoutDirty_ = false;
@@ -481,6 +493,7 @@ void TreeGraphPanel::drawPath(ImDrawList* dl) {
             continue;
         dl->AddLine(a, b, kColorHighlight, 3.5f);
         ++stats_.edgesDrawn;
+        ++stats_.pathEdgesDrawn;
     }
 }
 

@@ -33,9 +33,10 @@ enum class TreeGraphDetail : uint8_t { Raster, Boxes, Labelled };
 
 // What the last draw() put on screen (for tests and the viewer's statistics).
 struct TreeGraphFrameStats {
-    uint32_t itemsOnScreen = 0;  // items the culling query returned
-    uint32_t edgesDrawn = 0;
-    uint32_t rasterRuns = 0;  // merged rectangles drawn in Raster mode
+    uint32_t itemsOnScreen = 0;   // items the culling query returned
+    uint32_t edgesDrawn = 0;      // path edges included
+    uint32_t pathEdgesDrawn = 0;  // thick edges between two highlighted nodes
+    uint32_t rasterRuns = 0;      // merged rectangles drawn in Raster mode
     TreeGraphDetail detail = TreeGraphDetail::Labelled;
 };
 
@@ -43,8 +44,11 @@ class TreeGraphPanel {
   public:
     // The tree to show (null: none) and the node ids to highlight (e.g. FromPointResult::path;
     // copied; ids that are out of range or unreachable are ignored and counted in the header).
-    // The panel keeps the pointer: the tree must stay alive until the next setTree(). Passing the
-    // same tree again only replaces the highlight and keeps collapsed subtrees and the view.
+    // The panel keeps the pointer: the tree must stay alive and unchanged until the next
+    // setTree() (VisibilityStore's trees never change once published; after its clear(), call
+    // setTree again). Passing the same tree again only replaces the highlight and keeps collapsed
+    // subtrees and the view; it costs O(n) (the highlight's subtree counts), so call it when the
+    // selection changes rather than every frame.
     // A malformed tree is not drawn; the window shows why.
     void setTree(const vis::HistoryTree* tree, std::span<const uint32_t> highlightedPath);
     // Optional: the mesh the tree was built on, for vertex coordinates in the tooltips. It must
@@ -96,6 +100,8 @@ class TreeGraphPanel {
     void fitTo(ImVec2 canvasSize);
 
     const vis::HistoryTree* tree_ = nullptr;
+    const vis::HistoryNode* nodesData_ = nullptr;  // with receiver_, light_: "same tree" check
+    uint32_t receiver_ = 0, light_ = 0;
     const vis::PolygonMesh* mesh_ = nullptr;
     std::optional<HistoryTreeTopology> topology_;
     std::string error_;

@@ -447,6 +447,18 @@ TEST(TreeGraphLayout, OtherStylesKeepTheInvariants) {
     checkCulling(layout, 5, 200);
 }
 
+TEST(TreeGraphLayout, ATopologyOfAnotherTreeIsAnErrorNotALoop) {
+    const vis::HistoryTree t = handTree();
+    const HistoryTreeTopology topo(t);
+    vis::HistoryTree changed = t;
+    changed.nodes[4].child[1] = 1;  // a cycle the topology never saw
+    const std::vector<uint8_t> collapsed(t.nodes.size(), 0);
+    EXPECT_THROW(TreeGraphLayout(topo, changed, collapsed), std::invalid_argument);
+    changed = t;
+    changed.nodes[4].child[1] = 40;  // out of range
+    EXPECT_THROW(TreeGraphLayout(topo, changed, collapsed), std::invalid_argument);
+}
+
 TEST(TreeGraphLayout, WrongCollapsedSizeIsAnError) {
     const vis::HistoryTree t = handTree();
     const HistoryTreeTopology topo(t);

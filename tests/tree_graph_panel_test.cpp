@@ -5,10 +5,14 @@
 #include <gtest/gtest.h>
 #include <imgui.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
+#include "engine/procedural_scenes.h"
 #include "support/random_history_tree.h"
+#include "visibility/fp_query.h"
+#include "visibility/history_tree_builder.h"
 
 namespace {
 
@@ -91,6 +95,8 @@ TEST(TreeGraphPanel, FiftyThousandNodesDrawBoundedAndClicksCollapse) {
     ASSERT_EQ(items, 2 * n + 1);
     EXPECT_EQ(panel.lastFrameStats().detail, TreeGraphDetail::Raster);
     EXPECT_EQ(panel.lastFrameStats().itemsOnScreen, items);  // everything is in view
+    // The whole highlighted path is drawn, even at this level of detail.
+    EXPECT_EQ(panel.lastFrameStats().pathEdgesDrawn, path.size() - 1);
     const size_t fitVertices = ImGuiHost::vertices(fitted);
     EXPECT_GT(fitVertices, 0u);
     EXPECT_LT(fitVertices, size_t(items));  // under one vertex per item
@@ -245,6 +251,51 @@ TEST(TreeGraphPanel, ButtonsActionsAndOddTrees) {
     panel.setTree(nullptr, {});
     host.frame(panel);
     EXPECT_EQ(panel.layout(), nullptr);
+}
+
+TEST(TreeGraphPanel, RealTreeWithTheQueryPathOfAPoint) {
+    ImGuiHost host;
+    const penumbra::Scene scene = penumbra::makeStairs();
+    const uint32_t receiver = 21;
+    const vis::HistoryTree tree = vis::buildHistoryTree(scene.mesh, receiver, scene.lights.at(0));
+    ASSERT_EQ(tree.kind, vis::PairKind::Penumbra);
+    // A point on the receiver: the centroid of its face.
+    vis::Vec3 c{};
+    for (uint32_t v : scene.mesh.faces[receiver]) c += scene.mesh.vertices[v];
+    c = c / double(scene.mesh.faces[receiver].size());
+    const vis::FromPointResult q = vis::fromPointQuery(scene.mesh, tree, c);
+    ASSERT_FALSE(q.path.empty());
+    // The query's path is a subtree hanging from the root: each node but the root has its parent
+    // on the path (checked on the tree itself), so it has path.size() - 1 edges.
+    std::vector<uint32_t> parent(tree.nodes.size(), kNoIndex);
+    for (uint32_t v = 0; v < tree.nodes.size(); ++v)
+        for (uint32_t ch : tree.nodes[v].child)
+            if (!vis::isLeaf(ch)) parent[ch] = v;
+    EXPECT_EQ(q.path.front(), 0u);
+    for (size_t k = 1; k < q.path.size(); ++k)
+        EXPECT_NE(std::find(q.path.begin(), q.path.end(), parent[q.path[k]]), q.path.end());
+
+    TreeGraphPanel panel;
+    panel.setMesh(&scene.mesh);
+    panel.setTree(&tree, q.path);
+    host.frame(panel);
+    host.frame(panel);
+    EXPECT_EQ(panel.lastFrameStats().pathEdgesDrawn, q.path.size() - 1);
+    EXPECT_EQ(panel.lastFrameStats().itemsOnScreen, panel.layout()->itemCount());
+    // Hover the deepest path node: a tooltip (the mesh is set: coordinates are formatted).
+    const auto p = panel.screenPosOfNode(q.path.back());
+    ASSERT_TRUE(p.has_value());
+    ImGui::GetIO().MousePos = *p;
+    host.frame(panel);
+    host.frame(panel);  // a new tooltip window is hidden on its first frame (auto-sizing)
+    EXPECT_GE(ImGui::GetDrawData()->CmdListsCount, 2);
+    // Collapsing the root hides the path but one node: no path edge is left to draw.
+    panel.toggleCollapsed(0);
+    host.frame(panel);
+    EXPECT_EQ(panel.lastFrameStats().pathEdgesDrawn, 0u);
+    panel.revealPath();
+    host.frame(panel);
+    EXPECT_EQ(panel.lastFrameStats().pathEdgesDrawn, q.path.size() - 1);
 }
 
 }  // namespace
