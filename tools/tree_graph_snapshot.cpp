@@ -161,11 +161,12 @@ int main(int argc, char** argv) try {
     panel.setMesh(&scene.mesh);
     shots.hover(ImVec2(-100, -100));
     shots.save(panel, "stairs_fit");
+    // Zoomed in on the deepest node of the path, hovering it (tooltip).
     const ui::TreeGraphLayout& l = *panel.layout();
-    const auto& root = l.item(0);
-    panel.setView(root.x, l.layerY(4), 28.0);
+    const auto& deepest = l.item(l.itemOfNode(q.path.back()));
+    panel.setView(deepest.x, l.layerY(deepest.depth) - 2.0, 28.0);
     shots.frame(panel);
-    if (auto p = panel.screenPosOfNode(q.path.size() > 3 ? q.path[3] : 0)) shots.hover(*p);
+    if (auto p = panel.screenPosOfNode(q.path.back())) shots.hover(*p);
     shots.save(panel, "stairs_zoom");
     shots.hover(ImVec2(-100, -100));
     panel.collapseToDepth(5);
