@@ -6,11 +6,13 @@
 #include <algorithm>
 #include <bit>
 #include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -125,6 +127,7 @@ struct PlyProperty {
     int countSize = 0;  // bytes of a list's count (binary)
     int size = 0;       // bytes of the scalar, or of one list item
     bool countSigned = false;
+    bool isFloat = false;  // a float or double scalar
 };
 
 struct PlyElement {
@@ -137,6 +140,7 @@ struct PlyHeader {
     enum Format { kAscii, kBinaryLittle, kBinaryBig } format = kAscii;
     std::vector<PlyElement> elements;
     size_t bodyOffset = 0;  // first byte after "end_header\n"
+    int bodyLine = 0;       // 1-based line number of the first body line
     uint64_t count(std::string_view element) const {
         for (const PlyElement& e : elements)
             if (e.name == element) return e.count;
@@ -231,6 +235,7 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file) {
             } else if (tokens.size() == 3) {
                 p.size = plyTypeSize(tokens[1]);
                 if (p.size == 0) throw fail("unknown property type '" + tokens[1] + "'");
+                p.isFloat = tokens[1].rfind("float", 0) == 0 || tokens[1] == "double";
             } else {
                 throw fail("malformed property line");
             }
@@ -241,6 +246,7 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file) {
     }
     if (!sawFormat) throw makeSceneError(file, 0, "PLY header: no format line");
     header.bodyOffset = pos;
+    header.bodyLine = lineNo + 1;
     return header;
 }
 
@@ -293,6 +299,191 @@ size_t checkBinaryPlyBody(const std::string& data, const PlyHeader& header,
         }
     }
     return data.size() - pos;
+}
+
+// ---- ASCII bodies -------------------------------------------------------------------------------
+
+// Non-blank lines of a text from an offset, split into whitespace-separated tokens; `#` starts a
+// comment when `comments` is set.
+class TextLines {
+  public:
+    TextLines(const std::string& data, size_t offset, int firstLine, bool comments)
+        : data_(data), pos_(offset), nextLine_(firstLine), comments_(comments) {}
+
+    // The next line with at least one token; false at the end of the text.
+    bool next(std::vector<std::string_view>& tokens) {
+        tokens.clear();
+        while (tokens.empty() && pos_ < data_.size()) {
+            size_t end = data_.find('\n', pos_);
+            if (end == std::string::npos) end = data_.size();
+            std::string_view text = std::string_view(data_).substr(pos_, end - pos_);
+            line_ = nextLine_++;
+            pos_ = end + 1;
+            if (comments_) text = text.substr(0, text.find('#'));
+            for (size_t i = 0; i < text.size();) {
+                while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i]))) ++i;
+                size_t j = i;
+                while (j < text.size() && !std::isspace(static_cast<unsigned char>(text[j]))) ++j;
+                if (j > i) tokens.push_back(text.substr(i, j - i));
+                i = j;
+            }
+        }
+        return !tokens.empty();
+    }
+    int line() const { return line_; }
+
+  private:
+    const std::string& data_;
+    size_t pos_;
+    int nextLine_;
+    int line_ = 0;
+    bool comments_;
+};
+
+std::optional<double> parseFinite(std::string_view t) {
+    if (!t.empty() && t.front() == '+') t.remove_prefix(1);
+    double v = 0;
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (t.empty() || r.ec != std::errc{} || r.ptr != t.data() + t.size() || !std::isfinite(v))
+        return std::nullopt;
+    return v;
+}
+
+std::optional<int64_t> parseInteger(std::string_view t) {
+    if (!t.empty() && t.front() == '+') t.remove_prefix(1);
+    int64_t v = 0;
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (t.empty() || r.ec != std::errc{} || r.ptr != t.data() + t.size()) return std::nullopt;
+    return v;
+}
+
+// Checks an ASCII PLY body against its header: one line per element item with exactly the
+// properties' tokens, numbers where numbers belong. OpenMesh misreads anything else silently.
+void checkAsciiPlyBody(const std::string& data, const PlyHeader& header, const std::string& file) {
+    TextLines lines(data, header.bodyOffset, header.bodyLine, false);
+    std::vector<std::string_view> tokens;
+    for (const PlyElement& e : header.elements) {
+        for (uint64_t item = 0; item < e.count; ++item) {
+            const std::string where = e.name + " " + std::to_string(item);
+            if (!lines.next(tokens)) {
+                throw makeSceneError(file, 0,
+                                     "truncated ASCII PLY: the file ends before " + where +
+                                         " (the header declares " + std::to_string(e.count) + ")");
+            }
+            size_t t = 0;
+            const auto bad = [&](const std::string& why) {
+                return makeSceneError(file, lines.line(), "ASCII PLY: " + where + ": " + why);
+            };
+            for (const PlyProperty& p : e.properties) {
+                if (t >= tokens.size()) throw bad("too few values");
+                if (!p.list) {
+                    const bool ok = p.isFloat ? parseFinite(tokens[t]).has_value()
+                                              : parseInteger(tokens[t]).has_value();
+                    if (!ok) throw bad("bad or non-finite number '" + std::string(tokens[t]) + "'");
+                    ++t;
+                    continue;
+                }
+                const std::optional<int64_t> n = parseInteger(tokens[t]);
+                if (!n || *n < 0) throw bad("bad list length '" + std::string(tokens[t]) + "'");
+                ++t;
+                if (static_cast<uint64_t>(*n) > tokens.size() - t) throw bad("too few values");
+                for (int64_t k = 0; k < *n; ++k, ++t) {
+                    if (!parseInteger(tokens[t]))
+                        throw bad("bad integer '" + std::string(tokens[t]) + "'");
+                }
+            }
+            if (t != tokens.size()) throw bad("too many values");
+        }
+    }
+}
+
+// An ASCII OFF file checked token by token and rewritten without comments and blank lines (which
+// OpenMesh's OFF reader does not accept everywhere) for OpenMesh to read.
+struct CleanOff {
+    uint64_t vertices = 0, faces = 0;
+    std::string text;
+};
+
+CleanOff cleanAsciiOff(const std::string& data, const std::string& file) {
+    TextLines lines(data, 0, 1, true);
+    std::vector<std::string_view> tokens;
+    if (!lines.next(tokens)) throw makeSceneError(file, 0, "OFF: empty file");
+    const std::string keyword(tokens[0]);
+    const bool isOff = keyword.size() >= 3 && keyword.compare(keyword.size() - 3, 3, "OFF") == 0 &&
+                       keyword.find_first_not_of("STCN") == keyword.size() - 3;
+    if (!isOff)
+        throw makeSceneError(file, lines.line(),
+                             "OFF: the file does not start with an OFF keyword");
+    if (tokens.size() > 1 && tokens[1] == "BINARY")
+        throw makeSceneError(file, lines.line(), "OFF: binary OFF is not supported");
+    CleanOff out;
+    out.text = keyword + "\n";
+    // The counts may follow the keyword on its line.
+    std::vector<std::string_view> counts(tokens.begin() + 1, tokens.end());
+    if (counts.empty()) {
+        if (!lines.next(tokens)) throw makeSceneError(file, 0, "OFF: no counts line");
+        counts = tokens;
+    }
+    if (counts.size() < 2 || counts.size() > 3)
+        throw makeSceneError(file, lines.line(), "OFF: expected the counts 'vertices faces edges'");
+    const std::optional<int64_t> nv = parseInteger(counts[0]), nf = parseInteger(counts[1]);
+    if (!nv || !nf || *nv < 0 || *nf < 0 || static_cast<uint64_t>(*nv) > kMaxSceneElements ||
+        static_cast<uint64_t>(*nf) > kMaxSceneElements)
+        throw makeSceneError(file, lines.line(), "OFF: bad vertex or face count");
+    out.vertices = static_cast<uint64_t>(*nv);
+    out.faces = static_cast<uint64_t>(*nf);
+    out.text += std::to_string(out.vertices) + " " + std::to_string(out.faces) + " 0\n";
+    const auto appendLine = [&] {
+        for (size_t i = 0; i < tokens.size(); ++i) {
+            if (i) out.text += ' ';
+            out.text += tokens[i];
+        }
+        out.text += '\n';
+    };
+    for (uint64_t v = 0; v < out.vertices; ++v) {
+        if (!lines.next(tokens)) {
+            throw makeSceneError(file, 0,
+                                 "truncated OFF: the file ends before vertex " + std::to_string(v) +
+                                     " (the header declares " + std::to_string(out.vertices) +
+                                     " vertices)");
+        }
+        if (tokens.size() < 3)
+            throw makeSceneError(file, lines.line(),
+                                 "OFF: vertex " + std::to_string(v) + ": too few values");
+        for (size_t k = 0; k < tokens.size(); ++k) {
+            if (!parseFinite(tokens[k])) {
+                throw makeSceneError(file, lines.line(),
+                                     "OFF: vertex " + std::to_string(v) +
+                                         ": bad or non-finite number '" + std::string(tokens[k]) +
+                                         "'");
+            }
+        }
+        appendLine();
+    }
+    for (uint64_t f = 0; f < out.faces; ++f) {
+        if (!lines.next(tokens)) {
+            throw makeSceneError(file, 0,
+                                 "truncated OFF: the file ends before face " + std::to_string(f) +
+                                     " (the header declares " + std::to_string(out.faces) +
+                                     " faces)");
+        }
+        const std::string where = "OFF: face " + std::to_string(f) + ": ";
+        const std::optional<int64_t> n = parseInteger(tokens[0]);
+        if (!n || *n < 0 || static_cast<uint64_t>(*n) > tokens.size() - 1)
+            throw makeSceneError(file, lines.line(), where + "bad vertex count or too few indices");
+        for (int64_t k = 1; k <= *n; ++k) {
+            const std::optional<int64_t> i = parseInteger(tokens[static_cast<size_t>(k)]);
+            if (!i || *i < 0 || static_cast<uint64_t>(*i) >= out.vertices) {
+                throw makeSceneError(file, lines.line(),
+                                     where + "vertex index '" +
+                                         std::string(tokens[static_cast<size_t>(k)]) +
+                                         "' out of range (the file has " +
+                                         std::to_string(out.vertices) + " vertices)");
+            }
+        }
+        appendLine();
+    }
+    return out;
 }
 
 // ---- STL ----------------------------------------------------------------------------------------
@@ -405,64 +596,6 @@ StlFacts inspectStl(const std::string& data, const std::string& file) {
     return facts;
 }
 
-// ---- OFF ----------------------------------------------------------------------------------------
-
-struct OffCounts {
-    uint64_t vertices = 0, faces = 0;
-};
-
-OffCounts offHeaderCounts(const std::string& data, const std::string& file) {
-    size_t pos = 0;
-    const auto skipSpaceAndComments = [&] {
-        while (pos < data.size()) {
-            if (std::isspace(static_cast<unsigned char>(data[pos]))) {
-                ++pos;
-            } else if (data[pos] == '#') {
-                while (pos < data.size() && data[pos] != '\n') ++pos;
-            } else {
-                break;
-            }
-        }
-    };
-    skipSpaceAndComments();
-    const size_t b = pos;
-    while (pos < data.size() && !std::isspace(static_cast<unsigned char>(data[pos]))) ++pos;
-    const std::string keyword = data.substr(b, pos - b);
-    const bool offKeyword = keyword.size() >= 3 &&
-                            keyword.compare(keyword.size() - 3, 3, "OFF") == 0 &&
-                            keyword.find_first_not_of("STCN4n") == keyword.size() - 3;
-    if (!offKeyword)
-        throw makeSceneError(file, 1, "OFF: the file does not start with an OFF keyword");
-    if (keyword.find('n') != std::string::npos || keyword.find('4') != std::string::npos)
-        throw makeSceneError(file, 1,
-                             "OFF: " + keyword + " (other than 3 dimensions) is not supported");
-    // "OFF BINARY": the counts are big-endian int32 after the header line.
-    size_t lineEnd = data.find('\n', pos);
-    if (lineEnd == std::string::npos) lineEnd = data.size();
-    if (data.substr(pos, lineEnd - pos).find("BINARY") != std::string::npos) {
-        pos = lineEnd + 1;
-        if (data.size() < pos + 12) throw makeSceneError(file, 0, "binary OFF: truncated header");
-        OffCounts counts;
-        bool negative = false;
-        counts.vertices = readUnsigned(data, pos, 4, true, true, negative);
-        if (negative) throw makeSceneError(file, 0, "binary OFF: negative vertex count");
-        counts.faces = readUnsigned(data, pos + 4, 4, true, true, negative);
-        if (negative) throw makeSceneError(file, 0, "binary OFF: negative face count");
-        return counts;
-    }
-    uint64_t values[2];
-    for (uint64_t& v : values) {
-        skipSpaceAndComments();
-        const size_t s = pos;
-        while (pos < data.size() && data[pos] >= '0' && data[pos] <= '9') ++pos;
-        if (pos == s || pos - s > 18) {
-            throw makeSceneError(file, 0, "OFF: expected the counts 'vertices faces edges'");
-        }
-        v = std::stoull(data.substr(s, pos - s));
-    }
-    return {values[0], values[1]};
-}
-
 }  // namespace
 
 Scene loadOpenMeshFile(const fs::path& path, DegenerateFaces degenerate) {
@@ -479,30 +612,14 @@ Scene loadOpenMeshFile(const fs::path& path, DegenerateFaces degenerate) {
     uint64_t expectedVertices = 0, expectedFaces = 0;
     bool checkVertexCount = true;
     StlFacts stl;
+    CleanOff off;
     std::string trailingWarning;
     if (extension == ".ply") {
         const PlyHeader header = parsePlyHeader(data, file);
         expectedVertices = header.count("vertex");
         expectedFaces = header.count("face");
         if (header.format == PlyHeader::kAscii) {
-            uint64_t lines = 0, total = 0;
-            for (const PlyElement& e : header.elements) total += e.count;
-            bool blank = true;
-            for (size_t i = header.bodyOffset; i < data.size(); ++i) {
-                if (data[i] == '\n') {
-                    lines += !blank;
-                    blank = true;
-                } else if (!std::isspace(static_cast<unsigned char>(data[i]))) {
-                    blank = false;
-                }
-            }
-            lines += !blank;
-            if (lines < total) {
-                throw makeSceneError(file, 0,
-                                     "truncated ASCII PLY: the header declares " +
-                                         std::to_string(total) + " elements, the body has " +
-                                         std::to_string(lines) + " non-empty lines");
-            }
+            checkAsciiPlyBody(data, header, file);
         } else {
             const size_t extra = checkBinaryPlyBody(data, header, file);
             if (extra > 0) {
@@ -511,9 +628,9 @@ Scene loadOpenMeshFile(const fs::path& path, DegenerateFaces degenerate) {
             }
         }
     } else if (extension == ".off") {
-        const OffCounts counts = offHeaderCounts(data, file);
-        expectedVertices = counts.vertices;
-        expectedFaces = counts.faces;
+        off = cleanAsciiOff(data, file);
+        expectedVertices = off.vertices;
+        expectedFaces = off.faces;
     } else {
         stl = inspectStl(data, file);
         expectedFaces = stl.facets - stl.coincident.size();
@@ -531,7 +648,14 @@ Scene loadOpenMeshFile(const fs::path& path, DegenerateFaces degenerate) {
 
     PolygonImporter importer(scene.mesh);
     OMIO::Options options = OMIO::Options::Default;
-    if (!OMIO::IOManager().read(file, importer, options)) {
+    bool read = false;
+    if (extension == ".off") {
+        std::istringstream in(off.text);
+        read = OMIO::IOManager().read(in, "off", importer, options);
+    } else {
+        read = OMIO::IOManager().read(file, importer, options);
+    }
+    if (!read) {
         throw makeSceneError(file, 0, "OpenMesh could not read the file (malformed or truncated)");
     }
     if ((checkVertexCount && scene.mesh.vertices.size() != expectedVertices) ||
