@@ -1,5 +1,7 @@
 // Structural checks of the procedural test scenes: triangle counts, exact planarity, strict
 // convexity, orientation of receivers and lights, one light each.
+#include "engine/procedural_scenes.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -7,7 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "engine/procedural_scenes.h"
 #include "visibility/predicates.h"
 
 namespace {
@@ -136,7 +137,8 @@ TEST(ProceduralScenes, RandomSoup) {
         }
     }
     // deterministic
-    EXPECT_EQ(penumbra::makeRandomSoup(50, 7).mesh.vertices, penumbra::makeRandomSoup(50, 7).mesh.vertices);
+    EXPECT_EQ(penumbra::makeRandomSoup(50, 7).mesh.vertices,
+              penumbra::makeRandomSoup(50, 7).mesh.vertices);
 }
 
 TEST(ProceduralScenes, Transformed) {
