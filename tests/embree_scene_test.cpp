@@ -1,5 +1,6 @@
 // Tests of EmbreeScene: ray casting, filtered shadow segments, the sampled visibility baseline.
 #include "engine/embree_scene.h"
+#include "tests/test_scale.h"
 
 #include <gtest/gtest.h>
 
@@ -14,8 +15,6 @@
 #include <type_traits>
 #include <utility>
 #include <vector>
-
-#include "tests/test_scale.h"
 
 namespace {
 
@@ -108,8 +107,8 @@ TEST(EmbreeScene, IntersectHitsRightFaceAtRightT) {
 TEST(EmbreeScene, OccludedIgnoresReceiverAndLight) {
     EmbreeScene s(halfBlockedScene());
     const Vec3 x{0, 0, 0};
-    EXPECT_TRUE(s.occluded(x, {-0.25, 0, 2}, kFloor, kLight));  // through the blocker
-    EXPECT_FALSE(s.occluded(x, {0.25, 0, 2}, kFloor, kLight));  // clear
+    EXPECT_TRUE(s.occluded(x, {-0.25, 0, 2}, kFloor, kLight));   // through the blocker
+    EXPECT_FALSE(s.occluded(x, {0.25, 0, 2}, kFloor, kLight));   // clear
     EXPECT_FALSE(s.occluded({0.5, 0.5, 0}, {0.3, 0.3, 2}, kFloor, kLight));
     // Open segment ends: touching faces at the end points do not count even if not ignored.
     EXPECT_FALSE(s.occluded({0.5, 0.5, 0}, {0.3, 0.3, 2}));
@@ -189,15 +188,13 @@ double areaLeftOfYAxis(const std::vector<Vec3>& poly) {
 
 TEST(EmbreeScene, SampledFractionIsAreaUniformOnPolygons) {
     // An irregular convex pentagon light (fan triangles of unequal area), half-plane blocker.
-    const std::vector<Vec3> pent{
-        {-0.6, -0.4, 0}, {0.5, -0.5, 0}, {0.7, 0.2, 0}, {0.1, 0.6, 0}, {-0.5, 0.3, 0}};
+    const std::vector<Vec3> pent{{-0.6, -0.4, 0}, {0.5, -0.5, 0}, {0.7, 0.2, 0}, {0.1, 0.6, 0},
+                                 {-0.5, 0.3, 0}};
     PolygonMesh m;
     addRect(m, -2, 2, -2, 2, 0, true);  // floor, face 0
     // Light at z=2 facing down: reverse the (ccw from above) order.
-    const uint32_t light = addFace(m, {{pent[0].x, pent[0].y, 2},
-                                       {pent[4].x, pent[4].y, 2},
-                                       {pent[3].x, pent[3].y, 2},
-                                       {pent[2].x, pent[2].y, 2},
+    const uint32_t light = addFace(m, {{pent[0].x, pent[0].y, 2}, {pent[4].x, pent[4].y, 2},
+                                       {pent[3].x, pent[3].y, 2}, {pent[2].x, pent[2].y, 2},
                                        {pent[1].x, pent[1].y, 2}});
     addRect(m, -5, 0, -5, 5, 1, false);  // blocker: hides exactly the x<0 part from the origin
     EmbreeScene s(m);
@@ -268,8 +265,8 @@ TEST(EmbreeScene, RandomSceneTiming) {
     std::mt19937_64 rng(42);
     std::uniform_real_distribution<double> U(0, 1);
     PolygonMesh m;
-    addRect(m, -5, 5, -5, 5, 0, true);   // receiver, face 0
-    addRect(m, -1, 1, -1, 1, 4, false);  // light, face 1
+    addRect(m, -5, 5, -5, 5, 0, true);             // receiver, face 0
+    addRect(m, -1, 1, -1, 1, 4, false);            // light, face 1
     for (int i = 0; i < 1000; ++i) {
         const Vec3 c{-3 + 6 * U(rng), -3 + 6 * U(rng), 0.5 + 3 * U(rng)};
         auto jitter = [&] { return Vec3{U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5} * 0.6; };
@@ -293,10 +290,9 @@ TEST(EmbreeScene, RandomSceneTiming) {
         const auto t1 = std::chrono::steady_clock::now();
         const double us = std::chrono::duration<double, std::micro>(t1 - t0).count() / points;
         const double cpuUs = 1e6 * static_cast<double>(c1 - c0) / CLOCKS_PER_SEC / points;
-        std::printf(
-            "[ timing ] sampledFraction, 128 samples, %zu triangles, robust=%d: "
-            "%.2f us/point wall, %.2f us/point CPU (mean visible fraction %.4f, %d points)\n",
-            s.triangleCount(), robust ? 1 : 0, us, cpuUs, sum / points, points);
+        std::printf("[ timing ] sampledFraction, 128 samples, %zu triangles, robust=%d: "
+                    "%.2f us/point wall, %.2f us/point CPU (mean visible fraction %.4f, %d points)\n",
+                    s.triangleCount(), robust ? 1 : 0, us, cpuUs, sum / points, points);
         RecordProperty(robust ? "us_per_point_128_robust" : "us_per_point_128_fast",
                        std::to_string(us));
         means[robust ? 0 : 1] = sum / points;

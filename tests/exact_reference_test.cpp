@@ -1,7 +1,5 @@
 // Tests of the independent references (tests/support/exact_reference.h) against hand-derived
 // values and against each other.
-#include "tests/support/exact_reference.h"
-
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -13,6 +11,7 @@
 #include <vector>
 
 #include "engine/procedural_scenes.h"
+#include "tests/support/exact_reference.h"
 
 namespace {
 
@@ -130,8 +129,8 @@ TEST(ExactReference, CentralOccluderMakesAHole) {
     b.quadUp(-0.125, 0.125, -0.125, 0.125, 0.5);  // projects to [-0.25,0.25]^2
     const ReferenceResult r = exactReference(b.mesh, 0, light, {0, 0, 0});
     EXPECT_EQ(r.fraction, 0.75);
-    EXPECT_NEAR(r.formFactor,
-                4 * cornerFormFactor(0.5, 0.5, 1) - 4 * cornerFormFactor(0.25, 0.25, 1), 1e-14);
+    EXPECT_NEAR(r.formFactor, 4 * cornerFormFactor(0.5, 0.5, 1) - 4 * cornerFormFactor(0.25, 0.25, 1),
+                1e-14);
 }
 
 TEST(ExactReference, OccluderTouchingTheLight) {
@@ -154,8 +153,8 @@ TEST(ExactReference, OccluderTouchingTheLight) {
         b.face({{0, -0.5, 0.5}, {0, 0.5, 0.5}, {0, 0.5, 1}, {0, -0.5, 1}});
         const ReferenceResult r = exactReference(b.mesh, 0, light, {0.25, 0, 0});
         EXPECT_EQ(r.fraction, 0.75);
-        const double expected =
-            rectFormFactor(-0.75, -0.5, -0.5, 0.5, 1) + rectFormFactor(-0.25, 0.25, -0.5, 0.5, 1);
+        const double expected = rectFormFactor(-0.75, -0.5, -0.5, 0.5, 1) +
+                                rectFormFactor(-0.25, 0.25, -0.5, 0.5, 1);
         EXPECT_NEAR(r.formFactor, expected, 1e-14);
     }
     {
@@ -170,7 +169,8 @@ TEST(ExactReference, OccluderTouchingTheLight) {
 TEST(ExactReference, LightStraddlingTheHorizon) {
     MeshBuilder b;
     // light in the plane x = 1, facing -x, z in [-0.5,1.5]: 3/4 of it above the receiver plane
-    const uint32_t light = b.face({{1, -0.5, -0.5}, {1, -0.5, 1.5}, {1, 0.5, 1.5}, {1, 0.5, -0.5}});
+    const uint32_t light =
+        b.face({{1, -0.5, -0.5}, {1, -0.5, 1.5}, {1, 0.5, 1.5}, {1, 0.5, -0.5}});
     const ReferenceResult r = exactReference(b.mesh, 0, light, {0, 0, 0});
     EXPECT_DOUBLE_EQ(r.lightArea, 2.0);
     EXPECT_EQ(r.fraction, 0.75);
@@ -219,13 +219,11 @@ TEST(ExactReference, MonteCarloAgreesOnRandomScenes) {
         for (Vec3 x : {Vec3{0.5, 0.5, 0}, Vec3{0.25, 0.75, 0}, Vec3{0.875, 0.125, 0}}) {
             const ReferenceResult r = exactReference(scene.mesh, 0, light, x);
             double sigma = 0;
-            const double mc =
-                monteCarloFraction(scene.mesh, 0, light, x, 40000, seed * 7 + 1, &sigma);
+            const double mc = monteCarloFraction(scene.mesh, 0, light, x, 40000, seed * 7 + 1, &sigma);
             EXPECT_GE(r.fraction, 0.0);
             EXPECT_LE(r.fraction, 1.0);
             EXPECT_LE(r.formFactor, r.unoccludedFormFactor + 1e-15);
-            EXPECT_NEAR(mc, r.fraction, 4 * sigma + 1e-9)
-                << "seed " << seed << " x " << x.x << "," << x.y;
+            EXPECT_NEAR(mc, r.fraction, 4 * sigma + 1e-9) << "seed " << seed << " x " << x.x << "," << x.y;
         }
     }
 }
@@ -302,8 +300,7 @@ TEST(ExactReference, TableTiming) {
         const auto t0 = std::chrono::steady_clock::now();
         const ReferenceResult r = exactReference(scene.mesh, 0, light, x);
         const double ms =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                .count();
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
         totalMs += ms;
         std::printf("[ table ] x=(%g,%g,%g) fraction=%.6f F=%.6f F0=%.6f  %.1f ms\n", x.x, x.y, x.z,
                     r.fraction, r.formFactor, r.unoccludedFormFactor, ms);

@@ -1,14 +1,13 @@
 // The predicates against exact rational arithmetic computed here (an independent reference), on
 // inputs built to be hard: exactly coplanar points, and points perturbed by an ulp off a plane.
-#include "visibility/predicates.h"
-
-#include <gmpxx.h>
 #include <gtest/gtest.h>
+#include <gmpxx.h>
 
 #include <cmath>
 #include <random>
 
 #include "visibility/plucker.h"
+#include "visibility/predicates.h"
 
 namespace penumbra::vis {
 namespace {
@@ -82,8 +81,7 @@ TEST(Predicates, NearCoplanarPointsGetTheExactSign) {
 TEST(Predicates, ExactlyCoplanarIntegerGridIsZero) {
     // Large coordinates, far from the origin: exact zeros must stay zeros.
     const Vec3 o{1e5, 1e5, 1e5};
-    const Vec3 a = o + Vec3{1, 2, 0}, b = o + Vec3{3, -1, 0}, c = o + Vec3{-2, 5, 0},
-               d = o + Vec3{7, 7, 0};
+    const Vec3 a = o + Vec3{1, 2, 0}, b = o + Vec3{3, -1, 0}, c = o + Vec3{-2, 5, 0}, d = o + Vec3{7, 7, 0};
     EXPECT_EQ(orientSign(a, b, c, d), Sign::Zero);
     EXPECT_EQ(orientValue(a, b, c, d).value, 0.0);
     EXPECT_EQ(orientValue(a, b, c, d).error, 0.0);
@@ -97,14 +95,10 @@ TEST(Predicates, FilteredValueBoundHoldsAgainstExact) {
             d{u(rng), u(rng), u(rng)};
         const BoundedValue v = orientValue(a, b, c, d);
         // Exact value: expand det[b-a, c-a, d-a] in rationals.
-        const mpq_class ux = mpq_class(b.x) - a.x, uy = mpq_class(b.y) - a.y,
-                        uz = mpq_class(b.z) - a.z;
-        const mpq_class vx = mpq_class(c.x) - a.x, vy = mpq_class(c.y) - a.y,
-                        vz = mpq_class(c.z) - a.z;
-        const mpq_class wx = mpq_class(d.x) - a.x, wy = mpq_class(d.y) - a.y,
-                        wz = mpq_class(d.z) - a.z;
-        const mpq_class exact =
-            ux * (vy * wz - vz * wy) + uy * (vz * wx - vx * wz) + uz * (vx * wy - vy * wx);
+        const mpq_class ux = mpq_class(b.x) - a.x, uy = mpq_class(b.y) - a.y, uz = mpq_class(b.z) - a.z;
+        const mpq_class vx = mpq_class(c.x) - a.x, vy = mpq_class(c.y) - a.y, vz = mpq_class(c.z) - a.z;
+        const mpq_class wx = mpq_class(d.x) - a.x, wy = mpq_class(d.y) - a.y, wz = mpq_class(d.z) - a.z;
+        const mpq_class exact = ux * (vy * wz - vz * wy) + uy * (vz * wx - vx * wz) + uz * (vx * wy - vy * wx);
         const mpq_class diff = exact - mpq_class(v.value);
         EXPECT_LE(std::fabs(diff.get_d()), v.error);
     }

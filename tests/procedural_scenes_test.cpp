@@ -1,7 +1,5 @@
 // Structural checks of the procedural test scenes: triangle counts, exact planarity, strict
 // convexity, orientation of receivers and lights, one light each.
-#include "engine/procedural_scenes.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/procedural_scenes.h"
 #include "visibility/predicates.h"
 
 namespace {
@@ -137,8 +136,7 @@ TEST(ProceduralScenes, RandomSoup) {
         }
     }
     // deterministic
-    EXPECT_EQ(penumbra::makeRandomSoup(50, 7).mesh.vertices,
-              penumbra::makeRandomSoup(50, 7).mesh.vertices);
+    EXPECT_EQ(penumbra::makeRandomSoup(50, 7).mesh.vertices, penumbra::makeRandomSoup(50, 7).mesh.vertices);
 }
 
 TEST(ProceduralScenes, Transformed) {
