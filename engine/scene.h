@@ -38,14 +38,14 @@ struct PointLight {
 };
 
 struct Scene {
-    std::string sourcePath;               // for error messages
-    vis::PolygonMesh mesh;                // geometry handed to the visibility core
-    std::vector<int32_t> faceMaterial;    // per face, index into materials or -1 (default)
+    std::string sourcePath;           // for error messages
+    vis::PolygonMesh mesh;            // geometry handed to the visibility core
+    std::vector<int32_t> faceMaterial;  // per face, index into materials or -1 (default)
     std::vector<int32_t> faceSourceLine;  // per face, the 1-based line it came from (0 if none)
     std::vector<Material> materials;
-    std::vector<uint32_t> lights;         // face indices of emissive faces, in file order
+    std::vector<uint32_t> lights;     // face indices of emissive faces, in file order
     std::vector<PointLight> pointLights;  // from scene files; no visibility precompute
-    std::optional<Camera> camera;         // from scene files (glTF, JSON); else the viewer fits one
+    std::optional<Camera> camera;     // from scene files (glTF, JSON); else the viewer fits one
     // Problems the loader worked around (e.g. dropped degenerate faces), one message each, naming
     // the file; commands print them to stderr.
     std::vector<std::string> warnings;
