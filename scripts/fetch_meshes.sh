@@ -14,7 +14,7 @@ mkdir -p "$out"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 
-# debian_file PACKAGE PATH_IN_PACKAGE_GLOB: extracts the package once, prints the matching path.
+# extract_debian PACKAGE: downloads the package (no install) and extracts it once into $work/PACKAGE.
 extract_debian() {
   local pkg="$1"
   if [[ ! -d "$work/$pkg" ]]; then
