@@ -1,9 +1,9 @@
 #include "app/commands.h"
 
-#include <cctype>
+#include <iostream>
 #include <system_error>
 
-#include "engine/obj_io.h"
+#include "engine/scene_loader.h"
 
 namespace penumbra::cli {
 
@@ -15,12 +15,17 @@ Scene loadSceneFile(const std::filesystem::path& path) {
         throw inputError("cannot open scene file '" + path.string() + "': no such file");
     if (fs::is_directory(status))
         throw inputError("cannot open scene file '" + path.string() + "': it is a directory");
-    std::string extension = path.extension().string();
-    for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (extension == ".obj") return loadObj(path);
-    throw inputError("cannot load scene file '" + path.string() + "': unknown format '" +
-                     (extension.empty() ? std::string("(no extension)") : extension) +
-                     "' (supported: .obj)");
+    const std::string extension = path.extension().string();
+    if (!isSupportedSceneExtension(extension)) {
+        throw inputError("cannot load scene file '" + path.string() + "': unknown format '" +
+                         (extension.empty() ? std::string("(no extension)") : extension) +
+                         "' (supported: " + supportedSceneExtensions() + ")");
+    }
+    Scene scene = loadScene(path);
+    for (const std::string& warning : scene.warnings) {
+        std::cerr << "penumbra: warning: " << warning << '\n';
+    }
+    return scene;
 }
 
 }  // namespace penumbra::cli

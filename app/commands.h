@@ -40,9 +40,10 @@ inline CommandError inputError(const std::string& message) {
     return CommandError(kExitInputError, message);
 }
 
-// Loads a scene file, choosing the reader by extension (case-insensitive): .obj (with its MTL
-// libraries). Throws CommandError (input error) for a missing file or an unknown extension, and
-// SceneError for a malformed scene.
+// Loads a scene file with engine/scene_loader.h, choosing the reader by extension
+// (case-insensitive): .obj (with its MTL libraries), .ply, .off, .stl, .gltf, .glb, .json. Prints
+// the scene's warnings to stderr ("penumbra: warning: ..."). Throws CommandError (input error) for
+// a missing file or an unknown extension, and SceneError for a malformed scene.
 Scene loadSceneFile(const std::filesystem::path& path);
 
 // `penumbra query`: exact light visibility at points (app/query_command.cpp).

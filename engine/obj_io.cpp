@@ -17,6 +17,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "engine/face_check.h"
 #include "engine/scene_validation.h"
 
 namespace penumbra {
@@ -349,7 +350,8 @@ struct MtlSource {
 
 class ObjParser {
   public:
-    ObjParser(const std::string& file, MtlSource mtl) : file_(file), mtl_(std::move(mtl)) {}
+    ObjParser(const std::string& file, MtlSource mtl, DegenerateFaces degenerate)
+        : file_(file), mtl_(std::move(mtl)), degenerate_(degenerate) {}
 
     Scene parse(std::string_view text) {
         LineReader lines(text, file_);
@@ -489,7 +491,8 @@ class ObjParser {
         sorted.assign(indices.begin(), indices.end());
         std::sort(sorted.begin(), sorted.end());
         const auto dup = std::adjacent_find(sorted.begin(), sorted.end());
-        if (dup != sorted.end()) {
+        // Under kDrop a repeated vertex is a degenerate face for checkLoadedFaces to drop.
+        if (dup != sorted.end() && degenerate_ == DegenerateFaces::kReject) {
             failFace(where, faceIndex,
                      "vertex " + std::to_string(*dup + 1ull) + " repeated (degenerate face)");
         }
@@ -573,13 +576,13 @@ class ObjParser {
         for (int32_t u : faceUseMtl_) {
             scene_.faceMaterial.push_back(u < 0 ? -1 : useMtlMaterial[static_cast<size_t>(u)]);
         }
-        scene_.collectLights();
-        validateScene(scene_);
+        checkLoadedFaces(scene_, degenerate_);
         return std::move(scene_);
     }
 
     const std::string& file_;
     MtlSource mtl_;
+    DegenerateFaces degenerate_;
     Scene scene_;
     MaterialTable table_;
     std::vector<UseMtl> useMtl_;
@@ -629,18 +632,19 @@ void writeAtomically(const fs::path& target, const std::string& text) {
 
 }  // namespace
 
-Scene loadObj(const std::filesystem::path& objPath) {
+Scene loadObj(const std::filesystem::path& objPath, DegenerateFaces degenerate) {
     const std::string file = objPath.string();
     std::string why;
     const std::optional<std::string> text = readFile(objPath, why);
     if (!text) throw makeSceneError(file, 0, "cannot read file: " + why);
-    ObjParser parser(file, MtlSource{std::nullopt, objPath.parent_path()});
+    ObjParser parser(file, MtlSource{std::nullopt, objPath.parent_path()}, degenerate);
     return parser.parse(*text);
 }
 
-Scene loadObjFromString(std::string_view objText, std::string_view mtlText,
-                        std::string sourceName) {
-    ObjParser parser(sourceName, MtlSource{mtlText, fs::path(sourceName).parent_path()});
+Scene loadObjFromString(std::string_view objText, std::string_view mtlText, std::string sourceName,
+                        DegenerateFaces degenerate) {
+    ObjParser parser(sourceName, MtlSource{mtlText, fs::path(sourceName).parent_path()},
+                     degenerate);
     return parser.parse(objText);
 }
 

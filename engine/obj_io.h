@@ -21,7 +21,8 @@
 // The scene: faces numbered from 0 in file order, faceSourceLine the 1-based OBJ line of each face,
 // faceMaterial the index into `materials` (MTL definition order) or -1 before any usemtl, lights
 // the faces whose material has a nonzero Ke (Scene::collectLights). The result is validated
-// (validateScene): faces must be planar, strictly convex and non-degenerate.
+// (checkLoadedFaces, engine/face_check.h): faces must be planar, strictly convex and
+// non-degenerate; with DegenerateFaces::kDrop zero-area faces are dropped with a warning instead.
 //
 // Every problem is a SceneError "file:line: message"; a face problem says "face N: ...". An empty
 // file, or one without faces, is the error "no faces".
@@ -31,18 +32,21 @@
 #include <string>
 #include <string_view>
 
+#include "engine/face_check.h"
 #include "engine/scene.h"
 #include "engine/scene_error.h"
 
 namespace penumbra {
 
 // Reads the OBJ file and its MTL libraries, validates the scene, sets sourcePath to objPath.
-Scene loadObj(const std::filesystem::path& objPath);
+Scene loadObj(const std::filesystem::path& objPath,
+              DegenerateFaces degenerate = DegenerateFaces::kReject);
 
 // The same from memory: `mtlText` is the text of every MTL library the OBJ names (read once, even
 // if several mtllib names appear). sourceName is the OBJ name used in errors and sourcePath; MTL
 // errors name the library as the OBJ names it, relative to sourceName's directory.
-Scene loadObjFromString(std::string_view objText, std::string_view mtlText, std::string sourceName);
+Scene loadObjFromString(std::string_view objText, std::string_view mtlText, std::string sourceName,
+                        DegenerateFaces degenerate = DegenerateFaces::kReject);
 
 // Writes the scene (validated first) as objPath and a sibling MTL file with the same stem and the
 // extension .mtl; both start with the comment "# penumbra scene v1". Positions are printed with 17

@@ -46,6 +46,9 @@ struct Scene {
     std::vector<uint32_t> lights;     // face indices of emissive faces, in file order
     std::vector<PointLight> pointLights;  // from scene files; no visibility precompute
     std::optional<Camera> camera;     // from scene files (glTF, JSON); else the viewer fits one
+    // Problems the loader worked around (e.g. dropped degenerate faces), one message each, naming
+    // the file; commands print them to stderr.
+    std::vector<std::string> warnings;
 
     uint32_t faceCount() const { return static_cast<uint32_t>(mesh.faces.size()); }
     const Material& material(uint32_t face) const;

@@ -24,9 +24,7 @@ constexpr double kEps = DBL_EPSILON / 2;
 constexpr double kOrient2dBound = (3.0 + 16.0 * kEps) * kEps;
 constexpr double kUnderflowGuard = 0x1p-960;
 
-struct P2 {
-    double u, v;
-};
+using P2 = FaceCheckScratch::P2;
 
 int orient2dExact(const P2& a, const P2& b, const P2& c) {
     // mpq_class(double) is exact, so is the rest.
@@ -89,26 +87,23 @@ std::string fmt(double x) {
     return buf;
 }
 
-// Buffers reused from face to face (one per validateScene call).
-struct Scratch {
-    std::vector<uint32_t> sorted;
-    std::vector<Vec3> p, q;
-    std::vector<P2> s;
-    std::vector<int> turn;
-};
+FaceDefect degenerate(std::string message) { return FaceDefect{true, std::move(message)}; }
+FaceDefect invalid(std::string message) { return FaceDefect{false, std::move(message)}; }
 
-// The reason the face breaks the contract, or nullopt when it is fine.
-std::optional<std::string> checkFace(const vis::PolygonMesh& mesh, uint32_t f, Scratch& scratch) {
+}  // namespace
+
+std::optional<FaceDefect> checkFace(const vis::PolygonMesh& mesh, uint32_t f,
+                                    FaceCheckScratch& scratch) {
     const std::vector<uint32_t>& idx = mesh.faces[f];
     const size_t k = idx.size();
     const size_t nv = mesh.vertices.size();
     if (k < 3) {
-        return "only " + std::to_string(k) + " vertices (a face needs at least 3)";
+        return invalid("only " + std::to_string(k) + " vertices (a face needs at least 3)");
     }
     for (uint32_t i : idx) {
         if (i >= nv) {
-            return "vertex index " + std::to_string(i) + " out of range (scene has " +
-                   std::to_string(nv) + " vertices)";
+            return invalid("vertex index " + std::to_string(i) + " out of range (scene has " +
+                           std::to_string(nv) + " vertices)");
         }
     }
     {
@@ -117,7 +112,8 @@ std::optional<std::string> checkFace(const vis::PolygonMesh& mesh, uint32_t f, S
         std::sort(sorted.begin(), sorted.end());
         const auto dup = std::adjacent_find(sorted.begin(), sorted.end());
         if (dup != sorted.end()) {
-            return "vertex index " + std::to_string(*dup) + " repeated (degenerate face)";
+            return degenerate("vertex index " + std::to_string(*dup) +
+                              " repeated (degenerate face)");
         }
     }
 
@@ -126,13 +122,13 @@ std::optional<std::string> checkFace(const vis::PolygonMesh& mesh, uint32_t f, S
     for (size_t i = 0; i < k; ++i) {
         p[i] = mesh.vertices[idx[i]];
         if (!std::isfinite(p[i].x) || !std::isfinite(p[i].y) || !std::isfinite(p[i].z)) {
-            return "vertex " + std::to_string(idx[i]) + " has a non-finite coordinate";
+            return invalid("vertex " + std::to_string(idx[i]) + " has a non-finite coordinate");
         }
     }
     for (size_t i = 0; i < k; ++i) {
         if (p[i] == p[(i + 1) % k]) {
-            return "zero-length edge: vertices " + std::to_string(idx[i]) + " and " +
-                   std::to_string(idx[(i + 1) % k]) + " coincide (degenerate)";
+            return degenerate("zero-length edge: vertices " + std::to_string(idx[i]) + " and " +
+                              std::to_string(idx[(i + 1) % k]) + " coincide (degenerate)");
         }
     }
 
@@ -141,7 +137,7 @@ std::optional<std::string> checkFace(const vis::PolygonMesh& mesh, uint32_t f, S
     for (size_t i = 2; i < k && offLine == 0; ++i) {
         if (!collinear3(p[0], p[1], p[i])) offLine = i;
     }
-    if (offLine == 0) return std::string("degenerate (zero area): all vertices are collinear");
+    if (offLine == 0) return degenerate("degenerate (zero area): all vertices are collinear");
 
     // Scale by powers of two (exact up to underflow, which does not matter for an approximate
     // plane) so that nothing overflows: first to magnitude < 1, then, after centring on the
@@ -207,11 +203,12 @@ std::optional<std::string> checkFace(const vis::PolygonMesh& mesh, uint32_t f, S
             }
         }
         if (!(deviation <= tolerance)) {
-            return "non-planar: vertex " + std::to_string(idx[worst]) + " lies " +
-                   fmt(std::ldexp(deviation, exponent)) +
-                   " from the plane through the centroid (tolerance " + fmt(kPlanarityTolerance) +
-                   " x face diameter " + fmt(std::ldexp(diameter, exponent)) + " = " +
-                   fmt(std::ldexp(tolerance, exponent)) + ")";
+            return invalid("non-planar: vertex " + std::to_string(idx[worst]) + " lies " +
+                           fmt(std::ldexp(deviation, exponent)) +
+                           " from the plane through the centroid (tolerance " +
+                           fmt(kPlanarityTolerance) + " x face diameter " +
+                           fmt(std::ldexp(diameter, exponent)) + " = " +
+                           fmt(std::ldexp(tolerance, exponent)) + ")");
         }
     }
 
@@ -239,15 +236,16 @@ std::optional<std::string> checkFace(const vis::PolygonMesh& mesh, uint32_t f, S
             turn[i] = orient2d(s[prev], s[i], s[next]);
             if (turn[i] != 0) continue;
             if (collinear3(p[prev], p[i], p[next])) {
-                return "collinear vertices: vertex " + std::to_string(idx[i]) +
-                       " lies on the line through its neighbours " + std::to_string(idx[prev]) +
-                       " and " + std::to_string(idx[next]) + " (zero turn)";
+                return invalid("collinear vertices: vertex " + std::to_string(idx[i]) +
+                               " lies on the line through its neighbours " +
+                               std::to_string(idx[prev]) + " and " + std::to_string(idx[next]) +
+                               " (zero turn)");
             }
             spurious = true;
         }
         if (!spurious) d = axis;
     }
-    if (d < 0) return std::string("non-convex: no projection keeps every turn strict");
+    if (d < 0) return invalid("non-convex: no projection keeps every turn strict");
     bool allPositive = true, allNegative = true;
     for (size_t i = 0; i < k; ++i) {
         allPositive = allPositive && turn[i] > 0;
@@ -257,8 +255,8 @@ std::optional<std::string> checkFace(const vis::PolygonMesh& mesh, uint32_t f, S
         const int expected = n[d] > 0 ? 1 : -1;
         for (size_t i = 0; i < k; ++i) {
             if (turn[i] != expected) {
-                return "non-convex: reflex vertex " + std::to_string(idx[i]) +
-                       " (the face turns the other way there)";
+                return invalid("non-convex: reflex vertex " + std::to_string(idx[i]) +
+                               " (the face turns the other way there)");
             }
         }
     }
@@ -279,15 +277,13 @@ std::optional<std::string> checkFace(const vis::PolygonMesh& mesh, uint32_t f, S
         if (!upperHalf(i) && upperHalf((i + 1) % k)) ++revolutions;
     }
     if (revolutions != 1) {
-        return "non-convex: self-intersecting (the boundary winds " + std::to_string(revolutions) +
-               " times around)";
+        return invalid("non-convex: self-intersecting (the boundary winds " +
+                       std::to_string(revolutions) + " times around)");
     }
     return std::nullopt;
 }
 
-}  // namespace
-
-void validateScene(const Scene& scene) {
+void validateSceneStructure(const Scene& scene) {
     const vis::PolygonMesh& mesh = scene.mesh;
     const std::string& file = scene.sourcePath;
     if (mesh.vertices.size() > kMaxSceneElements) {
@@ -311,21 +307,14 @@ void validateScene(const Scene& scene) {
                              "faceSourceLine has " + std::to_string(scene.faceSourceLine.size()) +
                                  " entries for " + std::to_string(nf) + " faces");
     }
-    Scratch scratch;
-    for (uint32_t f = 0; f < nf; ++f) {
-        const int64_t line = f < scene.faceSourceLine.size() ? scene.faceSourceLine[f] : 0;
-        const auto where = [f] { return "face " + std::to_string(f) + ": "; };
-        if (f < scene.faceMaterial.size()) {
-            const int32_t m = scene.faceMaterial[f];
-            if (m < -1 || (m >= 0 && static_cast<size_t>(m) >= scene.materials.size())) {
-                throw makeSceneError(file, line,
-                                     where() + "material index " + std::to_string(m) +
-                                         " out of range (scene has " +
-                                         std::to_string(scene.materials.size()) + " materials)");
-            }
-        }
-        if (std::optional<std::string> why = checkFace(mesh, f, scratch)) {
-            throw makeSceneError(file, line, where() + *why);
+    for (uint32_t f = 0; f < scene.faceMaterial.size(); ++f) {
+        const int32_t m = scene.faceMaterial[f];
+        if (m < -1 || (m >= 0 && static_cast<size_t>(m) >= scene.materials.size())) {
+            const int64_t line = f < scene.faceSourceLine.size() ? scene.faceSourceLine[f] : 0;
+            throw makeSceneError(file, line,
+                                 "face " + std::to_string(f) + ": material index " +
+                                     std::to_string(m) + " out of range (scene has " +
+                                     std::to_string(scene.materials.size()) + " materials)");
         }
     }
     for (uint32_t light : scene.lights) {
@@ -333,6 +322,18 @@ void validateScene(const Scene& scene) {
             throw makeSceneError(file, 0,
                                  "light face " + std::to_string(light) +
                                      " out of range (scene has " + std::to_string(nf) + " faces)");
+        }
+    }
+}
+
+void validateScene(const Scene& scene) {
+    validateSceneStructure(scene);
+    FaceCheckScratch scratch;
+    for (uint32_t f = 0; f < scene.faceCount(); ++f) {
+        if (std::optional<FaceDefect> defect = checkFace(scene.mesh, f, scratch)) {
+            const int64_t line = f < scene.faceSourceLine.size() ? scene.faceSourceLine[f] : 0;
+            throw makeSceneError(scene.sourcePath, line,
+                                 "face " + std::to_string(f) + ": " + defect->message);
         }
     }
 }

@@ -22,6 +22,10 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "engine/scene.h"
 #include "engine/scene_error.h"
@@ -36,6 +40,35 @@ inline constexpr double kPlanarityTolerance = 1e-9;
 
 // Throws SceneError naming scene.sourcePath, the face index and the face's source line on the first
 // face (in face order) that breaks the contract above. Returns normally when the scene is valid.
+// Equivalent to validateSceneStructure followed by checkFace on every face.
 void validateScene(const Scene& scene);
+
+// The scene-wide part of validateScene: element limits, faceMaterial and faceSourceLine sizes,
+// material indices, lights in range. No per-face geometry.
+void validateSceneStructure(const Scene& scene);
+
+// Why one face breaks the contract.
+struct FaceDefect {
+    // True when the face has zero area: a repeated vertex index, two consecutive vertices at the
+    // same position, or all vertices collinear (decided exactly). Loaders may drop such faces on
+    // request (engine/face_check.h); every other defect is always an error.
+    bool degenerate = false;
+    std::string message;  // without location, e.g. "non-planar: vertex 7 lies ..."
+};
+
+// Buffers checkFace reuses from face to face; one per thread.
+struct FaceCheckScratch {
+    struct P2 {
+        double u, v;
+    };
+    std::vector<uint32_t> sorted;
+    std::vector<Vec3> p, q;
+    std::vector<P2> s;
+    std::vector<int> turn;
+};
+
+// The per-face part of validateScene: nullopt when face `face` of the mesh meets the contract.
+std::optional<FaceDefect> checkFace(const vis::PolygonMesh& mesh, uint32_t face,
+                                    FaceCheckScratch& scratch);
 
 }  // namespace penumbra

@@ -247,8 +247,13 @@ TEST_F(CliTest, MissingSceneFile) {
 }
 
 TEST_F(CliTest, UnknownSceneFormat) {
+    write("scene.fbx", "ply\n");
+    expectError({"query", path("scene.fbx").string(), "--point", "0,0,0"}, 1,
+                {".fbx", ".obj", ".ply", ".gltf", ".json"});
+    // A known format with a malformed file is an input error too, naming the file.
     write("scene.ply", "ply\n");
-    expectError({"query", path("scene.ply").string(), "--point", "0,0,0"}, 1, {".ply", ".obj"});
+    expectError({"query", path("scene.ply").string(), "--point", "0,0,0"}, 1,
+                {"scene.ply", "end_header"});
 }
 
 TEST_F(CliTest, MalformedSceneIsAnInputError) {
