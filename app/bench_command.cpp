@@ -52,7 +52,7 @@ void benchScene(const std::string& path, const BenchOptions& o) {
     }
     // trees[light][face] -> one tree per patch
     std::vector<std::vector<std::vector<vis::HistoryTree>>> trees(scene.lights.size());
-    size_t kinds[4] = {0, 0, 0, 0}, nodes = 0, bytes = 0, patchCount = 0;
+    size_t kinds[vis::kPairKindCount] = {}, nodes = 0, bytes = 0, patchCount = 0;
     uint64_t uncertain = 0, exactCerts = 0, lps = 0;
     double worst = 0;
     const auto t0 = Clock::now();
@@ -87,8 +87,9 @@ void benchScene(const std::string& path, const BenchOptions& o) {
 
     std::printf("\n%s: %u faces, %zu lights, %zu receiver patches\n", path.c_str(),
                 scene.faceCount(), scene.lights.size(), patchCount);
-    std::printf("  pairs: %zu back-facing, %zu fully visible, %zu fully hidden, %zu with a tree\n",
-                kinds[0], kinds[1], kinds[2], kinds[3]);
+    std::printf("  pairs: %zu back-facing, %zu fully visible, %zu fully hidden, %zu with a tree, "
+                "%zu too complex (sampled)\n",
+                kinds[0], kinds[1], kinds[2], kinds[3], kinds[4]);
     std::printf("  trees: %zu nodes (%.1f per tree), %zu bytes (%.1f KB), precompute %.2f s "
                 "(slowest pair %.3f s)\n",
                 nodes, kinds[3] ? static_cast<double>(nodes) / kinds[3] : 0.0, bytes,

@@ -6,7 +6,9 @@
 //   {"point":[x,y,z],"face":F,"lights":[{"light":K,"light_face":LF,"light_area":A,
 //    "visible_area":a,"fraction":a/A,"form_factor":f,"unoccluded_form_factor":u,
 //    "fragments":[[[x,y,z],...],...],"nodes_visited":n,"path":[node ids],
-//    "pair":"penumbra|fully-visible|fully-hidden|back-facing"}]}
+//    "pair":"penumbra|fully-visible|fully-hidden|back-facing|too-complex"}]}
+// A too-complex pair (the tree exceeded its build budget) prints null for the visible area,
+// fraction and form factor, and an "error" string.
 // Doubles are printed in their shortest round-trip form.
 //
 // The points file holds one point a line, "x y z [face]"; blank lines and '#' comments are
@@ -36,6 +38,7 @@ struct QueryOptions {
     std::string pointsFile;
     std::string face;
     std::string light;
+    uint64_t maxLpSolves = vis::BuildOptions{}.maxLpSolves;
 };
 
 // One point to query, and where it came from ("--point" or "FILE:LINE") for messages.
@@ -191,6 +194,15 @@ nlohmann::ordered_json toJson(const QueryPoint& p, uint32_t face,
         j["nodes_visited"] = l.nodesVisited;
         j["path"] = l.path;
         j["pair"] = std::string(vis::toString(l.kind));
+        if (l.kind == vis::PairKind::TooComplex) {
+            // No exact answer exists for this pair: say so instead of printing zeros.
+            j["visible_area"] = nullptr;
+            j["fraction"] = nullptr;
+            j["form_factor"] = nullptr;
+            j["error"] =
+                "the exact history tree of this pair exceeded the build budget "
+                "(--max-lp-solves); no exact result";
+        }
         lightsJson.push_back(std::move(j));
     }
     out["lights"] = std::move(lightsJson);
@@ -237,7 +249,9 @@ void runQuery(const CLI::App& sub, const QueryOptions& options) {
         faces.push_back(*lookup.face);
     }
 
-    VisibilityStore store(scene);
+    VisibilityStore::Options storeOptions;
+    storeOptions.build.maxLpSolves = options.maxLpSolves;
+    VisibilityStore store(scene, nullptr, storeOptions);
     for (size_t i = 0; i < points.size(); ++i) {
         const std::vector<LightAtPoint> lights =
             queryPoint(store, faces[i], points[i].x, lightFlag);
@@ -272,6 +286,11 @@ void registerQueryCommand(CLI::App& app) {
         ->type_name("F");
     sub->add_option("--light", options->light, "Only light K (default: every light)")
         ->type_name("K");
+    sub->add_option("--max-lp-solves", options->maxLpSolves,
+                    "Build budget of one history tree in linear programs; a pair beyond it is "
+                    "reported as too-complex (0 = no limit)")
+        ->capture_default_str()
+        ->type_name("N");
     sub->callback([sub, options] { runQuery(*sub, *options); });
 }
 

@@ -162,9 +162,9 @@ void VisibilityStore::forEach(
     }
 }
 
-std::array<size_t, 4> VisibilityStore::kindCounts() const {
-    std::array<size_t, 4> out{};
-    for (size_t i = 0; i < 4; ++i) out[i] = kinds_[i].load(std::memory_order_relaxed);
+std::array<size_t, vis::kPairKindCount> VisibilityStore::kindCounts() const {
+    std::array<size_t, vis::kPairKindCount> out{};
+    for (size_t i = 0; i < out.size(); ++i) out[i] = kinds_[i].load(std::memory_order_relaxed);
     return out;
 }
 

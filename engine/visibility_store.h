@@ -85,7 +85,7 @@ public:
     // of the precompute counts.
     size_t bytes() const { return bytes_.load(std::memory_order_relaxed); }
     // Published trees per PairKind (index = static_cast<int>(kind)).
-    std::array<size_t, 4> kindCounts() const;
+    std::array<size_t, vis::kPairKindCount> kindCounts() const;
 
     // Drops every tree (not thread-safe against concurrent users).
     void clear();
@@ -115,7 +115,7 @@ private:
     std::vector<std::unique_ptr<PatchSlot>> patchSlots_;  // per face, filled on first use
     std::atomic<size_t> treeCount_{0};
     std::atomic<size_t> bytes_{0};
-    std::array<std::atomic<size_t>, 4> kinds_{};
+    std::array<std::atomic<size_t>, vis::kPairKindCount> kinds_{};
 };
 
 }  // namespace penumbra

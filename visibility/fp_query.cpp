@@ -37,7 +37,10 @@ const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTr
                                         const Vec3& x, std::vector<uint32_t>* path) {
     fragments_.clear();
     nodesVisited_ = 0;
-    if (tree.kind == PairKind::BackFacing || tree.kind == PairKind::FullyHidden) return fragments_;
+    // TooComplex: no tree, no answer here (the caller samples; fp_query.h).
+    if (tree.kind == PairKind::BackFacing || tree.kind == PairKind::FullyHidden ||
+        tree.kind == PairKind::TooComplex)
+        return fragments_;
     // The light emits only to its front: x must be strictly in front of L's plane.
     if (facePlane(mesh, tree.light).side(x) != Sign::Positive) return fragments_;
     light_.clear();

@@ -47,7 +47,8 @@ class FromPointQuery {
     // projected): disjoint convex parts of L, counter-clockwise as L. Applies the receiver's front
     // hemisphere and the light's one-sided emission: a point behind the light gets no fragment.
     // When `path` is given, the visited node ids are appended in depth-first order. The result is
-    // valid until the next run.
+    // valid until the next run. A TooComplex tree answers nothing (no fragment): callers check
+    // tree.kind and estimate such a pair otherwise.
     const FragmentList& run(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x,
                             std::vector<uint32_t>* path = nullptr);
     uint32_t nodesVisited() const { return nodesVisited_; }

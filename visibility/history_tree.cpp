@@ -11,6 +11,7 @@ std::string_view toString(PairKind k) {
         case PairKind::FullyVisible: return "fully-visible";
         case PairKind::FullyHidden: return "fully-hidden";
         case PairKind::Penumbra: return "penumbra";
+        case PairKind::TooComplex: return "too-complex";
     }
     return "?";
 }
@@ -31,7 +32,10 @@ uint32_t HistoryTree::depth() const {
 
 uint32_t HistoryTree::leafCount(bool visible) const {
     if (nodes.empty())
-        return (kind == PairKind::FullyVisible) == visible && kind != PairKind::BackFacing ? 1 : 0;
+        return (kind == PairKind::FullyVisible) == visible && kind != PairKind::BackFacing &&
+                       kind != PairKind::TooComplex
+                   ? 1
+                   : 0;
     uint32_t count = 0;
     for (const HistoryNode& n : nodes)
         for (uint32_t c : n.child) count += c == (visible ? kVisibleLeaf : kHiddenLeaf);

@@ -33,7 +33,11 @@ enum class PairKind : uint8_t {
     FullyVisible,  // no occluder can block any line between B and L
     FullyHidden,   // every line between B and L is blocked
     Penumbra,      // partly blocked: the tree decides per line
+    // The exact tree exceeded the build budget (BuildOptions::maxLpSolves): no tree is kept and
+    // FPQuery returns no fragment; the engine shades such a pair by sampling and says so.
+    TooComplex,
 };
+inline constexpr int kPairKindCount = 5;
 std::string_view toString(PairKind k);
 
 struct HistoryTree {

@@ -15,6 +15,9 @@ struct Slot {
     int child = 0;
 };
 
+// Thrown inside the builder when BuildOptions::maxLpSolves is reached; caught below.
+struct BudgetExceeded {};
+
 class Builder {
 public:
     Builder(const PolygonMesh& mesh, std::span<const Vec3> receiver, uint32_t light,
@@ -161,6 +164,8 @@ private:
     void processLeaf(Slot s, const WitnessMask& inside) {
         if (options_.cancel != nullptr && options_.cancel->load(std::memory_order_relaxed))
             throw BuildCancelled();
+        if (options_.maxLpSolves != 0 && polyStats_.lpSolves > options_.maxLpSolves)
+            throw BudgetExceeded{};
         const size_t k = edgeRows_.size();
         std::vector<Side> cls(k);
         bool anyPos = false, anyNeg = false;
@@ -274,16 +279,23 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
     } else {
         stats.occludersInShaft = static_cast<uint32_t>(occ.occluders.size());
         Builder builder(mesh, region, light, occ, options, stats);
-        for (const Occluder& o : occ.occluders) {
-            builder.insert(o);
-            if (builder.root() == kHiddenLeaf) break;
+        try {
+            for (const Occluder& o : occ.occluders) {
+                builder.insert(o);
+                if (builder.root() == kHiddenLeaf) break;
+            }
+        } catch (const BudgetExceeded&) {
+            stats.budgetExceeded = true;
         }
         stats.lpSolves = builder.polytopeStats().lpSolves;
         stats.uncertain = builder.polytopeStats().uncertain;
         stats.realLineTests = builder.polytopeStats().realLineTests;
         stats.realLineWitness = builder.polytopeStats().realLineWitness;
         stats.exactCertificates = builder.polytopeStats().exactCertificates;
-        if (builder.root() == kVisibleLeaf) {
+        if (stats.budgetExceeded) {
+            tree.kind = PairKind::TooComplex;
+            tree.why = "the exact tree exceeded the build budget (linear programs): shaded by sampling";
+        } else if (builder.root() == kVisibleLeaf) {
             tree.kind = PairKind::FullyVisible;
             tree.why = "occluders lie in the shaft but block no line between receiver and light";
         } else if (builder.root() == kHiddenLeaf) {

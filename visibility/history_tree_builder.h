@@ -17,6 +17,12 @@ struct BuildOptions {
     // When set and it becomes true, the build stops at the next leaf it processes (within one
     // classification: well under a millisecond) by throwing BuildCancelled.
     const std::atomic<bool>* cancel = nullptr;
+    // Build budget: a pair whose construction needs more linear programs than this gets no tree
+    // (PairKind::TooComplex) instead of running for minutes: the shadow of a 70k-triangle bunny
+    // on a floor patch is an arrangement of thousands of silhouette edges in line space. 0 = no
+    // limit. Deterministic (counts, not seconds), so a visibility file does not depend on the
+    // machine. The default costs about 0.5-2 s per pair on one core.
+    uint64_t maxLpSolves = 60000;
 };
 
 // Thrown by buildHistoryTree when BuildOptions::cancel is raised. No partial tree is returned.
@@ -35,6 +41,7 @@ struct BuildStats {
     uint64_t realLineTests = 0;     // real-line tests run (each side of a Mixed split)
     uint64_t realLineWitness = 0;   // ... settled by finding a real line (no proof needed)
     uint64_t mergedLeaves = 0;
+    bool budgetExceeded = false;    // the build stopped at maxLpSolves (kind TooComplex)
     double seconds = 0;
 };
 
