@@ -280,3 +280,46 @@ TEST(HistoryTree, NodesAreSixteenBytesAndPairsAreClassified) {
 
 }  // namespace
 }  // namespace penumbra
+
+namespace penumbra {
+namespace {
+
+// The build budget: a penumbra pair of the Cornell box built with a budget far below what it needs is
+// TooComplex (no tree, FPQuery answers nothing), and the same pair without a budget is a penumbra
+// tree; a budget is never allowed to produce a wrong label instead.
+TEST(HistoryTree, BuildBudgetGivesTooComplexNotAWrongTree) {
+    const Scene scene = makeCornellBox();
+    const uint32_t light = scene.lights[0];
+    int checked = 0;
+    for (uint32_t r = 0; r < scene.faceCount() && checked < 3; ++r) {
+        if (r == light) continue;
+        vis::BuildOptions unlimited;
+        unlimited.maxLpSolves = 0;
+        vis::BuildStats full;
+        const vis::HistoryTree tree = vis::buildHistoryTree(scene.mesh, r, light, unlimited, {}, &full);
+        if (tree.kind != vis::PairKind::Penumbra || full.lpSolves < 50) continue;
+        vis::BuildOptions tight;
+        tight.maxLpSolves = full.lpSolves / 2;
+        vis::BuildStats stats;
+        const vis::HistoryTree cut = vis::buildHistoryTree(scene.mesh, r, light, tight, {}, &stats);
+        EXPECT_EQ(cut.kind, vis::PairKind::TooComplex);
+        EXPECT_TRUE(stats.budgetExceeded);
+        EXPECT_TRUE(cut.nodes.empty());
+        EXPECT_EQ(cut.leafCount(true) + cut.leafCount(false), 0u);
+        // Any point of the receiver: no fragment from a TooComplex tree.
+        Vec3 centre{};
+        for (uint32_t v : scene.mesh.faces[r]) centre += scene.mesh.vertices[v];
+        centre = centre / static_cast<double>(scene.mesh.faces[r].size());
+        EXPECT_TRUE(vis::fromPointQuery(scene.mesh, cut, centre).fragments.empty());
+        // A budget just above the need changes nothing.
+        tight.maxLpSolves = full.lpSolves + 1;
+        const vis::HistoryTree same = vis::buildHistoryTree(scene.mesh, r, light, tight);
+        EXPECT_EQ(same.kind, vis::PairKind::Penumbra);
+        EXPECT_EQ(same.nodes.size(), tree.nodes.size());
+        ++checked;
+    }
+    EXPECT_EQ(checked, 3);
+}
+
+}  // namespace
+}  // namespace penumbra
