@@ -64,6 +64,10 @@ struct RenderTimes {
     double primary = 0;     // tracing primary rays (summed over threads, then scaled to wall time)
     double shading = 0;     // direct illumination
     double total = 0;       // wall time
+    // Process CPU time (all threads, user + system) of the precompute and of the whole render:
+    // on a loaded machine wall times mislead, CPU times still compare methods.
+    double precomputeCpu = 0;
+    double totalCpu = 0;
 };
 
 class ProgressiveRenderer {
@@ -113,6 +117,7 @@ class ProgressiveRenderer {
     mutable std::mutex mutex_;
     std::set<PairKey> usedKeys_;
     std::vector<char> faceSeen_;
+    bool rendered_ = false;
     DirectMethod method_ = DirectMethod::Exact;
     int lightSamples_ = 0, glossySamples_ = 0;
 };
