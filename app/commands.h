@@ -49,5 +49,7 @@ Scene loadSceneFile(const std::filesystem::path& path);
 // `penumbra query`: exact light visibility at points (app/query_command.cpp).
 void registerQueryCommand(CLI::App& app);
 void registerBenchCommand(CLI::App& app);
+// `penumbra render`: an image with exact soft shadows (app/render_command.cpp).
+void registerRenderCommand(CLI::App& app);
 
 }  // namespace penumbra::cli
