@@ -48,5 +48,8 @@ Scene loadSceneFile(const std::filesystem::path& path);
 // `penumbra query`: exact light visibility at points (app/query_command.cpp).
 void registerQueryCommand(CLI::App& app);
 void registerBenchCommand(CLI::App& app);
+// `penumbra precompute`: every pair's history tree into a visibility file
+// (app/precompute_command.cpp).
+void registerPrecomputeCommand(CLI::App& app);
 
 }  // namespace penumbra::cli
