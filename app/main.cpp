@@ -30,6 +30,7 @@ int run(int argc, char** argv) {
     penumbra::cli::registerQueryCommand(app);
     penumbra::cli::registerBenchCommand(app);
     penumbra::cli::registerRenderCommand(app);
+    penumbra::cli::registerPrecomputeCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {  // --help, --version

@@ -215,6 +215,16 @@ EmbreeScene::EmbreeScene(const vis::PolygonMesh& mesh, const Options& options)
     }
     rtcCommitScene(scene_.get());
     throwIfError("rtcCommitScene");
+
+    // The shaft-candidate hierarchy over the face boxes (faces with triangles only).
+    std::vector<vis::Bounds3> boxes(nf);
+    std::vector<bool> include(nf);
+    for (uint32_t f = 0; f < nf; ++f) {
+        boxes[f].add(faceBox_[f].lo);
+        boxes[f].add(faceBox_[f].hi);
+        include[f] = faceFirstPrim_[f + 1] > faceFirstPrim_[f];
+    }
+    shaftTree_ = FaceBoxTree(boxes, include);
 }
 
 EmbreeScene::~EmbreeScene() = default;
@@ -223,6 +233,7 @@ EmbreeScene& EmbreeScene::operator=(EmbreeScene&& o) noexcept {
     if (this == &o) return *this;
     // Release the old handles in destruction order: scene, device, then the error record the
     // old device's callback points to.
+    shaftTree_ = std::move(o.shaftTree_);
     scene_ = std::move(o.scene_);
     device_ = std::move(o.device_);
     errors_ = std::move(o.errors_);
@@ -334,20 +345,15 @@ double EmbreeScene::sampledFraction(uint32_t receiver, uint32_t light, Vec3 x, i
 std::vector<uint32_t> EmbreeScene::shaftCandidates(uint32_t receiver, uint32_t light) const {
     checkFace(receiver, "receiver");
     checkFace(light, "light");
-    const Box& r = faceBox_[receiver];
-    const Box& l = faceBox_[light];
-    const Vec3 lo{std::min(r.lo.x, l.lo.x), std::min(r.lo.y, l.lo.y), std::min(r.lo.z, l.lo.z)};
-    const Vec3 hi{std::max(r.hi.x, l.hi.x), std::max(r.hi.y, l.hi.y), std::max(r.hi.z, l.hi.z)};
-    std::vector<uint32_t> out;
-    const uint32_t nf = faceCount();
-    for (uint32_t f = 0; f < nf; ++f) {
-        if (f == receiver || f == light) continue;
-        if (faceFirstPrim_[f + 1] == faceFirstPrim_[f]) continue;  // < 3 vertices: blocks nothing
-        const Box& q = faceBox_[f];
-        if (q.lo.x <= hi.x && q.hi.x >= lo.x && q.lo.y <= hi.y && q.hi.y >= lo.y &&
-            q.lo.z <= hi.z && q.hi.z >= lo.z)
-            out.push_back(f);
+    vis::Bounds3 shaft;
+    for (const Box* b : {&faceBox_[receiver], &faceBox_[light]}) {
+        shaft.add(b->lo);
+        shaft.add(b->hi);
     }
+    std::vector<uint32_t> out;
+    shaftTree_.overlapping(shaft, out);
+    std::erase_if(out, [&](uint32_t f) { return f == receiver || f == light; });
+    std::sort(out.begin(), out.end());
     return out;
 }
 
