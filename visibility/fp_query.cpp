@@ -24,7 +24,11 @@ void FromPointQuery::visit(uint32_t node, std::span<const Vec3> poly, size_t dep
     const OrientedPlane plane{x_, tree_->vertex(*mesh_, n.v0), tree_->vertex(*mesh_, n.v1)};
     if (buffers_.size() <= depth) buffers_.resize(depth + 1);
     auto& [pos, neg] = buffers_[depth];
-    clipConstructedInto(poly, plane, light_, pos, neg);
+    switch (mode_) {
+        case PredicateMode::Filtered: clipConstructedInto(poly, plane, light_, pos, neg); break;
+        case PredicateMode::AlwaysExact: clipExactInto(poly, plane, pos, neg); break;
+        case PredicateMode::Naive: clipNaiveInto(poly, plane, pos, neg); break;
+    }
     if (pos.empty() && neg.empty()) {
         visit(n.child[0], poly, depth + 1);
         return;

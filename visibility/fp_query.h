@@ -40,9 +40,19 @@ class FragmentList {
     std::vector<uint32_t> begin_{0};
 };
 
+// How FromPointQuery decides the side of each vertex (for measuring what exactness costs; the
+// product always uses Filtered).
+enum class PredicateMode : uint8_t {
+    Filtered,     // exact for L's vertices, filtered for constructed ones (polygon_clip.h)
+    AlwaysExact,  // every sign through the exact stage, no filter
+    Naive,        // the plain double determinant's sign: approximate, can be wrong
+};
+
 // A reusable FPQuery. Not thread-safe: one per thread.
 class FromPointQuery {
   public:
+    explicit FromPointQuery(PredicateMode mode = PredicateMode::Filtered) : mode_(mode) {}
+
     // The visible fragments of tree.light from x (x should lie on the receiver face; it is not
     // projected): disjoint convex parts of L, counter-clockwise as L. Applies the receiver's front
     // hemisphere and the light's one-sided emission: a point behind the light gets no fragment.
@@ -56,6 +66,7 @@ class FromPointQuery {
   private:
     void visit(uint32_t node, std::span<const Vec3> poly, size_t depth);
 
+    PredicateMode mode_;
     const PolygonMesh* mesh_ = nullptr;
     const HistoryTree* tree_ = nullptr;
     Vec3 x_;

@@ -1,6 +1,8 @@
 #include "visibility/polygon_clip.h"
 
 #include <algorithm>
+#include <cfloat>
+#include <cmath>
 
 namespace penumbra::vis {
 
@@ -84,6 +86,27 @@ void clipConstructedInto(std::span<const Vec3> polygon, const OrientedPlane& pla
             return 0.0;
         },
         positive, negative);
+}
+
+void clipExactInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
+                   std::vector<Vec3>& positive, std::vector<Vec3>& negative) {
+    splitBy(
+        polygon,
+        [&](const Vec3& y) {
+            const double v = orient3dApprox(plane.a, plane.b, plane.c, y);
+            const Sign s = orientSignExact(plane.a, plane.b, plane.c, y);
+            // The exact sign with the double's magnitude for placement.
+            if (s == Sign::Zero) return 0.0;
+            const double m = std::max(std::fabs(v), DBL_TRUE_MIN);
+            return toInt(s) > 0 ? m : -m;
+        },
+        positive, negative);
+}
+
+void clipNaiveInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
+                   std::vector<Vec3>& positive, std::vector<Vec3>& negative) {
+    splitBy(polygon, [&](const Vec3& y) { return orient3dApprox(plane.a, plane.b, plane.c, y); },
+            positive, negative);
 }
 
 ClipResult clipConvex(std::span<const Vec3> polygon, const OrientedPlane& plane) {

@@ -34,6 +34,13 @@ void clipConstructedInto(std::span<const Vec3> polygon, const OrientedPlane& pla
                          std::span<const Vec3> inputVertices, std::vector<Vec3>& positive,
                          std::vector<Vec3>& negative);
 
+// For measuring what exactness costs (FromPointQuery's PredicateMode): every sign through the
+// exact stage (no filter), or the plain double determinant's sign (approximate, can be wrong).
+void clipExactInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
+                   std::vector<Vec3>& positive, std::vector<Vec3>& negative);
+void clipNaiveInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
+                   std::vector<Vec3>& positive, std::vector<Vec3>& negative);
+
 struct ClipResult {
     std::vector<Vec3> positive;  // part with side >= 0 (empty unless some vertex is strictly > 0)
     std::vector<Vec3> negative;  // part with side <= 0 (empty unless some vertex is strictly < 0)
