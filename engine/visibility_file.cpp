@@ -320,7 +320,7 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
         const uint16_t reasonBytes = p.u16();
         t.meshVertexCount = p.u32();
         const uint32_t nodes = p.u32(), extras = p.u32(), occluders = p.u32();
-        if (kind > static_cast<uint8_t>(vis::PairKind::Penumbra))
+        if (kind >= vis::kPairKindCount)
             throw Corrupt(where + ": unknown pair kind " + std::to_string(kind));
         t.kind = static_cast<vis::PairKind>(kind);
         if (hasStats > 1) throw Corrupt(where + ": bad stats flag " + std::to_string(hasStats));

@@ -20,6 +20,7 @@ std::span<const std::string_view> knownReasons() {
     static constexpr std::string_view kAll[] = {
         reasons::kBackFacing,      reasons::kNoOccluder,       reasons::kBlockNothing,
         reasons::kSingleBlocksAll, reasons::kTogetherBlockAll, reasons::kPenumbra,
+        reasons::kTooComplex,
     };
     return kAll;
 }

@@ -51,6 +51,8 @@ inline constexpr std::string_view kBlockNothing =
 inline constexpr std::string_view kSingleBlocksAll = "a single occluder blocks every line";
 inline constexpr std::string_view kTogetherBlockAll = "the occluders together block every line";
 inline constexpr std::string_view kPenumbra = "partly blocked: the history tree decides per line";
+inline constexpr std::string_view kTooComplex =
+    "the exact tree exceeded the build budget (linear programs): shaded by sampling";
 }  // namespace reasons
 // Every reason above, for mapping a stored text back to its static string.
 std::span<const std::string_view> knownReasons();

@@ -294,7 +294,7 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
         stats.exactCertificates = builder.polytopeStats().exactCertificates;
         if (stats.budgetExceeded) {
             tree.kind = PairKind::TooComplex;
-            tree.why = "the exact tree exceeded the build budget (linear programs): shaded by sampling";
+            tree.why = reasons::kTooComplex;
         } else if (builder.root() == kVisibleLeaf) {
             tree.kind = PairKind::FullyVisible;
             tree.why = reasons::kBlockNothing;
