@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <mutex>
 #include <stdexcept>
@@ -353,7 +354,18 @@ std::vector<uint32_t> EmbreeScene::shaftCandidates(uint32_t receiver, uint32_t l
     std::vector<uint32_t> out;
     shaftTree_.overlapping(shaft, out);
     std::erase_if(out, [&](uint32_t f) { return f == receiver || f == light; });
-    std::sort(out.begin(), out.end());
+    // Increasing face order: a sort for few candidates, a bitmap over all faces (O(faces / 64 +
+    // candidates)) for many.
+    if (out.size() * 64 < faceCount()) {
+        std::sort(out.begin(), out.end());
+        return out;
+    }
+    std::vector<uint64_t> bits((faceCount() + 63) / 64, 0);
+    for (uint32_t f : out) bits[f / 64] |= uint64_t{1} << (f % 64);
+    out.clear();
+    for (size_t w = 0; w < bits.size(); ++w)
+        for (uint64_t b = bits[w]; b != 0; b &= b - 1)
+            out.push_back(static_cast<uint32_t>(w * 64 + std::countr_zero(b)));
     return out;
 }
 
