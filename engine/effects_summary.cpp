@@ -51,6 +51,10 @@ std::string EffectsSummary::text() const {
              " - every line blocked: skipped, no light arrives");
         line("pairs back-facing: " + std::to_string(pairsBackFacing) +
              " - light and receiver face away from each other: skipped");
+        if (pairsTooComplex > 0)
+            line("pairs too complex: " + std::to_string(pairsTooComplex) +
+                 " - the exact tree exceeded its build budget: sampled with " +
+                 std::to_string(lightSamples) + " shadow rays per point (not exact)");
         line("pairs never seen: " + std::to_string(pairsNeverSeen) +
              " - receivers (patches) no primary ray hit: not computed");
     }

@@ -273,7 +273,8 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                                  static_cast<uint64_t>(x)});
                         if (settings.method == DirectMethod::Exact)
                             radiance +=
-                                lighting_->exactAreaLights(p, settings.glossySamples, rng, scratch);
+                                lighting_->exactAreaLights(p, settings.glossySamples,
+                                                           settings.lightSamples, rng, scratch);
                         else
                             radiance += lighting_->sampledAreaLights(p, samples, rng);
                         radiance += lighting_->pointLights(p);
@@ -342,7 +343,7 @@ EffectsSummary ProgressiveRenderer::effects() const {
     std::lock_guard lock(mutex_);
     if (!rendered_) return s;
     s.method = toString(method_);
-    s.lightSamples = method_ == DirectMethod::Exact ? 0 : lightSamples_;
+    s.lightSamples = lightSamples_;  // exact: the fallback of too-complex pairs
     s.glossySamples = method_ == DirectMethod::Exact ? glossySamples_ : 0;
     // Materials of the faces the image saw.
     std::vector<char> materialSeen(scene_.materials.size() + 1, 0);  // last slot: the default
@@ -376,6 +377,9 @@ EffectsSummary ProgressiveRenderer::effects() const {
                 break;
             case vis::PairKind::Penumbra:
                 ++s.pairsPenumbra;
+                break;
+            case vis::PairKind::TooComplex:
+                ++s.pairsTooComplex;
                 break;
         }
     }

@@ -81,7 +81,8 @@ DirectLighting::DirectLighting(const Scene& scene, const EmbreeScene& bvh, Visib
     }
 }
 
-Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, SplitMix64& rng,
+Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples,
+                                     int fallbackSamples, SplitMix64& rng,
                                      ExactScratch& scratch) const {
     const Material& m = *p.material;
     const bool glossy = m.isGlossy() && glossySamples > 0;
@@ -92,7 +93,6 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, S
         scratch.clippedLight.assign(lights_.size(), vis::Polygon3{});
     }
     Vec3 out{};
-    vis::FromPointResult q;
     for (size_t k = 0; k < lights_.size(); ++k) {
         const AreaLight& light = lights_[k];
         if (light.face == p.face) continue;  // a light does not light itself
@@ -106,6 +106,13 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, S
         }
         const vis::PairKind kind = record->tree.kind;
         if (kind == vis::PairKind::BackFacing || kind == vis::PairKind::FullyHidden) continue;
+        if (kind == vis::PairKind::TooComplex) {
+            ++scratch.tooComplexPoints;
+            out += sampledAreaLight(light, p, fallbackSamples, rng);
+            continue;
+        }
+        // The fragments, as polygons (the fully visible pair's cached clip) or the FPQuery list.
+        const vis::FragmentList* list = nullptr;
         std::span<const vis::Polygon3> fragments;
         if (kind == vis::PairKind::FullyVisible) {
             // What FPQuery returns for a fully visible pair, cached per receiver face.
@@ -119,20 +126,29 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, S
             if (scratch.clippedLight[k].size() < 3) continue;
             fragments = std::span<const vis::Polygon3>(&scratch.clippedLight[k], 1);
         } else {
-            q = vis::fromPointQuery(scene_.mesh, record->tree, p.x);
-            fragments = q.fragments;
+            list = &scratch.query.run(scene_.mesh, record->tree, p.x);
+            if (list->empty()) continue;
         }
-        if (fragments.empty()) continue;
+        if (list == nullptr && fragments.empty()) continue;
         // Diffuse: irradiance pi ke F times kd / pi. Exact up to rounding.
         double formFactor = 0;
-        for (const vis::Polygon3& fragment : fragments)
-            formFactor += vis::formFactor(p.x, p.n, fragment);
+        if (list != nullptr) {
+            for (size_t i = 0; i < list->size(); ++i)
+                formFactor += vis::formFactor(p.x, p.n, (*list)[i]);
+        } else {
+            for (const vis::Polygon3& fragment : fragments)
+                formFactor += vis::formFactor(p.x, p.n, fragment);
+        }
         out += mul(m.kd, light.ke) * formFactor;
         if (!glossy) continue;
         // Glossy: stratified area samples inside the visible fragments only (no shadow rays).
         TriangleSampler& sampler = scratch.fragments;
         sampler.clear();
-        for (const vis::Polygon3& fragment : fragments) sampler.addPolygon(fragment);
+        if (list != nullptr) {
+            for (size_t i = 0; i < list->size(); ++i) sampler.addPolygon((*list)[i]);
+        } else {
+            for (const vis::Polygon3& fragment : fragments) sampler.addPolygon(fragment);
+        }
         if (sampler.empty()) continue;
         int a = 1, b = 1;
         stratifiedGrid(glossySamples, a, b);
@@ -155,34 +171,37 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, S
     return out;
 }
 
-Vec3 DirectLighting::sampledAreaLights(const SurfacePoint& p, int samples, SplitMix64& rng) const {
+Vec3 DirectLighting::sampledAreaLight(const AreaLight& light, const SurfacePoint& p, int samples,
+                                      SplitMix64& rng) const {
+    if (light.face == p.face || light.sampler.empty() || samples < 1) return {};
+    // The light emits only to its front.
+    if (!(dot(p.x - light.origin, light.normal) > 0)) return {};
     const Material& m = *p.material;
     int a = 1, b = 1;
     stratifiedGrid(samples, a, b);
-    Vec3 out{};
-    for (const AreaLight& light : lights_) {
-        if (light.face == p.face || light.sampler.empty()) continue;
-        // The light emits only to its front.
-        if (!(dot(p.x - light.origin, light.normal) > 0)) continue;
-        Vec3 sum{};
-        for (int i = 0; i < b; ++i) {
-            for (int j = 0; j < a; ++j) {
-                const double u = (i + rng.uniform()) / b;
-                const double v = (j + rng.uniform()) / a;
-                const Vec3 y = light.sampler.sample(u, v);
-                const Vec3 d = y - p.x;
-                const double r2 = dot(d, d);
-                if (!(r2 > 0)) continue;
-                const Vec3 wi = d / std::sqrt(r2);
-                const double cosX = dot(p.n, wi), cosY = -dot(light.normal, wi);
-                // x sees only its face's open front half-space.
-                if (!(cosX > 0) || !(cosY > 0)) continue;
-                if (bvh_.occluded(p.x, y, p.face, light.face)) continue;
-                sum += brdf(m, p.n, p.wo, wi) * (cosX * cosY / r2);
-            }
+    Vec3 sum{};
+    for (int i = 0; i < b; ++i) {
+        for (int j = 0; j < a; ++j) {
+            const double u = (i + rng.uniform()) / b;
+            const double v = (j + rng.uniform()) / a;
+            const Vec3 y = light.sampler.sample(u, v);
+            const Vec3 d = y - p.x;
+            const double r2 = dot(d, d);
+            if (!(r2 > 0)) continue;
+            const Vec3 wi = d / std::sqrt(r2);
+            const double cosX = dot(p.n, wi), cosY = -dot(light.normal, wi);
+            // x sees only its face's open front half-space.
+            if (!(cosX > 0) || !(cosY > 0)) continue;
+            if (bvh_.occluded(p.x, y, p.face, light.face)) continue;
+            sum += brdf(m, p.n, p.wo, wi) * (cosX * cosY / r2);
         }
-        out += mul(sum, light.ke) * (light.sampler.area() / samples);
     }
+    return mul(sum, light.ke) * (light.sampler.area() / samples);
+}
+
+Vec3 DirectLighting::sampledAreaLights(const SurfacePoint& p, int samples, SplitMix64& rng) const {
+    Vec3 out{};
+    for (const AreaLight& light : lights_) out += sampledAreaLight(light, p, samples, rng);
     return out;
 }
 

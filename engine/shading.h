@@ -104,6 +104,8 @@ struct ExactScratch {
     std::vector<vis::Polygon3> clippedLight;  // per light
     std::unordered_set<PairKey, PairKeyHash> used;
     TriangleSampler fragments;
+    vis::FromPointQuery query;  // FPQuery workspace: no allocation per point after warm-up
+    size_t tooComplexPoints = 0;  // shading points whose pair had no tree (sampled instead)
 };
 
 class DirectLighting {
@@ -114,15 +116,21 @@ class DirectLighting {
     const std::vector<AreaLight>& areaLights() const { return lights_; }
 
     // The reflected radiance at p from every area light, by the exact fragments. glossySamples
-    // samples per light for the Phong lobe (unused for diffuse materials).
-    Vec3 exactAreaLights(const SurfacePoint& p, int glossySamples, SplitMix64& rng,
-                         ExactScratch& scratch) const;
+    // samples per light for the Phong lobe (unused for diffuse materials). A pair whose tree
+    // exceeded the build budget (PairKind::TooComplex) has no exact answer: that light is
+    // estimated with `fallbackSamples` stratified shadow rays instead, and counted in
+    // scratch.tooComplexPoints.
+    Vec3 exactAreaLights(const SurfacePoint& p, int glossySamples, int fallbackSamples,
+                         SplitMix64& rng, ExactScratch& scratch) const;
     // The same with `samples` stratified shadow rays per light.
     Vec3 sampledAreaLights(const SurfacePoint& p, int samples, SplitMix64& rng) const;
     // Every point light, one shadow ray each.
     Vec3 pointLights(const SurfacePoint& p) const;
 
   private:
+    Vec3 sampledAreaLight(const AreaLight& light, const SurfacePoint& p, int samples,
+                          SplitMix64& rng) const;
+
     const Scene& scene_;
     const EmbreeScene& bvh_;
     VisibilityStore* store_;
