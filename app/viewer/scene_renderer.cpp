@@ -97,15 +97,15 @@ void SceneRenderer::draw(const OrbitCamera& orbit, const vis::Bounds3& sceneBox,
     meshProgram_.setMatrix("uViewProjection", m.data());
     meshProgram_.setVec3("uEye", static_cast<float>(camera.eye.x), static_cast<float>(camera.eye.y),
                          static_cast<float>(camera.eye.z));
-    // The mesh is pushed back a little so that the fragments drawn on a light win the depth test.
-    glEnable(GL_POLYGON_OFFSET_FILL);
-    glPolygonOffset(1.0f, 2.0f);
     mesh_.draw(GL_TRIANGLES);
-    glDisable(GL_POLYGON_OFFSET_FILL);
 
     overlayProgram_.use();
     overlayProgram_.setMatrix("uViewProjection", m.data());
+    // The fragments lie in the light's plane: pulled forward a little to win the depth test.
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(-1.0f, -2.0f);
     fragments_.draw(GL_TRIANGLES);
+    glDisable(GL_POLYGON_OFFSET_FILL);
     lines_.draw(GL_LINES);
     glDisable(GL_DEPTH_TEST);
     linesOnTop_.draw(GL_LINES);

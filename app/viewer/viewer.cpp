@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <system_error>
 
+#include "app/viewer/default_camera.h"
 #include "app/viewer/picking.h"
 #include "app/viewer/tree_panel.h"
 #include "engine/point_query.h"
@@ -79,7 +80,7 @@ bool Viewer::openScene(const std::filesystem::path& path) {
     }
     scene_ = std::move(loaded);
     renderer_.setScene(scene_->scene);
-    orbit_.set(scene_->scene.camera ? *scene_->scene.camera : Camera::fitting(scene_->bounds));
+    orbit_.set(defaultCamera(*scene_));
     previewDirty_ = true;
     lastCameraChange_ = {};
     status_ = "opened " + path.string() + ": " + std::to_string(scene_->scene.faceCount()) +

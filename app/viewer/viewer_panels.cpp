@@ -180,7 +180,7 @@ void Viewer::drawPointPanel() {
                     ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY)) {
                 ImGui::TableSetupColumn("light");
                 ImGui::TableSetupColumn("visible");
-                ImGui::TableSetupColumn("form factor");
+                ImGui::TableSetupColumn("form factor / unoccl.");
                 ImGui::TableSetupColumn("frags");
                 ImGui::TableSetupColumn("nodes");
                 ImGui::TableSetupColumn("time");
