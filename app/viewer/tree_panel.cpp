@@ -5,11 +5,10 @@
 #include <string>
 #include <vector>
 
-#if __has_include("app/tree_graph_panel.h")
+// PENUMBRA_HAVE_TREE_GRAPH comes from app/CMakeLists.txt: 1 when the penumbra_tree_graph library
+// (branch treegraph) is part of the build.
+#if PENUMBRA_HAVE_TREE_GRAPH
 #include "app/tree_graph_panel.h"
-#define PENUMBRA_HAVE_TREE_GRAPH 1
-#else
-#define PENUMBRA_HAVE_TREE_GRAPH 0
 #endif
 
 namespace penumbra::viewer {
@@ -18,7 +17,7 @@ struct TreePanel::Impl {
     const vis::HistoryTree* tree = nullptr;
     std::vector<uint32_t> path;
 #if PENUMBRA_HAVE_TREE_GRAPH
-    TreeGraphPanel graph;
+    ui::TreeGraphPanel graph;
 #endif
 };
 
@@ -27,11 +26,15 @@ TreePanel::~TreePanel() = default;
 
 bool TreePanel::hasGraphWidget() { return PENUMBRA_HAVE_TREE_GRAPH != 0; }
 
-void TreePanel::setTree(const vis::HistoryTree* tree, std::span<const uint32_t> highlightedPath) {
+void TreePanel::setTree(const vis::HistoryTree* tree, std::span<const uint32_t> highlightedPath,
+                        const vis::PolygonMesh* mesh) {
     impl_->tree = tree;
     impl_->path.assign(highlightedPath.begin(), highlightedPath.end());
 #if PENUMBRA_HAVE_TREE_GRAPH
+    impl_->graph.setMesh(tree != nullptr ? mesh : nullptr);
     impl_->graph.setTree(tree, impl_->path);
+#else
+    (void)mesh;
 #endif
 }
 

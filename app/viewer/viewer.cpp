@@ -170,7 +170,7 @@ void Viewer::updateOverlay() {
         treePanel_->setTree(nullptr, {});
     } else {
         const LightInspection& li = inspection_->lights[selectedLight_];
-        treePanel_->setTree(li.tree, li.result.path);
+        treePanel_->setTree(li.tree, li.result.path, &scene_->scene.mesh);
     }
 }
 
