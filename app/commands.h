@@ -52,5 +52,7 @@ void registerBenchCommand(CLI::App& app);
 // the viewer in a window, and its UI rendered offscreen.
 void registerViewCommand(CLI::App& app);
 void registerScreenshotCommand(CLI::App& app);
+// `penumbra render`: an image with exact soft shadows (app/render_command.cpp).
+void registerRenderCommand(CLI::App& app);
 
 }  // namespace penumbra::cli

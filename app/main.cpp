@@ -31,6 +31,7 @@ int run(int argc, char** argv) {
     penumbra::cli::registerBenchCommand(app);
     penumbra::cli::registerViewCommand(app);
     penumbra::cli::registerScreenshotCommand(app);
+    penumbra::cli::registerRenderCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {  // --help, --version

@@ -18,7 +18,12 @@ struct EffectsSummary {
     size_t materialsAnalytic = 0;  // diffuse: form factor of the exact fragments, no samples
     size_t materialsSampled = 0;   // glossy: samples inside the visible fragments only
     size_t areaLights = 0;
-    size_t pointLights = 0;        // one shadow ray each
+    size_t pointLights = 0;  // one shadow ray each
+    // How the area lights were shaded: "exact", "sampled" or "reference" (empty: nothing
+    // rendered yet), with the sample counts that apply.
+    std::string method;
+    int lightSamples = 0;   // sampled / reference: shadow rays per light per shading point
+    int glossySamples = 0;  // exact: samples per light inside the fragments, glossy materials
     // Multi-line human-readable text (what, how many, why).
     std::string text() const;
 };

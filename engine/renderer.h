@@ -16,17 +16,21 @@
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
+#include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "engine/camera.h"
 #include "engine/effects_summary.h"
 #include "engine/scene.h"
+#include "engine/visibility_store.h"
 
 namespace penumbra {
 
 class EmbreeScene;
-class VisibilityStore;
+class DirectLighting;
 
 enum class DirectMethod { Exact, Sampled, Reference };
 const char* toString(DirectMethod m);
@@ -34,14 +38,19 @@ const char* toString(DirectMethod m);
 struct RenderSettings {
     int width = 512;
     int height = 512;
-    int spp = 16;                // primary samples per pixel (= passes)
+    int spp = 16;  // primary samples per pixel (= passes)
     DirectMethod method = DirectMethod::Exact;
-    int lightSamples = 128;      // shadow rays per light per shading point (Sampled)
-    int referenceSamples = 1024; // (Reference)
-    uint64_t seed = 1;           // the pixel sampling pattern; the same seed gives the same jitter
+    int lightSamples = 128;       // shadow rays per light per shading point (Sampled)
+    int referenceSamples = 1024;  // (Reference)
+    uint64_t seed = 1;            // the pixel sampling pattern; the same seed gives the same jitter
+    // The light sampling (shadow-ray positions, glossy samples inside the fragments): separate from
+    // `seed` so that the pixel pattern can stay fixed while the light samples change.
+    uint64_t lightSeed = 1;
+    int glossySamples = 16;  // Exact, glossy materials: samples per light inside the fragments
 };
 
-// Linear radiance, accumulated over passes.
+// Linear radiance, accumulated over passes. A pass adds one jittered sample per pixel; the jitter
+// of pixel (x, y) in pass p depends only on (RenderSettings::seed, p, x, y).
 struct Film {
     int width = 0, height = 0;
     int passes = 0;
@@ -58,7 +67,7 @@ struct RenderTimes {
 };
 
 class ProgressiveRenderer {
-public:
+  public:
     // All three must outlive the renderer. The store is used only by DirectMethod::Exact.
     ProgressiveRenderer(const Scene& scene, const EmbreeScene& bvh, VisibilityStore& store);
 
@@ -68,19 +77,49 @@ public:
     double prepare(const Camera& camera, const RenderSettings& settings,
                    const std::atomic<bool>* cancel = nullptr);
     // Adds one pass (pass index = film.passes) to the film. Returns false when cancelled (the film
-    // is unchanged).
+    // is unchanged). A film of another size than settings' is reset first. The cancel flag is
+    // read before each tile. Throws std::invalid_argument for settings out of range (sizes,
+    // spp or sample counts < 1).
     bool renderPass(const Camera& camera, const RenderSettings& settings, Film& film,
                     const std::atomic<bool>* cancel = nullptr);
     // prepare + settings.spp passes.
     Film render(const Camera& camera, const RenderSettings& settings, RenderTimes* times = nullptr,
                 const std::atomic<bool>* cancel = nullptr);
 
-    // What was simulated and why (pairs by kind, materials analytic or sampled, point lights).
+    // What was simulated and why (pairs by kind, materials analytic or sampled, point lights), for
+    // the images rendered since construction or the last resetEffects().
     EffectsSummary effects() const;
+    void resetEffects();
+
+    ~ProgressiveRenderer();
+    ProgressiveRenderer(const ProgressiveRenderer&) = delete;
+    ProgressiveRenderer& operator=(const ProgressiveRenderer&) = delete;
+
+  private:
+    struct PassTimes;
+    bool renderPassTimed(const Camera& camera, const RenderSettings& settings, Film& film,
+                         const std::atomic<bool>* cancel, PassTimes* times);
+    void recordUse(const std::vector<PairKey>& keys, const std::vector<uint32_t>& faces,
+                   const RenderSettings& settings);
+
+    const Scene& scene_;
+    const EmbreeScene& bvh_;
+    VisibilityStore& store_;
+    std::unique_ptr<DirectLighting> lighting_;
+    std::vector<Vec3> faceNormal_;  // unit, per face
+    std::vector<Vec3> faceOrigin_;  // first vertex, per face
+
+    // What the images used (effects()); guarded by mutex_.
+    mutable std::mutex mutex_;
+    std::set<PairKey> usedKeys_;
+    std::vector<char> faceSeen_;
+    DirectMethod method_ = DirectMethod::Exact;
+    int lightSamples_ = 0, glossySamples_ = 0;
 };
 
-// Output. PFM: linear float, little-endian, bottom-to-top rows as the format requires. PNG:
-// exposure then sRGB tone mapping. Both written atomically (temp file + rename).
+// Output (engine/image_io.cpp). PFM: linear float, little-endian, bottom-to-top rows as the format
+// requires. PNG: exposure then sRGB tone mapping. Both written atomically (temp file + rename);
+// failures throw std::runtime_error naming the file and the reason.
 void writePfm(const Film& film, const std::string& path);
 void writePng(const Film& film, const std::string& path, double exposure = 1.0);
 

@@ -1,0 +1,185 @@
+#include "engine/shading.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "engine/embree_scene.h"
+#include "visibility/form_factor.h"
+#include "visibility/fp_query.h"
+
+namespace penumbra {
+
+double phongLobe(double ns, const Vec3& n, const Vec3& wo, const Vec3& wi) {
+    const Vec3 r = 2 * dot(n, wo) * n - wo;  // mirror direction of wo
+    const double c = dot(r, wi);
+    if (!(c > 0)) return 0;
+    return (ns + 2) / (2 * std::numbers::pi) * std::pow(c, ns);
+}
+
+Vec3 brdf(const Material& m, const Vec3& n, const Vec3& wo, const Vec3& wi) {
+    Vec3 f = m.kd * (1 / std::numbers::pi);
+    if (m.isGlossy()) f += m.ks * phongLobe(m.ns, n, wo, wi);
+    return f;
+}
+
+void stratifiedGrid(int samples, int& a, int& b) {
+    a = static_cast<int>(std::sqrt(static_cast<double>(samples)));
+    while (a > 1 && a * a > samples) --a;  // guard sqrt rounding
+    while ((a + 1) * (a + 1) <= samples) ++a;
+    while (a > 1 && samples % a != 0) --a;
+    a = std::max(a, 1);
+    b = samples / a;
+}
+
+void TriangleSampler::clear() {
+    tris_.clear();
+    total_ = 0;
+}
+
+void TriangleSampler::addPolygon(std::span<const Vec3> polygon) {
+    for (size_t i = 1; i + 1 < polygon.size(); ++i) {
+        const Vec3 a = polygon[0], b = polygon[i], c = polygon[i + 1];
+        const double area = 0.5 * length(cross(b - a, c - a));
+        if (!(area > 0)) continue;
+        tris_.push_back({a, b, c, area});
+        total_ += area;
+    }
+}
+
+Vec3 TriangleSampler::sample(double u, double v) const {
+    double target = u * total_;
+    size_t t = 0;
+    while (t + 1 < tris_.size() && target >= tris_[t].area) {
+        target -= tris_[t].area;
+        ++t;
+    }
+    const Tri& tri = tris_[t];
+    const double s = std::sqrt(std::clamp(target / tri.area, 0.0, 1.0));
+    return tri.a + (tri.b - tri.a) * (s * (1 - v)) + (tri.c - tri.a) * (s * v);
+}
+
+size_t PairKeyHash::operator()(const PairKey& k) const noexcept {
+    uint64_t h = SplitMix64::mix(k.receiver + 0x9E3779B97F4A7C15ull);
+    h = SplitMix64::mix(h ^ k.patch);
+    return static_cast<size_t>(SplitMix64::mix(h ^ k.lightFace));
+}
+
+DirectLighting::DirectLighting(const Scene& scene, const EmbreeScene& bvh, VisibilityStore* store)
+    : scene_(scene), bvh_(bvh), store_(store) {
+    for (uint32_t face : scene.lights) {
+        AreaLight light;
+        light.face = face;
+        light.ke = scene.material(face).ke;
+        light.normal = normalize(scene.mesh.faceAreaNormal(face));
+        light.origin = scene.mesh.vertices[scene.mesh.faces[face][0]];
+        std::vector<Vec3> polygon;
+        for (uint32_t v : scene.mesh.faces[face]) polygon.push_back(scene.mesh.vertices[v]);
+        light.sampler.addPolygon(polygon);
+        lights_.push_back(std::move(light));
+    }
+}
+
+Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, SplitMix64& rng,
+                                     ExactScratch& scratch) const {
+    const Material& m = *p.material;
+    const bool glossy = m.isGlossy() && glossySamples > 0;
+    if (scratch.lastTree.size() != lights_.size()) {
+        scratch.lastKey.assign(lights_.size(), PairKey{});
+        scratch.lastTree.assign(lights_.size(), nullptr);
+    }
+    Vec3 out{};
+    for (size_t k = 0; k < lights_.size(); ++k) {
+        const AreaLight& light = lights_[k];
+        if (light.face == p.face) continue;  // a light does not light itself
+        const PairKey key = store_->keyAt(p.face, p.x, light.face);
+        const PairRecord* record = scratch.lastTree[k];
+        if (record == nullptr || scratch.lastKey[k] != key) {
+            record = &store_->getOrBuild(key);
+            scratch.lastKey[k] = key;
+            scratch.lastTree[k] = record;
+            scratch.used.insert(key);
+        }
+        const vis::PairKind kind = record->tree.kind;
+        if (kind == vis::PairKind::BackFacing || kind == vis::PairKind::FullyHidden) continue;
+        const vis::FromPointResult q = vis::fromPointQuery(scene_.mesh, record->tree, p.x);
+        if (q.fragments.empty()) continue;
+        // Diffuse: irradiance pi ke F times kd / pi. Exact up to rounding.
+        double formFactor = 0;
+        for (const vis::Polygon3& fragment : q.fragments)
+            formFactor += vis::formFactor(p.x, p.n, fragment);
+        out += mul(m.kd, light.ke) * formFactor;
+        if (!glossy) continue;
+        // Glossy: stratified area samples inside the visible fragments only (no shadow rays).
+        TriangleSampler& sampler = scratch.fragments;
+        sampler.clear();
+        for (const vis::Polygon3& fragment : q.fragments) sampler.addPolygon(fragment);
+        if (sampler.empty()) continue;
+        int a = 1, b = 1;
+        stratifiedGrid(glossySamples, a, b);
+        double sum = 0;
+        for (int i = 0; i < b; ++i) {
+            for (int j = 0; j < a; ++j) {
+                const double u = (i + rng.uniform()) / b;
+                const double v = (j + rng.uniform()) / a;
+                const Vec3 d = sampler.sample(u, v) - p.x;
+                const double r2 = dot(d, d);
+                if (!(r2 > 0)) continue;
+                const Vec3 wi = d / std::sqrt(r2);
+                const double cosX = dot(p.n, wi), cosY = -dot(light.normal, wi);
+                if (!(cosX > 0) || !(cosY > 0)) continue;
+                sum += phongLobe(m.ns, p.n, p.wo, wi) * cosX * cosY / r2;
+            }
+        }
+        out += mul(m.ks, light.ke) * (sum * sampler.area() / glossySamples);
+    }
+    return out;
+}
+
+Vec3 DirectLighting::sampledAreaLights(const SurfacePoint& p, int samples, SplitMix64& rng) const {
+    const Material& m = *p.material;
+    int a = 1, b = 1;
+    stratifiedGrid(samples, a, b);
+    Vec3 out{};
+    for (const AreaLight& light : lights_) {
+        if (light.face == p.face || light.sampler.empty()) continue;
+        // The light emits only to its front.
+        if (!(dot(p.x - light.origin, light.normal) > 0)) continue;
+        Vec3 sum{};
+        for (int i = 0; i < b; ++i) {
+            for (int j = 0; j < a; ++j) {
+                const double u = (i + rng.uniform()) / b;
+                const double v = (j + rng.uniform()) / a;
+                const Vec3 y = light.sampler.sample(u, v);
+                const Vec3 d = y - p.x;
+                const double r2 = dot(d, d);
+                if (!(r2 > 0)) continue;
+                const Vec3 wi = d / std::sqrt(r2);
+                const double cosX = dot(p.n, wi), cosY = -dot(light.normal, wi);
+                // x sees only its face's open front half-space.
+                if (!(cosX > 0) || !(cosY > 0)) continue;
+                if (bvh_.occluded(p.x, y, p.face, light.face)) continue;
+                sum += brdf(m, p.n, p.wo, wi) * (cosX * cosY / r2);
+            }
+        }
+        out += mul(sum, light.ke) * (light.sampler.area() / samples);
+    }
+    return out;
+}
+
+Vec3 DirectLighting::pointLights(const SurfacePoint& p) const {
+    Vec3 out{};
+    for (const PointLight& light : scene_.pointLights) {
+        const Vec3 d = light.position - p.x;
+        const double r2 = dot(d, d);
+        if (!(r2 > 0)) continue;
+        const Vec3 wi = d / std::sqrt(r2);
+        const double cosX = dot(p.n, wi);
+        if (!(cosX > 0)) continue;
+        if (bvh_.occluded(p.x, light.position, p.face, EmbreeScene::kNoFace)) continue;
+        out += mul(brdf(*p.material, p.n, p.wo, wi), light.intensity) * (cosX / r2);
+    }
+    return out;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,124 @@
+// Shading: the material model and the direct-light estimators of the renderer.
+//
+// BRDF (scene.h's Material): f(wi, wo) = kd / pi + ks (ns + 2) / (2 pi) max(0, r . wi)^ns with
+// r = reflect(wo) about the normal: Lambert plus the energy-normalised Phong lobe.
+// Area lights are one-sided Lambertian emitters of radiance ke: a point y on light L sends
+// radiance ke towards x when x is strictly in front of L's plane. A receiving point sees only
+// its face's open front half-space.
+//
+// The direct radiance leaving x towards wo from one area light is
+//   L(x, wo) = integral over the visible part of L of f(wi, wo) ke cos(theta_x) cos(theta_y) / r^2
+//   dA.
+// The estimators:
+//   exact:   the visible fragments of L from x (FPQuery on the pair's history tree). The diffuse
+//            part is kd ke F, F the form factor of the fragments: closed form, no samples (exact up
+//            to floating-point rounding). The glossy part is estimated with stratified
+//            area-uniform samples inside the fragments only: no shadow rays, since every point
+//            of a fragment is visible (unbiased, noisy only where the lobe varies over them).
+//   sampled: stratified area-uniform samples over the whole light, each with one Embree shadow
+//            ray (EmbreeScene::occluded, ignoring the receiver and light faces), the full BRDF
+//            (unbiased up to the shadow rays' float precision and their 1e-4 end pull-in).
+//   point lights: one shadow ray each, I cos(theta_x) / r^2 f (exact up to the float ray).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <unordered_set>
+#include <vector>
+
+#include "engine/random.h"
+#include "engine/scene.h"
+#include "engine/visibility_store.h"
+
+namespace penumbra {
+
+class EmbreeScene;
+
+inline Vec3 mul(const Vec3& a, const Vec3& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+
+// The Phong lobe's scalar factor (ns + 2) / (2 pi) max(0, r . wi)^ns (times ks gives f_s). n, wo,
+// wi unit; wo and wi point away from the surface.
+double phongLobe(double ns, const Vec3& n, const Vec3& wo, const Vec3& wi);
+// The whole BRDF f(wi, wo) per channel.
+Vec3 brdf(const Material& m, const Vec3& n, const Vec3& wo, const Vec3& wi);
+
+// samples = a * b with a the largest divisor of samples not above its square root: the grid
+// of stratified samples (EmbreeScene::sampledFraction uses the same rule).
+void stratifiedGrid(int samples, int& a, int& b);
+
+// Area-uniform points on a union of convex polygons, each split into its fan triangles. The unit
+// square maps onto the union: u picks a triangle by its share of the area and the sqrt-warped
+// distance from its first vertex, v the position across it; equal-area cells of the square map
+// to equal-area pieces, so stratification survives.
+class TriangleSampler {
+  public:
+    void clear();
+    void addPolygon(std::span<const Vec3> polygon);
+    double area() const { return total_; }
+    bool empty() const { return tris_.empty(); }
+    Vec3 sample(double u, double v) const;
+
+  private:
+    struct Tri {
+        Vec3 a, b, c;
+        double area;
+    };
+    std::vector<Tri> tris_;
+    double total_ = 0;
+};
+
+// One area light, prepared once per scene.
+struct AreaLight {
+    uint32_t face = 0;
+    Vec3 ke;
+    Vec3 normal;  // unit, towards the front (the side it lights)
+    Vec3 origin;  // a vertex, for the plane test
+    TriangleSampler sampler;
+};
+
+// A shading point: x on face `face` (on its plane), unit front normal n, unit direction wo
+// towards the viewer (in n's hemisphere).
+struct SurfacePoint {
+    uint32_t face = 0;
+    Vec3 x, n, wo;
+    const Material* material = nullptr;
+};
+
+struct PairKeyHash {
+    size_t operator()(const PairKey& k) const noexcept;
+};
+
+// Per-thread (per-tile) state of the exact estimator: the last tree used per light (neighbouring
+// pixels hit the same receiver patch, so most lookups skip the store), the keys the tile needed,
+// and scratch for the fragments.
+struct ExactScratch {
+    std::vector<PairKey> lastKey;             // per light
+    std::vector<const PairRecord*> lastTree;  // per light (nullptr: none yet)
+    std::unordered_set<PairKey, PairKeyHash> used;
+    TriangleSampler fragments;
+};
+
+class DirectLighting {
+  public:
+    // scene and bvh must outlive this object; store may be null (then exact() may not be called).
+    DirectLighting(const Scene& scene, const EmbreeScene& bvh, VisibilityStore* store);
+
+    const std::vector<AreaLight>& areaLights() const { return lights_; }
+
+    // The reflected radiance at p from every area light, by the exact fragments. glossySamples
+    // samples per light for the Phong lobe (unused for diffuse materials).
+    Vec3 exactAreaLights(const SurfacePoint& p, int glossySamples, SplitMix64& rng,
+                         ExactScratch& scratch) const;
+    // The same with `samples` stratified shadow rays per light.
+    Vec3 sampledAreaLights(const SurfacePoint& p, int samples, SplitMix64& rng) const;
+    // Every point light, one shadow ray each.
+    Vec3 pointLights(const SurfacePoint& p) const;
+
+  private:
+    const Scene& scene_;
+    const EmbreeScene& bvh_;
+    VisibilityStore* store_;
+    std::vector<AreaLight> lights_;
+};
+
+}  // namespace penumbra
