@@ -97,7 +97,9 @@ using ProcLoader = std::function<void*(const char* name)>;
     X(PFNGLDELETERENDERBUFFERSPROC, DeleteRenderbuffers)         \
     X(PFNGLTEXSUBIMAGE2DPROC, TexSubImage2D)                     \
     X(PFNGLGETERRORPROC, GetError)                               \
-    X(PFNGLREADBUFFERPROC, ReadBuffer)
+    X(PFNGLREADBUFFERPROC, ReadBuffer)                           \
+    X(PFNGLCULLFACEPROC, CullFace)                               \
+    X(PFNGLFRONTFACEPROC, FrontFace)
 
 struct GlApi {
 #define PENUMBRA_GL_FIELD(type, name) type name = nullptr;
@@ -206,3 +208,5 @@ std::string glErrorName(GLenum code);
 #define glTexSubImage2D (::penumbra::gl::currentGlApi().TexSubImage2D)
 #define glGetError (::penumbra::gl::currentGlApi().GetError)
 #define glReadBuffer (::penumbra::gl::currentGlApi().ReadBuffer)
+#define glCullFace (::penumbra::gl::currentGlApi().CullFace)
+#define glFrontFace (::penumbra::gl::currentGlApi().FrontFace)

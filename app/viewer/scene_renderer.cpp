@@ -101,10 +101,16 @@ void SceneRenderer::draw(const OrbitCamera& orbit, const vis::Bounds3& sceneBox,
 
     overlayProgram_.use();
     overlayProgram_.setMatrix("uViewProjection", m.data());
-    // The fragments lie in the light's plane: pulled forward a little to win the depth test.
+    // The fragments lie in the light's plane: pulled forward a little to win the depth test, and
+    // drawn only from the light's emitting side (they are counter-clockwise seen from there), so
+    // that they never show through a ceiling seen from above.
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(-1.0f, -2.0f);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
     fragments_.draw(GL_TRIANGLES);
+    glDisable(GL_CULL_FACE);
     glDisable(GL_POLYGON_OFFSET_FILL);
     lines_.draw(GL_LINES);
     glDisable(GL_DEPTH_TEST);

@@ -37,9 +37,23 @@ ImU32 toImU32(Rgb c, int alpha = 255) { return IM_COL32(c.r, c.g, c.b, alpha); }
 
 }  // namespace
 
+// Left column: scene, precompute, history tree, preview (the rest), top to bottom.
+struct LeftColumn {
+    float scene, precompute, tree, preview;  // tops
+    float bottom;
+    explicit LeftColumn(const Layout& l) {
+        const float h = static_cast<float>(l.height);
+        scene = 0;
+        precompute = std::min(150.0f, 0.19f * h);
+        tree = precompute + std::min(150.0f, 0.19f * h);
+        preview = tree + std::min(190.0f, 0.24f * h);
+        bottom = h;
+    }
+};
+
 void Viewer::drawScenePanel() {
-    const float h = std::min(210.0f, 0.27f * static_cast<float>(layout_.height));
-    place(0, 0, static_cast<float>(layout_.leftWidth), h);
+    const LeftColumn c(layout_);
+    place(0, c.scene, static_cast<float>(layout_.leftWidth), c.precompute - c.scene);
     if (ImGui::Begin("Scene", nullptr, kPanel)) {
         if (scene_) {
             ImGui::TextWrapped("%s", scene_->path.string().c_str());
@@ -65,8 +79,8 @@ void Viewer::drawScenePanel() {
 }
 
 void Viewer::drawPrecomputePanel() {
-    const float y = std::min(210.0f, 0.27f * static_cast<float>(layout_.height));
-    place(0, y, static_cast<float>(layout_.leftWidth), 150);
+    const LeftColumn c(layout_);
+    place(0, c.precompute, static_cast<float>(layout_.leftWidth), c.tree - c.precompute);
     if (ImGui::Begin("Precompute", nullptr, kPanel)) {
 #if PENUMBRA_HAVE_PRECOMPUTE
         if (precompute_) {
@@ -119,19 +133,14 @@ void Viewer::drawPrecomputePanel() {
 }
 
 void Viewer::drawTreePanel() {
-    const float y = std::min(210.0f, 0.27f * static_cast<float>(layout_.height)) + 150;
-    const float h = std::max(100.0f, 0.5f * static_cast<float>(layout_.height) - y + 150);
-    place(0, y, static_cast<float>(layout_.leftWidth), h);
+    const LeftColumn c(layout_);
+    place(0, c.tree, static_cast<float>(layout_.leftWidth), c.preview - c.tree);
     treePanel_->draw("History tree");
 }
 
 void Viewer::drawPreviewPanel() {
-    const float y =
-        std::min(210.0f, 0.27f * static_cast<float>(layout_.height)) + 150 +
-        std::max(100.0f, 0.5f * static_cast<float>(layout_.height) -
-                             std::min(210.0f, 0.27f * static_cast<float>(layout_.height)));
-    place(0, y, static_cast<float>(layout_.leftWidth),
-          std::max(60.0f, static_cast<float>(layout_.height) - y));
+    const LeftColumn c(layout_);
+    place(0, c.preview, static_cast<float>(layout_.leftWidth), c.bottom - c.preview);
     if (ImGui::Begin("Preview", nullptr, kPanel)) {
 #if PENUMBRA_HAVE_RENDERER
         PreviewSettings& s = options_.previewSettings;
@@ -149,10 +158,14 @@ void Viewer::drawPreviewPanel() {
         if (!previewImage_.error.empty())
             ImGui::TextWrapped("error: %s", previewImage_.error.c_str());
         if (previewImage_.width > 0) {
-            const float avail = ImGui::GetContentRegionAvail().x;
-            const float scale = avail / static_cast<float>(previewImage_.width);
+            // The whole image in the space left, aspect kept.
+            const ImVec2 avail = ImGui::GetContentRegionAvail();
+            const float scale =
+                std::max(0.0f, std::min(avail.x / static_cast<float>(previewImage_.width),
+                                        avail.y / static_cast<float>(previewImage_.height)));
             ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(previewTexture_)),
-                         ImVec2(avail, scale * static_cast<float>(previewImage_.height)));
+                         ImVec2(scale * static_cast<float>(previewImage_.width),
+                                scale * static_cast<float>(previewImage_.height)));
         }
 #else
         ImGui::TextWrapped(

@@ -142,6 +142,36 @@ TEST(ViewerScreenshot, PickingAPixelInspectsTheSurfaceAnIndependentRayHits) {
     EXPECT_NEAR(p[2].get<double>(), 120, 5);
 }
 
+// The sampled preview (N shadow rays per light) is an unbiased estimate of the exact one and both
+// share the primary-ray jitter (RenderSettings::seed), so their relative RMS difference falls as
+// passes accumulate (about 1/sqrt(passes): 1/4 after 16) and with more light samples.
+TEST(ViewerScreenshot, SampledPreviewConvergesToTheExactOne) {
+    const fs::path dir = test::scratchDir("viewer_preview");
+    auto run = [&](int lightSamples, int passes) {
+        const test::ProcessResult r = test::runPenumbra(
+            {"screenshot", cornell().string(), "--size", "640x400", "--preview-mode", "diff",
+             "--light-samples", std::to_string(lightSamples), "--passes", std::to_string(passes),
+             "--out", (dir / "shot.png").string(), "--state-out", (dir / "state.json").string(),
+             "--preview-out", (dir / "preview.png").string()});
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        return test::readJson(dir / "state.json");
+    };
+    const json few = run(2, 16);
+    if (!few["panels"]["preview"].get<bool>()) GTEST_SKIP() << "the renderer is not built in";
+    const json& p = few["preview"];
+    ASSERT_EQ(p["error"], "");
+    ASSERT_EQ(p["passes"], 16);
+    ASSERT_TRUE(p["finished"].get<bool>());
+    const std::vector<double> history = p["errorHistory"].get<std::vector<double>>();
+    ASSERT_EQ(history.size(), 16u);
+    EXPECT_GT(history.front(), 0.0);
+    EXPECT_LT(history.back(), 0.5 * history.front());
+    for (size_t i = 1; i < history.size(); ++i) EXPECT_LT(history[i], 1.15 * history[i - 1]);
+    const json many = run(64, 1);
+    EXPECT_LT(many["preview"]["relativeRmsError"].get<double>(), 0.5 * history.front());
+    EXPECT_TRUE(fs::exists(dir / "preview.png"));
+}
+
 TEST(ViewerScreenshot, BadArgumentsAreRefusedWithTheReason) {
     const fs::path dir = test::scratchDir("viewer_bad");
     const std::string out = (dir / "x.png").string();
