@@ -54,5 +54,8 @@ void registerViewCommand(CLI::App& app);
 void registerScreenshotCommand(CLI::App& app);
 // `penumbra render`: an image with exact soft shadows (app/render_command.cpp).
 void registerRenderCommand(CLI::App& app);
+// `penumbra precompute`: every pair's history tree into a visibility file
+// (app/precompute_command.cpp).
+void registerPrecomputeCommand(CLI::App& app);
 
 }  // namespace penumbra::cli

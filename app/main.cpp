@@ -32,6 +32,7 @@ int run(int argc, char** argv) {
     penumbra::cli::registerViewCommand(app);
     penumbra::cli::registerScreenshotCommand(app);
     penumbra::cli::registerRenderCommand(app);
+    penumbra::cli::registerPrecomputeCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {  // --help, --version

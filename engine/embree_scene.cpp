@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <stdexcept>
 #include <type_traits>
@@ -72,6 +73,53 @@ void setRay(RTCRay& ray, Vec3 org, Vec3 dir, double tnear, double tfar) {
     ray.mask = 0xFFFFFFFFu;  // Debian's Embree is built with ray masks: mask 0 hits nothing
     ray.id = 0;
     ray.flags = 0;
+}
+
+// Float bounds that contain a double interval: round down / up.
+float floatDown(double v) {
+    float f = static_cast<float>(v);
+    if (static_cast<double>(f) > v) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    return f;
+}
+float floatUp(double v) {
+    float f = static_cast<float>(v);
+    if (static_cast<double>(f) < v) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+    return f;
+}
+
+// Bounds of the user primitives of the face-box scene: primitive i is face i's box.
+void faceBoxBounds(const RTCBoundsFunctionArguments* args) {
+    const auto* boxes = static_cast<const EmbreeScene::Box*>(args->geometryUserPtr);
+    const EmbreeScene::Box& b = boxes[args->primID];
+    RTCBounds* out = args->bounds_o;
+    out->lower_x = floatDown(b.lo.x);
+    out->lower_y = floatDown(b.lo.y);
+    out->lower_z = floatDown(b.lo.z);
+    out->upper_x = floatUp(b.hi.x);
+    out->upper_y = floatUp(b.hi.y);
+    out->upper_z = floatUp(b.hi.z);
+}
+
+// What shaftCandidates' point-query callback reads and fills.
+struct ShaftQuery {
+    const EmbreeScene::Box* faceBox;
+    const uint32_t* faceFirstPrim;
+    uint32_t receiver, light;
+    Vec3 lo, hi;  // the shaft box, exact (doubles)
+    std::vector<uint32_t>* out;
+};
+
+// Called for every face box the traversal reaches: the exact (double) closed-box test.
+bool shaftQueryVisit(RTCPointQueryFunctionArguments* args) {
+    const auto* q = static_cast<const ShaftQuery*>(args->userPtr);
+    const uint32_t f = args->primID;
+    if (f == q->receiver || f == q->light) return false;
+    if (q->faceFirstPrim[f + 1] == q->faceFirstPrim[f]) return false;  // no triangles
+    const EmbreeScene::Box& b = q->faceBox[f];
+    if (b.lo.x <= q->hi.x && b.hi.x >= q->lo.x && b.lo.y <= q->hi.y && b.hi.y >= q->lo.y &&
+        b.lo.z <= q->hi.z && b.hi.z >= q->lo.z)
+        q->out->push_back(f);
+    return false;  // the query sphere is not changed
 }
 
 }  // namespace
@@ -215,6 +263,31 @@ EmbreeScene::EmbreeScene(const vis::PolygonMesh& mesh, const Options& options)
     }
     rtcCommitScene(scene_.get());
     throwIfError("rtcCommitScene");
+
+    // The face-box scene for shaftCandidates: one user primitive per face (its box).
+    boxScene_.reset(rtcNewScene(device_.get()));
+    throwIfError("rtcNewScene");
+    if (!boxScene_) throw std::runtime_error("Embree error in rtcNewScene: no scene");
+    if (nf > 0) {
+        RTCGeometry geom = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_USER);
+        throwIfError("rtcNewGeometry");
+        struct GeometryRelease {
+            RTCGeometry g;
+            ~GeometryRelease() {
+                if (g) rtcReleaseGeometry(g);
+            }
+        } release{geom};
+        rtcSetGeometryUserPrimitiveCount(geom, static_cast<unsigned>(nf));
+        // The boxes live in faceBox_'s heap buffer, which a move of this object keeps; Embree
+        // reads them only during the commit below.
+        rtcSetGeometryUserData(geom, faceBox_.data());
+        rtcSetGeometryBoundsFunction(geom, &faceBoxBounds, nullptr);
+        rtcCommitGeometry(geom);
+        rtcAttachGeometry(boxScene_.get(), geom);
+        throwIfError("rtcAttachGeometry");
+    }
+    rtcCommitScene(boxScene_.get());
+    throwIfError("rtcCommitScene");
 }
 
 EmbreeScene::~EmbreeScene() = default;
@@ -223,6 +296,7 @@ EmbreeScene& EmbreeScene::operator=(EmbreeScene&& o) noexcept {
     if (this == &o) return *this;
     // Release the old handles in destruction order: scene, device, then the error record the
     // old device's callback points to.
+    boxScene_ = std::move(o.boxScene_);
     scene_ = std::move(o.scene_);
     device_ = std::move(o.device_);
     errors_ = std::move(o.errors_);
@@ -336,18 +410,33 @@ std::vector<uint32_t> EmbreeScene::shaftCandidates(uint32_t receiver, uint32_t l
     checkFace(light, "light");
     const Box& r = faceBox_[receiver];
     const Box& l = faceBox_[light];
-    const Vec3 lo{std::min(r.lo.x, l.lo.x), std::min(r.lo.y, l.lo.y), std::min(r.lo.z, l.lo.z)};
-    const Vec3 hi{std::max(r.hi.x, l.hi.x), std::max(r.hi.y, l.hi.y), std::max(r.hi.z, l.hi.z)};
+    ShaftQuery q;
+    q.faceBox = faceBox_.data();
+    q.faceFirstPrim = faceFirstPrim_.data();
+    q.receiver = receiver;
+    q.light = light;
+    q.lo = {std::min(r.lo.x, l.lo.x), std::min(r.lo.y, l.lo.y), std::min(r.lo.z, l.lo.z)};
+    q.hi = {std::max(r.hi.x, l.hi.x), std::max(r.hi.y, l.hi.y), std::max(r.hi.z, l.hi.z)};
     std::vector<uint32_t> out;
-    const uint32_t nf = faceCount();
-    for (uint32_t f = 0; f < nf; ++f) {
-        if (f == receiver || f == light) continue;
-        if (faceFirstPrim_[f + 1] == faceFirstPrim_[f]) continue;  // < 3 vertices: blocks nothing
-        const Box& q = faceBox_[f];
-        if (q.lo.x <= hi.x && q.hi.x >= lo.x && q.lo.y <= hi.y && q.hi.y >= lo.y &&
-            q.lo.z <= hi.z && q.hi.z >= lo.z)
-            out.push_back(f);
-    }
+    q.out = &out;
+    // A sphere around the box's centre through its corners, grown so that float rounding (of the
+    // centre, the radius, and Embree's point-to-node distances) cannot exclude a node box that
+    // meets the shaft box: every face box meeting the shaft box meets the sphere, so its BVH
+    // nodes are all visited. Looseness only costs visits (the callback tests exactly).
+    const Vec3 c = (q.lo + q.hi) * 0.5;
+    const double radius = 0.5 * vis::length(q.hi - q.lo);
+    const double scale = vis::maxAbs(c) + radius;
+    RTCPointQuery query;
+    query.x = static_cast<float>(c.x);
+    query.y = static_cast<float>(c.y);
+    query.z = static_cast<float>(c.z);
+    query.time = 0.0f;
+    query.radius = floatUp(radius * (1 + 1e-5) + 1e-5 * scale + 1e-30);
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    rtcPointQuery(boxScene_.get(), &query, &context, &shaftQueryVisit, &q);
+    throwIfError("rtcPointQuery");
+    std::sort(out.begin(), out.end());
     return out;
 }
 

@@ -1,5 +1,6 @@
 #include "engine/visibility_store.h"
 
+#include <chrono>
 #include <condition_variable>
 #include <stdexcept>
 #include <string>
@@ -93,7 +94,8 @@ void VisibilityStore::publish(Entry& entry, std::unique_ptr<PairRecord> record) 
     entry.ready.store(raw, std::memory_order_release);
 }
 
-std::unique_ptr<PairRecord> VisibilityStore::build(const PairKey& key) const {
+std::unique_ptr<PairRecord> VisibilityStore::build(const PairKey& key,
+                                                   const std::atomic<bool>* cancel) const {
     if (key.receiver >= scene_.faceCount() || key.lightFace >= scene_.faceCount())
         throw std::out_of_range("pair (" + std::to_string(key.receiver) + ", " +
                                 std::to_string(key.lightFace) + ") out of range");
@@ -110,23 +112,34 @@ std::unique_ptr<PairRecord> VisibilityStore::build(const PairKey& key) const {
     }
     auto record = std::make_unique<PairRecord>();
     const bool whole = p.patches.size() <= 1;
+    vis::BuildOptions buildOptions = options_.build;
+    if (cancel != nullptr) buildOptions.cancel = cancel;
     record->tree = vis::buildHistoryTree(
-        scene_.mesh, key.receiver, key.lightFace, options_.build, candidates, &record->stats,
+        scene_.mesh, key.receiver, key.lightFace, buildOptions, candidates, &record->stats,
         whole ? std::span<const Vec3>{} : std::span<const Vec3>(p.patches[key.patch]));
     return record;
 }
 
-const PairRecord& VisibilityStore::getOrBuild(const PairKey& key) {
+const PairRecord& VisibilityStore::getOrBuild(const PairKey& key,
+                                              const std::atomic<bool>* cancel) {
     Entry& entry = entryFor(key);
     if (const PairRecord* r = entry.ready.load(std::memory_order_acquire)) return *r;
     std::unique_lock lock(entry.mutex);
-    while (entry.building) entry.done.wait(lock);
+    // Another thread is building it: wait, but keep honouring our own cancel flag.
+    while (entry.building) {
+        if (cancel == nullptr) {
+            entry.done.wait(lock);
+        } else {
+            if (cancel->load(std::memory_order_relaxed)) throw vis::BuildCancelled();
+            entry.done.wait_for(lock, std::chrono::milliseconds(20));
+        }
+    }
     if (const PairRecord* r = entry.ready.load(std::memory_order_acquire)) return *r;
     entry.building = true;
     lock.unlock();
     std::unique_ptr<PairRecord> record;
     try {
-        record = build(key);
+        record = build(key, cancel);
     } catch (...) {
         lock.lock();
         entry.building = false;

@@ -72,7 +72,12 @@ public:
     // Non-blocking: the tree if it is built, else nullptr.
     const PairRecord* find(const PairKey& key) const;
     // Builds the tree if needed (on this thread) and returns it.
-    const PairRecord& getOrBuild(const PairKey& key);
+    const PairRecord& getOrBuild(const PairKey& key) { return getOrBuild(key, nullptr); }
+    // The same, cancellable: when *cancel becomes true the build stops within a fraction of a
+    // second and throws vis::BuildCancelled. Nothing is published then, and the entry can be
+    // built again later (by this or another caller). A thread waiting for another's build of the
+    // same key that gets cancelled takes the build over (with its own flag).
+    const PairRecord& getOrBuild(const PairKey& key, const std::atomic<bool>* cancel);
     // Adds a tree built elsewhere (e.g. read from a visibility file). Returns false (and keeps the
     // existing one) when the key is already present.
     bool insert(const PairKey& key, PairRecord record);
@@ -105,7 +110,7 @@ private:
     Shard& shardOf(const PairKey& key) const;
     Entry& entryFor(const PairKey& key);
     void publish(Entry& entry, std::unique_ptr<PairRecord> record);
-    std::unique_ptr<PairRecord> build(const PairKey& key) const;
+    std::unique_ptr<PairRecord> build(const PairKey& key, const std::atomic<bool>* cancel) const;
 
     const Scene& scene_;
     const EmbreeScene* bvh_;

@@ -15,6 +15,14 @@ std::string_view toString(PairKind k) {
     return "?";
 }
 
+std::span<const std::string_view> knownReasons() {
+    static constexpr std::string_view kAll[] = {
+        reasons::kBackFacing,      reasons::kNoOccluder,       reasons::kBlockNothing,
+        reasons::kSingleBlocksAll, reasons::kTogetherBlockAll, reasons::kPenumbra,
+    };
+    return kAll;
+}
+
 uint32_t HistoryTree::depth() const {
     if (nodes.empty()) return 0;
     uint32_t best = 0;

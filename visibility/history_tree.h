@@ -36,6 +36,21 @@ enum class PairKind : uint8_t {
 };
 std::string_view toString(PairKind k);
 
+// The sentences HistoryTree::why points to: the builder uses these, and a tree read back from a
+// file maps its stored text to one of them (knownReasons()).
+namespace reasons {
+inline constexpr std::string_view kBackFacing =
+    "the light is behind the receiver's plane or the receiver behind the light's";
+inline constexpr std::string_view kNoOccluder = "no occluder between the receiver and the light";
+inline constexpr std::string_view kBlockNothing =
+    "occluders lie in the shaft but block no line between receiver and light";
+inline constexpr std::string_view kSingleBlocksAll = "a single occluder blocks every line";
+inline constexpr std::string_view kTogetherBlockAll = "the occluders together block every line";
+inline constexpr std::string_view kPenumbra = "partly blocked: the history tree decides per line";
+}  // namespace reasons
+// Every reason above, for mapping a stored text back to its static string.
+std::span<const std::string_view> knownReasons();
+
 struct HistoryTree {
     uint32_t receiver = 0;
     uint32_t light = 0;

@@ -267,10 +267,10 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
     const PairOccluders occ = gatherOccluders(mesh, receiver, light, candidates, region);
     if (occ.backFacing) {
         tree.kind = PairKind::BackFacing;
-        tree.why = "the light is behind the receiver's plane or the receiver behind the light's";
+        tree.why = reasons::kBackFacing;
     } else if (occ.occluders.empty()) {
         tree.kind = PairKind::FullyVisible;
-        tree.why = "no occluder between the receiver and the light";
+        tree.why = reasons::kNoOccluder;
     } else {
         stats.occludersInShaft = static_cast<uint32_t>(occ.occluders.size());
         Builder builder(mesh, region, light, occ, options, stats);
@@ -285,14 +285,14 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
         stats.exactCertificates = builder.polytopeStats().exactCertificates;
         if (builder.root() == kVisibleLeaf) {
             tree.kind = PairKind::FullyVisible;
-            tree.why = "occluders lie in the shaft but block no line between receiver and light";
+            tree.why = reasons::kBlockNothing;
         } else if (builder.root() == kHiddenLeaf) {
             tree.kind = PairKind::FullyHidden;
-            tree.why = stats.occludersInserted == 1 ? "a single occluder blocks every line"
-                                                    : "the occluders together block every line";
+            tree.why = stats.occludersInserted == 1 ? reasons::kSingleBlocksAll
+                                                    : reasons::kTogetherBlockAll;
         } else {
             tree.kind = PairKind::Penumbra;
-            tree.why = "partly blocked: the history tree decides per line";
+            tree.why = reasons::kPenumbra;
             builder.emit(tree);
             // Keep only the constructed vertices the nodes use, renumbered.
             std::vector<uint32_t> remap(occ.extraVertices.size(), UINT32_MAX);

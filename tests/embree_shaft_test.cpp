@@ -1,0 +1,133 @@
+// EmbreeScene::shaftCandidates (a point query on a BVH of face boxes) against the brute-force
+// closed-box test over every face: the sets must be identical.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "engine/embree_scene.h"
+#include "engine/procedural_scenes.h"
+#include "tests/test_scale.h"
+
+namespace {
+
+using penumbra::EmbreeScene;
+using penumbra::Vec3;
+using penumbra::vis::PolygonMesh;
+
+// The reference: every face other than receiver and light with at least 3 vertices whose box
+// meets (closed) the box of receiver and light together. Boxes recomputed here from the mesh.
+std::vector<uint32_t> bruteForce(const PolygonMesh& m, uint32_t receiver, uint32_t light) {
+    penumbra::vis::Bounds3 shaft = m.faceBounds(receiver);
+    const penumbra::vis::Bounds3 l = m.faceBounds(light);
+    shaft.add(l.lo);
+    shaft.add(l.hi);
+    std::vector<uint32_t> out;
+    for (uint32_t f = 0; f < m.faces.size(); ++f) {
+        if (f == receiver || f == light || m.faces[f].size() < 3) continue;
+        if (m.faceBounds(f).overlaps(shaft)) out.push_back(f);
+    }
+    return out;
+}
+
+// Random triangles and quads with corners on a coarse dyadic grid (so boxes often touch exactly),
+// sizes from tiny to scene-sized, an offset that makes float rounding matter, and a few faces with
+// fewer than 3 vertices.
+PolygonMesh randomMesh(std::mt19937_64& rng, int faces, double offset) {
+    PolygonMesh m;
+    std::uniform_real_distribution<double> unit(0, 1);
+    auto grid = [&](double extent) { return std::round(unit(rng) * extent * 64) / 64; };
+    for (int i = 0; i < faces; ++i) {
+        const double size = std::pow(2.0, -static_cast<int>(rng() % 8));
+        const Vec3 base{grid(16) + offset, grid(16) - offset, grid(16) + offset * 0.5};
+        const int n = (rng() % 16 == 0) ? 2 : 3 + static_cast<int>(rng() % 2);
+        std::vector<uint32_t> idx;
+        for (int k = 0; k < n; ++k) {
+            idx.push_back(static_cast<uint32_t>(m.vertices.size()));
+            m.vertices.push_back(base + Vec3{grid(size), grid(size), grid(size)});
+        }
+        m.faces.push_back(std::move(idx));
+    }
+    return m;
+}
+
+TEST(EmbreeShaft, MatchesBruteForceOnRandomMeshes) {
+    std::mt19937_64 rng(42);
+    const int scenes = penumbra::test::scaled(12);
+    for (int s = 0; s < scenes; ++s) {
+        const double offset = (s % 3 == 0) ? 0.0 : (s % 3 == 1 ? 1000.5 : 3.0e5);
+        const PolygonMesh m = randomMesh(rng, 300 + 100 * s, offset);
+        const EmbreeScene scene(m);
+        size_t nonEmpty = 0;
+        for (int p = 0; p < 200; ++p) {
+            const auto nf = static_cast<uint32_t>(m.faces.size());
+            const uint32_t r = static_cast<uint32_t>(rng() % nf);
+            uint32_t l = static_cast<uint32_t>(rng() % nf);
+            if (l == r) l = (l + 1) % nf;
+            const std::vector<uint32_t> expected = bruteForce(m, r, l);
+            ASSERT_EQ(scene.shaftCandidates(r, l), expected)
+                << "scene " << s << " receiver " << r << " light " << l;
+            nonEmpty += !expected.empty();
+        }
+        // The random pairs must exercise the query (most shafts meet some face).
+        EXPECT_GT(nonEmpty, 50u) << "scene " << s;
+    }
+}
+
+// Boxes touching the shaft box exactly at a face, an edge or a corner count; ones a hair away
+// (one ulp) do not.
+TEST(EmbreeShaft, TouchingCountsOneUlpAwayDoesNot) {
+    PolygonMesh m;
+    auto quad = [&](Vec3 lo, Vec3 hi) {  // axis-aligned quad in z = lo.z
+        const auto b = static_cast<uint32_t>(m.vertices.size());
+        m.vertices.insert(
+            m.vertices.end(),
+            {{lo.x, lo.y, lo.z}, {hi.x, lo.y, lo.z}, {hi.x, hi.y, lo.z}, {lo.x, hi.y, lo.z}});
+        m.faces.push_back({b, b + 1, b + 2, b + 3});
+    };
+    quad({0, 0, 0}, {1, 1, 0});                           // receiver
+    quad({0, 0, 2}, {1, 1, 2});                           // light: shaft box [0,1]^2 x [0,2]
+    quad({1, 0.5, 1}, {2, 1, 1});                         // 2: touches x = 1
+    quad({std::nextafter(1.0, 2.0), 0.5, 1}, {2, 1, 1});  // 3: one ulp away
+    quad({1, 1, 2}, {2, 2, 2});                           // 4: corner contact
+    quad({-1, -1, std::nextafter(2.0, 3.0)}, {3, 3, 3});  // 5: one ulp above
+    quad({0.25, 0.25, 1}, {0.75, 0.75, 1});               // 6: inside
+    const EmbreeScene scene(m);
+    EXPECT_EQ(scene.shaftCandidates(0, 1), (std::vector<uint32_t>{2, 4, 6}));
+    EXPECT_EQ(scene.shaftCandidates(0, 1), bruteForce(m, 0, 1));
+}
+
+// Per-pair cost against the brute-force loop on a 70k-triangle soup (receivers: soup triangles,
+// light: face 1). A benchmark, not a test of speed: run with --gtest_also_run_disabled_tests.
+TEST(EmbreeShaft, DISABLED_PerPairTimeOn70kTriangles) {
+    const penumbra::Scene soup = penumbra::makeRandomSoup(70000, 7);
+    const auto t0 = std::chrono::steady_clock::now();
+    const EmbreeScene scene(soup.mesh);
+    const double buildSeconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const int pairs = 2000;
+    std::mt19937_64 rng(3);
+    std::vector<uint32_t> receivers;
+    for (int i = 0; i < pairs; ++i)
+        receivers.push_back(2 + static_cast<uint32_t>(rng() % (soup.mesh.faces.size() - 2)));
+    size_t total = 0;
+    auto time = [&](auto&& f) {
+        const auto a = std::chrono::steady_clock::now();
+        for (uint32_t r : receivers) total += f(r).size();
+        return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count() / pairs;
+    };
+    const double bvh = time([&](uint32_t r) { return scene.shaftCandidates(r, 1); });
+    const size_t candidates = total;
+    const double brute = time([&](uint32_t r) { return bruteForce(soup.mesh, r, 1); });
+    for (uint32_t r : receivers)
+        ASSERT_EQ(scene.shaftCandidates(r, 1), bruteForce(soup.mesh, r, 1));
+    std::printf(
+        "70k soup: BVH build (both scenes) %.3f s; per pair: BVH %.1f us, brute force %.1f "
+        "us; %.0f candidates per pair\n",
+        buildSeconds, bvh * 1e6, brute * 1e6, static_cast<double>(candidates) / pairs);
+}
+
+}  // namespace
