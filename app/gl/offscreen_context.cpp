@@ -1,9 +1,12 @@
 #include "app/gl/offscreen_context.h"
 
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 
 namespace penumbra::gl {
+
+void preferUiThreadSoftwareRasteriser() { setenv("LP_NUM_THREADS", "0", /*overwrite=*/0); }
 
 const char* toString(OffscreenBackend b) {
     return b == OffscreenBackend::OsMesa ? "osmesa" : "egl";
@@ -70,6 +73,7 @@ std::unique_ptr<OffscreenContext> createOffscreenContext(OffscreenBackend backen
     if (width < 1 || height < 1 || width > 8192 || height > 8192)
         throw std::runtime_error("offscreen size " + std::to_string(width) + "x" +
                                  std::to_string(height) + " out of range (1..8192 a side)");
+    preferUiThreadSoftwareRasteriser();
     try {
         return backend == OffscreenBackend::OsMesa ? createOsmesaContext(width, height)
                                                    : createEglContext(width, height);

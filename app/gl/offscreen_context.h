@@ -43,6 +43,14 @@ class OffscreenContext {
     GLuint framebuffer_ = 0, colour_ = 0, depth_ = 0;
 };
 
+// Asks Mesa's software rasteriser (llvmpipe: OSMesa, EGL and GLX without a GPU, Xvfb) to draw on
+// the calling thread (LP_NUM_THREADS=0) unless the user set LP_NUM_THREADS. Why: with its own
+// rasteriser threads, the UI thread waits for them at every flush, and while oneTBB's workers
+// keep the cores busy (precompute, preview) those waits were measured at tens of seconds on a
+// loaded 2-core machine; drawn on the UI thread, a frame costs what the UI thread itself gets.
+// Call before the first context is created (Mesa reads it then).
+void preferUiThreadSoftwareRasteriser();
+
 // Creates a context of the given size (1..8192 pixels a side). Throws std::runtime_error saying
 // what failed (library missing, no surfaceless platform, no 3.3 core context, ...).
 std::unique_ptr<OffscreenContext> createOffscreenContext(OffscreenBackend backend, int width,

@@ -216,8 +216,10 @@ void PreviewRunner::run(const std::shared_ptr<Job>& job) {
                 image.errorHistory.push_back(image.relativeRmsError);
             }
             if (pass == 0) {
+                // Computed outside the lock: the UI thread takes it every frame.
+                EffectsSummary effects = renderer.effects();
                 const std::lock_guard lock(mutex_);
-                if (current_ == job) effects_ = renderer.effects();
+                if (current_ == job) effects_ = effects;
             }
             publish(pass + 1 == s.passes);
         }

@@ -10,10 +10,12 @@
 
 #include <tbb/task_group.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <deque>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -114,6 +116,8 @@ class Viewer {
     void uploadPreview(const PreviewImage& image);
     void updateOverlay();
 
+    // Positions the next panel window and records its rectangle (panelRects_).
+    void place(const char* panel, float x, float y, float w, float h);
     void drawScenePanel();
     void drawHelpPanel();
     void drawPointPanel();
@@ -155,6 +159,7 @@ class Viewer {
     std::unique_ptr<TreePanel> treePanel_;
     std::vector<std::filesystem::path> sceneFiles_;
     FrameStats frameStats_;
+    std::map<std::string, std::array<float, 4>> panelRects_;  // x, y, width, height
     tbb::task_group tasks_;  // inspections, and disposal of old schedulers; waited on in ~Viewer
 };
 

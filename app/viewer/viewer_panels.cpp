@@ -16,11 +16,6 @@
 namespace penumbra::viewer {
 namespace {
 
-void place(float x, float y, float w, float h) {
-    ImGui::SetNextWindowPos(ImVec2(x, y), ImGuiCond_Always);
-    ImGui::SetNextWindowSize(ImVec2(w, h), ImGuiCond_Always);
-}
-
 constexpr ImGuiWindowFlags kPanel = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
                                     ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoSavedSettings;
 
@@ -36,6 +31,12 @@ std::string humanBytes(size_t bytes) {
 ImU32 toImU32(Rgb c, int alpha = 255) { return IM_COL32(c.r, c.g, c.b, alpha); }
 
 }  // namespace
+
+void Viewer::place(const char* panel, float x, float y, float w, float h) {
+    ImGui::SetNextWindowPos(ImVec2(x, y), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(w, h), ImGuiCond_Always);
+    panelRects_[panel] = {x, y, w, h};
+}
 
 // Left column: scene, precompute, history tree, preview (the rest), top to bottom.
 struct LeftColumn {
@@ -53,7 +54,7 @@ struct LeftColumn {
 
 void Viewer::drawScenePanel() {
     const LeftColumn c(layout_);
-    place(0, c.scene, static_cast<float>(layout_.leftWidth), c.precompute - c.scene);
+    place("Scene", 0, c.scene, static_cast<float>(layout_.leftWidth), c.precompute - c.scene);
     if (ImGui::Begin("Scene", nullptr, kPanel)) {
         if (scene_) {
             ImGui::TextWrapped("%s", scene_->path.string().c_str());
@@ -80,7 +81,8 @@ void Viewer::drawScenePanel() {
 
 void Viewer::drawPrecomputePanel() {
     const LeftColumn c(layout_);
-    place(0, c.precompute, static_cast<float>(layout_.leftWidth), c.tree - c.precompute);
+    place("Precompute", 0, c.precompute, static_cast<float>(layout_.leftWidth),
+          c.tree - c.precompute);
     if (ImGui::Begin("Precompute", nullptr, kPanel)) {
 #if PENUMBRA_HAVE_PRECOMPUTE
         if (precompute_) {
@@ -134,13 +136,13 @@ void Viewer::drawPrecomputePanel() {
 
 void Viewer::drawTreePanel() {
     const LeftColumn c(layout_);
-    place(0, c.tree, static_cast<float>(layout_.leftWidth), c.preview - c.tree);
+    place("History tree", 0, c.tree, static_cast<float>(layout_.leftWidth), c.preview - c.tree);
     treePanel_->draw("History tree");
 }
 
 void Viewer::drawPreviewPanel() {
     const LeftColumn c(layout_);
-    place(0, c.preview, static_cast<float>(layout_.leftWidth), c.bottom - c.preview);
+    place("Preview", 0, c.preview, static_cast<float>(layout_.leftWidth), c.bottom - c.preview);
     if (ImGui::Begin("Preview", nullptr, kPanel)) {
 #if PENUMBRA_HAVE_RENDERER
         PreviewSettings& s = options_.previewSettings;
@@ -179,7 +181,7 @@ void Viewer::drawPreviewPanel() {
 void Viewer::drawPointPanel() {
     const float x = static_cast<float>(layout_.width - layout_.rightWidth);
     const float w = static_cast<float>(layout_.rightWidth);
-    place(x, 0, w, 0.3f * static_cast<float>(layout_.height));
+    place("Point", x, 0, w, 0.3f * static_cast<float>(layout_.height));
     if (ImGui::Begin("Point", nullptr, kPanel)) {
         if (pending_) ImGui::TextUnformatted("computing the point query...");
         if (!inspection_) {
@@ -233,7 +235,7 @@ void Viewer::drawLightPlanePanel() {
     const float x = static_cast<float>(layout_.width - layout_.rightWidth);
     const float w = static_cast<float>(layout_.rightWidth);
     const float y = 0.3f * static_cast<float>(layout_.height);
-    place(x, y, w, 0.3f * static_cast<float>(layout_.height));
+    place("Light plane", x, y, w, 0.3f * static_cast<float>(layout_.height));
     if (ImGui::Begin("Light plane", nullptr, kPanel)) {
         if (!inspection_ || inspection_->lights.empty() || !scene_) {
             ImGui::TextUnformatted("The selected light's visible fragments, in its plane.");
@@ -294,7 +296,7 @@ void Viewer::drawPathPanel() {
     const float x = static_cast<float>(layout_.width - layout_.rightWidth);
     const float w = static_cast<float>(layout_.rightWidth);
     const float y = 0.6f * static_cast<float>(layout_.height);
-    place(x, y, w, static_cast<float>(layout_.height) - y);
+    place("Path", x, y, w, static_cast<float>(layout_.height) - y);
     if (ImGui::Begin("Path", nullptr, kPanel)) {
         if (!inspection_ || inspection_->lights.empty()) {
             ImGui::TextUnformatted("The history-tree path of the selected light.");

@@ -30,6 +30,10 @@ nlohmann::json Viewer::stateJson() const {
                    {"treeGraphWidget", TreePanel::hasGraphWidget()},
                    {"preview", PENUMBRA_HAVE_RENDERER != 0},
                    {"precompute", PENUMBRA_HAVE_PRECOMPUTE != 0}};
+    json rects = json::object();
+    for (const auto& [name, r] : panelRects_) rects[name] = {r[0], r[1], r[2], r[3]};
+    rects["3D view"] = {layout_.view.x, layout_.view.y, layout_.view.width, layout_.view.height};
+    s["panelRects"] = rects;
     s["inspectionPending"] = pending_ != nullptr;
     if (inspection_) {
         const PointInspection& p = *inspection_;

@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "app/gl/offscreen_context.h"
 #include "app/viewer/imgui_session.h"
 #include "app/viewer/png_output.h"
 
@@ -81,6 +82,7 @@ std::string windowUnavailableReason() {
 }
 
 void runWindow(const WindowOptions& o) {
+    gl::preferUiThreadSoftwareRasteriser();
     const GlfwLibrary glfw;
     if (!glfw.ok()) throw std::runtime_error("cannot start GLFW: " + tGlfwError);
     auto window = createWindow(o.width, o.height, "Penumbra - " + o.scene.filename().string());
