@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <set>
 
 #include "app/viewer/point_inspection.h"
@@ -170,6 +172,27 @@ TEST(ViewerScreenshot, SampledPreviewConvergesToTheExactOne) {
     const json many = run(64, 1);
     EXPECT_LT(many["preview"]["relativeRmsError"].get<double>(), 0.5 * history.front());
     EXPECT_TRUE(fs::exists(dir / "preview.png"));
+}
+
+// `penumbra view` with no display says so and writes the headless screenshot and its state
+// (with the surface point at the centre of the 3D view inspected) instead of failing.
+TEST(ViewerFallback, NoDisplayWritesTheHeadlessScreenshot) {
+    const fs::path dir = test::scratchDir("viewer_fallback");
+    const std::string command =
+        "env -u DISPLAY -u WAYLAND_DISPLAY " + test::shellQuote(PENUMBRA_EXE) + " view " +
+        test::shellQuote(cornell().string()) + " --no-preview --out-dir " +
+        test::shellQuote(dir.string()) + " >" + test::shellQuote((dir / "stdout").string()) +
+        " 2>" + test::shellQuote((dir / "stderr").string());
+    ASSERT_EQ(test::runShell(command), 0);
+    std::ifstream err(dir / "stderr");
+    const std::string message((std::istreambuf_iterator<char>(err)), {});
+    EXPECT_NE(message.find("cannot open a window"), std::string::npos) << message;
+    EXPECT_NE(message.find("DISPLAY"), std::string::npos) << message;
+    const test::Image image = test::readPng(dir / "view.png");
+    EXPECT_EQ(image.width, 1280);
+    const json state = test::readJson(dir / "view_state.json");
+    ASSERT_FALSE(state["point"].is_null());
+    EXPECT_FALSE(state["point"]["lights"].empty());
 }
 
 TEST(ViewerScreenshot, BadArgumentsAreRefusedWithTheReason) {
