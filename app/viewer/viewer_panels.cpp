@@ -189,13 +189,14 @@ void Viewer::drawPointPanel() {
         } else {
             const PointInspection& p = *inspection_;
             ImGui::Text("face %u  x = (%.4g, %.4g, %.4g)", p.face, p.point.x, p.point.y, p.point.z);
-            ImGui::Text("normal (%.3f, %.3f, %.3f)", p.normal.x, p.normal.y, p.normal.z);
+            ImGui::Text("normal (%.3f, %.3f, %.3f)   * = tree built by this query", p.normal.x,
+                        p.normal.y, p.normal.z);
             if (ImGui::BeginTable(
                     "lights", 6,
                     ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY)) {
                 ImGui::TableSetupColumn("light");
                 ImGui::TableSetupColumn("visible");
-                ImGui::TableSetupColumn("form factor / unoccl.");
+                ImGui::TableSetupColumn("form factor");
                 ImGui::TableSetupColumn("frags");
                 ImGui::TableSetupColumn("nodes");
                 ImGui::TableSetupColumn("time");
@@ -205,8 +206,7 @@ void Viewer::drawPointPanel() {
                     ImGui::TableNextRow();
                     ImGui::TableNextColumn();
                     char label[32];
-                    std::snprintf(label, sizeof label, "%u (face %u)", li.result.light,
-                                  li.result.lightFace);
+                    std::snprintf(label, sizeof label, "%u", li.result.light);
                     if (ImGui::Selectable(label, selectedLight_ == k,
                                           ImGuiSelectableFlags_SpanAllColumns)) {
                         selectedLight_ = k;
@@ -215,14 +215,16 @@ void Viewer::drawPointPanel() {
                     ImGui::TableNextColumn();
                     ImGui::Text("%.2f%%", 100 * li.result.fraction);
                     ImGui::TableNextColumn();
-                    ImGui::Text("%.4g / %.4g", li.result.formFactor,
-                                li.result.unoccludedFormFactor);
+                    ImGui::Text("%.4g", li.result.formFactor);
+                    if (ImGui::IsItemHovered())
+                        ImGui::SetTooltip("unoccluded: %.6g (light face %u)",
+                                          li.result.unoccludedFormFactor, li.result.lightFace);
                     ImGui::TableNextColumn();
                     ImGui::Text("%zu", li.result.fragments.size());
                     ImGui::TableNextColumn();
                     ImGui::Text("%u", li.result.nodesVisited);
                     ImGui::TableNextColumn();
-                    ImGui::Text("%.2f ms%s", 1e3 * li.seconds, li.treeWasBuilt ? " +build" : "");
+                    ImGui::Text("%.1f ms%s", 1e3 * li.seconds, li.treeWasBuilt ? "*" : "");
                 }
                 ImGui::EndTable();
             }
