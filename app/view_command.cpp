@@ -22,6 +22,7 @@ struct ViewOptions {
     std::string camera, size = "1280x800", stateOut, outDir = "out";
     double quitAfter = 0;
     bool noPreview = false;
+    bool precompute = false;
 };
 
 void runView(const CLI::App& sub, const ViewOptions& o) {
@@ -41,6 +42,7 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
         w.stateOut = o.stateOut;
         w.quitAfterSeconds = o.quitAfter;
         w.viewer.preview = !o.noPreview;
+        w.precompute = o.precompute;
         try {
             viewer::runWindow(w);
         } catch (const std::runtime_error& e) {
@@ -104,6 +106,8 @@ void registerViewCommand(CLI::App& app) {
     sub->add_option("--quit-after", o->quitAfter, "Close the window after this many seconds")
         ->type_name("SECONDS");
     sub->add_flag("--no-preview", o->noPreview, "Do not run the progressive preview");
+    sub->add_flag("--precompute", o->precompute,
+                  "Start precomputing every pair in the background when the scene opens");
     sub->callback([sub, o] { runView(*sub, *o); });
 }
 

@@ -5,6 +5,7 @@
 #include <imgui_impl_glfw.h>
 
 #include <chrono>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -105,6 +106,7 @@ void runWindow(const WindowOptions& o) {
         Viewer viewer(o.viewer);
         if (!o.scene.empty()) viewer.openScene(o.scene);
         if (o.camera) viewer.setCamera(*o.camera);
+        if (o.precompute) viewer.startPrecompute();
         const auto start = std::chrono::steady_clock::now();
         auto last = start;
         std::string lastState;
@@ -137,6 +139,10 @@ void runWindow(const WindowOptions& o) {
                 break;
             std::this_thread::sleep_until(frameStart + kFrame);
         }
+        const FrameStats& f = viewer.frameStats();
+        std::fprintf(stderr,
+                     "penumbra view: %zu frames, UI work per frame %.1f ms mean, %.1f ms max\n",
+                     f.frames, f.frames ? 1e3 * f.sumSeconds / f.frames : 0.0, 1e3 * f.maxSeconds);
     }
 }
 

@@ -16,6 +16,7 @@ struct WindowOptions {
     std::optional<Camera> camera;
     std::filesystem::path stateOut;  // optional: the UI state (JSON), rewritten when it changes
     double quitAfterSeconds = 0;     // > 0: close by itself (tests)
+    bool precompute = false;         // start precomputing every pair once the scene is open
     ViewerOptions viewer;
 };
 
@@ -23,7 +24,8 @@ struct WindowOptions {
 // and terminates GLFW again.
 std::string windowUnavailableReason();
 
-// Runs until the window closes. Throws std::runtime_error when no window can be opened.
+// Runs until the window closes, then prints the frame times (count, mean, max) to stderr.
+// Throws std::runtime_error when no window can be opened.
 void runWindow(const WindowOptions& options);
 
 }  // namespace penumbra::viewer
