@@ -20,10 +20,6 @@ DynamicLibrary::DynamicLibrary(std::initializer_list<const char*> names) {
     throw std::runtime_error("cannot open library: " + errors);
 }
 
-DynamicLibrary::~DynamicLibrary() {
-    if (handle_ != nullptr) dlclose(handle_);
-}
-
 void* DynamicLibrary::find(const char* symbol) const { return dlsym(handle_, symbol); }
 
 void* DynamicLibrary::require(const char* symbol) const {

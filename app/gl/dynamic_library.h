@@ -1,4 +1,6 @@
-// DynamicLibrary: a shared library opened at run time (dlopen, RTLD_LOCAL), closed on destruction.
+// DynamicLibrary: a shared library opened at run time (dlopen, RTLD_LOCAL). It is never closed:
+// Mesa's libraries keep thread-local state and exit handlers that must outlive any context, and
+// leak checkers need the module loaded to name (and suppress) what it keeps at exit.
 // The offscreen GL backends open libOSMesa and libEGL this way so that their gl* symbols never
 // meet libGL's (which GLFW opens the same way) in one symbol namespace.
 #pragma once
@@ -12,7 +14,7 @@ class DynamicLibrary {
     // Tries each name in turn; throws std::runtime_error listing dlerror() for each when none
     // opens.
     explicit DynamicLibrary(std::initializer_list<const char*> names);
-    ~DynamicLibrary();
+    ~DynamicLibrary() = default;
     DynamicLibrary(const DynamicLibrary&) = delete;
     DynamicLibrary& operator=(const DynamicLibrary&) = delete;
 

@@ -45,7 +45,15 @@ static std::string slurp(const fs::path& p) {
     return ss.str();
 }
 
+// Under the sanitizer build, the child processes' LeakSanitizer ignores what the GL libraries
+// keep at exit (tests/app/lsan_gl.supp); an LSAN_OPTIONS set by the caller wins.
+static void suppressGlLeaksInChildren() {
+    const std::string supp = (sourceDir() / "tests" / "app" / "lsan_gl.supp").string();
+    setenv("LSAN_OPTIONS", ("suppressions=" + supp).c_str(), /*overwrite=*/0);
+}
+
 int runShell(const std::string& command) {
+    suppressGlLeaksInChildren();
     const int status = std::system(command.c_str());
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
