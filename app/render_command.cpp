@@ -1,5 +1,7 @@
 // `penumbra render SCENE [--camera EX,EY,EZ,TX,TY,TZ[,FOV]] [--size WxH] [--spp N]
 //                 [--method exact|sampled|reference] [--light-samples N] [--seed S] --out FILE`
+//                 (and --up X,Y,Z, --reference-samples, --glossy-samples, --light-seed,
+//                  --exposure, --threads, --out-pfm; see --help)
 //
 // Renders the scene with the progressive CPU renderer (engine/renderer.h) and writes the image:
 // FILE ending in .png (tone mapped, sRGB) or .pfm (linear float); --out may be given twice (one
@@ -30,6 +32,7 @@ namespace {
 struct RenderOptions {
     std::string scene;
     std::string camera;
+    std::string up;
     std::string size = "512x512";
     int spp = 16;
     std::string method = "exact";
@@ -55,7 +58,7 @@ std::optional<double> parseNumber(std::string_view s) {
     return v;
 }
 
-Camera parseCamera(const std::string& text) {
+std::vector<double> parseNumbers(const std::string& flag, const std::string& text) {
     std::vector<double> v;
     std::string_view rest = text;
     while (true) {
@@ -63,12 +66,17 @@ Camera parseCamera(const std::string& text) {
         const std::string_view item = rest.substr(0, comma);
         const std::optional<double> x = parseNumber(item);
         if (!x)
-            throw usageError("--camera: '" + std::string(item) + "' is not a finite number (in '" +
+            throw usageError(flag + ": '" + std::string(item) + "' is not a finite number (in '" +
                              text + "')");
         v.push_back(*x);
         if (comma == std::string_view::npos) break;
         rest.remove_prefix(comma + 1);
     }
+    return v;
+}
+
+Camera parseCamera(const std::string& text) {
+    const std::vector<double> v = parseNumbers("--camera", text);
     if (v.size() != 6 && v.size() != 7)
         throw usageError("--camera: expected EX,EY,EZ,TX,TY,TZ[,FOV] (6 or 7 numbers), got " +
                          std::to_string(v.size()) + " in '" + text + "'");
@@ -133,6 +141,16 @@ void runRender(const RenderOptions& o) {
     std::optional<Camera> camera;
     if (!o.camera.empty()) camera = parseCamera(o.camera);
     const Scene scene = loadSceneFile(o.scene);
+    if (!o.up.empty()) {
+        const std::vector<double> u = parseNumbers("--up", o.up);
+        if (u.size() != 3 || (u[0] == 0 && u[1] == 0 && u[2] == 0))
+            throw usageError("--up: expected a nonzero vector X,Y,Z, got '" + o.up + "'");
+        const Vec3 up{u[0], u[1], u[2]};
+        if (camera)
+            camera->up = up;
+        else if (!scene.camera)
+            camera = Camera::fitting(scene.mesh.bounds(), {0.3, 0.4, 1.0}, 45, up);
+    }
     if (!camera) camera = scene.camera ? *scene.camera : Camera::fitting(scene.mesh.bounds());
 
     std::optional<tbb::global_control> threads;
@@ -155,6 +173,8 @@ void runRender(const RenderOptions& o) {
         "\ntime: precompute %.3f s (%zu trees), primary rays %.3f s, shading %.3f s, "
         "total %.3f s\n",
         times.precompute, store.treeCount(), times.primary, times.shading, times.total);
+    std::printf("cpu time (all threads): precompute %.3f s, rendering %.3f s, total %.3f s\n",
+                times.precomputeCpu, times.totalCpu - times.precomputeCpu, times.totalCpu);
     std::printf("effects:\n");
     const std::string text = renderer.effects().text();
     size_t start = 0;
@@ -189,6 +209,7 @@ void registerRenderCommand(CLI::App& app) {
     sub->add_option("--camera", o->camera,
                     "Eye and target, and optionally the vertical field of view in degrees: "
                     "EX,EY,EZ,TX,TY,TZ[,FOV] (default: the scene's camera, else one fitted to it)");
+    sub->add_option("--up", o->up, "The camera's up direction X,Y,Z (default 0,1,0)");
     sub->add_option("--size", o->size, "Image size WxH")->capture_default_str();
     sub->add_option("--spp", o->spp, "Primary samples per pixel (passes)")
         ->check(CLI::Range(1, 1 << 20))

@@ -17,6 +17,10 @@ std::string EffectsSummary::text() const {
     const bool exact = method == "exact";
     if (method.empty()) {
         line("nothing rendered yet");
+    } else if (materialsAnalytic + materialsSampled == 0) {
+        line("method: " + method +
+             " - but no face was seen from its front (a face seen from "
+             "behind is black): move the camera");
     } else if (exact) {
         line(
             "method: exact - the visible fragments of every area light from every shading point "

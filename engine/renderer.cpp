@@ -1,5 +1,6 @@
 #include "engine/renderer.h"
 
+#include <sys/resource.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -24,6 +25,14 @@ constexpr uint64_t kPixelStream = 0x50495845ull, kLightStream = 0x4C494748ull;
 
 double seconds(Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double>(b - a).count();
+}
+
+// User + system CPU seconds of the whole process (every thread).
+double processCpuSeconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+           1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
 void validate(const RenderSettings& s) {
@@ -123,6 +132,7 @@ void ProgressiveRenderer::recordUse(const std::vector<PairKey>& keys,
     std::lock_guard lock(mutex_);
     usedKeys_.insert(keys.begin(), keys.end());
     for (uint32_t f : faces) faceSeen_[f] = 1;
+    rendered_ = true;
     method_ = settings.method;
     lightSamples_ = settings.method == DirectMethod::Reference ? settings.referenceSamples
                                                                : settings.lightSamples;
@@ -133,6 +143,7 @@ void ProgressiveRenderer::resetEffects() {
     std::lock_guard lock(mutex_);
     usedKeys_.clear();
     faceSeen_.assign(scene_.faceCount(), 0);
+    rendered_ = false;
 }
 
 double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& settings,
@@ -297,9 +308,11 @@ Film ProgressiveRenderer::render(const Camera& camera, const RenderSettings& set
                                  RenderTimes* times, const std::atomic<bool>* cancel) {
     validate(settings);
     const auto t0 = Clock::now();
+    const double cpu0 = processCpuSeconds();
     Film film;
     film.reset(settings.width, settings.height);
     const double precompute = prepare(camera, settings, cancel);
+    const double cpu1 = processCpuSeconds();
     double primary = 0, shading = 0;
     for (int i = 0; i < settings.spp; ++i) {
         PassTimes pt;
@@ -316,6 +329,8 @@ Film ProgressiveRenderer::render(const Camera& camera, const RenderSettings& set
         times->primary = primary;
         times->shading = shading;
         times->total = seconds(t0, Clock::now());
+        times->precomputeCpu = cpu1 - cpu0;
+        times->totalCpu = processCpuSeconds() - cpu0;
     }
     return film;
 }
@@ -325,8 +340,7 @@ EffectsSummary ProgressiveRenderer::effects() const {
     s.areaLights = scene_.lights.size();
     s.pointLights = scene_.pointLights.size();
     std::lock_guard lock(mutex_);
-    const bool any = std::find(faceSeen_.begin(), faceSeen_.end(), 1) != faceSeen_.end();
-    if (!any) return s;
+    if (!rendered_) return s;
     s.method = toString(method_);
     s.lightSamples = method_ == DirectMethod::Exact ? 0 : lightSamples_;
     s.glossySamples = method_ == DirectMethod::Exact ? glossySamples_ : 0;

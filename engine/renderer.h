@@ -12,6 +12,16 @@
 //              Glossy: samples drawn only inside the visible fragments.
 //   Sampled:   N stratified shadow rays per light per shading point (Embree), the paper's baseline.
 //   Reference: the same as Sampled with many rays (referenceSamples).
+// Conventions (engine/shading.h has the BRDF and the estimators):
+//   - A receiver sees only its face's front hemisphere and a light emits only to its front: a
+//     primary ray that hits a face from behind (or edge-on) returns black, emission included.
+//   - Embree's hit point is computed in float and lies a hair off the face's plane; it is
+//     projected onto the plane (through the face's first vertex, unit Newell normal) before
+//     shading, since the from-point query takes x on the face. The projection is itself rounded:
+//     x is on the plane up to an ulp or so, which moves a shadow boundary by as much.
+//   - Point lights: one shadow ray each (EmbreeScene::occluded), in every method.
+//   - Random numbers are counter-based (engine/random.h): the image does not depend on the
+//     thread schedule, and the same settings give the same film.
 #pragma once
 
 #include <atomic>
@@ -64,6 +74,10 @@ struct RenderTimes {
     double primary = 0;     // tracing primary rays (summed over threads, then scaled to wall time)
     double shading = 0;     // direct illumination
     double total = 0;       // wall time
+    // Process CPU time (all threads, user + system) of the precompute and of the whole render:
+    // on a loaded machine wall times mislead, CPU times still compare methods.
+    double precomputeCpu = 0;
+    double totalCpu = 0;
 };
 
 class ProgressiveRenderer {
@@ -113,6 +127,7 @@ class ProgressiveRenderer {
     mutable std::mutex mutex_;
     std::set<PairKey> usedKeys_;
     std::vector<char> faceSeen_;
+    bool rendered_ = false;
     DirectMethod method_ = DirectMethod::Exact;
     int lightSamples_ = 0, glossySamples_ = 0;
 };

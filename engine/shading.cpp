@@ -7,6 +7,7 @@
 #include "engine/embree_scene.h"
 #include "visibility/form_factor.h"
 #include "visibility/fp_query.h"
+#include "visibility/polygon_clip.h"
 
 namespace penumbra {
 
@@ -73,9 +74,9 @@ DirectLighting::DirectLighting(const Scene& scene, const EmbreeScene& bvh, Visib
         light.ke = scene.material(face).ke;
         light.normal = normalize(scene.mesh.faceAreaNormal(face));
         light.origin = scene.mesh.vertices[scene.mesh.faces[face][0]];
-        std::vector<Vec3> polygon;
-        for (uint32_t v : scene.mesh.faces[face]) polygon.push_back(scene.mesh.vertices[v]);
-        light.sampler.addPolygon(polygon);
+        light.plane = vis::facePlane(scene.mesh, face);
+        for (uint32_t v : scene.mesh.faces[face]) light.polygon.push_back(scene.mesh.vertices[v]);
+        light.sampler.addPolygon(light.polygon);
         lights_.push_back(std::move(light));
     }
 }
@@ -87,8 +88,11 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, S
     if (scratch.lastTree.size() != lights_.size()) {
         scratch.lastKey.assign(lights_.size(), PairKey{});
         scratch.lastTree.assign(lights_.size(), nullptr);
+        scratch.clippedFace.assign(lights_.size(), EmbreeScene::kNoFace);
+        scratch.clippedLight.assign(lights_.size(), vis::Polygon3{});
     }
     Vec3 out{};
+    vis::FromPointResult q;
     for (size_t k = 0; k < lights_.size(); ++k) {
         const AreaLight& light = lights_[k];
         if (light.face == p.face) continue;  // a light does not light itself
@@ -102,18 +106,33 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, S
         }
         const vis::PairKind kind = record->tree.kind;
         if (kind == vis::PairKind::BackFacing || kind == vis::PairKind::FullyHidden) continue;
-        const vis::FromPointResult q = vis::fromPointQuery(scene_.mesh, record->tree, p.x);
-        if (q.fragments.empty()) continue;
+        std::span<const vis::Polygon3> fragments;
+        if (kind == vis::PairKind::FullyVisible) {
+            // What FPQuery returns for a fully visible pair, cached per receiver face.
+            if (light.plane.side(p.x) != vis::Sign::Positive) continue;
+            if (scratch.clippedFace[k] != p.face) {
+                const vis::FacePlane receiver = vis::facePlane(scene_.mesh, p.face);
+                scratch.clippedLight[k] = vis::clipConvexPositive(
+                    light.polygon, vis::OrientedPlane{receiver.a, receiver.b, receiver.c});
+                scratch.clippedFace[k] = p.face;
+            }
+            if (scratch.clippedLight[k].size() < 3) continue;
+            fragments = std::span<const vis::Polygon3>(&scratch.clippedLight[k], 1);
+        } else {
+            q = vis::fromPointQuery(scene_.mesh, record->tree, p.x);
+            fragments = q.fragments;
+        }
+        if (fragments.empty()) continue;
         // Diffuse: irradiance pi ke F times kd / pi. Exact up to rounding.
         double formFactor = 0;
-        for (const vis::Polygon3& fragment : q.fragments)
+        for (const vis::Polygon3& fragment : fragments)
             formFactor += vis::formFactor(p.x, p.n, fragment);
         out += mul(m.kd, light.ke) * formFactor;
         if (!glossy) continue;
         // Glossy: stratified area samples inside the visible fragments only (no shadow rays).
         TriangleSampler& sampler = scratch.fragments;
         sampler.clear();
-        for (const vis::Polygon3& fragment : q.fragments) sampler.addPolygon(fragment);
+        for (const vis::Polygon3& fragment : fragments) sampler.addPolygon(fragment);
         if (sampler.empty()) continue;
         int a = 1, b = 1;
         stratifiedGrid(glossySamples, a, b);

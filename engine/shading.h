@@ -29,6 +29,8 @@
 #include "engine/random.h"
 #include "engine/scene.h"
 #include "engine/visibility_store.h"
+#include "visibility/fp_query.h"
+#include "visibility/pair_occluders.h"
 
 namespace penumbra {
 
@@ -71,8 +73,10 @@ class TriangleSampler {
 struct AreaLight {
     uint32_t face = 0;
     Vec3 ke;
-    Vec3 normal;  // unit, towards the front (the side it lights)
-    Vec3 origin;  // a vertex, for the plane test
+    Vec3 normal;                // unit, towards the front (the side it lights)
+    Vec3 origin;                // a vertex, for the approximate plane test of the sampled estimator
+    vis::FacePlane plane;       // exact plane test (as FPQuery does it)
+    std::vector<Vec3> polygon;  // its vertices
     TriangleSampler sampler;
 };
 
@@ -90,10 +94,14 @@ struct PairKeyHash {
 
 // Per-thread (per-tile) state of the exact estimator: the last tree used per light (neighbouring
 // pixels hit the same receiver patch, so most lookups skip the store), the keys the tile needed,
-// and scratch for the fragments.
+// and scratch for the fragments. For a fully visible pair the fragment is the light clipped to
+// the receiver's front half-space, whatever x: it is cached per light for the last receiver face
+// (the same polygon FPQuery would return, without walking or allocating per point).
 struct ExactScratch {
     std::vector<PairKey> lastKey;             // per light
     std::vector<const PairRecord*> lastTree;  // per light (nullptr: none yet)
+    std::vector<uint32_t> clippedFace;        // per light: the receiver of clippedLight
+    std::vector<vis::Polygon3> clippedLight;  // per light
     std::unordered_set<PairKey, PairKeyHash> used;
     TriangleSampler fragments;
 };

@@ -1,0 +1,130 @@
+// Tests of `penumbra render`, run as a real process (PENUMBRA_EXE): the files it writes, what it
+// prints, and its exit codes for bad input.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#ifndef PENUMBRA_EXE
+#error "PENUMBRA_EXE must name the penumbra executable"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Floor [-2,2]^2 at z=0 facing up, a light [-0.5,0.5]^2 at z=2 facing down, a blocker at z=1.
+const char* kObj =
+    "mtllib scene.mtl\n"
+    "v -2 -2 0\nv 2 -2 0\nv 2 2 0\nv -2 2 0\n"
+    "v -0.5 -0.5 2\nv -0.5 0.5 2\nv 0.5 0.5 2\nv 0.5 -0.5 2\n"
+    "v 0 -0.5 1\nv 0 0.5 1\nv 1 0.5 1\nv 1 -0.5 1\n"
+    "usemtl white\nf 1 2 3 4\n"
+    "usemtl lamp\nf 5 6 7 8\n"
+    "usemtl white\nf 9 10 11 12\n";
+const char* kMtl = "newmtl white\nKd 0.8 0.8 0.8\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n";
+
+struct RunResult {
+    int exitCode = -1;
+    std::string output;  // stdout and stderr
+};
+
+RunResult run(const std::string& args) {
+    RunResult r;
+    const std::string command = std::string(PENUMBRA_EXE) + " render " + args + " 2>&1";
+    FILE* pipe = ::popen(command.c_str(), "r");
+    if (pipe == nullptr) {
+        ADD_FAILURE() << "popen failed: " << command;
+        return r;
+    }
+    char buf[4096];
+    size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, n);
+    const int status = ::pclose(pipe);
+    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+class RenderCommand : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() /
+               ("penumbra_render_cmd_" + std::to_string(::getpid()) + "_" +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(dir_);
+        std::ofstream(dir_ / "scene.obj") << kObj;
+        std::ofstream(dir_ / "scene.mtl") << kMtl;
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    std::string base() const {
+        return path("scene.obj") +
+               " --camera 0.3,-5,1.5,0,0,0.3,40 --up 0,0,1 --size 16x12 --spp 2";
+    }
+    fs::path dir_;
+};
+
+TEST_F(RenderCommand, WritesPngAndPfmAndExplainsItself) {
+    const RunResult r = run(base() + " --out " + path("a.png") + " --out " + path("a.pfm"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("time: precompute"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("shading"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("pairs never seen"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("materials analytic"), std::string::npos) << r.output;
+    std::ifstream pfm(path("a.pfm"), std::ios::binary);
+    std::string magic;
+    int w = 0, h = 0;
+    double scale = 0;
+    pfm >> magic >> w >> h >> scale;
+    EXPECT_EQ(magic, "PF");
+    EXPECT_EQ(w, 16);
+    EXPECT_EQ(h, 12);
+    EXPECT_EQ(scale, -1.0);
+    pfm.get();
+    const std::string data((std::istreambuf_iterator<char>(pfm)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(data.size(), 16u * 12 * 3 * 4);
+    std::ifstream png(path("a.png"), std::ios::binary);
+    std::string sig(8, '\0');
+    png.read(sig.data(), 8);
+    EXPECT_EQ(sig, std::string("\x89PNG\r\n\x1a\n", 8));
+}
+
+TEST_F(RenderCommand, SampledMethodRuns) {
+    const RunResult r =
+        run(base() + " --method sampled --light-samples 4 --out-pfm " + path("s.pfm"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("4 stratified shadow rays"), std::string::npos) << r.output;
+    EXPECT_TRUE(fs::exists(path("s.pfm")));
+}
+
+TEST_F(RenderCommand, BadInputGetsAClearErrorAndExitCode) {
+    RunResult r = run(base() + " --size 16by12 --out " + path("a.png"));
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("--size"), std::string::npos) << r.output;
+    r = run(base() + " --out " + path("a.jpg"));
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find(".png or .pfm"), std::string::npos) << r.output;
+    r = run(base() + " --method fancy --out " + path("a.png"));
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("fancy"), std::string::npos) << r.output;
+    r = run(path("scene.obj") + " --camera 1,2,3,1,2 --out " + path("a.png"));
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("--camera"), std::string::npos) << r.output;
+    r = run(base());
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(r.output.find("--out"), std::string::npos) << r.output;
+    r = run(path("missing.obj") + " --out " + path("a.png"));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.output.find("missing.obj"), std::string::npos) << r.output;
+    r = run(base() + " --out " + path("no_such_dir/a.png"));
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(r.output.find("a.png"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(path("a.png")));
+}
+
+}  // namespace
