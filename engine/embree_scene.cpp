@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cmath>
-#include <limits>
 #include <mutex>
 #include <stdexcept>
 #include <type_traits>
@@ -73,53 +73,6 @@ void setRay(RTCRay& ray, Vec3 org, Vec3 dir, double tnear, double tfar) {
     ray.mask = 0xFFFFFFFFu;  // Debian's Embree is built with ray masks: mask 0 hits nothing
     ray.id = 0;
     ray.flags = 0;
-}
-
-// Float bounds that contain a double interval: round down / up.
-float floatDown(double v) {
-    float f = static_cast<float>(v);
-    if (static_cast<double>(f) > v) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
-    return f;
-}
-float floatUp(double v) {
-    float f = static_cast<float>(v);
-    if (static_cast<double>(f) < v) f = std::nextafter(f, std::numeric_limits<float>::infinity());
-    return f;
-}
-
-// Bounds of the user primitives of the face-box scene: primitive i is face i's box.
-void faceBoxBounds(const RTCBoundsFunctionArguments* args) {
-    const auto* boxes = static_cast<const EmbreeScene::Box*>(args->geometryUserPtr);
-    const EmbreeScene::Box& b = boxes[args->primID];
-    RTCBounds* out = args->bounds_o;
-    out->lower_x = floatDown(b.lo.x);
-    out->lower_y = floatDown(b.lo.y);
-    out->lower_z = floatDown(b.lo.z);
-    out->upper_x = floatUp(b.hi.x);
-    out->upper_y = floatUp(b.hi.y);
-    out->upper_z = floatUp(b.hi.z);
-}
-
-// What shaftCandidates' point-query callback reads and fills.
-struct ShaftQuery {
-    const EmbreeScene::Box* faceBox;
-    const uint32_t* faceFirstPrim;
-    uint32_t receiver, light;
-    Vec3 lo, hi;  // the shaft box, exact (doubles)
-    std::vector<uint32_t>* out;
-};
-
-// Called for every face box the traversal reaches: the exact (double) closed-box test.
-bool shaftQueryVisit(RTCPointQueryFunctionArguments* args) {
-    const auto* q = static_cast<const ShaftQuery*>(args->userPtr);
-    const uint32_t f = args->primID;
-    if (f == q->receiver || f == q->light) return false;
-    if (q->faceFirstPrim[f + 1] == q->faceFirstPrim[f]) return false;  // no triangles
-    const EmbreeScene::Box& b = q->faceBox[f];
-    if (b.lo.x <= q->hi.x && b.hi.x >= q->lo.x && b.lo.y <= q->hi.y && b.hi.y >= q->lo.y &&
-        b.lo.z <= q->hi.z && b.hi.z >= q->lo.z)
-        q->out->push_back(f);
-    return false;  // the query sphere is not changed
 }
 
 }  // namespace
@@ -264,30 +217,15 @@ EmbreeScene::EmbreeScene(const vis::PolygonMesh& mesh, const Options& options)
     rtcCommitScene(scene_.get());
     throwIfError("rtcCommitScene");
 
-    // The face-box scene for shaftCandidates: one user primitive per face (its box).
-    boxScene_.reset(rtcNewScene(device_.get()));
-    throwIfError("rtcNewScene");
-    if (!boxScene_) throw std::runtime_error("Embree error in rtcNewScene: no scene");
-    if (nf > 0) {
-        RTCGeometry geom = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_USER);
-        throwIfError("rtcNewGeometry");
-        struct GeometryRelease {
-            RTCGeometry g;
-            ~GeometryRelease() {
-                if (g) rtcReleaseGeometry(g);
-            }
-        } release{geom};
-        rtcSetGeometryUserPrimitiveCount(geom, static_cast<unsigned>(nf));
-        // The boxes live in faceBox_'s heap buffer, which a move of this object keeps; Embree
-        // reads them only during the commit below.
-        rtcSetGeometryUserData(geom, faceBox_.data());
-        rtcSetGeometryBoundsFunction(geom, &faceBoxBounds, nullptr);
-        rtcCommitGeometry(geom);
-        rtcAttachGeometry(boxScene_.get(), geom);
-        throwIfError("rtcAttachGeometry");
+    // The shaft-candidate hierarchy over the face boxes (faces with triangles only).
+    std::vector<vis::Bounds3> boxes(nf);
+    std::vector<bool> include(nf);
+    for (uint32_t f = 0; f < nf; ++f) {
+        boxes[f].add(faceBox_[f].lo);
+        boxes[f].add(faceBox_[f].hi);
+        include[f] = faceFirstPrim_[f + 1] > faceFirstPrim_[f];
     }
-    rtcCommitScene(boxScene_.get());
-    throwIfError("rtcCommitScene");
+    shaftTree_ = FaceBoxTree(boxes, include);
 }
 
 EmbreeScene::~EmbreeScene() = default;
@@ -296,7 +234,7 @@ EmbreeScene& EmbreeScene::operator=(EmbreeScene&& o) noexcept {
     if (this == &o) return *this;
     // Release the old handles in destruction order: scene, device, then the error record the
     // old device's callback points to.
-    boxScene_ = std::move(o.boxScene_);
+    shaftTree_ = std::move(o.shaftTree_);
     scene_ = std::move(o.scene_);
     device_ = std::move(o.device_);
     errors_ = std::move(o.errors_);
@@ -408,35 +346,26 @@ double EmbreeScene::sampledFraction(uint32_t receiver, uint32_t light, Vec3 x, i
 std::vector<uint32_t> EmbreeScene::shaftCandidates(uint32_t receiver, uint32_t light) const {
     checkFace(receiver, "receiver");
     checkFace(light, "light");
-    const Box& r = faceBox_[receiver];
-    const Box& l = faceBox_[light];
-    ShaftQuery q;
-    q.faceBox = faceBox_.data();
-    q.faceFirstPrim = faceFirstPrim_.data();
-    q.receiver = receiver;
-    q.light = light;
-    q.lo = {std::min(r.lo.x, l.lo.x), std::min(r.lo.y, l.lo.y), std::min(r.lo.z, l.lo.z)};
-    q.hi = {std::max(r.hi.x, l.hi.x), std::max(r.hi.y, l.hi.y), std::max(r.hi.z, l.hi.z)};
+    vis::Bounds3 shaft;
+    for (const Box* b : {&faceBox_[receiver], &faceBox_[light]}) {
+        shaft.add(b->lo);
+        shaft.add(b->hi);
+    }
     std::vector<uint32_t> out;
-    q.out = &out;
-    // A sphere around the box's centre through its corners, grown so that float rounding (of the
-    // centre, the radius, and Embree's point-to-node distances) cannot exclude a node box that
-    // meets the shaft box: every face box meeting the shaft box meets the sphere, so its BVH
-    // nodes are all visited. Looseness only costs visits (the callback tests exactly).
-    const Vec3 c = (q.lo + q.hi) * 0.5;
-    const double radius = 0.5 * vis::length(q.hi - q.lo);
-    const double scale = vis::maxAbs(c) + radius;
-    RTCPointQuery query;
-    query.x = static_cast<float>(c.x);
-    query.y = static_cast<float>(c.y);
-    query.z = static_cast<float>(c.z);
-    query.time = 0.0f;
-    query.radius = floatUp(radius * (1 + 1e-5) + 1e-5 * scale + 1e-30);
-    RTCPointQueryContext context;
-    rtcInitPointQueryContext(&context);
-    rtcPointQuery(boxScene_.get(), &query, &context, &shaftQueryVisit, &q);
-    throwIfError("rtcPointQuery");
-    std::sort(out.begin(), out.end());
+    shaftTree_.overlapping(shaft, out);
+    std::erase_if(out, [&](uint32_t f) { return f == receiver || f == light; });
+    // Increasing face order: a sort for few candidates, a bitmap over all faces (O(faces / 64 +
+    // candidates)) for many.
+    if (out.size() * 64 < faceCount()) {
+        std::sort(out.begin(), out.end());
+        return out;
+    }
+    std::vector<uint64_t> bits((faceCount() + 63) / 64, 0);
+    for (uint32_t f : out) bits[f / 64] |= uint64_t{1} << (f % 64);
+    out.clear();
+    for (size_t w = 0; w < bits.size(); ++w)
+        for (uint64_t b = bits[w]; b != 0; b &= b - 1)
+            out.push_back(static_cast<uint32_t>(w * 64 + std::countr_zero(b)));
     return out;
 }
 

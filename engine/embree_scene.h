@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/face_box_tree.h"
 #include "visibility/polygon_mesh.h"
 
 // Embree's opaque handle types (RTCDevice = RTCDeviceTy*, RTCScene = RTCSceneTy*), declared here
@@ -110,11 +111,8 @@ public:
     // the faces that can cut the shaft between them (the shaft lies inside the convex hull of the
     // two faces, which lies inside that box). Faces with fewer than 3 vertices (no triangles,
     // invisible to the rays too) are left out. Returned in increasing face order.
-    // Cost: a point query (rtcPointQuery) on a second Embree BVH whose primitives are the face
-    // boxes (rounded outward to float), with a sphere that encloses the shaft box (grown by a
-    // relative 1e-5 to absorb float rounding); each face the traversal reaches is then tested
-    // against the shaft box exactly, in doubles. The set is exactly the brute-force box test's;
-    // the work is O(log faces + faces reached), not O(faces).
+    // Cost: a query of a bounding-volume hierarchy over the face boxes (face_box_tree.h, exact
+    // double-precision box tests, built with the scene): O(log faces + candidates), not O(faces).
     std::vector<uint32_t> shaftCandidates(uint32_t receiver, uint32_t light) const;
 
     // Face data kept by the scene (double precision, from the input mesh).
@@ -144,7 +142,6 @@ private:
     std::unique_ptr<detail::EmbreeErrorState> errors_;
     std::unique_ptr<RTCDeviceTy, DeviceDeleter> device_;
     std::unique_ptr<RTCSceneTy, SceneDeleter> scene_;
-    std::unique_ptr<RTCSceneTy, SceneDeleter> boxScene_;  // one user primitive per face box
 
     std::vector<uint32_t> primToFace_;     // per triangle: its face
     std::vector<uint32_t> faceFirstPrim_;  // faces + 1 entries: face f owns triangles [f], .. [f+1] - 1
@@ -153,6 +150,7 @@ private:
     std::vector<Vec3> faceNormal_;         // per face: Newell area normal
     std::vector<double> faceArea_;         // per face: sum of its triangles' areas
     std::vector<Box> faceBox_;             // per face
+    FaceBoxTree shaftTree_;                // over faceBox_, for shaftCandidates
 };
 
 }  // namespace penumbra

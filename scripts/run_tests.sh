@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# CI entry point: installs the dependencies, then builds and tests twice:
+# CI entry point: installs the dependencies, then builds and tests three times:
 #   build/       RelWithDebInfo
 #   build-asan/  RelWithDebInfo with -DPENUMBRA_SANITIZE=ON (ASan + UBSan), PENUMBRA_TEST_SCALE=0.25
-# Runs every configuration even after a failure, prints "N passed, M failed" over both runs as
+#   build-tsan/  RelWithDebInfo with -DPENUMBRA_TSAN=ON (ThreadSanitizer): only penumbra_tests is
+#                built and only the tests that run threads (scheduler, store) run, to stay fast
+# Runs every configuration even after a failure, prints "N passed, M failed" over all runs as
 # its last line, and exits non-zero if anything (configure, build or a test) failed.
 set -uo pipefail
 cd "$(dirname "$0")/.." || exit 1
@@ -14,6 +16,8 @@ total_failed=0
 problems=()
 
 # run_suite NAME BUILD_DIR TEST_SCALE [extra cmake args...]
+# Optional, set in front of the call: SUITE_TARGET (build only this target) and SUITE_TESTS (a
+# ctest -R regular expression: run only the tests it matches).
 run_suite() {
   local name=$1 dir=$2 scale=$3
   shift 3
@@ -26,14 +30,19 @@ run_suite() {
     return
   fi
   echo "=== ${name}: build"
-  if ! cmake --build "${dir}"; then
+  local target=()
+  [[ -n "${SUITE_TARGET:-}" ]] && target=(--target "${SUITE_TARGET}")
+  if ! cmake --build "${dir}" "${target[@]}"; then
     problems+=("${name}: build failed")
     return
   fi
   echo "=== ${name}: test (PENUMBRA_TEST_SCALE=${scale})"
   local log
   log=$(mktemp)
-  (cd "${dir}" && PENUMBRA_TEST_SCALE="${scale}" ctest --output-on-failure --no-tests=error -j2) \
+  local select=()
+  [[ -n "${SUITE_TESTS:-}" ]] && select=(-R "${SUITE_TESTS}")
+  (cd "${dir}" && PENUMBRA_TEST_SCALE="${scale}" ctest --output-on-failure --no-tests=error -j2 \
+    "${select[@]}") \
     2>&1 | tee "${log}"
   local rc=${PIPESTATUS[0]}
   # ctest's summary: "100% tests passed, 0 tests failed out of 42"
@@ -58,6 +67,10 @@ run_suite release build 1
 # Assignments in front of a function call are exported to what the function runs (ctest).
 UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}" \
   run_suite sanitize build-asan 0.25 -DPENUMBRA_SANITIZE=ON
+# oneTBB and Embree are not instrumented: tests/tsan.supp lists (and justifies) what that hides.
+TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1 second_deadlock_stack=1 suppressions=${PWD}/tests/tsan.supp}" \
+  SUITE_TARGET=penumbra_tests SUITE_TESTS='^(PrecomputeScheduler|VisibilityStore)\.' \
+  run_suite tsan build-tsan 0.25 -DPENUMBRA_TSAN=ON
 
 for p in "${problems[@]}"; do
   echo "run_tests: ${p}" >&2
