@@ -49,6 +49,10 @@ Scene loadSceneFile(const std::filesystem::path& path);
 // `penumbra query`: exact light visibility at points (app/query_command.cpp).
 void registerQueryCommand(CLI::App& app);
 void registerBenchCommand(CLI::App& app);
+// `penumbra view` (app/view_command.cpp) and `penumbra screenshot` (app/screenshot_command.cpp):
+// the viewer in a window, and its UI rendered offscreen.
+void registerViewCommand(CLI::App& app);
+void registerScreenshotCommand(CLI::App& app);
 // `penumbra render`: an image with exact soft shadows (app/render_command.cpp).
 void registerRenderCommand(CLI::App& app);
 // `penumbra precompute`: every pair's history tree into a visibility file

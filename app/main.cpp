@@ -29,6 +29,8 @@ int run(int argc, char** argv) {
     app.require_subcommand(1);
     penumbra::cli::registerQueryCommand(app);
     penumbra::cli::registerBenchCommand(app);
+    penumbra::cli::registerViewCommand(app);
+    penumbra::cli::registerScreenshotCommand(app);
     penumbra::cli::registerRenderCommand(app);
     penumbra::cli::registerPrecomputeCommand(app);
     try {

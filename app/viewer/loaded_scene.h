@@ -1,0 +1,28 @@
+// LoadedScene: a scene with what the viewer computes on it (the Embree BVH for picking and the
+// VisibilityStore of history trees). Shared (std::shared_ptr) between the UI thread and the
+// background tasks, so that a task still running when another scene is opened keeps its scene
+// alive until it ends.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+
+#include "engine/embree_scene.h"
+#include "engine/scene.h"
+#include "engine/visibility_store.h"
+
+namespace penumbra::viewer {
+
+struct LoadedScene {
+    std::filesystem::path path;
+    Scene scene;
+    vis::Bounds3 bounds;
+    std::unique_ptr<EmbreeScene> bvh;
+    std::unique_ptr<VisibilityStore> store;
+};
+
+// Loads the file (app/commands.h loadSceneFile: errors as CommandError / SceneError) and builds
+// the BVH and an empty store.
+std::shared_ptr<LoadedScene> loadScene(const std::filesystem::path& path);
+
+}  // namespace penumbra::viewer

@@ -1,0 +1,24 @@
+// Picking: the surface point under a pixel, by casting the camera ray through the pixel centre
+// into the Embree BVH (EmbreeScene::intersect). The hit (float precision in Embree) is projected
+// back onto the hit face's plane in double, so that the from-point query gets a point on the face.
+#pragma once
+
+#include <optional>
+
+#include "app/viewer/scene_renderer.h"
+#include "engine/embree_scene.h"
+#include "engine/scene.h"
+
+namespace penumbra::viewer {
+
+struct PickedPoint {
+    uint32_t face = 0;
+    Vec3 point;
+};
+
+// (px, py): framebuffer pixel (top-left origin); nullopt outside the viewport or on a miss.
+std::optional<PickedPoint> pickSurface(const Scene& scene, const EmbreeScene& bvh,
+                                       const Camera& camera, const Viewport& viewport, double px,
+                                       double py);
+
+}  // namespace penumbra::viewer

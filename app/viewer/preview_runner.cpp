@@ -1,0 +1,233 @@
+#include "app/viewer/preview_runner.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "engine/renderer.h"
+
+namespace penumbra::viewer {
+
+// Without engine/renderer.cpp (branch `render` not merged) the jobs only report that; everything
+// that calls the renderer is compiled only with PENUMBRA_HAVE_RENDERER.
+
+struct PreviewRunner::Job {
+    std::shared_ptr<LoadedScene> scene;
+    Camera camera;
+    PreviewSettings settings;
+    std::atomic<bool> cancel{false};
+    std::atomic<bool> ended{false};
+};
+
+namespace {
+
+#if PENUMBRA_HAVE_RENDERER
+double luminance(const Vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
+
+uint8_t toSrgb8(double v) {
+    v = std::clamp(v, 0.0, 1.0);
+    const double s = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
+    return static_cast<uint8_t>(std::lround(255 * s));
+}
+
+void putPixel(PreviewImage& img, int x, int y, uint8_t r, uint8_t g, uint8_t b) {
+    uint8_t* p = img.rgba.data() + (static_cast<size_t>(y) * img.width + x) * 4;
+    p[0] = r;
+    p[1] = g;
+    p[2] = b;
+    p[3] = 255;
+}
+
+void putFilm(PreviewImage& img, const Film& film, int offsetX, double exposure) {
+    for (int y = 0; y < film.height; ++y)
+        for (int x = 0; x < film.width; ++x) {
+            const Vec3 c = film.mean(x, y) * exposure;
+            putPixel(img, offsetX + x, y, toSrgb8(c.x), toSrgb8(c.y), toSrgb8(c.z));
+        }
+}
+
+// Black -> red -> yellow -> white as t goes 0 -> 1.
+void heat(double t, uint8_t& r, uint8_t& g, uint8_t& b) {
+    t = std::clamp(t, 0.0, 1.0) * 3;
+    r = static_cast<uint8_t>(255 * std::min(t, 1.0));
+    g = static_cast<uint8_t>(255 * std::clamp(t - 1, 0.0, 1.0));
+    b = static_cast<uint8_t>(255 * std::clamp(t - 2, 0.0, 1.0));
+}
+
+// RMS of the luminance difference relative to the exact image's mean luminance.
+double relativeRms(const Film& exact, const Film& sampled) {
+    double sumSq = 0, sumExact = 0;
+    const size_t n = static_cast<size_t>(exact.width) * exact.height;
+    for (int y = 0; y < exact.height; ++y)
+        for (int x = 0; x < exact.width; ++x) {
+            const double e = luminance(exact.mean(x, y)), s = luminance(sampled.mean(x, y));
+            sumSq += (s - e) * (s - e);
+            sumExact += e;
+        }
+    const double mean = sumExact / std::max<size_t>(n, 1);
+    return mean > 0 ? std::sqrt(sumSq / std::max<size_t>(n, 1)) / mean : 0.0;
+}
+#endif
+
+}  // namespace
+
+const char* toString(PreviewMode mode) {
+    switch (mode) {
+        case PreviewMode::Exact:
+            return "exact";
+        case PreviewMode::Sampled:
+            return "sampled";
+        case PreviewMode::SideBySide:
+            return "side by side";
+        case PreviewMode::Difference:
+            return "difference";
+    }
+    return "?";
+}
+
+PreviewRunner::~PreviewRunner() {
+    stop();
+    tasks_.wait();
+}
+
+void PreviewRunner::restart(std::shared_ptr<LoadedScene> scene, const Camera& camera,
+                            const PreviewSettings& settings) {
+    auto job = std::make_shared<Job>();
+    job->scene = std::move(scene);
+    job->camera = camera;
+    job->settings = settings;
+    {
+        const std::lock_guard lock(mutex_);
+        if (current_) current_->cancel = true;
+        current_ = job;
+        latest_ = PreviewImage{};
+        changed_ = false;
+    }
+    tasks_.run([this, job] { run(job); });
+}
+
+void PreviewRunner::stop() {
+    const std::lock_guard lock(mutex_);
+    if (current_) current_->cancel = true;
+}
+
+bool PreviewRunner::running() const {
+    const std::lock_guard lock(mutex_);
+    return current_ && !current_->ended && !current_->cancel;
+}
+
+std::optional<PreviewImage> PreviewRunner::takeUpdate() {
+    const std::lock_guard lock(mutex_);
+    if (!changed_) return std::nullopt;
+    changed_ = false;
+    return latest_;
+}
+
+EffectsSummary PreviewRunner::effects() const {
+    const std::lock_guard lock(mutex_);
+    return effects_;
+}
+
+void PreviewRunner::wait() { tasks_.wait(); }
+
+void PreviewRunner::run(const std::shared_ptr<Job>& job) {
+    struct EndMark {
+        Job& job;
+        ~EndMark() { job.ended = true; }
+    } endMark{*job};
+    if (job->cancel) return;
+    const auto start = std::chrono::steady_clock::now();
+    const PreviewSettings& s = job->settings;
+    const bool wantExact = s.mode != PreviewMode::Sampled;
+    const bool wantSampled = s.mode != PreviewMode::Exact;
+    PreviewImage image;
+    image.width = s.mode == PreviewMode::SideBySide ? 2 * s.width : s.width;
+    image.height = s.height;
+    image.rgba.assign(static_cast<size_t>(image.width) * image.height * 4, 0);
+    auto publish = [&](bool finished) {
+        image.seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        image.finished = finished;
+        const std::lock_guard lock(mutex_);
+        if (current_ != job) return;
+        latest_ = image;
+        changed_ = true;
+    };
+#if !PENUMBRA_HAVE_RENDERER
+    (void)wantExact;
+    (void)wantSampled;
+    image.error = "the renderer is not built in (engine/renderer.cpp missing)";
+    publish(true);
+#else
+    LoadedScene& scene = *job->scene;
+    try {
+        ProgressiveRenderer renderer(scene.scene, *scene.bvh, *scene.store);
+        RenderSettings exactSettings;
+        exactSettings.width = s.width;
+        exactSettings.height = s.height;
+        exactSettings.spp = s.passes;
+        exactSettings.method = DirectMethod::Exact;
+        RenderSettings sampledSettings = exactSettings;
+        sampledSettings.method = DirectMethod::Sampled;
+        sampledSettings.lightSamples = s.lightSamples;
+        Film exact, sampled;
+        exact.reset(s.width, s.height);
+        sampled.reset(s.width, s.height);
+        if (wantExact) renderer.prepare(job->camera, exactSettings, &job->cancel);
+        for (int pass = 0; pass < s.passes && !job->cancel; ++pass) {
+            if (wantExact && !renderer.renderPass(job->camera, exactSettings, exact, &job->cancel))
+                return;
+            if (wantSampled &&
+                !renderer.renderPass(job->camera, sampledSettings, sampled, &job->cancel))
+                return;
+            switch (s.mode) {
+                case PreviewMode::Exact:
+                    putFilm(image, exact, 0, s.exposure);
+                    break;
+                case PreviewMode::Sampled:
+                    putFilm(image, sampled, 0, s.exposure);
+                    break;
+                case PreviewMode::SideBySide:
+                    putFilm(image, exact, 0, s.exposure);
+                    putFilm(image, sampled, s.width, s.exposure);
+                    break;
+                case PreviewMode::Difference: {
+                    // Heat scale: an error of 25% of the mean exact luminance is white.
+                    double meanExact = 0;
+                    for (int y = 0; y < s.height; ++y)
+                        for (int x = 0; x < s.width; ++x) meanExact += luminance(exact.mean(x, y));
+                    meanExact /= std::max(1, s.width * s.height);
+                    const double scale = meanExact > 0 ? 1 / (0.25 * meanExact) : 1.0;
+                    for (int y = 0; y < s.height; ++y)
+                        for (int x = 0; x < s.width; ++x) {
+                            uint8_t r, g, b;
+                            heat(std::fabs(luminance(sampled.mean(x, y)) -
+                                           luminance(exact.mean(x, y))) *
+                                     scale,
+                                 r, g, b);
+                            putPixel(image, x, y, r, g, b);
+                        }
+                    break;
+                }
+            }
+            image.passes = pass + 1;
+            if (wantExact && wantSampled) {
+                image.relativeRmsError = relativeRms(exact, sampled);
+                image.errorHistory.push_back(image.relativeRmsError);
+            }
+            if (pass == 0) {
+                // Computed outside the lock: the UI thread takes it every frame.
+                EffectsSummary effects = renderer.effects();
+                const std::lock_guard lock(mutex_);
+                if (current_ == job) effects_ = effects;
+            }
+            publish(pass + 1 == s.passes);
+        }
+    } catch (const std::exception& e) {
+        image.error = e.what();
+        publish(true);
+    }
+#endif
+}
+
+}  // namespace penumbra::viewer

@@ -1,0 +1,80 @@
+// PreviewRunner: the progressive preview of the CPU renderer (engine/renderer.h) in the viewer.
+// Passes run as oneTBB tasks; the UI thread only polls (takeUpdate: a short mutex to swap the
+// newest image). A restart (camera, scene or settings changed) never waits: it raises the running
+// job's cancel flag and starts a new job at once; the old job's images are dropped.
+//
+// Modes: Exact (FPQuery fragments, analytic form factors), Sampled (N shadow rays per light per
+// shading point), SideBySide (exact left, sampled right) and Difference (heat map of
+// |sampled - exact| luminance). The error figure is the RMS of the luminance difference over the
+// image, relative to the exact image's mean luminance: approximate (both images carry primary-ray
+// jitter, which vanishes as passes accumulate).
+#pragma once
+
+#include <tbb/task_group.h>
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/viewer/loaded_scene.h"
+#include "engine/camera.h"
+#include "engine/effects_summary.h"
+
+namespace penumbra::viewer {
+
+enum class PreviewMode { Exact, Sampled, SideBySide, Difference };
+const char* toString(PreviewMode mode);
+
+struct PreviewSettings {
+    PreviewMode mode = PreviewMode::Exact;
+    int width = 160, height = 120;  // of one image
+    int passes = 16;
+    int lightSamples = 16;
+    double exposure = 1.0;
+};
+
+struct PreviewImage {
+    int width = 0, height = 0;         // SideBySide: twice the settings' width
+    std::vector<uint8_t> rgba;         // top row first
+    int passes = 0;                    // passes accumulated in the image
+    double relativeRmsError = -1;      // sampled vs exact (when both are rendered), else -1
+    std::vector<double> errorHistory;  // relativeRmsError after each pass
+    double seconds = 0;                // since the job started
+    bool finished = false;
+    std::string error;  // a failure of the renderer
+};
+
+class PreviewRunner {
+  public:
+    PreviewRunner() = default;
+    ~PreviewRunner();  // cancels and waits for the running job
+    PreviewRunner(const PreviewRunner&) = delete;
+    PreviewRunner& operator=(const PreviewRunner&) = delete;
+
+    void restart(std::shared_ptr<LoadedScene> scene, const Camera& camera,
+                 const PreviewSettings& settings);
+    void stop();  // cancels (non-blocking)
+    // The newest image when it changed since the last call.
+    std::optional<PreviewImage> takeUpdate();
+    bool running() const;
+    EffectsSummary effects() const;
+    // Blocks until every job has ended (headless use only, never on an interactive UI thread).
+    void wait();
+
+  private:
+    struct Job;
+    void run(const std::shared_ptr<Job>& job);
+
+    tbb::task_group tasks_;
+    mutable std::mutex mutex_;  // guards latest_, changed_, effects_ and current_
+    std::shared_ptr<Job> current_;
+    PreviewImage latest_;
+    bool changed_ = false;
+    EffectsSummary effects_;
+};
+
+}  // namespace penumbra::viewer

@@ -1,0 +1,105 @@
+// Viewer::stateJson: what the UI shows, for `--state-out` and the tests that check screenshots
+// against independent queries.
+#include "app/viewer/palette.h"
+#include "app/viewer/tree_panel.h"
+#include "app/viewer/viewer.h"
+#include "engine/precompute_scheduler.h"
+
+namespace penumbra::viewer {
+namespace {
+
+nlohmann::json vec(const Vec3& v) { return {v.x, v.y, v.z}; }
+
+}  // namespace
+
+nlohmann::json Viewer::stateJson() const {
+    using nlohmann::json;
+    json s;
+    s["scene"] = scene_ ? scene_->path.string() : "";
+    s["status"] = status_;
+    s["size"] = {layout_.width, layout_.height};
+    s["viewport"] = {{"x", layout_.view.x},
+                     {"y", layout_.view.y},
+                     {"width", layout_.view.width},
+                     {"height", layout_.view.height}};
+    const Camera& c = orbit_.camera();
+    s["camera"] = {
+        {"eye", vec(c.eye)}, {"target", vec(c.target)}, {"up", vec(c.up)}, {"fovY", c.fovYDegrees}};
+    s["panels"] = {{"help", showHelp_},
+                   {"tree", showTree_},
+                   {"treeGraphWidget", TreePanel::hasGraphWidget()},
+                   {"preview", PENUMBRA_HAVE_RENDERER != 0},
+                   {"precompute", PENUMBRA_HAVE_PRECOMPUTE != 0}};
+    json rects = json::object();
+    for (const auto& [name, r] : panelRects_) rects[name] = {r[0], r[1], r[2], r[3]};
+    rects["3D view"] = {layout_.view.x, layout_.view.y, layout_.view.width, layout_.view.height};
+    s["panelRects"] = rects;
+    s["inspectionPending"] = pending_ != nullptr;
+    if (inspection_) {
+        const PointInspection& p = *inspection_;
+        json point = {{"face", p.face},
+                      {"x", vec(p.point)},
+                      {"normal", vec(p.normal)},
+                      {"selectedLight", selectedLight_}};
+        json lights = json::array();
+        for (const LightInspection& li : p.lights) {
+            json fragments = json::array();
+            for (size_t i = 0; i < li.result.fragments.size(); ++i) {
+                json vertices = json::array();
+                for (const Vec3& v : li.result.fragments[i]) vertices.push_back(vec(v));
+                const Rgb colour = fragmentColour(i);
+                fragments.push_back(
+                    {{"colour", {colour.r, colour.g, colour.b}}, {"vertices", vertices}});
+            }
+            json path = json::array();
+            for (const PathStep& st : li.steps)
+                path.push_back({{"node", st.node},
+                                {"depth", st.depth},
+                                {"v0", st.v0},
+                                {"v1", st.v1},
+                                {"occluderFace", st.occluderFace == PathStep::kNoOccluder
+                                                     ? json(nullptr)
+                                                     : json(st.occluderFace)},
+                                {"side", toString(st.side)}});
+            lights.push_back({{"light", li.result.light},
+                              {"lightFace", li.result.lightFace},
+                              {"kind", std::string(vis::toString(li.result.kind))},
+                              {"fraction", li.result.fraction},
+                              {"formFactor", li.result.formFactor},
+                              {"unoccludedFormFactor", li.result.unoccludedFormFactor},
+                              {"nodesVisited", li.result.nodesVisited},
+                              {"seconds", li.seconds},
+                              {"treeNodes", li.tree ? li.tree->nodes.size() : 0},
+                              {"fragments", fragments},
+                              {"path", path}});
+        }
+        point["lights"] = lights;
+        s["point"] = point;
+    } else {
+        s["point"] = nullptr;
+    }
+    s["preview"] = {{"mode", toString(options_.previewSettings.mode)},
+                    {"passes", previewImage_.passes},
+                    {"width", previewImage_.width},
+                    {"height", previewImage_.height},
+                    {"finished", previewImage_.finished},
+                    {"relativeRmsError", previewImage_.relativeRmsError},
+                    {"errorHistory", previewImage_.errorHistory},
+                    {"error", previewImage_.error}};
+    s["frames"] = {{"count", frameStats_.frames},
+                   {"maxSeconds", frameStats_.maxSeconds},
+                   {"meanSeconds",
+                    frameStats_.frames > 0 ? frameStats_.sumSeconds / frameStats_.frames : 0.0}};
+#if PENUMBRA_HAVE_PRECOMPUTE
+    if (precompute_) {
+        const PrecomputeProgress p = precompute_->progress();
+        s["precompute"] = {
+            {"done", p.done},       {"total", p.total},
+            {"seconds", p.seconds}, {"nodes", p.nodes},
+            {"bytes", p.bytes},     {"running", p.state == PrecomputeProgress::State::Running}};
+    }
+#endif
+    return s;
+}
+
+}  // namespace penumbra::viewer

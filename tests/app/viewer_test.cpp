@@ -1,0 +1,250 @@
+// Tests of the viewer (app/viewer/): the path sides of the point inspection against the
+// from-point query, and the headless screenshots (`penumbra screenshot`, OSMesa) checked for
+// content against independent queries: the fragment overlay is where the camera projects the
+// exact fragments, the path panel's state lists the query's path, picking a pixel inspects the
+// surface an independent ray hits, bad arguments are refused.
+#include "app/viewer/viewer.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <set>
+
+#include "app/viewer/point_inspection.h"
+#include "engine/embree_scene.h"
+#include "engine/obj_io.h"
+#include "viewer_test_support.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// Below the ceiling in front of the open side of the Cornell box, looking up at the light: its
+// fragments are seen from the front, nothing in between.
+const char* kCameraFlag = "278,150,-350,278,548,280,45";
+Camera lightCamera() {
+    Camera c;
+    c.eye = {278, 150, -350};
+    c.target = {278, 548, 280};
+    c.fovYDegrees = 45;
+    return c;
+}
+
+fs::path cornell() { return test::sourceDir() / "assets" / "cornell_box.obj"; }
+
+TEST(ViewerPathSteps, SameNodesAsTheFromPointQueryWithConsistentSides) {
+    const Scene scene = loadObj(cornell());
+    VisibilityStore store(scene);
+    const std::vector<Vec3> points = {{278, 0, 280}, {100, 0, 100}, {450, 0, 500}, {200, 0, 420}};
+    size_t both = 0;
+    for (const Vec3& x : points) {
+        const uint32_t face = *findFaceContaining(scene, x).face;
+        const std::vector<LightAtPoint> r = queryPoint(store, face, x, std::nullopt);
+        for (const LightAtPoint& li : r) {
+            const vis::HistoryTree& tree =
+                store.getOrBuild(store.keyAt(face, x, li.lightFace)).tree;
+            const std::vector<viewer::PathStep> steps = viewer::pathSteps(scene.mesh, tree, x);
+            ASSERT_EQ(steps.size(), li.path.size());
+            const std::set<uint32_t> visited(li.path.begin(), li.path.end());
+            for (size_t i = 0; i < steps.size(); ++i) {
+                const viewer::PathStep& s = steps[i];
+                EXPECT_EQ(s.node, li.path[i]);
+                const vis::HistoryNode& n = tree.nodes[s.node];
+                EXPECT_EQ(s.v0, n.v0);
+                EXPECT_EQ(s.occluderFace, tree.nodeOccluder[s.node]);
+                // An inner child is on the path exactly when its side was taken.
+                const bool pos = s.side != viewer::PathSide::Negative;
+                const bool neg =
+                    s.side == viewer::PathSide::Negative || s.side == viewer::PathSide::Both;
+                if (!vis::isLeaf(n.child[0])) {
+                    EXPECT_EQ(visited.count(n.child[0]) > 0, pos);
+                }
+                if (!vis::isLeaf(n.child[1])) {
+                    EXPECT_EQ(visited.count(n.child[1]) > 0, neg);
+                }
+                both += s.side == viewer::PathSide::Both;
+            }
+        }
+    }
+    EXPECT_GT(both, 0u);  // the points see penumbrae: some node splits the light
+}
+
+TEST(ViewerLayout, ViewBetweenTheColumns) {
+    const viewer::Layout l = viewer::computeLayout(1280, 800);
+    EXPECT_EQ(l.view.x, l.leftWidth);
+    EXPECT_EQ(l.view.x + l.view.width + l.rightWidth, 1280);
+    EXPECT_EQ(l.view.height, 800);
+    EXPECT_GT(l.view.width, 400);
+}
+
+TEST(ViewerScreenshot, FragmentOverlayAndPathMatchAnIndependentQuery) {
+    const fs::path dir = test::scratchDir("viewer_screenshot");
+    const Vec3 x{278, 0, 280};
+    const test::ProcessResult r = test::runPenumbra(
+        {"screenshot", cornell().string(), "--point", "278,0,280", "--camera", kCameraFlag,
+         "--size", "1280x800", "--no-preview", "--out", (dir / "shot.png").string(), "--state-out",
+         (dir / "state.json").string()});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const json state = test::readJson(dir / "state.json");
+    const test::Image image = test::readPng(dir / "shot.png");
+    ASSERT_EQ(image.width, 1280);
+    ASSERT_EQ(image.height, 800);
+
+    // The path panel's state against an independent query.
+    const Scene scene = loadObj(cornell());
+    VisibilityStore store(scene);
+    const uint32_t face = *findFaceContaining(scene, x).face;
+    const std::vector<LightAtPoint> q = queryPoint(store, face, x, std::nullopt);
+    ASSERT_EQ(state["point"]["face"], face);
+    ASSERT_EQ(state["point"]["lights"].size(), q.size());
+    const json& light = state["point"]["lights"][0];
+    ASSERT_EQ(light["path"].size(), q[0].path.size());
+    for (size_t i = 0; i < q[0].path.size(); ++i) EXPECT_EQ(light["path"][i]["node"], q[0].path[i]);
+    EXPECT_EQ(light["fragments"].size(), q[0].fragments.size());
+    EXPECT_NEAR(light["fraction"].get<double>(), q[0].fraction, 1e-12);
+    EXPECT_GT(q[0].fragments.size(), 2u);  // a penumbra point: several fragments to look for
+
+    // The fragment overlay where the camera projects the exact fragments.
+    const int viewport[4] = {state["viewport"]["x"], state["viewport"]["y"],
+                             state["viewport"]["width"], state["viewport"]["height"]};
+    const int checked =
+        test::checkFragmentOverlay(image, lightCamera(), viewport, cornell(), face, x, 0);
+    EXPECT_GE(checked, 2);
+}
+
+TEST(ViewerScreenshot, PickingAPixelInspectsTheSurfaceAnIndependentRayHits) {
+    const fs::path dir = test::scratchDir("viewer_pick");
+    const viewer::Layout layout = viewer::computeLayout(640, 400);
+    // A floor point seen from the default-like camera: the pixel where it projects.
+    Camera c;
+    c.eye = {278, 273, -800};
+    c.target = {278, 273, 0};
+    c.fovYDegrees = 39;
+    double px = 0, py = 0;
+    ASSERT_TRUE(c.project({400, 0, 120}, layout.view.width, layout.view.height, px, py));
+    px += layout.view.x;
+    py += layout.view.y;
+    const test::ProcessResult r = test::runPenumbra(
+        {"screenshot", cornell().string(), "--pixel", std::to_string(px) + "," + std::to_string(py),
+         "--camera", "278,273,-800,278,273,0,39", "--size", "640x400", "--no-preview", "--out",
+         (dir / "shot.png").string(), "--state-out", (dir / "state.json").string()});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const json state = test::readJson(dir / "state.json");
+    ASSERT_FALSE(state["point"].is_null());
+    const json& p = state["point"]["x"];
+    // The ray through the pixel centre meets the floor (face 0 of the Cornell box) near the
+    // projected point (within a pixel's footprint, a few scene units here).
+    EXPECT_EQ(state["point"]["face"], 0);
+    EXPECT_NEAR(p[1].get<double>(), 0.0, 1e-9);
+    EXPECT_NEAR(p[0].get<double>(), 400, 5);
+    EXPECT_NEAR(p[2].get<double>(), 120, 5);
+}
+
+// The sampled preview (N shadow rays per light) is an unbiased estimate of the exact one and both
+// share the primary-ray jitter (RenderSettings::seed), so their relative RMS difference falls as
+// passes accumulate (about 1/sqrt(passes): 1/4 after 16) and with more light samples.
+TEST(ViewerScreenshot, SampledPreviewConvergesToTheExactOne) {
+    const fs::path dir = test::scratchDir("viewer_preview");
+    auto run = [&](int lightSamples, int passes) {
+        const test::ProcessResult r = test::runPenumbra(
+            {"screenshot", cornell().string(), "--size", "640x400", "--preview-mode", "diff",
+             "--light-samples", std::to_string(lightSamples), "--passes", std::to_string(passes),
+             "--out", (dir / "shot.png").string(), "--state-out", (dir / "state.json").string(),
+             "--preview-out", (dir / "preview.png").string()});
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        return test::readJson(dir / "state.json");
+    };
+    const json few = run(2, 16);
+    if (!few["panels"]["preview"].get<bool>()) GTEST_SKIP() << "the renderer is not built in";
+    const json& p = few["preview"];
+    ASSERT_EQ(p["error"], "");
+    ASSERT_EQ(p["passes"], 16);
+    ASSERT_TRUE(p["finished"].get<bool>());
+    const std::vector<double> history = p["errorHistory"].get<std::vector<double>>();
+    ASSERT_EQ(history.size(), 16u);
+    EXPECT_GT(history.front(), 0.0);
+    EXPECT_LT(history.back(), 0.5 * history.front());
+    for (size_t i = 1; i < history.size(); ++i) EXPECT_LT(history[i], 1.15 * history[i - 1]);
+    const json many = run(64, 1);
+    EXPECT_LT(many["preview"]["relativeRmsError"].get<double>(), 0.5 * history.front());
+    EXPECT_TRUE(fs::exists(dir / "preview.png"));
+}
+
+// `penumbra view` with no display says so and writes the headless screenshot and its state
+// (with the surface point at the centre of the 3D view inspected) instead of failing.
+TEST(ViewerFallback, NoDisplayWritesTheHeadlessScreenshot) {
+    const fs::path dir = test::scratchDir("viewer_fallback");
+    const std::string command =
+        "env -u DISPLAY -u WAYLAND_DISPLAY " + test::shellQuote(PENUMBRA_EXE) + " view " +
+        test::shellQuote(cornell().string()) + " --no-preview --out-dir " +
+        test::shellQuote(dir.string()) + " >" + test::shellQuote((dir / "stdout").string()) +
+        " 2>" + test::shellQuote((dir / "stderr").string());
+    ASSERT_EQ(test::runShell(command), 0);
+    std::ifstream err(dir / "stderr");
+    const std::string message((std::istreambuf_iterator<char>(err)), {});
+    EXPECT_NE(message.find("cannot open a window"), std::string::npos) << message;
+    EXPECT_NE(message.find("DISPLAY"), std::string::npos) << message;
+    const test::Image image = test::readPng(dir / "view.png");
+    EXPECT_EQ(image.width, 1280);
+    const json state = test::readJson(dir / "view_state.json");
+    ASSERT_FALSE(state["point"].is_null());
+    EXPECT_FALSE(state["point"]["lights"].empty());
+}
+
+TEST(ViewerScreenshot, BadArgumentsAreRefusedWithTheReason) {
+    const fs::path dir = test::scratchDir("viewer_bad");
+    const std::string out = (dir / "x.png").string();
+    struct Case {
+        std::vector<std::string> args;
+        int code;
+        std::string message;
+    };
+    const std::vector<Case> cases = {
+        {{"--size", "12x4"}, 2, "--size"},
+        {{"--size", "wide"}, 2, "expected WxH"},
+        {{"--point", "1,2"}, 2, "--point"},
+        {{"--camera", "0,0,0,0,0,0"}, 2, "same point"},
+        {{"--backend", "vulkan"}, 2, "osmesa or egl"},
+        {{"--pixel", "5000,5"}, 2, "outside"},
+        {{"--point", "1,2,3"}, 1, "lies on no face"},
+    };
+    for (const Case& c : cases) {
+        std::vector<std::string> args = {"screenshot", cornell().string(), "--out", out};
+        args.insert(args.end(), c.args.begin(), c.args.end());
+        const test::ProcessResult r = test::runPenumbra(args);
+        EXPECT_EQ(r.exitCode, c.code) << c.args.front() << ": " << r.err;
+        EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
+        EXPECT_FALSE(fs::exists(out));
+    }
+    const test::ProcessResult missing =
+        test::runPenumbra({"screenshot", (dir / "none.obj").string(), "--out", out});
+    EXPECT_EQ(missing.exitCode, 1);
+    EXPECT_NE(missing.err.find("no such file"), std::string::npos) << missing.err;
+}
+
+TEST(ViewerScreenshot, EglBackendRendersTheSameOverlayOrSaysWhy) {
+    const fs::path dir = test::scratchDir("viewer_egl");
+    const test::ProcessResult r = test::runPenumbra(
+        {"screenshot", cornell().string(), "--point", "278,0,280", "--camera", kCameraFlag,
+         "--no-preview", "--backend", "egl", "--out", (dir / "shot.png").string(), "--state-out",
+         (dir / "state.json").string()});
+    if (r.exitCode != 0) {
+        // No surfaceless EGL here: the message must name the backend and the reason.
+        EXPECT_NE(r.err.find("egl backend"), std::string::npos) << r.err;
+        GTEST_SKIP() << "EGL surfaceless unavailable: " << r.err;
+    }
+    const json state = test::readJson(dir / "state.json");
+    const test::Image image = test::readPng(dir / "shot.png");
+    const int viewport[4] = {state["viewport"]["x"], state["viewport"]["y"],
+                             state["viewport"]["width"], state["viewport"]["height"]};
+    EXPECT_GE(
+        test::checkFragmentOverlay(image, lightCamera(), viewport, cornell(), 0, {278, 0, 280}, 0),
+        2);
+}
+
+}  // namespace
+}  // namespace penumbra

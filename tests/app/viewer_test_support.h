@@ -1,0 +1,49 @@
+// Shared by the viewer tests: running the real `penumbra` executable, reading its PNG and JSON
+// outputs, and checking the fragment overlay of a screenshot against an independent point query.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "engine/camera.h"
+#include "engine/point_query.h"
+
+namespace penumbra::test {
+
+struct Image {
+    int width = 0, height = 0;
+    std::vector<unsigned char> rgb;  // 3 bytes a pixel, top row first
+    const unsigned char* at(int x, int y) const {
+        return rgb.data() + (static_cast<size_t>(y) * width + x) * 3;
+    }
+};
+
+struct ProcessResult {
+    int exitCode = -1;
+    std::string out, err;
+};
+
+std::filesystem::path sourceDir();
+std::filesystem::path scratchDir(const std::string& name);  // empty, under the build tree
+std::string shellQuote(const std::string& s);
+// Runs `penumbra ARGS...` (stdout and stderr captured).
+ProcessResult runPenumbra(const std::vector<std::string>& args);
+// Runs a shell command line; returns its exit status.
+int runShell(const std::string& command);
+bool haveProgram(const std::string& name);
+Image readPng(const std::filesystem::path& path);  // ADD_FAILURE and empty on error
+nlohmann::json readJson(const std::filesystem::path& path);
+
+// For every fragment of light `light` at point x (face `face`) as an independent queryPoint finds
+// it, whose projection covers at least 60 pixels: the pixel at its projected centroid (or one of
+// its 8 neighbours) in `image` has the fragment's palette colour. `viewport` is the 3D view's
+// rectangle in the image (x, y, width, height). Returns the number of fragments checked.
+int checkFragmentOverlay(const Image& image, const Camera& camera, const int viewport[4],
+                         const std::filesystem::path& scene, uint32_t face, const Vec3& x,
+                         uint32_t light);
+
+}  // namespace penumbra::test

@@ -1,0 +1,106 @@
+// The viewer in a real window: `penumbra view` under Xvfb (xvfb-run), a click with xdotool on the
+// pixel where a known floor point projects, a screenshot of the X root window with ImageMagick's
+// `import`; the state the window writes must show that floor point inspected, and the screenshot
+// the fragment overlay where the camera projects the independent query's fragments. Skipped
+// when xvfb-run, xdotool or import is missing.
+//
+// Also, with the precompute built in: frame times of the offscreen UI while a precompute runs.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "app/viewer/viewer.h"
+#include "engine/obj_io.h"
+#include "viewer_test_support.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+TEST(ViewerWindow, ClickUnderXvfbInspectsThePointAndDrawsItsFragments) {
+    for (const char* program : {"xvfb-run", "xdotool", "import"})
+        if (!test::haveProgram(program)) GTEST_SKIP() << program << " is not installed";
+    const fs::path dir = test::scratchDir("viewer_window");
+    const fs::path scene = test::sourceDir() / "assets" / "cornell_box.obj";
+    // A camera that sees both the floor and the light from below.
+    Camera camera;
+    camera.eye = {278, 300, -500};
+    camera.target = {278, 300, 280};
+    camera.fovYDegrees = 60;
+    const viewer::Layout layout = viewer::computeLayout(1280, 800);
+    // In front of the boxes, under the help panel until the test presses H to hide it.
+    const Vec3 floorPoint{400, 0, 150};
+    double px = 0, py = 0;
+    ASSERT_TRUE(camera.project(floorPoint, layout.view.width, layout.view.height, px, py));
+    const int clickX = layout.view.x + static_cast<int>(px);
+    const int clickY = layout.view.y + static_cast<int>(py);
+    ASSERT_TRUE(layout.view.contains(clickX, clickY));
+
+    const fs::path state = dir / "state.json", shot = dir / "root.png", script = dir / "run.sh";
+    {
+        std::ofstream s(script);
+        s << "set -u\n"
+          << test::shellQuote(PENUMBRA_EXE) << " view " << test::shellQuote(scene.string())
+          << " --camera 278,300,-500,278,300,280,60 --size 1280x800 --no-preview --quit-after 30"
+          << " --state-out " << test::shellQuote(state.string()) << " &\n"
+          << "pid=$!\n"
+          << "for i in $(seq 300); do [ -f " << test::shellQuote(state.string())
+          << " ] && break; sleep 0.1; done\n"
+          << "sleep 0.5\n"
+          << "xdotool mousemove " << layout.view.x + 20 << " 300 keydown h sleep 0.2 keyup h\n"
+          << "sleep 0.3\n"
+          << "xdotool mousemove " << clickX << " " << clickY << " click 1\n"
+          << "for i in $(seq 100); do grep -q '\"lights\"' " << test::shellQuote(state.string())
+          << " && break; sleep 0.1; done\n"
+          << "sleep 0.5\n"
+          << "import -window root " << test::shellQuote(shot.string()) << "\n"
+          << "kill $pid; wait $pid\n";
+    }
+    const int code = test::runShell("xvfb-run -a -s '-screen 0 1280x800x24' bash " +
+                                    test::shellQuote(script.string()) + " >" +
+                                    test::shellQuote((dir / "log.txt").string()) + " 2>&1");
+    (void)code;  // the viewer is killed: its status is not the test's outcome
+    const json s = test::readJson(state);
+    ASSERT_TRUE(s.contains("point") && !s["point"].is_null()) << s.dump();
+    EXPECT_EQ(s["panels"]["help"], false);  // the H shortcut reached the viewer
+    EXPECT_EQ(s["point"]["face"], 0);       // the floor
+    const json& x = s["point"]["x"];
+    // The click lands on the pixel containing the projection: within a pixel's footprint.
+    EXPECT_NEAR(x[0].get<double>(), floorPoint.x, 6);
+    EXPECT_NEAR(x[2].get<double>(), floorPoint.z, 6);
+    const test::Image image = test::readPng(shot);
+    ASSERT_EQ(image.width, 1280);
+    const int viewport[4] = {layout.view.x, layout.view.y, layout.view.width, layout.view.height};
+    const Vec3 picked{x[0].get<double>(), x[1].get<double>(), x[2].get<double>()};
+    EXPECT_GE(test::checkFragmentOverlay(image, camera, viewport, scene, 0, picked, 0), 1);
+}
+
+TEST(ViewerFrames, UiThreadNeverWaitsForThePrecompute) {
+    const fs::path dir = test::scratchDir("viewer_frames");
+    // grids.obj: 1,616 pairs, about 10 s of precompute here: long against any frame.
+    const fs::path scene = test::sourceDir() / "assets" / "grids.obj";
+    const test::ProcessResult r = test::runPenumbra(
+        {"screenshot", scene.string(), "--no-preview", "--precompute", "--size", "640x400", "--out",
+         (dir / "shot.png").string(), "--state-out", (dir / "state.json").string()});
+    if (r.exitCode != 0 && r.err.find("not built in") != std::string::npos)
+        GTEST_SKIP() << "the precompute scheduler is not built in";
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const json s = test::readJson(dir / "state.json");
+    const json& f = s["precomputeFrames"];
+    const double precompute = f["precomputeSeconds"].get<double>();
+    const double maxFrame = f["maxSeconds"].get<double>();
+    const size_t frames = f["frames"].get<size_t>();
+    // Frames keep coming while the trees build: the UI thread only polls. Robust bounds for a
+    // loaded 2-core machine: no single frame anywhere near the precompute's length, and frames
+    // drawn throughout (a waiting UI thread would draw one long frame).
+    if (precompute < 1.0) GTEST_SKIP() << "precompute too short to tell (" << precompute << " s)";
+    EXPECT_GE(frames, 10u);
+    EXPECT_LT(maxFrame, 0.25 * precompute) << "max frame " << maxFrame << " s of " << precompute;
+    EXPECT_EQ(s["precompute"]["done"], s["precompute"]["total"]);
+    EXPECT_GT(s["precompute"]["nodes"].get<size_t>(), 0u);
+}
+
+}  // namespace
+}  // namespace penumbra
