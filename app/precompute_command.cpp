@@ -173,8 +173,8 @@ void runPrecompute(const PrecomputeCommandOptions& o) {
                 scene.lights.size());
     std::printf(
         "pairs    %zu of %zu: %zu back-facing, %zu fully visible, %zu fully hidden, "
-        "%zu penumbra\n",
-        store.treeCount(), p.total, kinds[0], kinds[1], kinds[2], kinds[3]);
+        "%zu penumbra, %zu too complex (over the build budget: sampled when rendering)\n",
+        store.treeCount(), p.total, kinds[0], kinds[1], kinds[2], kinds[3], kinds[4]);
     std::printf("nodes    %zu\n", nodes);
     std::printf("bytes    %zu in memory, file %zu\n", store.bytes(), fileBytes);
     std::printf("seconds  %.3f\n", p.seconds);

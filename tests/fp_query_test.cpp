@@ -70,13 +70,20 @@ void checkAgainstReference(const Scene& scene, int points, uint64_t seed, const 
     Trees trees{scene};
     std::mt19937_64 rng(seed);
     std::uniform_int_distribution<uint32_t> faceDist(0, scene.faceCount() - 1);
-    int compared = 0, nonTrivial = 0;
+    int compared = 0, nonTrivial = 0, tooComplex = 0;
     for (int i = 0; i < points; ++i) {
         const uint32_t r = faceDist(rng);
         const uint32_t l = scene.lights[rng() % scene.lights.size()];
         if (r == l) continue;
         const Vec3 x = randomPointOn(m, r, rng);
-        const QueryOutcome q = evaluate(m, trees.get(r, l, x), x);
+        const vis::HistoryTree& tree = trees.get(r, l, x);
+        if (tree.kind == vis::PairKind::TooComplex) {
+            // Over the build budget: no exact answer is claimed (the renderer samples it).
+            ++tooComplex;
+            EXPECT_TRUE(vis::fromPointQuery(m, tree, x).fragments.empty());
+            continue;
+        }
+        const QueryOutcome q = evaluate(m, tree, x);
         const test::ReferenceResult ref = test::exactReference(m, r, l, x);
         ++compared;
         nonTrivial += ref.fraction > 1e-9 && ref.fraction < 1 - 1e-9;
@@ -87,7 +94,9 @@ void checkAgainstReference(const Scene& scene, int points, uint64_t seed, const 
         if (::testing::Test::HasFailure()) return;  // one report per scene is enough
     }
     EXPECT_GT(compared, points / 2) << name;
+    EXPECT_LE(tooComplex, points / 10) << name << ": too many pairs over the build budget";
     ::testing::Test::RecordProperty(std::string(name) + "_penumbra_points", nonTrivial);
+    ::testing::Test::RecordProperty(std::string(name) + "_too_complex_points", tooComplex);
 }
 
 TEST(FpQuery, StairsMatchExactReference) { checkAgainstReference(makeStairs(), test::scaled(2000), 1, "stairs"); }

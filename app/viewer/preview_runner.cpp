@@ -8,9 +8,6 @@
 
 namespace penumbra::viewer {
 
-// Without engine/renderer.cpp (branch `render` not merged) the jobs only report that; everything
-// that calls the renderer is compiled only with PENUMBRA_HAVE_RENDERER.
-
 struct PreviewRunner::Job {
     std::shared_ptr<LoadedScene> scene;
     Camera camera;
@@ -21,7 +18,6 @@ struct PreviewRunner::Job {
 
 namespace {
 
-#if PENUMBRA_HAVE_RENDERER
 double luminance(const Vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
 uint8_t toSrgb8(double v) {
@@ -67,7 +63,6 @@ double relativeRms(const Film& exact, const Film& sampled) {
     const double mean = sumExact / std::max<size_t>(n, 1);
     return mean > 0 ? std::sqrt(sumSq / std::max<size_t>(n, 1)) / mean : 0.0;
 }
-#endif
 
 }  // namespace
 
@@ -153,12 +148,6 @@ void PreviewRunner::run(const std::shared_ptr<Job>& job) {
         latest_ = image;
         changed_ = true;
     };
-#if !PENUMBRA_HAVE_RENDERER
-    (void)wantExact;
-    (void)wantSampled;
-    image.error = "the renderer is not built in (engine/renderer.cpp missing)";
-    publish(true);
-#else
     LoadedScene& scene = *job->scene;
     try {
         ProgressiveRenderer renderer(scene.scene, *scene.bvh, *scene.store);
@@ -227,7 +216,6 @@ void PreviewRunner::run(const std::shared_ptr<Job>& job) {
         image.error = e.what();
         publish(true);
     }
-#endif
 }
 
 }  // namespace penumbra::viewer

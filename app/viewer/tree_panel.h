@@ -1,8 +1,6 @@
 // TreePanel: the history-tree browser panel. It shows the tree of the selected (receiver, light)
 // pair with the path of the inspected point highlighted, through TreeGraphPanel
-// (app/tree_graph_panel.h, namespace penumbra::ui, written on the `treegraph` branch). Until that
-// widget is merged, a clearly marked placeholder lists the tree's size and the highlighted path
-// instead.
+// (app/tree_graph_panel.h, namespace penumbra::ui).
 #pragma once
 
 #include <cstdint>

@@ -190,17 +190,14 @@ void Viewer::pollBackground() {
         }
         updateOverlay();
     }
-#if PENUMBRA_HAVE_RENDERER
     if (options_.preview && scene_ && previewDirty_ &&
         std::chrono::steady_clock::now() - lastCameraChange_ > std::chrono::milliseconds(200))
         restartPreview();
     if (std::optional<PreviewImage> image = preview_.takeUpdate()) uploadPreview(*image);
-#endif
 }
 
 void Viewer::restartPreview() {
     previewDirty_ = false;
-#if PENUMBRA_HAVE_RENDERER
     if (!scene_) return;
     PreviewSettings s = options_.previewSettings;
     const Layout l = layout_.width > 0 ? layout_ : computeLayout(1280, 800);
@@ -208,7 +205,6 @@ void Viewer::restartPreview() {
     s.height = std::max(8, static_cast<int>(l.view.height * options_.previewScale));
     previewCamera_ = orbit_.camera();
     preview_.restart(scene_, previewCamera_, s);
-#endif
 }
 
 void Viewer::uploadPreview(const PreviewImage& image) {
@@ -221,32 +217,22 @@ void Viewer::uploadPreview(const PreviewImage& image) {
     glBindTexture(GL_TEXTURE_2D, 0);
 }
 
-bool Viewer::precomputeAvailable() const { return PENUMBRA_HAVE_PRECOMPUTE != 0; }
+bool Viewer::precomputeAvailable() const { return true; }
 
 void Viewer::startPrecompute() {
-#if PENUMBRA_HAVE_PRECOMPUTE
     if (!scene_) return;
     if (!precompute_) precompute_ = std::make_shared<PrecomputeScheduler>(*scene_->store);
     precompute_->requestAll();
     precomputeStart_ = std::chrono::steady_clock::now();
     status_ = "precomputing every (receiver patch, light) pair in the background";
-#else
-    status_ = "precompute not built in (engine/precompute_scheduler.cpp missing)";
-#endif
 }
 
 void Viewer::cancelPrecompute() {
-#if PENUMBRA_HAVE_PRECOMPUTE
     if (precompute_) precompute_->cancel();
-#endif
 }
 
 bool Viewer::precomputeRunning() const {
-#if PENUMBRA_HAVE_PRECOMPUTE
     return precompute_ && precompute_->progress().state == PrecomputeProgress::State::Running;
-#else
-    return false;
-#endif
 }
 
 void Viewer::waitForBackground() {

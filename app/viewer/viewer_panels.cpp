@@ -84,7 +84,6 @@ void Viewer::drawPrecomputePanel() {
     place("Precompute", 0, c.precompute, static_cast<float>(layout_.leftWidth),
           c.tree - c.precompute);
     if (ImGui::Begin("Precompute", nullptr, kPanel)) {
-#if PENUMBRA_HAVE_PRECOMPUTE
         if (precompute_) {
             const PrecomputeProgress p = precompute_->progress();
             const float fraction =
@@ -122,14 +121,7 @@ void Viewer::drawPrecomputePanel() {
         } else if (ImGui::Button("Precompute all (P)")) {
             startPrecompute();
         }
-#else
-        ImGui::TextWrapped(
-            "Background precompute: not built in (engine/precompute_scheduler.cpp "
-            "from the precompute branch is missing).");
-#endif
-#if PENUMBRA_HAVE_RENDERER
         ImGui::TextWrapped("%s", preview_.effects().text().c_str());
-#endif
     }
     ImGui::End();
 }
@@ -144,7 +136,6 @@ void Viewer::drawPreviewPanel() {
     const LeftColumn c(layout_);
     place("Preview", 0, c.preview, static_cast<float>(layout_.leftWidth), c.bottom - c.preview);
     if (ImGui::Begin("Preview", nullptr, kPanel)) {
-#if PENUMBRA_HAVE_RENDERER
         PreviewSettings& s = options_.previewSettings;
         int mode = static_cast<int>(s.mode);
         const char* names[] = {"exact", "sampled", "side by side", "difference"};
@@ -169,11 +160,6 @@ void Viewer::drawPreviewPanel() {
                          ImVec2(scale * static_cast<float>(previewImage_.width),
                                 scale * static_cast<float>(previewImage_.height)));
         }
-#else
-        ImGui::TextWrapped(
-            "Progressive preview: not built in (engine/renderer.cpp from the render "
-            "branch is missing).");
-#endif
     }
     ImGui::End();
 }

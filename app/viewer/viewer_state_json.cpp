@@ -28,8 +28,8 @@ nlohmann::json Viewer::stateJson() const {
     s["panels"] = {{"help", showHelp_},
                    {"tree", showTree_},
                    {"treeGraphWidget", TreePanel::hasGraphWidget()},
-                   {"preview", PENUMBRA_HAVE_RENDERER != 0},
-                   {"precompute", PENUMBRA_HAVE_PRECOMPUTE != 0}};
+                   {"preview", true},
+                   {"precompute", true}};
     json rects = json::object();
     for (const auto& [name, r] : panelRects_) rects[name] = {r[0], r[1], r[2], r[3]};
     rects["3D view"] = {layout_.view.x, layout_.view.y, layout_.view.width, layout_.view.height};
@@ -90,7 +90,6 @@ nlohmann::json Viewer::stateJson() const {
                    {"maxSeconds", frameStats_.maxSeconds},
                    {"meanSeconds",
                     frameStats_.frames > 0 ? frameStats_.sumSeconds / frameStats_.frames : 0.0}};
-#if PENUMBRA_HAVE_PRECOMPUTE
     if (precompute_) {
         const PrecomputeProgress p = precompute_->progress();
         s["precompute"] = {
@@ -98,7 +97,6 @@ nlohmann::json Viewer::stateJson() const {
             {"seconds", p.seconds}, {"nodes", p.nodes},
             {"bytes", p.bytes},     {"running", p.state == PrecomputeProgress::State::Running}};
     }
-#endif
     return s;
 }
 
