@@ -810,7 +810,8 @@ void registerBenchCommand(CLI::App& app) {
     sub->add_option("--limit", o->limit, "Seconds allowed per precompute before it is cancelled")
         ->check(CLI::PositiveNumber);
     sub->add_flag("--quick", o->quick,
-                  "CI-sized run: small scenes, small images, few rays, no scaling study");
+                  "CI-sized run: small scenes, small images, few rays, 20 s precompute limit, no "
+                  "scaling study");
     sub->add_flag("--skip-large", o->skipLarge, "Skip the scenes above 300k triangles");
     sub->add_flag("--no-plots", o->noPlots, "Do not run scripts/plot_bench.py");
     sub->callback([o, sub] {
@@ -823,6 +824,7 @@ void registerBenchCommand(CLI::App& app) {
             if (sub->count("--max-rays") == 0) opt.maxRays = 64;
             if (sub->count("--reference-rays") == 0) opt.referenceRays = 256;
             if (sub->count("--points") == 0) opt.points = 200;
+            if (sub->count("--limit") == 0) opt.limit = 20;
         }
         std::string cmd = "penumbra bench";
         for (const std::string& s : o->scenes) cmd += " " + s;
