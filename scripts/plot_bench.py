@@ -1,0 +1,95 @@
+#!/usr/bin/python3
+"""Plots of `penumbra bench`: reads DIR/bench.json, writes DIR/accuracy.png (log-log RMSE against
+wall time: the sampled curve, the exact point, the reference noise, the equal-error marker) and
+DIR/scaling.png (precompute time and tree bytes against the triangle count). Needs matplotlib
+(the system /usr/bin/python3 has it). Exit status 0 when the plots were written."""
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def accuracy(a, out):
+    fig, ax = plt.subplots(figsize=(7, 5))
+    pts = [p for p in a["sampled"] if p["seconds"] > 0 and p["rmse"] > 0]
+    ax.loglog([p["seconds"] for p in pts], [p["rmse"] for p in pts], "o-", color="tab:blue",
+              label="sampled vs exact image (rays per light)")
+    for p in pts:
+        ax.annotate(str(p["rays"]), (p["seconds"], p["rmse"]), textcoords="offset points",
+                    xytext=(4, 4), fontsize=8, color="tab:blue")
+    e = a["exact"]
+    if e["seconds"] > 0 and e["rmse"] > 0:
+        ax.loglog([e["seconds"]], [e["rmse"]], "D", color="tab:red", markersize=9,
+                  label="exact vs converged reference")
+    if a.get("referenceNoise", 0) > 0:
+        ax.axhline(a["referenceNoise"], color="gray", linestyle="--", linewidth=1,
+                   label="reference noise (std. error)")
+    if a.get("equalErrorSeconds"):
+        ax.loglog([a["equalErrorSeconds"]], [e["rmse"]], "o", markerfacecolor="none",
+                  markeredgecolor="tab:green", markersize=12, markeredgewidth=2,
+                  label="sampled at the exact error%s" %
+                  (" (extrapolated)" if a.get("equalErrorExtrapolated") else ""))
+        ax.plot([e["seconds"], a["equalErrorSeconds"]], [e["rmse"], e["rmse"]], ":",
+                color="tab:green")
+    ax.set_xlabel("wall time (s)")
+    ax.set_ylabel("RMSE (linear radiance)")
+    ax.set_title("%s, %dx%d, %d spp" % (os.path.basename(a["scene"]), a["width"], a["height"],
+                                        a["spp"]))
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+
+
+def scaling(rows, out):
+    rows = [r for r in rows if r["faces"] > 0]
+    if not rows:
+        return
+    fig, ax = plt.subplots(1, 2, figsize=(10, 4))
+    f = [r["faces"] for r in rows]
+    ax[0].loglog(f, [max(r["cpu"], 1e-6) for r in rows], "o-", label="CPU s")
+    ax[0].loglog(f, [max(r["seconds"], 1e-6) for r in rows], "s--", label="wall s")
+    ax[0].set_xlabel("faces")
+    ax[0].set_ylabel("precompute time (s)")
+    ax[0].legend(fontsize=8)
+    ax[0].grid(True, which="both", alpha=0.3)
+    built = [r for r in rows if r["bytes"] > 0]  # scenes whose pairs all failed have no tree
+    ax[1].loglog([r["faces"] for r in built], [r["bytes"] for r in built], "o-", label="tree bytes")
+    ax[1].loglog([r["faces"] for r in built], [max(r["nodes"], 1) for r in built], "s--",
+                 label="tree nodes")
+    for r in rows:
+        if r["bytes"] == 0:
+            ax[1].axvline(r["faces"], color="gray", linestyle=":", linewidth=1)
+    ax[1].set_title("dotted: no tree built (all too complex or over the limit)", fontsize=8)
+    ax[1].set_xlabel("faces")
+    ax[1].legend(fontsize=8)
+    ax[1].grid(True, which="both", alpha=0.3)
+    for r in rows:
+        ax[0].annotate("%d/%d done, %d too complex%s" % (r["done"], r["pairs"], r["kinds"]["tooComplex"],
+                       "" if r["complete"] else ", limit"), (r["faces"], max(r["cpu"], 1e-6)),
+                       textcoords="offset points", xytext=(4, -10), fontsize=7)
+    fig.suptitle("Precompute of a fixed set of receiver patches (floor + 32 model faces)")
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit("usage: plot_bench.py DIR")
+    d = sys.argv[1]
+    with open(os.path.join(d, "bench.json")) as fh:
+        b = json.load(fh)
+    if "accuracy" in b:
+        accuracy(b["accuracy"], os.path.join(d, "accuracy.png"))
+    if b.get("scaling"):
+        scaling(b["scaling"], os.path.join(d, "scaling.png"))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,78 @@
+// The "Accuracy vs time" panel, headless: an ImGui context without a backend (display size, font
+// atlas, NewFrame / draw / Render); the draw list holds the plot.
+#include "app/accuracy_panel.h"
+
+#include <gtest/gtest.h>
+#include <imgui.h>
+
+namespace {
+
+using penumbra::AccuracyPoint;
+using penumbra::AccuracyStudy;
+
+AccuracyStudy handStudy() {
+    AccuracyStudy s;
+    s.options.width = s.options.height = 64;
+    for (int n : {1, 4, 16, 64}) {
+        AccuracyPoint p;
+        p.method = "sampled";
+        p.rays = n;
+        p.seconds = 0.01 * n;
+        p.rmse = 0.1 / n;
+        p.maxError = 0.5 / n;
+        s.sampled.push_back(p);
+    }
+    s.exact.method = "exact";
+    s.exact.seconds = 0.05;
+    s.exact.rmse = 0.002;
+    s.referenceNoise = 0.0018;
+    s.equalErrorSeconds = 0.5;
+    s.equalErrorRays = 50;
+    s.complete = true;
+    return s;
+}
+
+size_t frameVertices(penumbra::ui::AccuracyPanel& panel) {
+    ImGui::NewFrame();
+    ImGui::SetNextWindowPos(ImVec2(0, 0));
+    ImGui::SetNextWindowSize(ImVec2(800, 600));
+    panel.draw("Accuracy vs time");
+    ImGui::Render();
+    const ImDrawData* d = ImGui::GetDrawData();
+    size_t n = 0;
+    for (int i = 0; i < d->CmdListsCount; ++i) n += size_t(d->CmdLists[i]->VtxBuffer.Size);
+    return n;
+}
+
+TEST(AccuracyPanel, DrawsTheCurveHeadless) {
+    ImGuiContext* ctx = ImGui::CreateContext();
+    ImGuiIO& io = ImGui::GetIO();
+    io.DisplaySize = ImVec2(1024, 768);
+    io.DeltaTime = 1.0f / 60;
+    io.IniFilename = nullptr;
+    io.BackendFlags |= ImGuiBackendFlags_RendererHasVtxOffset;
+    unsigned char* pixels = nullptr;
+    int w = 0, h = 0;
+    io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
+
+    penumbra::ui::AccuracyPanel panel;
+    const size_t empty = frameVertices(panel);  // "no measurement yet"
+    EXPECT_EQ(panel.pointsDrawn(), 0u);
+    panel.setResult(handStudy());
+    const size_t full = frameVertices(panel);
+    EXPECT_EQ(panel.pointsDrawn(), 5u);  // 4 sampled + exact
+    EXPECT_GT(full, empty + 100);        // axes, points, labels, legend
+    ImGui::DestroyContext(ctx);
+}
+
+TEST(AccuracyPanel, RangeCoversThePointsInWholeDecades) {
+    const auto r = penumbra::ui::accuracyPlotRange(handStudy());
+    ASSERT_TRUE(r.valid);
+    EXPECT_DOUBLE_EQ(r.logTimeMin, -2);  // 0.01 s
+    EXPECT_DOUBLE_EQ(r.logTimeMax, 0);   // 0.64 s
+    EXPECT_DOUBLE_EQ(r.logErrMin, -3);   // 0.0015625
+    EXPECT_DOUBLE_EQ(r.logErrMax, -1);   // 0.1
+    EXPECT_FALSE(penumbra::ui::accuracyPlotRange(AccuracyStudy{}).valid);
+}
+
+}  // namespace
