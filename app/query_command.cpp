@@ -270,7 +270,8 @@ void registerQueryCommand(CLI::App& app) {
         "Exact light visibility at points: for each light, the visible fragments of the light, "
         "the visible fraction of its area and the form factor. One JSON object per point on "
         "stdout.");
-    sub->add_option("scene", options->scene, "Scene file: .obj (with its .mtl), .ply, .off, .stl, .gltf, .glb or .json")
+    sub->add_option("scene", options->scene,
+                    "Scene file: .obj (with its .mtl), .ply, .off, .stl, .gltf, .glb or .json")
         ->required()
         ->type_name("SCENE");
     CLI::Option* point =

@@ -81,9 +81,8 @@ DirectLighting::DirectLighting(const Scene& scene, const EmbreeScene& bvh, Visib
     }
 }
 
-Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples,
-                                     int fallbackSamples, SplitMix64& rng,
-                                     ExactScratch& scratch) const {
+Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, int fallbackSamples,
+                                     SplitMix64& rng, ExactScratch& scratch) const {
     const Material& m = *p.material;
     const bool glossy = m.isGlossy() && glossySamples > 0;
     if (scratch.lastTree.size() != lights_.size()) {

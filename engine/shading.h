@@ -104,7 +104,7 @@ struct ExactScratch {
     std::vector<vis::Polygon3> clippedLight;  // per light
     std::unordered_set<PairKey, PairKeyHash> used;
     TriangleSampler fragments;
-    vis::FromPointQuery query;  // FPQuery workspace: no allocation per point after warm-up
+    vis::FromPointQuery query;    // FPQuery workspace: no allocation per point after warm-up
     size_t tooComplexPoints = 0;  // shading points whose pair had no tree (sampled instead)
 };
 

@@ -1,6 +1,8 @@
 // FPQuery against independent references: the exact CGAL computation of L minus the central
 // projections of the occluders (tests/support/exact_reference.h), and a Monte Carlo estimate with
 // independent double-precision segment tests. Plus the properties of the fragments.
+#include "visibility/fp_query.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,7 +14,6 @@
 #include "tests/support/exact_reference.h"
 #include "tests/test_scale.h"
 #include "visibility/form_factor.h"
-#include "visibility/fp_query.h"
 #include "visibility/history_tree_builder.h"
 #include "visibility/pair_occluders.h"
 #include "visibility/polygon_clip.h"
@@ -27,7 +28,9 @@ struct QueryOutcome {
     vis::FromPointResult raw;
 };
 
-Vec3 unitNormal(const vis::PolygonMesh& m, uint32_t f) { return vis::normalize(m.faceAreaNormal(f)); }
+Vec3 unitNormal(const vis::PolygonMesh& m, uint32_t f) {
+    return vis::normalize(m.faceAreaNormal(f));
+}
 
 QueryOutcome evaluate(const vis::PolygonMesh& m, const vis::HistoryTree& t, const Vec3& x) {
     QueryOutcome q;
@@ -99,14 +102,23 @@ void checkAgainstReference(const Scene& scene, int points, uint64_t seed, const 
     ::testing::Test::RecordProperty(std::string(name) + "_too_complex_points", tooComplex);
 }
 
-TEST(FpQuery, StairsMatchExactReference) { checkAgainstReference(makeStairs(), test::scaled(2000), 1, "stairs"); }
-TEST(FpQuery, TableMatchesExactReference) { checkAgainstReference(makeTable(), test::scaled(60), 2, "table"); }
-TEST(FpQuery, GridsMatchExactReference) { checkAgainstReference(makeGrids(), test::scaled(2000), 3, "grids"); }
-TEST(FpQuery, CornellBoxMatchesExactReference) { checkAgainstReference(makeCornellBox(), test::scaled(2000), 4, "cornell"); }
+TEST(FpQuery, StairsMatchExactReference) {
+    checkAgainstReference(makeStairs(), test::scaled(2000), 1, "stairs");
+}
+TEST(FpQuery, TableMatchesExactReference) {
+    checkAgainstReference(makeTable(), test::scaled(60), 2, "table");
+}
+TEST(FpQuery, GridsMatchExactReference) {
+    checkAgainstReference(makeGrids(), test::scaled(2000), 3, "grids");
+}
+TEST(FpQuery, CornellBoxMatchesExactReference) {
+    checkAgainstReference(makeCornellBox(), test::scaled(2000), 4, "cornell");
+}
 
 TEST(FpQuery, HardCasesMatchExactReference) {
     uint64_t seed = 10;
-    for (const auto& [name, scene] : makeHardCases()) checkAgainstReference(scene, test::scaled(500), seed++, name.c_str());
+    for (const auto& [name, scene] : makeHardCases())
+        checkAgainstReference(scene, test::scaled(500), seed++, name.c_str());
 }
 
 TEST(FpQuery, RandomSoupsMatchExactReference) {
@@ -149,7 +161,8 @@ TEST(FpQuery, MonteCarloAgrees) {
         const QueryOutcome q = evaluate(s.mesh, trees.get(r, l, x), x);
         double sd = 0;
         const double mc = test::monteCarloFraction(s.mesh, r, l, x, 20000, 1000 + i, &sd);
-        EXPECT_NEAR(q.fraction, mc, 5 * std::max(sd, 2e-4)) << "receiver " << r << " x " << vis::toString(x);
+        EXPECT_NEAR(q.fraction, mc, 5 * std::max(sd, 2e-4))
+            << "receiver " << r << " x " << vis::toString(x);
         ++checked;
     }
     EXPECT_GE(checked, 10);
@@ -205,7 +218,8 @@ TEST(FpQuery, FragmentsAreDisjointAndInsideTheLight) {
                     piece = vis::clipConvexPositive(piece, plane);
                 }
                 const double overlap = piece.size() >= 3 ? vis::polygonArea(piece) : 0.0;
-                EXPECT_LT(overlap, 1e-9 * lightArea) << "fragments " << a << " and " << b << " overlap";
+                EXPECT_LT(overlap, 1e-9 * lightArea)
+                    << "fragments " << a << " and " << b << " overlap";
             }
         double sum = 0;
         for (const auto& f : frags) sum += vis::polygonArea(f);
@@ -227,7 +241,8 @@ TEST(FpQuery, OptimisationsDoNotChangeResults) {
         if (r == l) continue;
         vis::HistoryTree trees[4];
         for (int k = 0; k < 4; ++k)
-            trees[k] = vis::buildHistoryTree(m, r, l, {.mergeLeaves = (k & 1) != 0, .quadricPruning = (k & 2) != 0});
+            trees[k] = vis::buildHistoryTree(
+                m, r, l, {.mergeLeaves = (k & 1) != 0, .quadricPruning = (k & 2) != 0});
         nodesAll += trees[3].nodes.size();
         nodesNone += trees[0].nodes.size();
         for (int p = 0; p < 30; ++p) {
@@ -247,18 +262,21 @@ TEST(FpQuery, OptimisationsDoNotChangeResults) {
 TEST(FpQuery, PointOnSplittingPlaneLosesNoArea) {
     // Floor [0,4]^2 at z=0, light [1,3]^2 at z=4 facing down, occluder square [1.5,2.5]^2 at z=2.
     vis::PolygonMesh m;
-    m.vertices = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}, {1, 1, 4}, {1, 3, 4}, {3, 3, 4}, {3, 1, 4},
-                  {1.5, 1.5, 2}, {2.5, 1.5, 2}, {2.5, 2.5, 2}, {1.5, 2.5, 2}};
+    m.vertices = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0},     {0, 4, 0},     {1, 1, 4},     {1, 3, 4},
+                  {3, 3, 4}, {3, 1, 4}, {1.5, 1.5, 2}, {2.5, 1.5, 2}, {2.5, 2.5, 2}, {1.5, 2.5, 2}};
     m.faces = {{0, 1, 2, 3}, {4, 5, 6, 7}, {8, 9, 10, 11}};
     const vis::HistoryTree t = vis::buildHistoryTree(m, 0, 1);
     ASSERT_EQ(t.kind, vis::PairKind::Penumbra);
     // The occluder's shadow from x on the light's plane is x + 2 (o - x). Hand-derived:
-    struct Case { Vec3 x; double visible; };
+    struct Case {
+        Vec3 x;
+        double visible;
+    };
     const Case cases[] = {
-        {{2, 2, 0}, 0.0},      // shadow exactly [1,3]^2: all four planes pass through L's edges
-        {{1, 2, 0}, 2.0},      // shadow x in [2, 4]: blocks [2,3] x [1,3]
-        {{0.5, 2, 0}, 3.0},    // shadow x in [2.5, 4.5], y in [1, 3]: blocks 1
-        {{2, 1, 0}, 2.0},      // shadow y in [2, 4]: blocks [1,3] x [2,3]; x planes through L's edges
+        {{2, 2, 0}, 0.0},    // shadow exactly [1,3]^2: all four planes pass through L's edges
+        {{1, 2, 0}, 2.0},    // shadow x in [2, 4]: blocks [2,3] x [1,3]
+        {{0.5, 2, 0}, 3.0},  // shadow x in [2.5, 4.5], y in [1, 3]: blocks 1
+        {{2, 1, 0}, 2.0},    // shadow y in [2, 4]: blocks [1,3] x [2,3]; x planes through L's edges
         {{1.5, 1.5, 0}, 1.75},  // shadow [1.5, 3.5]^2: blocks [1.5, 3]^2 = 2.25
     };
     for (const Case& c : cases) {
@@ -272,8 +290,8 @@ TEST(FpQuery, PointOnSplittingPlaneLosesNoArea) {
 TEST(HistoryTree, NodesAreSixteenBytesAndPairsAreClassified) {
     static_assert(sizeof(vis::HistoryNode) == 16);
     vis::PolygonMesh m;
-    m.vertices = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {0, 4, 0}, {1, 1, 4}, {1, 3, 4}, {3, 3, 4}, {3, 1, 4},
-                  {-10, -10, 2}, {10, -10, 2}, {10, 10, 2}, {-10, 10, 2}};
+    m.vertices = {{0, 0, 0}, {4, 0, 0}, {4, 4, 0},     {0, 4, 0},    {1, 1, 4},   {1, 3, 4},
+                  {3, 3, 4}, {3, 1, 4}, {-10, -10, 2}, {10, -10, 2}, {10, 10, 2}, {-10, 10, 2}};
     // No occluder: fully visible.
     m.faces = {{0, 1, 2, 3}, {4, 5, 6, 7}};
     EXPECT_EQ(vis::buildHistoryTree(m, 0, 1).kind, vis::PairKind::FullyVisible);
@@ -293,9 +311,9 @@ TEST(HistoryTree, NodesAreSixteenBytesAndPairsAreClassified) {
 namespace penumbra {
 namespace {
 
-// The build budget: a penumbra pair of the Cornell box built with a budget far below what it needs is
-// TooComplex (no tree, FPQuery answers nothing), and the same pair without a budget is a penumbra
-// tree; a budget is never allowed to produce a wrong label instead.
+// The build budget: a penumbra pair of the Cornell box built with a budget far below what it needs
+// is TooComplex (no tree, FPQuery answers nothing), and the same pair without a budget is a
+// penumbra tree; a budget is never allowed to produce a wrong label instead.
 TEST(HistoryTree, BuildBudgetGivesTooComplexNotAWrongTree) {
     const Scene scene = makeCornellBox();
     const uint32_t light = scene.lights[0];
@@ -305,7 +323,8 @@ TEST(HistoryTree, BuildBudgetGivesTooComplexNotAWrongTree) {
         vis::BuildOptions unlimited;
         unlimited.maxLpSolves = 0;
         vis::BuildStats full;
-        const vis::HistoryTree tree = vis::buildHistoryTree(scene.mesh, r, light, unlimited, {}, &full);
+        const vis::HistoryTree tree =
+            vis::buildHistoryTree(scene.mesh, r, light, unlimited, {}, &full);
         if (tree.kind != vis::PairKind::Penumbra || full.lpSolves < 50) continue;
         vis::BuildOptions tight;
         tight.maxLpSolves = full.lpSolves / 2;

@@ -7,11 +7,16 @@ namespace penumbra::vis {
 
 std::string_view toString(PairKind k) {
     switch (k) {
-        case PairKind::BackFacing: return "back-facing";
-        case PairKind::FullyVisible: return "fully-visible";
-        case PairKind::FullyHidden: return "fully-hidden";
-        case PairKind::Penumbra: return "penumbra";
-        case PairKind::TooComplex: return "too-complex";
+        case PairKind::BackFacing:
+            return "back-facing";
+        case PairKind::FullyVisible:
+            return "fully-visible";
+        case PairKind::FullyHidden:
+            return "fully-hidden";
+        case PairKind::Penumbra:
+            return "penumbra";
+        case PairKind::TooComplex:
+            return "too-complex";
     }
     return "?";
 }

@@ -76,7 +76,9 @@ struct HistoryTree {
         return id < meshVertexCount ? mesh.vertices[id] : extraVertices[id - meshVertexCount];
     }
     // Storage the tree needs: nodes and constructed vertices (not the debug information).
-    size_t bytes() const { return nodes.size() * sizeof(HistoryNode) + extraVertices.size() * sizeof(Vec3); }
+    size_t bytes() const {
+        return nodes.size() * sizeof(HistoryNode) + extraVertices.size() * sizeof(Vec3);
+    }
     uint32_t depth() const;
     uint32_t leafCount(bool visible) const;
 };

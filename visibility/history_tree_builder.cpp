@@ -19,7 +19,7 @@ struct Slot {
 struct BudgetExceeded {};
 
 class Builder {
-public:
+  public:
     Builder(const PolygonMesh& mesh, std::span<const Vec3> receiver, uint32_t light,
             const PairOccluders& occ, const BuildOptions& options, BuildStats& stats)
         : mesh_(mesh),
@@ -74,16 +74,19 @@ public:
         }
     }
 
-private:
+  private:
     static std::vector<Vec3> polygon(const PolygonMesh& mesh, uint32_t f) {
         std::vector<Vec3> p;
         for (uint32_t v : mesh.faces[f]) p.push_back(mesh.vertices[v]);
         return p;
     }
     Vec3 vertex(uint32_t id) const {
-        return id < meshVertexCount_ ? mesh_.vertices[id] : occ_.extraVertices[id - meshVertexCount_];
+        return id < meshVertexCount_ ? mesh_.vertices[id]
+                                     : occ_.extraVertices[id - meshVertexCount_];
     }
-    uint32_t get(Slot s) const { return s.node == UINT32_MAX ? root_ : nodes_[s.node].child[s.child]; }
+    uint32_t get(Slot s) const {
+        return s.node == UINT32_MAX ? root_ : nodes_[s.node].child[s.child];
+    }
     void set(Slot s, uint32_t v) {
         if (s.node == UINT32_MAX)
             root_ = v;
@@ -151,7 +154,8 @@ private:
             if (space_.provablyNoRealLine(path_, inside, row, -1, kPruneLevels, polyStats_)) {
                 ++stats_.prunedSplits;
                 c = Side::Positive;
-            } else if (space_.provablyNoRealLine(path_, inside, row, +1, kPruneLevels, polyStats_)) {
+            } else if (space_.provablyNoRealLine(path_, inside, row, +1, kPruneLevels,
+                                                 polyStats_)) {
                 ++stats_.prunedSplits;
                 c = Side::Negative;
             }
@@ -251,7 +255,7 @@ private:
     std::vector<std::pair<uint32_t, uint32_t>> edges_;
     std::vector<Constraint> path_;
 
-public:
+  public:
     const PolytopeStats& polytopeStats() const { return polyStats_; }
 };
 

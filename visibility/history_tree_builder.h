@@ -33,15 +33,15 @@ struct BuildCancelled : std::runtime_error {
 struct BuildStats {
     uint32_t occludersInShaft = 0;  // faces that may block a line between B and L
     uint32_t occludersInserted = 0;
-    uint64_t classifications = 0;   // leaf-against-hyperplane decisions
-    uint64_t lpSolves = 0;          // linear programs solved for them
-    uint64_t uncertain = 0;         // decisions that could not be certified (took the split)
-    uint64_t exactCertificates = 0; // decisions certified by the exact rational fallback
-    uint64_t prunedSplits = 0;      // splits dropped by the real-line (quadric) test
-    uint64_t realLineTests = 0;     // real-line tests run (each side of a Mixed split)
-    uint64_t realLineWitness = 0;   // ... settled by finding a real line (no proof needed)
+    uint64_t classifications = 0;    // leaf-against-hyperplane decisions
+    uint64_t lpSolves = 0;           // linear programs solved for them
+    uint64_t uncertain = 0;          // decisions that could not be certified (took the split)
+    uint64_t exactCertificates = 0;  // decisions certified by the exact rational fallback
+    uint64_t prunedSplits = 0;       // splits dropped by the real-line (quadric) test
+    uint64_t realLineTests = 0;      // real-line tests run (each side of a Mixed split)
+    uint64_t realLineWitness = 0;    // ... settled by finding a real line (no proof needed)
     uint64_t mergedLeaves = 0;
-    bool budgetExceeded = false;    // the build stopped at maxLpSolves (kind TooComplex)
+    bool budgetExceeded = false;  // the build stopped at maxLpSolves (kind TooComplex)
     double seconds = 0;
 };
 
@@ -50,8 +50,7 @@ struct BuildStats {
 // empty = the whole face. The tree is exact for the lines through that region.
 HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
                              const BuildOptions& options = {},
-                             std::span<const uint32_t> candidates = {},
-                             BuildStats* stats = nullptr,
+                             std::span<const uint32_t> candidates = {}, BuildStats* stats = nullptr,
                              std::span<const Vec3> receiverPatch = {});
 
 }  // namespace penumbra::vis

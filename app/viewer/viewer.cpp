@@ -53,6 +53,7 @@ Viewer::Viewer(ViewerOptions options)
 }
 
 Viewer::~Viewer() {
+    cancelAccuracyStudy();
     cancelPrecompute();
     preview_.stop();
     tasks_.wait();
@@ -273,6 +274,7 @@ void Viewer::handleInput(int width, int height) {
         if (ImGui::IsKeyPressed('F')) fitCamera();
         if (ImGui::IsKeyPressed('H')) showHelp_ = !showHelp_;
         if (ImGui::IsKeyPressed('T')) showTree_ = !showTree_;
+        if (ImGui::IsKeyPressed('A')) showAccuracy_ = !showAccuracy_;
         if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) clearSelection();
         if (ImGui::IsKeyPressed('L') && inspection_ && !inspection_->lights.empty()) {
             selectedLight_ = (selectedLight_ + 1) % inspection_->lights.size();
@@ -315,6 +317,7 @@ void Viewer::frame(int width, int height, double deltaSeconds) {
     drawLightPlanePanel();
     drawPathPanel();
     if (showHelp_) drawHelpPanel();
+    if (showAccuracy_) drawAccuracyPanel();
     drawStatusBar();
     ImGui::Render();
 

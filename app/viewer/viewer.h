@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "app/accuracy_panel.h"
 #include "app/viewer/loaded_scene.h"
 #include "app/viewer/orbit_camera.h"
 #include "app/viewer/point_inspection.h"
@@ -127,6 +128,9 @@ class Viewer {
     void drawPreviewPanel();
     void drawPrecomputePanel();
     void drawStatusBar();
+    void drawAccuracyPanel();
+    void startAccuracyStudy();
+    void cancelAccuracyStudy();
 
     ViewerOptions options_;
     SceneRenderer renderer_;
@@ -155,6 +159,13 @@ class Viewer {
     // Precompute (null when the scheduler is not built in).
     std::shared_ptr<PrecomputeScheduler> precompute_;
     std::chrono::steady_clock::time_point precomputeStart_;
+
+    // "Accuracy vs time" (A): the study of engine/accuracy_study.h for the current scene and view,
+    // measured on a background task; the window shows its progress, then the curves.
+    struct AccuracyJob;
+    std::shared_ptr<AccuracyJob> accuracyJob_;
+    std::unique_ptr<ui::AccuracyPanel> accuracyPanel_;
+    bool showAccuracy_ = false;
 
     std::unique_ptr<TreePanel> treePanel_;
     std::vector<std::filesystem::path> sceneFiles_;

@@ -11,6 +11,8 @@
 #include "app/viewer/palette.h"
 #include "app/viewer/tree_panel.h"
 #include "app/viewer/viewer.h"
+#include "engine/accuracy_study.h"
+#include "engine/embree_scene.h"
 #include "engine/precompute_scheduler.h"
 
 namespace penumbra::viewer {
@@ -343,9 +345,63 @@ void Viewer::drawHelpPanel() {
             "click: inspect point   L: next light   Esc: clear\n"
             "F: fit scene   T: tree panel   H: this help\n"
             "1-4: preview exact / sampled / side by side / difference   R: restart\n"
-            "P: precompute all   C: cancel   Ctrl+Q: quit   drop .obj: open");
+            "P: precompute all   C: cancel   A: accuracy vs time   Ctrl+Q: quit   drop .obj: open");
     }
     ImGui::End();
+}
+
+struct Viewer::AccuracyJob {
+    std::shared_ptr<LoadedScene> scene;  // kept alive while the study runs
+    std::atomic<bool> cancel{false};
+    std::atomic<bool> done{false};
+    std::atomic<double> progress{0};
+    AccuracyStudy result;  // written by the task before `done`, read after
+};
+
+void Viewer::startAccuracyStudy() {
+    if (!scene_ || (accuracyJob_ && !accuracyJob_->done)) return;
+    auto job = std::make_shared<AccuracyJob>();
+    job->scene = scene_;
+    accuracyJob_ = job;
+    const Camera camera = orbit_.camera();
+    // Small images: the study renders 12 sampled images and a 2 x 2048-ray reference.
+    AccuracyStudyOptions options;
+    options.width = options.height = 64;
+    options.spp = 2;
+    tasks_.run([job, camera, options] {
+        try {
+            job->result = runAccuracyStudy(job->scene->scene, *job->scene->bvh, *job->scene->store,
+                                           camera, options, &job->cancel, &job->progress);
+        } catch (const std::exception&) {
+            job->result = {};  // reported as an incomplete study
+        }
+        job->done = true;
+    });
+}
+
+void Viewer::cancelAccuracyStudy() {
+    if (accuracyJob_) accuracyJob_->cancel = true;
+}
+
+void Viewer::drawAccuracyPanel() {
+    if (!accuracyPanel_) accuracyPanel_ = std::make_unique<ui::AccuracyPanel>();
+    const std::shared_ptr<AccuracyJob> job = accuracyJob_;
+    if (job && job->done && !job->cancel) {
+        accuracyPanel_->setResult(job->result);
+        accuracyJob_.reset();
+    }
+    ImGui::SetNextWindowSize(ImVec2(560, 460), ImGuiCond_FirstUseEver);
+    if (ImGui::Begin("Accuracy controls", &showAccuracy_, ImGuiWindowFlags_NoSavedSettings)) {
+        if (accuracyJob_ && !accuracyJob_->done) {
+            ImGui::ProgressBar(static_cast<float>(accuracyJob_->progress.load()), ImVec2(-1, 0),
+                               "measuring exact vs 1..1024 shadow rays");
+            if (ImGui::Button("Cancel")) accuracyJob_->cancel = true;
+        } else if (ImGui::Button("Measure this view (64x64, 2 spp)")) {
+            startAccuracyStudy();
+        }
+    }
+    ImGui::End();
+    if (accuracyPanel_->hasResult()) accuracyPanel_->draw("Accuracy vs time");
 }
 
 void Viewer::drawStatusBar() {
