@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <set>
@@ -228,10 +229,22 @@ TEST(ViewerScreenshot, BadArgumentsAreRefusedWithTheReason) {
 
 TEST(ViewerScreenshot, EglBackendRendersTheSameOverlayOrSaysWhy) {
     const fs::path dir = test::scratchDir("viewer_egl");
+    // Under the sanitizer build: libglvnd unloads the EGL vendor library before exit, so what it
+    // keeps allocated is reported from "<unknown module>" frames that no suppression can name.
+    // Leak checking is off for this one child (its other sanitizers stay on); the OSMesa tests
+    // keep it, with tests/app/lsan_gl.supp.
+    const char* previous = std::getenv("ASAN_OPTIONS");
+    const std::string saved = previous != nullptr ? previous : "";
+    setenv("ASAN_OPTIONS", (saved.empty() ? "detect_leaks=0" : saved + ":detect_leaks=0").c_str(),
+           1);
     const test::ProcessResult r = test::runPenumbra(
         {"screenshot", cornell().string(), "--point", "278,0,280", "--camera", kCameraFlag,
          "--no-preview", "--backend", "egl", "--out", (dir / "shot.png").string(), "--state-out",
          (dir / "state.json").string()});
+    if (previous != nullptr)
+        setenv("ASAN_OPTIONS", saved.c_str(), 1);
+    else
+        unsetenv("ASAN_OPTIONS");
     if (r.exitCode != 0) {
         // No surfaceless EGL here: the message must name the backend and the reason.
         EXPECT_NE(r.err.find("egl backend"), std::string::npos) << r.err;
