@@ -17,10 +17,6 @@ Vec3 crossing(const Vec3& p, const Vec3& q, double dp, double dq) {
     return p + (q - p) * t;
 }
 
-}  // namespace
-
-namespace {
-
 // Splits the polygon given each vertex's signed value (its sign decides, zero = on the plane).
 template <typename ValueOf>
 void splitBy(std::span<const Vec3> polygon, ValueOf valueOf, std::vector<Vec3>& positive,
