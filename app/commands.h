@@ -8,8 +8,10 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "engine/scene.h"
 
@@ -39,6 +41,10 @@ inline CommandError usageError(const std::string& message) {
 inline CommandError inputError(const std::string& message) {
     return CommandError(kExitInputError, message);
 }
+
+// A finite decimal number, the whole of s but for surrounding blanks (locale-independent; a leading
+// '+' is allowed); nullopt otherwise. Every command parses its numeric values with it.
+std::optional<double> parseNumber(std::string_view s);
 
 // Loads a scene file with engine/scene_loader.h, choosing the reader by extension
 // (case-insensitive): .obj (with its MTL libraries), .ply, .off, .stl, .gltf, .glb, .json. Prints

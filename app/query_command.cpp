@@ -57,17 +57,6 @@ std::string_view trim(std::string_view s) {
     return s;
 }
 
-// A finite decimal number, the whole of s (locale-independent; a leading '+' is allowed).
-std::optional<double> parseNumber(std::string_view s) {
-    s = trim(s);
-    if (s.size() > 1 && s.front() == '+' && s[1] != '-') s.remove_prefix(1);
-    double v = 0;
-    const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (s.empty() || r.ec != std::errc{} || r.ptr != s.data() + s.size() || !std::isfinite(v))
-        return std::nullopt;
-    return v;
-}
-
 // A non-negative decimal integer that fits in 32 bits, the whole of s.
 std::optional<uint32_t> parseIndex(std::string_view s) {
     s = trim(s);

@@ -47,17 +47,6 @@ struct RenderOptions {
     std::string outPfm;
 };
 
-std::optional<double> parseNumber(std::string_view s) {
-    while (!s.empty() && s.front() == ' ') s.remove_prefix(1);
-    while (!s.empty() && s.back() == ' ') s.remove_suffix(1);
-    if (s.size() > 1 && s.front() == '+' && s[1] != '-') s.remove_prefix(1);
-    double v = 0;
-    const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (s.empty() || r.ec != std::errc{} || r.ptr != s.data() + s.size() || !std::isfinite(v))
-        return std::nullopt;
-    return v;
-}
-
 std::vector<double> parseNumbers(const std::string& flag, const std::string& text) {
     std::vector<double> v;
     std::string_view rest = text;

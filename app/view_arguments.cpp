@@ -19,24 +19,13 @@ std::string quoted(std::string_view s) {
     return out + (s.size() > 80 ? "...'" : "'");
 }
 
-std::optional<double> number(std::string_view s) {
-    while (!s.empty() && s.front() == ' ') s.remove_prefix(1);
-    while (!s.empty() && s.back() == ' ') s.remove_suffix(1);
-    if (s.size() > 1 && s.front() == '+' && s[1] != '-') s.remove_prefix(1);
-    double v = 0;
-    const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (s.empty() || r.ec != std::errc{} || r.ptr != s.data() + s.size() || !std::isfinite(v))
-        return std::nullopt;
-    return v;
-}
-
 // Up to maxCount numbers; nullopt-free on success.
 std::optional<std::vector<double>> numbers(std::string_view text, size_t maxCount) {
     std::vector<double> out;
     std::string_view rest = text;
     while (true) {
         const size_t comma = rest.find(',');
-        const std::optional<double> v = number(rest.substr(0, comma));
+        const std::optional<double> v = parseNumber(rest.substr(0, comma));
         if (!v || out.size() == maxCount) return std::nullopt;
         out.push_back(*v);
         if (comma == std::string_view::npos) return out;
