@@ -6,6 +6,8 @@
 #include <map>
 #include <numbers>
 
+#include "engine/random.h"
+
 namespace penumbra {
 
 namespace {
@@ -13,17 +15,10 @@ namespace {
 using vis::cross;
 using vis::dot;
 
-// splitmix64: small deterministic generator, local state only.
-struct Rng {
-    uint64_t state;
-    explicit Rng(uint64_t seed) : state(seed) {}
-    uint64_t next() {
-        uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+// Deterministic scene randomness: engine/random.h's SplitMix64, with a range helper.
+struct Rng : SplitMix64 {
+    explicit Rng(uint64_t seed) : SplitMix64{seed} {}
+    using SplitMix64::uniform;
     double uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
 };
 

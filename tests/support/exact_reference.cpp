@@ -12,6 +12,8 @@
 #include <numbers>
 #include <vector>
 
+#include "engine/random.h"
+
 namespace penumbra::test {
 
 namespace {
@@ -371,17 +373,7 @@ ReferenceResult exactReference(const vis::PolygonMesh& mesh, uint32_t receiver, 
 
 namespace {
 
-struct Rng {
-    uint64_t state;
-    explicit Rng(uint64_t seed) : state(seed) {}
-    uint64_t next() {
-        uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-};
+using Rng = SplitMix64;  // engine/random.h
 
 struct Occluder {
     std::vector<Vec3> v;
@@ -441,7 +433,7 @@ double monteCarloFraction(const vis::PolygonMesh& mesh, uint32_t receiver, uint3
         if (oc.box.meets(seg)) occ.push_back(std::move(oc));
     }
 
-    Rng rng(seed);
+    Rng rng{seed};
     int64_t hits = 0;
     for (int s = 0; s < samples; ++s) {
         const double pick = rng.uniform() * total;
