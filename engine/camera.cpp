@@ -17,13 +17,16 @@ void Camera::frame(Vec3& right, Vec3& trueUp, Vec3& forward) const {
 }
 
 Ray Camera::ray(double px, double py, int width, int height) const {
-    Vec3 right, trueUp, forward;
-    frame(right, trueUp, forward);
-    const double tanHalf = std::tan(fovYDegrees * std::numbers::pi / 360.0);
+    return CameraRays(*this, width, height)(px, py);
+}
+
+CameraRays::CameraRays(const Camera& camera, int width, int height)
+    : eye_(camera.eye), width_(width), height_(height) {
+    camera.frame(right_, trueUp_, forward_);
+    const double tanHalf = std::tan(camera.fovYDegrees * std::numbers::pi / 360.0);
     const double aspect = static_cast<double>(width) / height;
-    const double sx = (2.0 * px / width - 1.0) * tanHalf * aspect;
-    const double sy = (1.0 - 2.0 * py / height) * tanHalf;
-    return {eye, normalize(forward + sx * right + sy * trueUp)};
+    scaleX_ = tanHalf * aspect;
+    scaleY_ = tanHalf;
 }
 
 bool Camera::project(const Vec3& p, int width, int height, double& px, double& py) const {

@@ -34,4 +34,22 @@ struct Camera {
                           double fovYDegrees = 45, Vec3 up = {0, 1, 0});
 };
 
+// The primary rays of one camera and image size, with the frame and the image-plane scale formed
+// once (Camera::ray forms them per call): for the renderer's per-pixel loop. Same rays as
+// Camera::ray, bit for bit.
+class CameraRays {
+  public:
+    CameraRays(const Camera& camera, int width, int height);
+    Ray operator()(double px, double py) const {
+        const double sx = (2.0 * px / width_ - 1.0) * scaleX_;
+        const double sy = (1.0 - 2.0 * py / height_) * scaleY_;
+        return {eye_, normalize(forward_ + sx * right_ + sy * trueUp_)};
+    }
+
+  private:
+    Vec3 eye_, right_, trueUp_, forward_;
+    double width_, height_;
+    double scaleX_, scaleY_;  // tan(fov / 2) times the aspect ratio, and tan(fov / 2)
+};
+
 }  // namespace penumbra

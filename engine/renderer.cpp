@@ -68,12 +68,12 @@ int tileCount(const RenderSettings& s) {
 
 // The primary ray of pixel (x, y) in pass `pass`: a uniform jitter inside the pixel drawn from
 // the stream (seed, pass, pixel).
-Ray primaryRay(const Camera& camera, const RenderSettings& s, int pass, int x, int y) {
+Ray primaryRay(const CameraRays& rays, const RenderSettings& s, int pass, int x, int y) {
     SplitMix64 rng = SplitMix64::forIndices(
         {kPixelStream, s.seed, static_cast<uint64_t>(pass),
          static_cast<uint64_t>(y) * static_cast<uint64_t>(s.width) + static_cast<uint64_t>(x)});
     const double u = rng.uniform(), v = rng.uniform();
-    return camera.ray(x + u, y + v, s.width, s.height);
+    return rays(x + u, y + v);
 }
 
 }  // namespace
@@ -156,6 +156,7 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
     };
 
     // The pairs the first pass's primary hits need.
+    const CameraRays rays(camera, settings.width, settings.height);
     std::mutex mutex;
     std::unordered_set<PairKey, PairKeyHash> needed;
     std::vector<uint32_t> facesSeen;
@@ -168,7 +169,7 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
                               const Tile tile = tileAt(t, settings);
                               for (int y = tile.y0; y < tile.y1; ++y) {
                                   for (int x = tile.x0; x < tile.x1; ++x) {
-                                      const Ray ray = primaryRay(camera, settings, 0, x, y);
+                                      const Ray ray = primaryRay(rays, settings, 0, x, y);
                                       const auto hit = bvh_.intersect(ray.origin, ray.direction);
                                       if (!hit) continue;
                                       const uint32_t f = hit->face;
@@ -221,6 +222,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     std::vector<uint32_t> facesSeen;
     const int samples = settings.method == DirectMethod::Reference ? settings.referenceSamples
                                                                    : settings.lightSamples;
+    const CameraRays rays(camera, w, h);
 
     tbb::parallel_for(
         tbb::blocked_range<int>(0, tileCount(settings), 1),
@@ -242,7 +244,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                 hits.clear();
                 for (int y = tile.y0; y < tile.y1; ++y) {
                     for (int x = tile.x0; x < tile.x1; ++x) {
-                        const Ray ray = primaryRay(camera, settings, pass, x, y);
+                        const Ray ray = primaryRay(rays, settings, pass, x, y);
                         hits.push_back({ray, bvh_.intersect(ray.origin, ray.direction)});
                     }
                 }

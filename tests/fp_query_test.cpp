@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
@@ -256,6 +257,56 @@ TEST(FpQuery, OptimisationsDoNotChangeResults) {
         }
     }
     EXPECT_LE(nodesAll, nodesNone);
+}
+
+// The reusable FromPointQuery keeps what depends only on the pair (the light clipped to the
+// receiver's front) between runs: interleaved pairs, and a light edited in place between two runs
+// on the same mesh object, must answer exactly as a fresh one-shot query.
+TEST(FpQuery, ReusedQueryAnswersAsAFreshOne) {
+    Scene s = makeRandomSoup(30, 7);
+    vis::PolygonMesh& m = s.mesh;
+    const uint32_t l = s.lights[0];
+    std::mt19937_64 rng(21);
+    std::vector<vis::HistoryTree> trees;
+    for (int i = 0; trees.size() < 4 && i < 200; ++i) {
+        const uint32_t r = static_cast<uint32_t>(rng() % s.faceCount());
+        if (r == l) continue;
+        vis::HistoryTree t = vis::buildHistoryTree(m, r, l);
+        if (t.kind == vis::PairKind::Penumbra) trees.push_back(std::move(t));
+    }
+    ASSERT_GE(trees.size(), 2u);
+    auto same = [&](const vis::FragmentList& a, const vis::FromPointResult& b) {
+        if (a.size() != b.fragments.size()) return false;
+        for (size_t i = 0; i < a.size(); ++i)
+            if (!std::equal(a[i].begin(), a[i].end(), b.fragments[i].begin(),
+                            b.fragments[i].end()))
+                return false;
+        return true;
+    };
+    vis::FromPointQuery reused;
+    size_t nonEmpty = 0;
+    for (int p = 0; p < 200; ++p) {
+        const vis::HistoryTree& t = trees[rng() % trees.size()];
+        const Vec3 x = randomPointOn(m, t.receiver, rng);
+        const vis::FragmentList& got = reused.run(m, t, x);
+        nonEmpty += !got.empty();
+        EXPECT_TRUE(same(got, vis::fromPointQuery(m, t, x))) << "run " << p;
+    }
+    EXPECT_GT(nonEmpty, 0u);
+    // Shrink the light towards its centroid, in place: same mesh object, same ids.
+    const vis::HistoryTree& t = trees[0];
+    const Vec3 x = randomPointOn(m, t.receiver, rng);
+    const vis::FragmentList& before = reused.run(m, t, x);
+    const double areaBefore = before.empty() ? 0 : vis::polygonArea(before[0]);
+    Vec3 centroid{};
+    for (uint32_t v : m.faces[l]) centroid += m.vertices[v];
+    centroid = centroid / static_cast<double>(m.faces[l].size());
+    for (uint32_t v : m.faces[l]) m.vertices[v] = centroid + (m.vertices[v] - centroid) * 0.5;
+    const vis::FragmentList& after = reused.run(m, t, x);
+    EXPECT_TRUE(same(after, vis::fromPointQuery(m, t, x)));
+    ASSERT_GT(areaBefore, 0);
+    ASSERT_FALSE(after.empty());
+    EXPECT_NE(vis::polygonArea(after[0]), areaBefore);
 }
 
 // A point exactly on a splitting plane: no sliver, no lost area.

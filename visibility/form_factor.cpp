@@ -17,9 +17,10 @@ double polygonArea(std::span<const Vec3> polygon) {
 double formFactor(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon) {
     if (polygon.size() < 3) return 0;
     long double sum = 0;
-    for (size_t i = 0; i < polygon.size(); ++i) {
+    const size_t count = polygon.size();
+    for (size_t i = 0; i < count; ++i) {
         const Vec3 a = polygon[i] - x;
-        const Vec3 b = polygon[(i + 1) % polygon.size()] - x;
+        const Vec3 b = polygon[i + 1 == count ? 0 : i + 1] - x;
         const Vec3 c = cross(a, b);
         const double cl = length(c);
         if (cl == 0) continue;  // edge collinear with x: subtends no angle

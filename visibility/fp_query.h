@@ -7,12 +7,12 @@
 #pragma once
 
 #include <cstdint>
-#include <deque>
 #include <span>
 #include <utility>
 #include <vector>
 
 #include "visibility/history_tree.h"
+#include "visibility/polygon_clip.h"
 
 namespace penumbra::vis {
 
@@ -64,6 +64,7 @@ class FromPointQuery {
     uint32_t nodesVisited() const { return nodesVisited_; }
 
   private:
+    void preparePair(const PolygonMesh& mesh, const HistoryTree& tree);
     void visit(uint32_t node, std::span<const Vec3> poly, size_t depth);
 
     PredicateMode mode_;
@@ -73,10 +74,15 @@ class FromPointQuery {
     std::vector<uint32_t>* path_ = nullptr;
     uint32_t nodesVisited_ = 0;
     FragmentList fragments_;
+    // The pair's part that does not depend on x (preparePair): L's vertices, its plane, L clipped
+    // to B's front half-space, and what identifies them.
+    const PolygonMesh* preparedMesh_ = nullptr;
+    uint32_t preparedReceiver_ = 0, preparedLight_ = 0;
+    Vec3 receiverPlane_[3];
+    PlaneOrient lightPlane_;
     std::vector<Vec3> light_, lightClipped_, discard_;
-    // Two polygon buffers per depth, reused along the walk and across runs. A deque: growing it
-    // keeps the references held by shallower levels valid.
-    std::deque<std::pair<std::vector<Vec3>, std::vector<Vec3>>> buffers_;
+    // The split parts per recursion depth, reused along the walk and across runs.
+    std::vector<SplitParts> parts_;
 };
 
 struct FromPointResult {

@@ -17,14 +17,66 @@ Vec3 crossing(const Vec3& p, const Vec3& q, double dp, double dq) {
     return p + (q - p) * t;
 }
 
-// Splits the polygon given each vertex's signed value (its sign decides, zero = on the plane).
+// Each vertex's signed value (its sign decides, zero = on the plane) into d, and the outcome.
 template <typename ValueOf>
-void splitBy(std::span<const Vec3> polygon, ValueOf valueOf, std::vector<Vec3>& positive,
-             std::vector<Vec3>& negative) {
-    positive.clear();
-    negative.clear();
+SplitOutcome classify(std::span<const Vec3> polygon, ValueOf valueOf, double* d) {
     const size_t n = polygon.size();
-    if (n < 3) return;
+    if (n < 3) return SplitOutcome::OnPlane;
+    bool anyPos = false, anyNeg = false;
+    for (size_t i = 0; i < n; ++i) {
+        d[i] = valueOf(polygon[i]);
+        anyPos |= d[i] > 0;
+        anyNeg |= d[i] < 0;
+    }
+    if (!anyNeg) return anyPos ? SplitOutcome::Positive : SplitOutcome::OnPlane;
+    return anyPos ? SplitOutcome::Split : SplitOutcome::Negative;
+}
+
+// Room each part needs: a vertex goes to one or both parts and every sign change adds a crossing
+// to both (two for a convex polygon, at most n for a rounded, barely convex one).
+constexpr size_t partCapacity(size_t n) { return 2 * n; }
+
+// The two parts of a split polygon into pos and neg (partCapacity(n) each); returns the counts.
+void writeParts(std::span<const Vec3> polygon, const double* d, Vec3* pos, size_t& positiveCount,
+                Vec3* neg, size_t& negativeCount) {
+    const size_t n = polygon.size();
+    size_t np = 0, nn = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const size_t j = i + 1 == n ? 0 : i + 1;
+        const double si = d[i], sj = d[j];
+        if (si >= 0) pos[np++] = polygon[i];
+        if (si <= 0) neg[nn++] = polygon[i];
+        if ((si > 0 && sj < 0) || (si < 0 && sj > 0)) {
+            const Vec3 p = crossing(polygon[i], polygon[j], si, sj);
+            pos[np++] = p;
+            neg[nn++] = p;
+        }
+    }
+    positiveCount = np;
+    negativeCount = nn;
+}
+
+// The split into SplitParts (written only for Split).
+template <typename ValueOf>
+SplitOutcome splitInto(std::span<const Vec3> polygon, ValueOf valueOf, SplitParts& parts) {
+    const size_t n = polygon.size();
+    if (parts.values.size() < n) parts.values.resize(n);
+    const SplitOutcome outcome = classify(polygon, valueOf, parts.values.data());
+    if (outcome != SplitOutcome::Split) return outcome;
+    if (parts.positiveStorage.size() < partCapacity(n)) {
+        parts.positiveStorage.resize(partCapacity(n));
+        parts.negativeStorage.resize(partCapacity(n));
+    }
+    writeParts(polygon, parts.values.data(), parts.positiveStorage.data(), parts.positiveCount,
+               parts.negativeStorage.data(), parts.negativeCount);
+    return outcome;
+}
+
+// The split into two vectors, both written whatever the outcome (clipConvexInto's contract).
+template <typename ValueOf>
+void splitIntoVectors(std::span<const Vec3> polygon, ValueOf valueOf, std::vector<Vec3>& positive,
+                      std::vector<Vec3>& negative) {
+    const size_t n = polygon.size();
     constexpr size_t kInline = 32;
     double inlineVals[kInline];
     std::vector<double> heapVals;
@@ -33,31 +85,21 @@ void splitBy(std::span<const Vec3> polygon, ValueOf valueOf, std::vector<Vec3>& 
         heapVals.resize(n);
         d = heapVals.data();
     }
-    bool anyPos = false, anyNeg = false;
-    for (size_t i = 0; i < n; ++i) {
-        d[i] = valueOf(polygon[i]);
-        anyPos |= d[i] > 0;
-        anyNeg |= d[i] < 0;
+    const SplitOutcome outcome = classify(polygon, valueOf, d);
+    positive.clear();
+    negative.clear();
+    switch (outcome) {
+        case SplitOutcome::OnPlane: return;
+        case SplitOutcome::Positive: positive.assign(polygon.begin(), polygon.end()); return;
+        case SplitOutcome::Negative: negative.assign(polygon.begin(), polygon.end()); return;
+        case SplitOutcome::Split: break;
     }
-    if (!anyNeg) {
-        if (anyPos) positive.assign(polygon.begin(), polygon.end());
-        return;
-    }
-    if (!anyPos) {
-        negative.assign(polygon.begin(), polygon.end());
-        return;
-    }
-    for (size_t i = 0; i < n; ++i) {
-        const size_t j = i + 1 == n ? 0 : i + 1;
-        const double si = d[i], sj = d[j];
-        if (si >= 0) positive.push_back(polygon[i]);
-        if (si <= 0) negative.push_back(polygon[i]);
-        if ((si > 0 && sj < 0) || (si < 0 && sj > 0)) {
-            const Vec3 p = crossing(polygon[i], polygon[j], si, sj);
-            positive.push_back(p);
-            negative.push_back(p);
-        }
-    }
+    positive.resize(partCapacity(n));
+    negative.resize(partCapacity(n));
+    size_t np = 0, nn = 0;
+    writeParts(polygon, d, positive.data(), np, negative.data(), nn);
+    positive.resize(np);
+    negative.resize(nn);
 }
 
 }  // namespace
@@ -65,28 +107,26 @@ void splitBy(std::span<const Vec3> polygon, ValueOf valueOf, std::vector<Vec3>& 
 void clipConvexInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
                     std::vector<Vec3>& positive, std::vector<Vec3>& negative) {
     // The value's sign is exact (filtered, exact fallback), its magnitude is for placement.
-    splitBy(
+    splitIntoVectors(
         polygon, [&](const Vec3& y) { return plane.value(y).value; }, positive, negative);
 }
 
-void clipConstructedInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
-                         std::span<const Vec3> inputVertices, std::vector<Vec3>& positive,
-                         std::vector<Vec3>& negative) {
-    splitBy(
+SplitOutcome splitConstructed(std::span<const Vec3> polygon, const PlaneOrient& plane,
+                              std::span<const Vec3> inputVertices, SplitParts& parts) {
+    return splitInto(
         polygon,
         [&](const Vec3& y) {
             BoundedValue v;
-            if (plane.orient.filtered(y, v)) return v.value;
+            if (plane.filtered(y, v)) return v.value;
             for (const Vec3& input : inputVertices)
                 if (input.x == y.x && input.y == y.y && input.z == y.z) return plane.value(y).value;
             return 0.0;
         },
-        positive, negative);
+        parts);
 }
 
-void clipExactInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
-                   std::vector<Vec3>& positive, std::vector<Vec3>& negative) {
-    splitBy(
+SplitOutcome splitExact(std::span<const Vec3> polygon, const PlaneOrient& plane, SplitParts& parts) {
+    return splitInto(
         polygon,
         [&](const Vec3& y) {
             const double v = orient3dApprox(plane.a, plane.b, plane.c, y);
@@ -96,13 +136,13 @@ void clipExactInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
             const double m = std::max(std::fabs(v), DBL_TRUE_MIN);
             return toInt(s) > 0 ? m : -m;
         },
-        positive, negative);
+        parts);
 }
 
-void clipNaiveInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
-                   std::vector<Vec3>& positive, std::vector<Vec3>& negative) {
-    splitBy(polygon, [&](const Vec3& y) { return orient3dApprox(plane.a, plane.b, plane.c, y); },
-            positive, negative);
+SplitOutcome splitNaive(std::span<const Vec3> polygon, const PlaneOrient& plane, SplitParts& parts) {
+    return splitInto(
+        polygon, [&](const Vec3& y) { return orient3dApprox(plane.a, plane.b, plane.c, y); },
+        parts);
 }
 
 ClipResult clipConvex(std::span<const Vec3> polygon, const OrientedPlane& plane) {

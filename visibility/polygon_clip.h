@@ -1,7 +1,7 @@
 // Clipping a convex polygon by a plane, with the side of every vertex decided exactly.
 #pragma once
 
-#include <functional>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -24,22 +24,41 @@ struct OrientedPlane {
 void clipConvexInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
                     std::vector<Vec3>& positive, std::vector<Vec3>& negative);
 
-// The same split for polygons whose vertices are partly rounded constructions (the fragments of
-// FPQuery). Vertices equal to one of `inputVertices` get their exact sign. Any other vertex whose
-// sign the floating-point filter cannot certify is treated as lying on the plane (it goes to both
-// parts, no new vertex): it is itself a rounded construction whose rounding error is of the order
-// of the filter's bound, so the exact sign of the rounded point carries no information, and taking
-// it would only create slivers of rounding width. Areas move by at most that rounding width.
-void clipConstructedInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
-                         std::span<const Vec3> inputVertices, std::vector<Vec3>& positive,
-                         std::vector<Vec3>& negative);
+// Where a polygon lies against a plane. The split functions below fill their output buffers only
+// for Split: a polygon on one side (or on the plane) goes on unchanged, without a copy.
+enum class SplitOutcome : uint8_t {
+    OnPlane,   // every vertex on the plane (zero area on either side)
+    Positive,  // no vertex strictly negative, some strictly positive
+    Negative,  // no vertex strictly positive, some strictly negative
+    Split,     // both: `positive` and `negative` hold the two parts
+};
+
+// The two parts of a split polygon, in storage that keeps its capacity across calls (no
+// allocation in a hot loop after warm-up). The storage vectors are sized to their capacity; the
+// counts say how much of them each part uses.
+struct SplitParts {
+    std::span<const Vec3> positive() const { return {positiveStorage.data(), positiveCount}; }
+    std::span<const Vec3> negative() const { return {negativeStorage.data(), negativeCount}; }
+
+    std::vector<Vec3> positiveStorage, negativeStorage;
+    std::vector<double> values;  // per-vertex values of the last split
+    size_t positiveCount = 0, negativeCount = 0;
+};
+
+// The split of FPQuery's fragments, whose vertices are partly rounded constructions. Vertices equal
+// to one of `inputVertices` get their exact sign. Any other vertex whose sign the floating-point
+// filter cannot certify is treated as lying on the plane (it goes to both parts, no new vertex): it
+// is itself a rounded construction whose rounding error is of the order of the filter's bound, so
+// the exact sign of the rounded point carries no information, and taking it would only create
+// slivers of rounding width. Areas move by at most that rounding width. `parts` is written only
+// for SplitOutcome::Split.
+SplitOutcome splitConstructed(std::span<const Vec3> polygon, const PlaneOrient& plane,
+                              std::span<const Vec3> inputVertices, SplitParts& parts);
 
 // For measuring what exactness costs (FromPointQuery's PredicateMode): every sign through the
 // exact stage (no filter), or the plain double determinant's sign (approximate, can be wrong).
-void clipExactInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
-                   std::vector<Vec3>& positive, std::vector<Vec3>& negative);
-void clipNaiveInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
-                   std::vector<Vec3>& positive, std::vector<Vec3>& negative);
+SplitOutcome splitExact(std::span<const Vec3> polygon, const PlaneOrient& plane, SplitParts& parts);
+SplitOutcome splitNaive(std::span<const Vec3> polygon, const PlaneOrient& plane, SplitParts& parts);
 
 struct ClipResult {
     std::vector<Vec3> positive;  // part with side >= 0 (empty unless some vertex is strictly > 0)

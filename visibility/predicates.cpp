@@ -11,11 +11,8 @@
 namespace penumbra::vis {
 namespace {
 
-// Shewchuk, "Adaptive precision floating-point arithmetic and fast robust geometric predicates"
-// (1997): for the evaluation below (three translated vectors, then expansion by minors), the
-// rounding error is at most (7 + 56 eps) eps times the permanent. eps = 2^-53.
 constexpr double kEps = DBL_EPSILON / 2;
-constexpr double kOrientBound = (7.0 + 56.0 * kEps) * kEps;
+constexpr double kOrientBound = kOrient3dErrorBound;  // predicates.h
 
 struct Evaluated {
     double det;
@@ -102,31 +99,6 @@ BoundedValue orientValue(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
     const double ulp = std::nextafter(mag, INFINITY) - mag;
     // Strictly smaller than |v| unless v is the smallest subnormal; keep the sign certain.
     return {v, std::fmin(ulp, mag * 0.5)};
-}
-
-PlaneOrient::PlaneOrient(const Vec3& a_, const Vec3& b_, const Vec3& c_) : a(a_), b(b_), c(c_) {
-    // As evaluate(a, d, b, c): u = d - a, v = b - a, w = c - a; det = u . (v x w).
-    const double vx = b.x - a.x, vy = b.y - a.y, vz = b.z - a.z;
-    const double wx = c.x - a.x, wy = c.y - a.y, wz = c.z - a.z;
-    const double m1 = vy * wz, m2 = vz * wy;
-    const double m3 = vz * wx, m4 = vx * wz;
-    const double m5 = vx * wy, m6 = vy * wx;
-    n[0] = m1 - m2;
-    n[1] = m3 - m4;
-    n[2] = m5 - m6;
-    perm[0] = std::fabs(m1) + std::fabs(m2);
-    perm[1] = std::fabs(m3) + std::fabs(m4);
-    perm[2] = std::fabs(m5) + std::fabs(m6);
-}
-
-bool PlaneOrient::filtered(const Vec3& d, BoundedValue& out) const {
-    const double ux = d.x - a.x, uy = d.y - a.y, uz = d.z - a.z;
-    const double det = ux * n[0] + uy * n[1] + uz * n[2];
-    const double permanent =
-        std::fabs(ux) * perm[0] + std::fabs(uy) * perm[1] + std::fabs(uz) * perm[2];
-    const double bound = kOrientBound * permanent;
-    out = {det, bound};
-    return std::fabs(det) > bound;
 }
 
 BoundedValue PlaneOrient::value(const Vec3& d) const {

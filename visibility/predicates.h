@@ -21,6 +21,8 @@
 // perturbing the input symbolically.
 #pragma once
 
+#include <cfloat>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 
@@ -67,13 +69,44 @@ struct PlaneOrient {
     BoundedValue value(const Vec3& d) const;
     Sign sign(const Vec3& d) const { return value(d).sign(); }
     // The filter alone: false when it cannot certify the sign (then `out` holds the rounded value
-    // and its error bound, |value| <= error).
+    // and its error bound, |value| <= error). Inline: FPQuery calls it per vertex per node.
     bool filtered(const Vec3& d, BoundedValue& out) const;
 
     Vec3 a, b, c;
     double n[3] = {0, 0, 0};     // (b - a) x (c - a), rounded as evaluate() rounds it
     double perm[3] = {0, 0, 0};  // the matching permanent terms
 };
+
+// Shewchuk, "Adaptive precision floating-point arithmetic and fast robust geometric predicates"
+// (1997): for orient3d evaluated as three translated vectors, then expansion by minors, the
+// rounding error is at most (7 + 56 eps) eps times the permanent. eps = 2^-53.
+inline constexpr double kOrient3dErrorBound = (7.0 + 56.0 * (DBL_EPSILON / 2)) * (DBL_EPSILON / 2);
+
+inline PlaneOrient::PlaneOrient(const Vec3& a_, const Vec3& b_, const Vec3& c_)
+    : a(a_), b(b_), c(c_) {
+    // As evaluate(a, d, b, c): u = d - a, v = b - a, w = c - a; det = u . (v x w).
+    const double vx = b.x - a.x, vy = b.y - a.y, vz = b.z - a.z;
+    const double wx = c.x - a.x, wy = c.y - a.y, wz = c.z - a.z;
+    const double m1 = vy * wz, m2 = vz * wy;
+    const double m3 = vz * wx, m4 = vx * wz;
+    const double m5 = vx * wy, m6 = vy * wx;
+    n[0] = m1 - m2;
+    n[1] = m3 - m4;
+    n[2] = m5 - m6;
+    perm[0] = std::fabs(m1) + std::fabs(m2);
+    perm[1] = std::fabs(m3) + std::fabs(m4);
+    perm[2] = std::fabs(m5) + std::fabs(m6);
+}
+
+inline bool PlaneOrient::filtered(const Vec3& d, BoundedValue& out) const {
+    const double ux = d.x - a.x, uy = d.y - a.y, uz = d.z - a.z;
+    const double det = ux * n[0] + uy * n[1] + uz * n[2];
+    const double permanent =
+        std::fabs(ux) * perm[0] + std::fabs(uy) * perm[1] + std::fabs(uz) * perm[2];
+    const double bound = kOrient3dErrorBound * permanent;
+    out = {det, bound};
+    return std::fabs(det) > bound;
+}
 
 // Exactly: do a, b, c lie on one line (a zero cross product (b-a) x (c-a))?
 bool collinear(const Vec3& a, const Vec3& b, const Vec3& c);
