@@ -207,7 +207,9 @@ void registerPrecomputeCommand(CLI::App& app) {
     CLI::App* sub = app.add_subcommand(
         "precompute",
         "Build the history trees of every (receiver patch, light) pair and save them to a file");
-    sub->add_option("scene", options->scene, "Scene file (.obj)")->required();
+    sub->add_option("scene", options->scene,
+                    "Scene file (.obj, .ply, .off, .stl, .gltf, .glb or a .json scene)")
+        ->required();
     sub->add_option("-o,--output", options->output, "Visibility file to write (.pvis)")->required();
     sub->add_option("--memory-budget", options->memoryBudgetMB,
                     "Stop once the trees take more than this many MB (0: no limit)")

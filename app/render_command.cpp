@@ -1,12 +1,16 @@
 // `penumbra render SCENE [--camera EX,EY,EZ,TX,TY,TZ[,FOV]] [--size WxH] [--spp N]
 //                 [--method exact|sampled|reference] [--light-samples N] [--seed S] --out FILE`
 //                 (and --up X,Y,Z, --reference-samples, --glossy-samples, --light-seed,
-//                  --exposure, --threads, --out-pfm; see --help)
+//                  --exposure, --threads, --out-pfm, --visibility; see --help)
 //
 // Renders the scene with the progressive CPU renderer (engine/renderer.h) and writes the image:
 // FILE ending in .png (tone mapped, sRGB) or .pfm (linear float); --out may be given twice (one
 // of each) and --out-pfm names a PFM file explicitly. The camera defaults to the scene's, else
 // one fitted to the scene's bounds. Prints the time breakdown and what was simulated and why.
+// --visibility FILE.pvis: the history trees are read from FILE when it is current for this scene
+// (as `penumbra precompute` writes it; a stale or corrupt file is reported and recomputed), and
+// FILE is written back atomically with every tree the render added, so the next render of the
+// scene, from any camera, reuses them.
 #include <tbb/global_control.h>
 
 #include <CLI/CLI.hpp>
@@ -24,6 +28,7 @@
 #include "app/commands.h"
 #include "engine/embree_scene.h"
 #include "engine/renderer.h"
+#include "engine/visibility_file.h"
 #include "engine/visibility_store.h"
 
 namespace penumbra::cli {
@@ -45,6 +50,7 @@ struct RenderOptions {
     int threads = 0;
     std::vector<std::string> out;
     std::string outPfm;
+    std::string visibility;
 };
 
 std::vector<double> parseNumbers(const std::string& flag, const std::string& text) {
@@ -147,6 +153,17 @@ void runRender(const RenderOptions& o) {
 
     const EmbreeScene bvh(scene.mesh);
     VisibilityStore store(scene, &bvh);
+    size_t loadedTrees = 0;
+    const bool exact = settings.method == DirectMethod::Exact;
+    if (!o.visibility.empty() && exact) {
+        try {
+            loadedTrees = readVisibilityFile(o.visibility, store);
+        } catch (const VisibilityFileError& e) {
+            if (e.status != VisibilityFileStatus::Missing)
+                std::cerr << "penumbra: " << e.what() << " (" << toString(e.status)
+                          << "); recomputing\n";
+        }
+    }
     ProgressiveRenderer renderer(scene, bvh, store);
     RenderTimes times;
     const Film film = renderer.render(*camera, settings, &times);
@@ -164,6 +181,24 @@ void runRender(const RenderOptions& o) {
         times.precompute, store.treeCount(), times.primary, times.shading, times.total);
     std::printf("cpu time (all threads): precompute %.3f s, rendering %.3f s, total %.3f s\n",
                 times.precomputeCpu, times.totalCpu - times.precomputeCpu, times.totalCpu);
+    if (!o.visibility.empty()) {
+        if (!exact) {
+            std::printf("visibility: %s not used (the %s method needs no history trees)\n",
+                        o.visibility.c_str(), toString(settings.method));
+        } else if (store.treeCount() == loadedTrees) {
+            std::printf("visibility: %zu trees read from %s, none added\n", loadedTrees,
+                        o.visibility.c_str());
+        } else {
+            try {
+                const size_t bytes = writeVisibilityFile(o.visibility, store);
+                std::printf("visibility: %zu trees read, %zu added, wrote %s (%zu bytes)\n",
+                            loadedTrees, store.treeCount() - loadedTrees, o.visibility.c_str(),
+                            bytes);
+            } catch (const VisibilityFileError& e) {
+                throw inputError(e.what());
+            }
+        }
+    }
     std::printf("effects:\n");
     const std::string text = renderer.effects().text();
     size_t start = 0;
@@ -194,7 +229,9 @@ void registerRenderCommand(CLI::App& app) {
     auto o = std::make_shared<RenderOptions>();
     CLI::App* sub = app.add_subcommand(
         "render", "Render an image with exact soft shadows (or shadow-ray sampling to compare)");
-    sub->add_option("scene", o->scene, "Scene file (.obj)")->required();
+    sub->add_option("scene", o->scene,
+                    "Scene file (.obj, .ply, .off, .stl, .gltf, .glb or a .json scene)")
+        ->required();
     sub->add_option("--camera", o->camera,
                     "Eye and target, and optionally the vertical field of view in degrees: "
                     "EX,EY,EZ,TX,TY,TZ[,FOV] (default: the scene's camera, else one fitted to it)");
@@ -227,6 +264,9 @@ void registerRenderCommand(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--out", o->out, "Output image, .png or .pfm (may be given twice)")->take_all();
     sub->add_option("--out-pfm", o->outPfm, "Also write the linear radiance as PFM to this file");
+    sub->add_option("--visibility", o->visibility,
+                    "Visibility file (.pvis): read the history trees from it when current, write "
+                    "it back with the trees this render added (exact method)");
     sub->callback([o] { runRender(*o); });
 }
 
