@@ -102,6 +102,56 @@ TEST_F(RenderCommand, SampledMethodRuns) {
     EXPECT_TRUE(fs::exists(path("s.pfm")));
 }
 
+std::string slurp(const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// --visibility: the trees are written, read back by the next render (nothing rebuilt, the same
+// image bit for bit as a render without the file), extended by another camera, and a damaged file
+// is reported, recomputed and replaced.
+TEST_F(RenderCommand, VisibilityFileIsReusedExtendedAndRepaired) {
+    const std::string pvis = path("scene.pvis");
+    RunResult r = run(base() + " --out-pfm " + path("plain.pfm"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    r = run(base() + " --visibility " + pvis + " --out-pfm " + path("first.pfm"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("0 trees read"), std::string::npos) << r.output;
+    ASSERT_TRUE(fs::exists(pvis));
+    const auto firstSize = fs::file_size(pvis);
+
+    r = run(base() + " --visibility " + pvis + " --out-pfm " + path("second.pfm"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("none added"), std::string::npos) << r.output;
+    EXPECT_EQ(slurp(path("second.pfm")), slurp(path("plain.pfm")));
+    EXPECT_EQ(slurp(path("first.pfm")), slurp(path("plain.pfm")));
+
+    // Another view sees other receiver patches: their trees are added to the file.
+    r = run(path("scene.obj") +
+            " --camera -3,4,2.5,0,0,0 --up 0,0,1 --size 16x12 --spp 2 --visibility " + pvis +
+            " --out-pfm " + path("other.pfm"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("added, wrote"), std::string::npos) << r.output;
+    EXPECT_GT(fs::file_size(pvis), firstSize);
+
+    // One flipped byte in the payload: reported, recomputed, the file replaced by a valid one.
+    {
+        std::fstream f(pvis, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekg(60);
+        const char c = static_cast<char>(f.get());
+        f.seekp(60);
+        f.put(static_cast<char>(c ^ 0x10));
+    }
+    r = run(base() + " --visibility " + pvis + " --out-pfm " + path("repaired.pfm"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("scene.pvis"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("recomputing"), std::string::npos) << r.output;
+    EXPECT_EQ(slurp(path("repaired.pfm")), slurp(path("plain.pfm")));
+    r = run(base() + " --visibility " + pvis + " --out-pfm " + path("again.pfm"));
+    ASSERT_EQ(r.exitCode, 0) << r.output;
+    EXPECT_NE(r.output.find("none added"), std::string::npos) << r.output;
+}
+
 TEST_F(RenderCommand, BadInputGetsAClearErrorAndExitCode) {
     RunResult r = run(base() + " --size 16by12 --out " + path("a.png"));
     EXPECT_EQ(r.exitCode, 2);
