@@ -167,18 +167,24 @@ bool LinePolytopeSpace::certifyNonNegative(std::span<const Constraint> path, con
                                            std::vector<double>* witness) const {
     const size_t n = h.value.size();
     const size_t m = path.size();
-    std::vector<double> mu(m, 0.0);
+    LpScratch& lp = lp_;
+    std::vector<double>& mu = lp.mu;
+    mu.assign(m, 0.0);
     if (verifyCertificate(path, h, sign, mu)) return true;  // every generator already >= 0
     if (m == 0) return false;
     double cmin = INFINITY;
     for (size_t g = 0; g < n; ++g) cmin = std::min(cmin, sign * h.value[g]);
-    std::vector<double> M(m * n), rhs(n);
+    std::vector<double>& M = lp.matrix;
+    std::vector<double>& rhs = lp.rhs;
+    M.resize(m * n);
+    rhs.resize(n);
     for (size_t k = 0; k < m; ++k)
         for (size_t g = 0; g < n; ++g) M[k * n + g] = path[k].sign * path[k].row->value[g];
     for (size_t g = 0; g < n; ++g) rhs[g] = sign * h.value[g] - cmin;
     ++stats.lpSolves;
     // Run until the bound t = cmin + tau clears zero with some margin, or to optimality.
-    const DualSimplexResult res = solveDualSimplex(M, m, n, rhs, 1e8, -cmin + 1e-6);
+    DualSimplexResult& res = lp.result;
+    solveDualSimplex(M, m, n, rhs, 1e8, -cmin + 1e-6, lp.workspace, res);
     if (verifyCertificate(path, h, sign, res.mu)) return true;
     if (cmin + res.tau >= -1e-9) {  // the LP believes it: a zero margin the doubles cannot see
         if (certifyExactly(path, h, sign, res.mu)) {

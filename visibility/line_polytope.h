@@ -31,6 +31,7 @@
 #include <span>
 #include <vector>
 
+#include "visibility/dual_simplex.h"
 #include "visibility/predicates.h"
 
 namespace penumbra::vis {
@@ -69,13 +70,13 @@ struct PolytopeStats {
     uint64_t lpSolves = 0;
     uint64_t uncertain = 0;  // an LP said one-sided but no certificate verified (took the split)
     uint64_t exactCertificates = 0;  // certificates that needed the exact rational fallback
-    uint64_t realLineTests = 0;    // provablyNoRealLine calls
-    uint64_t realLineWitness = 0;  // ... answered by a witness line (cheap "may hold lines")
-    uint64_t realLineProofs = 0;   // ... proven empty
+    uint64_t realLineTests = 0;      // provablyNoRealLine calls
+    uint64_t realLineWitness = 0;    // ... answered by a witness line (cheap "may hold lines")
+    uint64_t realLineProofs = 0;     // ... proven empty
 };
 
 class LinePolytopeSpace {
-public:
+  public:
     // B and L: the receiver's and the light's vertices (convex polygons).
     LinePolytopeSpace(std::span<const Vec3> receiver, std::span<const Vec3> light);
     ~LinePolytopeSpace();
@@ -91,15 +92,15 @@ public:
 
     // Which side of h the polytope {path} lies on. `inside` is the mask of witness lines that lie
     // in the polytope: they make most Mixed answers free of any linear program.
-    Side classify(std::span<const Constraint> path, const WitnessMask& inside, const HyperplaneRow& h,
-                  PolytopeStats& stats) const;
+    Side classify(std::span<const Constraint> path, const WitnessMask& inside,
+                  const HyperplaneRow& h, PolytopeStats& stats) const;
 
     // True only if it is proven that no real line lies in {path} strictly on the `side` of h.
     bool provablyNoRealLine(std::span<const Constraint> path, const WitnessMask& inside,
                             const HyperplaneRow& h, int side, int maxLevels,
                             PolytopeStats& stats) const;
 
-private:
+  private:
     // Looks for a real line in {path} strictly on `side` of h (a witness, not a proof): for a few
     // points b of B (those of witness lines inside the polytope first), the lines through b that
     // satisfy every half-space form a convex part of L (the from-point query's clipping);
@@ -123,6 +124,15 @@ private:
 
     std::vector<Vec3> b_, l_;
     std::vector<std::pair<Vec3, Vec3>> samples_;  // sample lines (point on B, point on L)
+
+    // Storage of the linear programs, reused from one to the next (no allocation per program).
+    // Mutable scratch like exact_: a LinePolytopeSpace belongs to one tree build on one thread.
+    struct LpScratch {
+        std::vector<double> mu, matrix, rhs;
+        DualSimplexWorkspace workspace;
+        DualSimplexResult result;
+    };
+    mutable LpScratch lp_;
 };
 
 }  // namespace penumbra::vis
