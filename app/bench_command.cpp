@@ -732,8 +732,8 @@ void runBench(const BenchOptions& o, const std::string& commandLine) {
                     {"quick", o.quick}, {"skipLarge", o.skipLarge}, {"limit", o.limit}};
     std::vector<std::string> small = o.scenes, large;
     if (small.empty()) {
-        small = {"assets/stairs.obj", "assets/table.obj", "assets/grids.obj",
-                 "assets/scenes/cornell_box.json"};
+        small = {"assets/scenes/stairs.json", "assets/scenes/table.json",
+                 "assets/scenes/grids.json", "assets/scenes/cornell_box.json"};
         if (!o.quick) small.push_back("assets/scenes/bunny_in_box.json");
         if (!o.skipLarge && !o.quick) large = {"assets/scenes/motorbike.json"};
     }
@@ -749,7 +749,8 @@ void runBench(const BenchOptions& o, const std::string& commandLine) {
             std::printf("%s missing (scripts/fetch_meshes.sh): skipped\n", s.c_str());
     b["accuracy"] = accuracy(o);
     b["predicates"] = predicates(o);
-    std::vector<std::string> optionScenes = {"assets/stairs.obj", "assets/scenes/cornell_box.json"};
+    std::vector<std::string> optionScenes = {"assets/scenes/stairs.json",
+                                             "assets/scenes/cornell_box.json"};
     if (o.quick) optionScenes = {"assets/scenes/cornell_box.json"};
     b["buildOptions"] = buildOptions(optionScenes, o);
     std::vector<std::string> scalingScenes;
