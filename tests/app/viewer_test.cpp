@@ -85,7 +85,7 @@ TEST(ViewerLayout, ViewBetweenTheColumns) {
 TEST(ViewerScreenshot, FragmentOverlayAndPathMatchAnIndependentQuery) {
     const fs::path dir = test::scratchDir("viewer_screenshot");
     const Vec3 x{278, 0, 280};
-    const test::ProcessResult r = test::runPenumbra(
+    const test::ProcessResult r = test::runPenumbraGl(
         {"screenshot", cornell().string(), "--point", "278,0,280", "--camera", kCameraFlag,
          "--size", "1280x800", "--no-preview", "--out", (dir / "shot.png").string(), "--state-out",
          (dir / "state.json").string()});
@@ -129,7 +129,7 @@ TEST(ViewerScreenshot, PickingAPixelInspectsTheSurfaceAnIndependentRayHits) {
     ASSERT_TRUE(c.project({400, 0, 120}, layout.view.width, layout.view.height, px, py));
     px += layout.view.x;
     py += layout.view.y;
-    const test::ProcessResult r = test::runPenumbra(
+    const test::ProcessResult r = test::runPenumbraGl(
         {"screenshot", cornell().string(), "--pixel", std::to_string(px) + "," + std::to_string(py),
          "--camera", "278,273,-800,278,273,0,39", "--size", "640x400", "--no-preview", "--out",
          (dir / "shot.png").string(), "--state-out", (dir / "state.json").string()});
@@ -151,7 +151,7 @@ TEST(ViewerScreenshot, PickingAPixelInspectsTheSurfaceAnIndependentRayHits) {
 TEST(ViewerScreenshot, SampledPreviewConvergesToTheExactOne) {
     const fs::path dir = test::scratchDir("viewer_preview");
     auto run = [&](int lightSamples, int passes) {
-        const test::ProcessResult r = test::runPenumbra(
+        const test::ProcessResult r = test::runPenumbraGl(
             {"screenshot", cornell().string(), "--size", "640x400", "--preview-mode", "diff",
              "--light-samples", std::to_string(lightSamples), "--passes", std::to_string(passes),
              "--out", (dir / "shot.png").string(), "--state-out", (dir / "state.json").string(),
@@ -216,13 +216,13 @@ TEST(ViewerScreenshot, BadArgumentsAreRefusedWithTheReason) {
     for (const Case& c : cases) {
         std::vector<std::string> args = {"screenshot", cornell().string(), "--out", out};
         args.insert(args.end(), c.args.begin(), c.args.end());
-        const test::ProcessResult r = test::runPenumbra(args);
+        const test::ProcessResult r = test::runPenumbraGl(args);
         EXPECT_EQ(r.exitCode, c.code) << c.args.front() << ": " << r.err;
         EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
         EXPECT_FALSE(fs::exists(out));
     }
     const test::ProcessResult missing =
-        test::runPenumbra({"screenshot", (dir / "none.obj").string(), "--out", out});
+        test::runPenumbraGl({"screenshot", (dir / "none.obj").string(), "--out", out});
     EXPECT_EQ(missing.exitCode, 1);
     EXPECT_NE(missing.err.find("no such file"), std::string::npos) << missing.err;
 }
@@ -237,7 +237,7 @@ TEST(ViewerScreenshot, EglBackendRendersTheSameOverlayOrSaysWhy) {
     const std::string saved = previous != nullptr ? previous : "";
     setenv("ASAN_OPTIONS", (saved.empty() ? "detect_leaks=0" : saved + ":detect_leaks=0").c_str(),
            1);
-    const test::ProcessResult r = test::runPenumbra(
+    const test::ProcessResult r = test::runPenumbraGl(
         {"screenshot", cornell().string(), "--point", "278,0,280", "--camera", kCameraFlag,
          "--no-preview", "--backend", "egl", "--out", (dir / "shot.png").string(), "--state-out",
          (dir / "state.json").string()});
