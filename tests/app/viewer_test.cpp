@@ -2,16 +2,19 @@
 // from-point query, and the headless screenshots (`penumbra screenshot`, OSMesa) checked for
 // content against independent queries: the fragment overlay is where the camera projects the
 // exact fragments, the path panel's state lists the query's path, picking a pixel inspects the
-// surface an independent ray hits, bad arguments are refused.
+// surface an independent ray hits, bad arguments are refused. The Scene panel's list holds every
+// format the loader reads, from assets/ and assets/scenes/.
 #include "app/viewer/viewer.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <set>
+#include <vector>
 
 #include "app/viewer/point_inspection.h"
 #include "engine/embree_scene.h"
@@ -80,6 +83,32 @@ TEST(ViewerLayout, ViewBetweenTheColumns) {
     EXPECT_EQ(l.view.x + l.view.width + l.rightWidth, 1280);
     EXPECT_EQ(l.view.height, 800);
     EXPECT_GT(l.view.width, 400);
+}
+
+TEST(ViewerSceneList, EveryLoadableFormatInAssetsAndScenes) {
+    const fs::path dir = test::scratchDir("viewer_scene_list");
+    fs::create_directories(dir / "scenes");
+    fs::create_directories(dir / "external");    // not listed: the fetched raw meshes go there
+    fs::create_directories(dir / "folder.obj");  // a directory, not a scene
+    for (const char* name :
+         {"b.obj", "a.PLY", "c.off", "d.stl", "e.gltf", "f.Glb", "g.json", "b.mtl", "notes.txt",
+          "noext", "scenes/z.json", "scenes/y.obj", "scenes/readme.md", "external/mesh.ply"})
+        std::ofstream(dir / name) << "x";
+    const std::vector<fs::path> want = {
+        dir / "a.PLY", dir / "b.obj",  dir / "c.off",        dir / "d.stl",        dir / "e.gltf",
+        dir / "f.Glb", dir / "g.json", dir / "scenes/y.obj", dir / "scenes/z.json"};
+    EXPECT_EQ(viewer::listSceneFiles(dir), want);
+    EXPECT_TRUE(viewer::listSceneFiles(dir / "none").empty());
+
+    // The committed assets: the OBJ scenes and the JSON scenes under assets/scenes/.
+    const fs::path assets = test::sourceDir() / "assets";
+    const std::vector<fs::path> listed = viewer::listSceneFiles(assets);
+    const auto lists = [&](const fs::path& p) {
+        return std::find(listed.begin(), listed.end(), p) != listed.end();
+    };
+    EXPECT_TRUE(lists(assets / "cornell_box.obj"));
+    EXPECT_TRUE(lists(assets / "scenes" / "cornell_box.json"));
+    EXPECT_FALSE(lists(assets / "cornell_box.mtl"));
 }
 
 TEST(ViewerScreenshot, FragmentOverlayAndPathMatchAnIndependentQuery) {
