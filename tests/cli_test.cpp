@@ -13,14 +13,11 @@
 // light is visible (the fragment [-0.5,0]x[-0.5,0.5], whose corners are exact doubles), and by
 // symmetry about x=0 the form factor is exactly half the unoccluded one.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
@@ -30,16 +27,15 @@
 #include "engine/obj_io.h"
 #include "engine/point_query.h"
 #include "support/exact_reference.h"
-
-#ifndef PENUMBRA_EXE
-#error "PENUMBRA_EXE must name the penumbra executable"
-#endif
+#include "support/run_penumbra.h"
 
 namespace penumbra {
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using test::ProcessResult;
+using test::runPenumbra;
 
 const char* kSceneObj =
     "mtllib scene.mtl\n"
@@ -64,23 +60,6 @@ double cornerFormFactor(double a, double b, double h) {
 }
 
 // ---- the executable -----------------------------------------------------------------------------
-
-struct RunResult {
-    int exitCode = -1;
-    std::string out;
-    std::string err;
-};
-
-std::string shellQuote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
-std::string readFile(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
 
 std::vector<std::string> lines(const std::string& text) {
     std::vector<std::string> out;
@@ -111,29 +90,9 @@ class CliTest : public ::testing::Test {
         std::ofstream(path(name), std::ios::binary) << text;
     }
 
-    // Runs penumbra with the arguments; stdout through a pipe, stderr through a file.
-    RunResult run(const std::vector<std::string>& args) const {
-        std::string command = shellQuote(PENUMBRA_EXE);
-        for (const std::string& a : args) command += " " + shellQuote(a);
-        const fs::path errFile = path("stderr.txt");
-        command += " 2> " + shellQuote(errFile.string());
-        RunResult r;
-        FILE* pipe = ::popen(command.c_str(), "r");
-        if (pipe == nullptr) {
-            ADD_FAILURE() << "popen failed: " << command;
-            return r;
-        }
-        char buf[4096];
-        for (size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) r.out.append(buf, n);
-        const int status = ::pclose(pipe);
-        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        r.err = readFile(errFile);
-        return r;
-    }
-
     // Runs a query expected to succeed with one output line, and returns its JSON.
     json queryOne(const std::vector<std::string>& args) const {
-        const RunResult r = run(args);
+        const ProcessResult r = runPenumbra(args);
         EXPECT_EQ(r.exitCode, 0) << r.err;
         EXPECT_EQ(r.err, "");
         const std::vector<std::string> out = lines(r.out);
@@ -145,7 +104,7 @@ class CliTest : public ::testing::Test {
     // containing every one of `keywords`.
     void expectError(const std::vector<std::string>& args, int exitCode,
                      const std::vector<std::string>& keywords) const {
-        const RunResult r = run(args);
+        const ProcessResult r = runPenumbra(args);
         EXPECT_EQ(r.exitCode, exitCode) << r.err;
         EXPECT_EQ(r.out, "");
         EXPECT_EQ(r.err.rfind("penumbra: error: ", 0), 0u) << r.err;
@@ -214,7 +173,8 @@ TEST_F(CliTest, PointsFilePrintsOneLinePerPoint) {
           "  0.3 0.2 0   # a comment\n"
           "-1 -1 0 0\n"
           "0 0 3\r\n");
-    const RunResult r = run({"query", scene(), "--points", path("points.txt").string()});
+    const ProcessResult r =
+        runPenumbra({"query", scene(), "--points", path("points.txt").string()});
     EXPECT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(r.err, "");
     const std::vector<std::string> out = lines(r.out);
@@ -298,11 +258,11 @@ TEST_F(CliTest, CommandLineUsage) {
     expectError({"query", scene()}, 2, {"--point"});
     expectError({"query", scene(), "--point", "0,0,0", "--points", "p.txt"}, 2, {"--points"});
     expectError({"query", scene(), "--point", "0,0,0", "--no-such-flag"}, 2, {"--no-such-flag"});
-    const RunResult help = run({"query", "--help"});
+    const ProcessResult help = runPenumbra({"query", "--help"});
     EXPECT_EQ(help.exitCode, 0);
     EXPECT_NE(help.out.find("--point"), std::string::npos) << help.out;
     EXPECT_NE(help.out.find("--light"), std::string::npos) << help.out;
-    const RunResult version = run({"--version"});
+    const ProcessResult version = runPenumbra({"--version"});
     EXPECT_EQ(version.exitCode, 0);
     EXPECT_NE(version.out.find("penumbra"), std::string::npos) << version.out;
 }

@@ -1,10 +1,8 @@
 // `penumbra precompute`, run as a real process: writes a file whose trees equal direct builds,
 // loads a current file without recomputing, recomputes a corrupt or stale one, rejects bad flags.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -14,27 +12,15 @@
 #include "engine/obj_io.h"
 #include "engine/procedural_scenes.h"
 #include "engine/visibility_file.h"
+#include "tests/support/run_penumbra.h"
 #include "tests/support/tree_reference.h"
-
-#ifndef PENUMBRA_EXE
-#error "PENUMBRA_EXE must name the penumbra executable"
-#endif
 
 namespace penumbra {
 namespace {
 
 namespace fs = std::filesystem;
-
-struct RunResult {
-    int exitCode = -1;
-    std::string out, err;
-};
-
-std::string shellQuote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
+using test::ProcessResult;
+using test::runPenumbra;
 
 std::string readText(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
@@ -55,24 +41,6 @@ class PrecomputeCommand : public ::testing::Test {
         std::error_code ec;
         fs::remove_all(dir_, ec);
     }
-    RunResult run(const std::vector<std::string>& args) const {
-        std::string command = shellQuote(PENUMBRA_EXE);
-        for (const std::string& a : args) command += " " + shellQuote(a);
-        const fs::path errFile = dir_ / "stderr.txt";
-        command += " 2> " + shellQuote(errFile.string());
-        RunResult r;
-        FILE* pipe = ::popen(command.c_str(), "r");
-        if (pipe == nullptr) {
-            ADD_FAILURE() << "popen failed: " << command;
-            return r;
-        }
-        char buf[4096];
-        for (size_t n; (n = std::fread(buf, 1, sizeof buf, pipe)) > 0;) r.out.append(buf, n);
-        const int status = ::pclose(pipe);
-        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        r.err = readText(errFile);
-        return r;
-    }
     std::string scene() const { return (dir_ / "box.obj").string(); }
     std::string file() const { return (dir_ / "box.pvis").string(); }
 
@@ -80,7 +48,8 @@ class PrecomputeCommand : public ::testing::Test {
 };
 
 TEST_F(PrecomputeCommand, WritesEveryPairThenLoadsWithoutRecomputing) {
-    const RunResult first = run({"precompute", scene(), "-o", file(), "--threads", "2"});
+    const ProcessResult first =
+        runPenumbra({"precompute", scene(), "-o", file(), "--threads", "2"});
     ASSERT_EQ(first.exitCode, 0) << first.err;
     EXPECT_NE(first.out.find("box.pvis: written"), std::string::npos) << first.out;
     EXPECT_NE(first.out.find("threads  "), std::string::npos) << first.out;
@@ -108,7 +77,7 @@ TEST_F(PrecomputeCommand, WritesEveryPairThenLoadsWithoutRecomputing) {
     });
 
     const auto written = fs::last_write_time(file());
-    const RunResult second = run({"precompute", scene(), "-o", file()});
+    const ProcessResult second = runPenumbra({"precompute", scene(), "-o", file()});
     ASSERT_EQ(second.exitCode, 0) << second.err;
     EXPECT_NE(second.out.find("valid and current"), std::string::npos) << second.out;
     EXPECT_NE(second.out.find("nothing recomputed"), std::string::npos) << second.out;
@@ -116,18 +85,18 @@ TEST_F(PrecomputeCommand, WritesEveryPairThenLoadsWithoutRecomputing) {
 }
 
 TEST_F(PrecomputeCommand, CorruptOrStaleFileIsRecomputed) {
-    ASSERT_EQ(run({"precompute", scene(), "-o", file()}).exitCode, 0);
+    ASSERT_EQ(runPenumbra({"precompute", scene(), "-o", file()}).exitCode, 0);
     std::string bytes = readText(file());
     bytes[bytes.size() / 2] ^= 0x01;
     std::ofstream(file(), std::ios::binary | std::ios::trunc) << bytes;
-    RunResult r = run({"precompute", scene(), "-o", file()});
+    ProcessResult r = runPenumbra({"precompute", scene(), "-o", file()});
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.err.find("checksum mismatch"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("recomputing"), std::string::npos) << r.err;
     EXPECT_NE(r.out.find("box.pvis: written"), std::string::npos) << r.out;
 
     // Other settings shape other trees: the file is stale.
-    r = run({"precompute", scene(), "-o", file(), "--patch-fraction", "0.5"});
+    r = runPenumbra({"precompute", scene(), "-o", file(), "--patch-fraction", "0.5"});
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_NE(r.err.find("stale"), std::string::npos) << r.err;
     VisibilityStore::Options half;
@@ -138,13 +107,13 @@ TEST_F(PrecomputeCommand, CorruptOrStaleFileIsRecomputed) {
 }
 
 TEST_F(PrecomputeCommand, BadArgumentsAndMemoryBudget) {
-    EXPECT_EQ(run({"precompute", scene()}).exitCode, 2);  // no -o
-    EXPECT_EQ(run({"precompute", scene(), "-o", file(), "--threads", "0"}).exitCode, 2);
-    EXPECT_EQ(run({"precompute", (dir_ / "none.obj").string(), "-o", file()}).exitCode, 1);
+    EXPECT_EQ(runPenumbra({"precompute", scene()}).exitCode, 2);  // no -o
+    EXPECT_EQ(runPenumbra({"precompute", scene(), "-o", file(), "--threads", "0"}).exitCode, 2);
+    EXPECT_EQ(runPenumbra({"precompute", (dir_ / "none.obj").string(), "-o", file()}).exitCode, 1);
     EXPECT_FALSE(fs::exists(file()));
     // A budget far below one tree: stops, writes what it has, exits 1 with the reason.
-    const RunResult r =
-        run({"precompute", scene(), "-o", file(), "--memory-budget", "0.000001", "--threads", "1"});
+    const ProcessResult r = runPenumbra(
+        {"precompute", scene(), "-o", file(), "--memory-budget", "0.000001", "--threads", "1"});
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(r.err.find("memory budget"), std::string::npos) << r.err;
     const Scene box = loadObj(dir_ / "box.obj");

@@ -1,18 +1,15 @@
 // Tests of `penumbra render`, run as a real process (PENUMBRA_EXE): the files it writes, what it
 // prints, and its exit codes for bad input.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <vector>
 
-#ifndef PENUMBRA_EXE
-#error "PENUMBRA_EXE must name the penumbra executable"
-#endif
+#include "tests/support/run_penumbra.h"
 
 namespace {
 
@@ -29,26 +26,17 @@ const char* kObj =
     "usemtl white\nf 9 10 11 12\n";
 const char* kMtl = "newmtl white\nKd 0.8 0.8 0.8\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n";
 
-struct RunResult {
-    int exitCode = -1;
-    std::string output;  // stdout and stderr
-};
+using penumbra::test::ProcessResult;
 
-RunResult run(const std::string& args) {
-    RunResult r;
-    const std::string command = std::string(PENUMBRA_EXE) + " render " + args + " 2>&1";
-    FILE* pipe = ::popen(command.c_str(), "r");
-    if (pipe == nullptr) {
-        ADD_FAILURE() << "popen failed: " << command;
-        return r;
-    }
-    char buf[4096];
-    size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, n);
-    const int status = ::pclose(pipe);
-    r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
+// Runs `penumbra render ARGS... MORE...`.
+ProcessResult run(std::vector<std::string> args, const std::vector<std::string>& more = {}) {
+    args.insert(args.begin(), "render");
+    args.insert(args.end(), more.begin(), more.end());
+    return penumbra::test::runPenumbra(args);
 }
+
+// Everything the command printed: stdout, then stderr.
+std::string output(const ProcessResult& r) { return r.out + r.err; }
 
 class RenderCommand : public ::testing::Test {
   protected:
@@ -62,20 +50,22 @@ class RenderCommand : public ::testing::Test {
     }
     void TearDown() override { fs::remove_all(dir_); }
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
-    std::string base() const {
-        return path("scene.obj") +
-               " --camera 0.3,-5,1.5,0,0,0.3,40 --up 0,0,1 --size 16x12 --spp 2";
+    // The scene and a small, fast view: the arguments most renders here start with.
+    std::vector<std::string> base() const {
+        std::vector<std::string> args = {path("scene.obj"), "--camera", "0.3,-5,1.5,0,0,0.3,40"};
+        args.insert(args.end(), {"--up", "0,0,1", "--size", "16x12", "--spp", "2"});
+        return args;
     }
     fs::path dir_;
 };
 
 TEST_F(RenderCommand, WritesPngAndPfmAndExplainsItself) {
-    const RunResult r = run(base() + " --out " + path("a.png") + " --out " + path("a.pfm"));
-    ASSERT_EQ(r.exitCode, 0) << r.output;
-    EXPECT_NE(r.output.find("time: precompute"), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("shading"), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("pairs never seen"), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("materials analytic"), std::string::npos) << r.output;
+    const ProcessResult r = run(base(), {"--out", path("a.png"), "--out", path("a.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("time: precompute"), std::string::npos) << output(r);
+    EXPECT_NE(output(r).find("shading"), std::string::npos) << output(r);
+    EXPECT_NE(output(r).find("pairs never seen"), std::string::npos) << output(r);
+    EXPECT_NE(output(r).find("materials analytic"), std::string::npos) << output(r);
     std::ifstream pfm(path("a.pfm"), std::ios::binary);
     std::string magic;
     int w = 0, h = 0;
@@ -95,10 +85,10 @@ TEST_F(RenderCommand, WritesPngAndPfmAndExplainsItself) {
 }
 
 TEST_F(RenderCommand, SampledMethodRuns) {
-    const RunResult r =
-        run(base() + " --method sampled --light-samples 4 --out-pfm " + path("s.pfm"));
-    ASSERT_EQ(r.exitCode, 0) << r.output;
-    EXPECT_NE(r.output.find("4 stratified shadow rays"), std::string::npos) << r.output;
+    const ProcessResult r =
+        run(base(), {"--method", "sampled", "--light-samples", "4", "--out-pfm", path("s.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("4 stratified shadow rays"), std::string::npos) << output(r);
     EXPECT_TRUE(fs::exists(path("s.pfm")));
 }
 
@@ -112,26 +102,25 @@ std::string slurp(const std::string& p) {
 // is reported, recomputed and replaced.
 TEST_F(RenderCommand, VisibilityFileIsReusedExtendedAndRepaired) {
     const std::string pvis = path("scene.pvis");
-    RunResult r = run(base() + " --out-pfm " + path("plain.pfm"));
-    ASSERT_EQ(r.exitCode, 0) << r.output;
-    r = run(base() + " --visibility " + pvis + " --out-pfm " + path("first.pfm"));
-    ASSERT_EQ(r.exitCode, 0) << r.output;
-    EXPECT_NE(r.output.find("0 trees read"), std::string::npos) << r.output;
+    ProcessResult r = run(base(), {"--out-pfm", path("plain.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    r = run(base(), {"--visibility", pvis, "--out-pfm", path("first.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("0 trees read"), std::string::npos) << output(r);
     ASSERT_TRUE(fs::exists(pvis));
     const auto firstSize = fs::file_size(pvis);
 
-    r = run(base() + " --visibility " + pvis + " --out-pfm " + path("second.pfm"));
-    ASSERT_EQ(r.exitCode, 0) << r.output;
-    EXPECT_NE(r.output.find("none added"), std::string::npos) << r.output;
+    r = run(base(), {"--visibility", pvis, "--out-pfm", path("second.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("none added"), std::string::npos) << output(r);
     EXPECT_EQ(slurp(path("second.pfm")), slurp(path("plain.pfm")));
     EXPECT_EQ(slurp(path("first.pfm")), slurp(path("plain.pfm")));
 
     // Another view sees other receiver patches: their trees are added to the file.
-    r = run(path("scene.obj") +
-            " --camera -3,4,2.5,0,0,0 --up 0,0,1 --size 16x12 --spp 2 --visibility " + pvis +
-            " --out-pfm " + path("other.pfm"));
-    ASSERT_EQ(r.exitCode, 0) << r.output;
-    EXPECT_NE(r.output.find("added, wrote"), std::string::npos) << r.output;
+    r = run({path("scene.obj"), "--camera", "-3,4,2.5,0,0,0", "--up", "0,0,1", "--size", "16x12",
+             "--spp", "2", "--visibility", pvis, "--out-pfm", path("other.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("added, wrote"), std::string::npos) << output(r);
     EXPECT_GT(fs::file_size(pvis), firstSize);
 
     // One flipped byte in the payload: reported, recomputed, the file replaced by a valid one.
@@ -142,38 +131,38 @@ TEST_F(RenderCommand, VisibilityFileIsReusedExtendedAndRepaired) {
         f.seekp(60);
         f.put(static_cast<char>(c ^ 0x10));
     }
-    r = run(base() + " --visibility " + pvis + " --out-pfm " + path("repaired.pfm"));
-    ASSERT_EQ(r.exitCode, 0) << r.output;
-    EXPECT_NE(r.output.find("scene.pvis"), std::string::npos) << r.output;
-    EXPECT_NE(r.output.find("recomputing"), std::string::npos) << r.output;
+    r = run(base(), {"--visibility", pvis, "--out-pfm", path("repaired.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("scene.pvis"), std::string::npos) << output(r);
+    EXPECT_NE(output(r).find("recomputing"), std::string::npos) << output(r);
     EXPECT_EQ(slurp(path("repaired.pfm")), slurp(path("plain.pfm")));
-    r = run(base() + " --visibility " + pvis + " --out-pfm " + path("again.pfm"));
-    ASSERT_EQ(r.exitCode, 0) << r.output;
-    EXPECT_NE(r.output.find("none added"), std::string::npos) << r.output;
+    r = run(base(), {"--visibility", pvis, "--out-pfm", path("again.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("none added"), std::string::npos) << output(r);
 }
 
 TEST_F(RenderCommand, BadInputGetsAClearErrorAndExitCode) {
-    RunResult r = run(base() + " --size 16by12 --out " + path("a.png"));
+    ProcessResult r = run(base(), {"--size", "16by12", "--out", path("a.png")});
     EXPECT_EQ(r.exitCode, 2);
-    EXPECT_NE(r.output.find("--size"), std::string::npos) << r.output;
-    r = run(base() + " --out " + path("a.jpg"));
+    EXPECT_NE(output(r).find("--size"), std::string::npos) << output(r);
+    r = run(base(), {"--out", path("a.jpg")});
     EXPECT_EQ(r.exitCode, 2);
-    EXPECT_NE(r.output.find(".png or .pfm"), std::string::npos) << r.output;
-    r = run(base() + " --method fancy --out " + path("a.png"));
+    EXPECT_NE(output(r).find(".png or .pfm"), std::string::npos) << output(r);
+    r = run(base(), {"--method", "fancy", "--out", path("a.png")});
     EXPECT_EQ(r.exitCode, 2);
-    EXPECT_NE(r.output.find("fancy"), std::string::npos) << r.output;
-    r = run(path("scene.obj") + " --camera 1,2,3,1,2 --out " + path("a.png"));
+    EXPECT_NE(output(r).find("fancy"), std::string::npos) << output(r);
+    r = run({path("scene.obj"), "--camera", "1,2,3,1,2", "--out", path("a.png")});
     EXPECT_EQ(r.exitCode, 2);
-    EXPECT_NE(r.output.find("--camera"), std::string::npos) << r.output;
+    EXPECT_NE(output(r).find("--camera"), std::string::npos) << output(r);
     r = run(base());
     EXPECT_EQ(r.exitCode, 2);
-    EXPECT_NE(r.output.find("--out"), std::string::npos) << r.output;
-    r = run(path("missing.obj") + " --out " + path("a.png"));
+    EXPECT_NE(output(r).find("--out"), std::string::npos) << output(r);
+    r = run({path("missing.obj"), "--out", path("a.png")});
     EXPECT_EQ(r.exitCode, 1);
-    EXPECT_NE(r.output.find("missing.obj"), std::string::npos) << r.output;
-    r = run(base() + " --out " + path("no_such_dir/a.png"));
+    EXPECT_NE(output(r).find("missing.obj"), std::string::npos) << output(r);
+    r = run(base(), {"--out", path("no_such_dir/a.png")});
     EXPECT_EQ(r.exitCode, 1);
-    EXPECT_NE(r.output.find("a.png"), std::string::npos) << r.output;
+    EXPECT_NE(output(r).find("a.png"), std::string::npos) << output(r);
     EXPECT_FALSE(fs::exists(path("a.png")));
 }
 

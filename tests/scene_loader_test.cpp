@@ -35,7 +35,9 @@ TEST_F(SceneLoader, ChoosesTheReaderByExtensionInAnyCase) {
     }
     EXPECT_TRUE(isSupportedSceneExtension(".GLB"));
     EXPECT_TRUE(isSupportedSceneExtension(".stl"));
+    EXPECT_TRUE(isSupportedSceneExtension(".Json"));
     EXPECT_FALSE(isSupportedSceneExtension(".fbx"));
+    EXPECT_FALSE(isSupportedSceneExtension(".mtl"));  // next to the OBJ files in assets/
     EXPECT_FALSE(isSupportedSceneExtension(""));
 }
 

@@ -4,6 +4,7 @@
 #include <imgui_impl_opengl3.h>
 
 #include <algorithm>
+#include <cstddef>
 #include <system_error>
 
 #include "app/viewer/default_camera.h"
@@ -11,6 +12,7 @@
 #include "app/viewer/tree_panel.h"
 #include "engine/point_query.h"
 #include "engine/precompute_scheduler.h"
+#include "engine/scene_loader.h"
 
 namespace penumbra::viewer {
 
@@ -37,6 +39,20 @@ Layout computeLayout(int width, int height) {
     return l;
 }
 
+std::vector<std::filesystem::path> listSceneFiles(const std::filesystem::path& assets) {
+    std::vector<std::filesystem::path> files;
+    for (const std::filesystem::path& dir : {assets, assets / "scenes"}) {
+        const size_t first = files.size();
+        std::error_code ec;
+        for (const auto& entry : std::filesystem::directory_iterator(dir, ec))
+            if (entry.is_regular_file(ec) &&
+                isSupportedSceneExtension(entry.path().extension().string()))
+                files.push_back(entry.path());
+        std::sort(files.begin() + static_cast<std::ptrdiff_t>(first), files.end());
+    }
+    return files;
+}
+
 Viewer::Viewer(ViewerOptions options)
     : options_(std::move(options)),
       showHelp_(options_.showHelp),
@@ -46,10 +62,7 @@ Viewer::Viewer(ViewerOptions options)
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glBindTexture(GL_TEXTURE_2D, 0);
-    std::error_code ec;
-    for (const auto& entry : std::filesystem::directory_iterator(options_.assetsDirectory, ec))
-        if (entry.path().extension() == ".obj") sceneFiles_.push_back(entry.path());
-    std::sort(sceneFiles_.begin(), sceneFiles_.end());
+    sceneFiles_ = listSceneFiles(options_.assetsDirectory);
 }
 
 Viewer::~Viewer() {

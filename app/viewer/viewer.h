@@ -55,6 +55,11 @@ struct Layout {
 };
 Layout computeLayout(int width, int height);
 
+// The scene list of the Scene panel: every file loadScene reads (engine/scene_loader.h, any case
+// of the extension) directly in `assets`, then in `assets`/scenes (the JSON scenes), each
+// directory's files sorted. Missing directories list nothing.
+std::vector<std::filesystem::path> listSceneFiles(const std::filesystem::path& assets);
+
 struct FrameStats {
     size_t frames = 0;
     double maxSeconds = 0, sumSeconds = 0, lastSeconds = 0;

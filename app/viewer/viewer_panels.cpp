@@ -64,7 +64,7 @@ void Viewer::drawScenePanel() {
                         scene_->scene.lights.size(), scene_->store->treeCount(),
                         humanBytes(scene_->store->bytes()).c_str());
         } else {
-            ImGui::TextUnformatted("No scene: pick one below or drop an OBJ file here.");
+            ImGui::TextUnformatted("No scene: pick one below or drop a scene file here.");
         }
         if (ImGui::Button("Fit (F)")) fitCamera();
         ImGui::SameLine();
@@ -72,8 +72,10 @@ void Viewer::drawScenePanel() {
         if (ImGui::BeginListBox("##scenes", ImVec2(-1, -1))) {
             for (const auto& file : sceneFiles_) {
                 const bool current = scene_ && scene_->path == file;
-                if (ImGui::Selectable(file.filename().string().c_str(), current) && !current)
-                    openScene(file);
+                // Named from the assets directory: "scenes/cornell_box.json".
+                const std::string name =
+                    file.lexically_relative(options_.assetsDirectory).generic_string();
+                if (ImGui::Selectable(name.c_str(), current) && !current) openScene(file);
             }
             ImGui::EndListBox();
         }
@@ -345,7 +347,8 @@ void Viewer::drawHelpPanel() {
             "click: inspect point   L: next light   Esc: clear\n"
             "F: fit scene   T: tree panel   H: this help\n"
             "1-4: preview exact / sampled / side by side / difference   R: restart\n"
-            "P: precompute all   C: cancel   A: accuracy vs time   Ctrl+Q: quit   drop .obj: open");
+            "P: precompute all   C: cancel   A: accuracy vs time   Ctrl+Q: quit   drop scene: "
+            "open");
     }
     ImGui::End();
 }

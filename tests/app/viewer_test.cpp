@@ -2,16 +2,19 @@
 // from-point query, and the headless screenshots (`penumbra screenshot`, OSMesa) checked for
 // content against independent queries: the fragment overlay is where the camera projects the
 // exact fragments, the path panel's state lists the query's path, picking a pixel inspects the
-// surface an independent ray hits, bad arguments are refused.
+// surface an independent ray hits, bad arguments are refused. The Scene panel's list holds every
+// format the loader reads, from assets/ and assets/scenes/.
 #include "app/viewer/viewer.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <set>
+#include <vector>
 
 #include "app/viewer/point_inspection.h"
 #include "engine/embree_scene.h"
@@ -82,10 +85,36 @@ TEST(ViewerLayout, ViewBetweenTheColumns) {
     EXPECT_GT(l.view.width, 400);
 }
 
+TEST(ViewerSceneList, EveryLoadableFormatInAssetsAndScenes) {
+    const fs::path dir = test::scratchDir("viewer_scene_list");
+    fs::create_directories(dir / "scenes");
+    fs::create_directories(dir / "external");    // not listed: the fetched raw meshes go there
+    fs::create_directories(dir / "folder.obj");  // a directory, not a scene
+    for (const char* name :
+         {"b.obj", "a.PLY", "c.off", "d.stl", "e.gltf", "f.Glb", "g.json", "b.mtl", "notes.txt",
+          "noext", "scenes/z.json", "scenes/y.obj", "scenes/readme.md", "external/mesh.ply"})
+        std::ofstream(dir / name) << "x";
+    const std::vector<fs::path> want = {
+        dir / "a.PLY", dir / "b.obj",  dir / "c.off",        dir / "d.stl",        dir / "e.gltf",
+        dir / "f.Glb", dir / "g.json", dir / "scenes/y.obj", dir / "scenes/z.json"};
+    EXPECT_EQ(viewer::listSceneFiles(dir), want);
+    EXPECT_TRUE(viewer::listSceneFiles(dir / "none").empty());
+
+    // The committed assets: the OBJ scenes and the JSON scenes under assets/scenes/.
+    const fs::path assets = test::sourceDir() / "assets";
+    const std::vector<fs::path> listed = viewer::listSceneFiles(assets);
+    const auto lists = [&](const fs::path& p) {
+        return std::find(listed.begin(), listed.end(), p) != listed.end();
+    };
+    EXPECT_TRUE(lists(assets / "cornell_box.obj"));
+    EXPECT_TRUE(lists(assets / "scenes" / "cornell_box.json"));
+    EXPECT_FALSE(lists(assets / "cornell_box.mtl"));
+}
+
 TEST(ViewerScreenshot, FragmentOverlayAndPathMatchAnIndependentQuery) {
     const fs::path dir = test::scratchDir("viewer_screenshot");
     const Vec3 x{278, 0, 280};
-    const test::ProcessResult r = test::runPenumbra(
+    const test::ProcessResult r = test::runPenumbraGl(
         {"screenshot", cornell().string(), "--point", "278,0,280", "--camera", kCameraFlag,
          "--size", "1280x800", "--no-preview", "--out", (dir / "shot.png").string(), "--state-out",
          (dir / "state.json").string()});
@@ -129,7 +158,7 @@ TEST(ViewerScreenshot, PickingAPixelInspectsTheSurfaceAnIndependentRayHits) {
     ASSERT_TRUE(c.project({400, 0, 120}, layout.view.width, layout.view.height, px, py));
     px += layout.view.x;
     py += layout.view.y;
-    const test::ProcessResult r = test::runPenumbra(
+    const test::ProcessResult r = test::runPenumbraGl(
         {"screenshot", cornell().string(), "--pixel", std::to_string(px) + "," + std::to_string(py),
          "--camera", "278,273,-800,278,273,0,39", "--size", "640x400", "--no-preview", "--out",
          (dir / "shot.png").string(), "--state-out", (dir / "state.json").string()});
@@ -151,7 +180,7 @@ TEST(ViewerScreenshot, PickingAPixelInspectsTheSurfaceAnIndependentRayHits) {
 TEST(ViewerScreenshot, SampledPreviewConvergesToTheExactOne) {
     const fs::path dir = test::scratchDir("viewer_preview");
     auto run = [&](int lightSamples, int passes) {
-        const test::ProcessResult r = test::runPenumbra(
+        const test::ProcessResult r = test::runPenumbraGl(
             {"screenshot", cornell().string(), "--size", "640x400", "--preview-mode", "diff",
              "--light-samples", std::to_string(lightSamples), "--passes", std::to_string(passes),
              "--out", (dir / "shot.png").string(), "--state-out", (dir / "state.json").string(),
@@ -216,13 +245,13 @@ TEST(ViewerScreenshot, BadArgumentsAreRefusedWithTheReason) {
     for (const Case& c : cases) {
         std::vector<std::string> args = {"screenshot", cornell().string(), "--out", out};
         args.insert(args.end(), c.args.begin(), c.args.end());
-        const test::ProcessResult r = test::runPenumbra(args);
+        const test::ProcessResult r = test::runPenumbraGl(args);
         EXPECT_EQ(r.exitCode, c.code) << c.args.front() << ": " << r.err;
         EXPECT_NE(r.err.find(c.message), std::string::npos) << r.err;
         EXPECT_FALSE(fs::exists(out));
     }
     const test::ProcessResult missing =
-        test::runPenumbra({"screenshot", (dir / "none.obj").string(), "--out", out});
+        test::runPenumbraGl({"screenshot", (dir / "none.obj").string(), "--out", out});
     EXPECT_EQ(missing.exitCode, 1);
     EXPECT_NE(missing.err.find("no such file"), std::string::npos) << missing.err;
 }
@@ -237,7 +266,7 @@ TEST(ViewerScreenshot, EglBackendRendersTheSameOverlayOrSaysWhy) {
     const std::string saved = previous != nullptr ? previous : "";
     setenv("ASAN_OPTIONS", (saved.empty() ? "detect_leaks=0" : saved + ":detect_leaks=0").c_str(),
            1);
-    const test::ProcessResult r = test::runPenumbra(
+    const test::ProcessResult r = test::runPenumbraGl(
         {"screenshot", cornell().string(), "--point", "278,0,280", "--camera", kCameraFlag,
          "--no-preview", "--backend", "egl", "--out", (dir / "shot.png").string(), "--state-out",
          (dir / "state.json").string()});

@@ -32,12 +32,6 @@ fs::path scratchDir(const std::string& name) {
     return dir;
 }
 
-std::string shellQuote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
 static std::string slurp(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
     std::stringstream ss;
@@ -58,22 +52,9 @@ int runShell(const std::string& command) {
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-ProcessResult runPenumbra(const std::vector<std::string>& args) {
-    static int counter = 0;
-    const fs::path dir = fs::path(PENUMBRA_EXE).parent_path().parent_path() / "test_scratch";
-    fs::create_directories(dir);
-    const std::string tag = std::to_string(::getpid()) + "_" + std::to_string(counter++);
-    const fs::path out = dir / ("out_" + tag), err = dir / ("err_" + tag);
-    std::string command = shellQuote(PENUMBRA_EXE);
-    for (const auto& a : args) command += " " + shellQuote(a);
-    command += " >" + shellQuote(out.string()) + " 2>" + shellQuote(err.string());
-    ProcessResult r;
-    r.exitCode = runShell(command);
-    r.out = slurp(out);
-    r.err = slurp(err);
-    fs::remove(out);
-    fs::remove(err);
-    return r;
+ProcessResult runPenumbraGl(const std::vector<std::string>& args) {
+    suppressGlLeaksInChildren();
+    return runPenumbra(args);
 }
 
 bool haveProgram(const std::string& name) {

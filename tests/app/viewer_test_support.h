@@ -1,5 +1,6 @@
-// Shared by the viewer tests: running the real `penumbra` executable, reading its PNG and JSON
-// outputs, and checking the fragment overlay of a screenshot against an independent point query.
+// Shared by the viewer tests: running the real `penumbra` executable (with the GL leak
+// suppressions), reading its PNG and JSON outputs, and checking the fragment overlay of a
+// screenshot against an independent point query.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 
 #include "engine/camera.h"
 #include "engine/point_query.h"
+#include "tests/support/run_penumbra.h"
 
 namespace penumbra::test {
 
@@ -22,17 +24,13 @@ struct Image {
     }
 };
 
-struct ProcessResult {
-    int exitCode = -1;
-    std::string out, err;
-};
-
 std::filesystem::path sourceDir();
 std::filesystem::path scratchDir(const std::string& name);  // empty, under the build tree
-std::string shellQuote(const std::string& s);
-// Runs `penumbra ARGS...` (stdout and stderr captured).
-ProcessResult runPenumbra(const std::vector<std::string>& args);
-// Runs a shell command line; returns its exit status.
+// runPenumbra (tests/support/run_penumbra.h) for the commands that open GL (screenshot, view):
+// the child's LeakSanitizer first gets the GL suppressions, as runShell gives them.
+ProcessResult runPenumbraGl(const std::vector<std::string>& args);
+// Runs a shell command line, with the GL suppressions; returns its exit status (-1 if it did not
+// exit).
 int runShell(const std::string& command);
 bool haveProgram(const std::string& name);
 Image readPng(const std::filesystem::path& path);  // ADD_FAILURE and empty on error

@@ -81,7 +81,7 @@ TEST(ViewerFrames, UiThreadNeverWaitsForThePrecompute) {
     const fs::path dir = test::scratchDir("viewer_frames");
     // grids.obj: 1,616 pairs, about 10 s of precompute here: long against any frame.
     const fs::path scene = test::sourceDir() / "assets" / "grids.obj";
-    const test::ProcessResult r = test::runPenumbra(
+    const test::ProcessResult r = test::runPenumbraGl(
         {"screenshot", scene.string(), "--no-preview", "--precompute", "--size", "640x400", "--out",
          (dir / "shot.png").string(), "--state-out", (dir / "state.json").string()});
     if (r.exitCode != 0 && r.err.find("not built in") != std::string::npos)

@@ -1,0 +1,23 @@
+// Runs this build's `penumbra` executable (the PENUMBRA_EXE compile definition) as a real process,
+// for the tests of its commands: the CLI, precompute, render and viewer tests share it.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace penumbra::test {
+
+struct ProcessResult {
+    int exitCode = -1;     // the exit status, or 128 + the signal that ended the process
+    std::string out, err;  // all it wrote to stdout and to stderr
+};
+
+// `s` as one word for the POSIX shell (single-quoted).
+std::string shellQuote(const std::string& s);
+
+// Runs `penumbra ARGS...` through the shell and waits for it. Its stdout and stderr go to two
+// files in a fresh temporary directory, read back and removed with it. If it cannot be run at
+// all: ADD_FAILURE and exit code -1.
+ProcessResult runPenumbra(const std::vector<std::string>& args);
+
+}  // namespace penumbra::test
