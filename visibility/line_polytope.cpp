@@ -1,12 +1,12 @@
 #include "visibility/line_polytope.h"
 
+#include <gmpxx.h>
+
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <optional>
 #include <unordered_map>
-
-#include <gmpxx.h>
 
 #include "visibility/dual_simplex.h"
 #include "visibility/exact_orient.h"
@@ -71,9 +71,10 @@ bool verifyCertificate(std::span<const Constraint> path, const HyperplaneRow& h,
     return true;
 }
 
-HyperplaneRow restrictRow(const HyperplaneRow& row, const std::vector<std::vector<double>>& w,
-                          size_t nB, size_t nL) {
-    HyperplaneRow out;
+// The row restricted to the sub-polygon of B with vertices w[0..2] (weights over B's vertices),
+// into `out` (its vectors keep their capacity).
+void restrictRowInto(const HyperplaneRow& row, const PieceWeights& w, size_t nB, size_t nL,
+                     HyperplaneRow& out) {
     out.restricted = true;
     out.value.assign(w.size() * nL, 0.0);
     out.error.assign(w.size() * nL, 0.0);
@@ -82,17 +83,17 @@ HyperplaneRow restrictRow(const HyperplaneRow& row, const std::vector<std::vecto
         for (size_t j = 0; j < nL; ++j) {
             double v = 0, e = 0, a = 0;
             for (size_t i = 0; i < nB; ++i) {
-                if (w[k][i] == 0) continue;
-                const double t = w[k][i] * row.value[i * nL + j];
+                const double wi = (*w[k])[i];
+                if (wi == 0) continue;
+                const double t = wi * row.value[i * nL + j];
                 v += t;
-                e += w[k][i] * row.error[i * nL + j];
+                e += wi * row.error[i * nL + j];
                 a += std::fabs(t);
             }
             if (a > 0) e += gamma * a + 1e-300;
             out.value[k * nL + j] = v;
             out.error[k * nL + j] = e;
         }
-    return out;
 }
 
 }  // namespace
@@ -110,10 +111,10 @@ LinePolytopeSpace::LinePolytopeSpace(std::span<const Vec3> receiver, std::span<c
     samples_.reserve(kSampleWitnesses);
     for (uint32_t s = 0; s < kSampleWitnesses; ++s) {
         const uint32_t i = s + 1;
-        samples_.push_back({pointInPolygon(b_, radicalInverse(i, 2), radicalInverse(i, 3),
-                                           radicalInverse(i, 5)),
-                            pointInPolygon(l_, radicalInverse(i, 7), radicalInverse(i, 11),
-                                           radicalInverse(i, 13))});
+        samples_.push_back(
+            {pointInPolygon(b_, radicalInverse(i, 2), radicalInverse(i, 3), radicalInverse(i, 5)),
+             pointInPolygon(l_, radicalInverse(i, 7), radicalInverse(i, 11),
+                            radicalInverse(i, 13))});
     }
 }
 
@@ -145,7 +146,8 @@ HyperplaneRow LinePolytopeSpace::row(const Vec3& a, const Vec3& b) const {
             }
         }
     for (size_t s = 0; s < samples_.size(); ++s) {
-        const std::optional<Sign> sg = orientSignFiltered(samples_[s].first, samples_[s].second, a, b);
+        const std::optional<Sign> sg =
+            orientSignFiltered(samples_[s].first, samples_[s].second, a, b);
         if (!sg) continue;
         if (*sg == Sign::Positive) r.certainNonNegative.set(kGeneratorWitnesses + s);
         if (*sg == Sign::Negative) r.certainNonPositive.set(kGeneratorWitnesses + s);
@@ -306,7 +308,8 @@ Side LinePolytopeSpace::classify(std::span<const Constraint> path, const Witness
     // the rounded rows of the same hyperplane cannot certify a zero margin.
     for (const Constraint& c : path) {
         const HyperplaneRow& r = *c.row;
-        if (collinear(r.edgeFrom, r.edgeTo, h.edgeFrom) && collinear(r.edgeFrom, r.edgeTo, h.edgeTo)) {
+        if (collinear(r.edgeFrom, r.edgeTo, h.edgeFrom) &&
+            collinear(r.edgeFrom, r.edgeTo, h.edgeTo)) {
             const int same = dot(h.edgeTo - h.edgeFrom, r.edgeTo - r.edgeFrom) > 0 ? 1 : -1;
             return same * c.sign > 0 ? Side::Positive : Side::Negative;
         }
@@ -322,9 +325,9 @@ Side LinePolytopeSpace::classify(std::span<const Constraint> path, const Witness
     return certifyNonNegative(path, h, -1, stats, nullptr) ? Side::Negative : Side::Mixed;
 }
 
-bool LinePolytopeSpace::provablyNoRealLine(std::span<const Constraint> path, const WitnessMask& inside,
-                                           const HyperplaneRow& h, int side, int maxLevels,
-                                           PolytopeStats& stats) const {
+bool LinePolytopeSpace::provablyNoRealLine(std::span<const Constraint> path,
+                                           const WitnessMask& inside, const HyperplaneRow& h,
+                                           int side, int maxLevels, PolytopeStats& stats) const {
     // A generator strictly on that side is a real line there.
     ++stats.realLineTests;
     if ((inside & (side > 0 ? strictPositive(h) : strictNegative(h))).any() ||
@@ -349,11 +352,13 @@ bool LinePolytopeSpace::provablyNoRealLine(std::span<const Constraint> path, con
             }
         }
     }
+    std::vector<double> corner[3];
     for (size_t i = 1; i + 1 < nB; ++i) {  // fan triangles of B cover B
-        std::vector<std::vector<double>> w(3, std::vector<double>(nB, 0.0));
-        w[0][0] = 1;
-        w[1][i] = 1;
-        w[2][i + 1] = 1;
+        for (std::vector<double>& c : corner) c.assign(nB, 0.0);
+        corner[0][0] = 1;
+        corner[1][i] = 1;
+        corner[2][i + 1] = 1;
+        const PieceWeights w = {&corner[0], &corner[1], &corner[2]};
         if (!provePieceEmpty(path, h, side, w, maxLevels, stats)) return false;
     }
     ++stats.realLineProofs;
@@ -374,14 +379,17 @@ bool LinePolytopeSpace::findRealLine(std::span<const Constraint> path, const Wit
     points.push_back(centroid);
     for (const Vec3& p : b_) points.push_back(p);
     for (const Vec3& p : b_) points.push_back((p + centroid) * 0.5);
+    std::vector<Vec3>& poly = scratch_.poly;
+    std::vector<Vec3>& positive = scratch_.positive;
+    std::vector<Vec3>& negative = scratch_.negative;
     for (const Vec3& x : points) {
         // Lines through x: their side of edge (a, c) is the side of their L-point against the
         // plane through x, a, c (orient3d(x, y, a, c) == orient3d(x, a, c, y)).
-        std::vector<Vec3> poly(l_.begin(), l_.end());
+        poly.assign(l_.begin(), l_.end());
         auto keep = [&](const HyperplaneRow& row, int s) {
             const OrientedPlane plane{x, row.edgeFrom, row.edgeTo};
-            ClipResult parts = clipConvex(poly, plane);
-            poly = s > 0 ? std::move(parts.positive) : std::move(parts.negative);
+            clipConvexInto(poly, plane, positive, negative);
+            std::swap(poly, s > 0 ? positive : negative);
             return poly.size() >= 3;
         };
         bool ok = keep(h, side);
@@ -392,27 +400,34 @@ bool LinePolytopeSpace::findRealLine(std::span<const Constraint> path, const Wit
 }
 
 bool LinePolytopeSpace::provePieceEmpty(std::span<const Constraint> path, const HyperplaneRow& h,
-                                        int side, const std::vector<std::vector<double>>& w,
-                                        int levelsLeft, PolytopeStats& stats) const {
+                                        int side, const PieceWeights& w, int levelsLeft,
+                                        PolytopeStats& stats) const {
     const size_t nB = b_.size(), nL = l_.size();
-    std::vector<HyperplaneRow> rows;
-    rows.reserve(path.size());
-    for (const Constraint& c : path) rows.push_back(restrictRow(*c.row, w, nB, nL));
-    std::vector<Constraint> sub(path.size());
-    for (size_t k = 0; k < path.size(); ++k) sub[k] = {&rows[k], path[k].sign};
-    const HyperplaneRow hs = restrictRow(h, w, nB, nL);
-    // No line of the piece strictly on `side`: min over the piece of (-side) * h >= 0.
-    if (certifyNonNegative(sub, hs, -side, stats, nullptr)) return true;
+    {
+        // The restricted rows are needed only for this one program: one scratch serves every
+        // level of the recursion.
+        std::vector<HyperplaneRow>& rows = scratch_.rows;
+        std::vector<Constraint>& sub = scratch_.sub;
+        if (rows.size() < path.size()) rows.resize(path.size());
+        sub.resize(path.size());
+        for (size_t k = 0; k < path.size(); ++k) {
+            restrictRowInto(*path[k].row, w, nB, nL, rows[k]);
+            sub[k] = {&rows[k], path[k].sign};
+        }
+        restrictRowInto(h, w, nB, nL, scratch_.h);
+        // No line of the piece strictly on `side`: min over the piece of (-side) * h >= 0.
+        if (certifyNonNegative(sub, scratch_.h, -side, stats, nullptr)) return true;
+    }
     if (levelsLeft <= 0) return false;
-    auto mid = [&](size_t a, size_t b) {
-        std::vector<double> m(nB);
-        for (size_t i = 0; i < nB; ++i) m[i] = 0.5 * (w[a][i] + w[b][i]);  // dyadic: exact
-        return m;
-    };
-    const auto m01 = mid(0, 1), m12 = mid(1, 2), m20 = mid(2, 0);
-    const std::vector<std::vector<double>> pieces[4] = {
+    std::vector<double> mids[3];  // the edges' midpoints: dyadic weights, exact
+    for (size_t e = 0; e < 3; ++e) {
+        mids[e].resize(nB);
+        for (size_t i = 0; i < nB; ++i) mids[e][i] = 0.5 * ((*w[e])[i] + (*w[(e + 1) % 3])[i]);
+    }
+    const std::vector<double>*m01 = &mids[0], *m12 = &mids[1], *m20 = &mids[2];
+    const PieceWeights pieces[4] = {
         {w[0], m01, m20}, {m01, w[1], m12}, {m20, m12, w[2]}, {m01, m12, m20}};
-    for (const auto& p : pieces)
+    for (const PieceWeights& p : pieces)
         if (!provePieceEmpty(path, h, side, p, levelsLeft - 1, stats)) return false;
     return true;
 }

@@ -25,6 +25,7 @@
 // inside the quadric). Unproven means "may hold real lines": the split is kept.
 #pragma once
 
+#include <array>
 #include <bitset>
 #include <cstdint>
 #include <memory>
@@ -63,6 +64,9 @@ struct Constraint {
     const HyperplaneRow* row = nullptr;
     int sign = 1;
 };
+
+// A triangle inside B as the weights of its three corners over B's vertices (each sums to 1).
+using PieceWeights = std::array<const std::vector<double>*, 3>;
 
 enum class Side : int8_t { Negative = -1, Mixed = 0, Positive = 1 };
 
@@ -111,8 +115,7 @@ class LinePolytopeSpace {
     bool certifyNonNegative(std::span<const Constraint> path, const HyperplaneRow& h, int sign,
                             PolytopeStats& stats, std::vector<double>* witness) const;
     bool provePieceEmpty(std::span<const Constraint> path, const HyperplaneRow& h, int side,
-                         const std::vector<std::vector<double>>& weights, int levelsLeft,
-                         PolytopeStats& stats) const;
+                         const PieceWeights& weights, int levelsLeft, PolytopeStats& stats) const;
 
     // Exact fallback of the certificate when the rounded one fails with a zero margin (touching
     // occluders make the optimum exactly zero): the multipliers are re-solved in rational
@@ -133,6 +136,15 @@ class LinePolytopeSpace {
         DualSimplexResult result;
     };
     mutable LpScratch lp_;
+    // Reused by findRealLine (the clipped light) and provePieceEmpty (the rows restricted to a
+    // piece of B), same ownership as lp_.
+    struct Scratch {
+        std::vector<Vec3> poly, positive, negative;
+        std::vector<HyperplaneRow> rows;
+        std::vector<Constraint> sub;
+        HyperplaneRow h;
+    };
+    mutable Scratch scratch_;
 };
 
 }  // namespace penumbra::vis

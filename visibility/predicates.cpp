@@ -108,6 +108,9 @@ BoundedValue PlaneOrient::value(const Vec3& d) const {
 }
 
 bool collinear(const Vec3& a, const Vec3& b, const Vec3& c) {
+    // Two equal points are collinear with any third (exactly; the common case of edges that share
+    // a vertex, where the filter below always fails and the rationals would be needed).
+    if (a == b || a == c || b == c) return true;
     // Filter: each cross-product component is a 2x2 determinant of differences; Shewchuk's orient2d
     // bound (3 + 16 eps) eps times its permanent certifies a non-zero component.
     const double ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z;

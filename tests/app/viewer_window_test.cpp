@@ -43,7 +43,7 @@ TEST(ViewerWindow, ClickUnderXvfbInspectsThePointAndDrawsItsFragments) {
         std::ofstream s(script);
         s << "set -u\n"
           << test::shellQuote(PENUMBRA_EXE) << " view " << test::shellQuote(scene.string())
-          << " --camera 278,300,-500,278,300,280,60 --size 1280x800 --no-preview --quit-after 30"
+          << " --camera 278,300,-500,278,300,280,60 --size 1280x800 --no-preview --quit-after 120"
           << " --state-out " << test::shellQuote(state.string()) << " &\n"
           << "pid=$!\n"
           << "for i in $(seq 300); do [ -f " << test::shellQuote(state.string())
@@ -52,7 +52,7 @@ TEST(ViewerWindow, ClickUnderXvfbInspectsThePointAndDrawsItsFragments) {
           << "xdotool mousemove " << layout.view.x + 20 << " 300 keydown h sleep 0.2 keyup h\n"
           << "sleep 0.3\n"
           << "xdotool mousemove " << clickX << " " << clickY << " click 1\n"
-          << "for i in $(seq 100); do grep -q '\"lights\"' " << test::shellQuote(state.string())
+          << "for i in $(seq 300); do grep -q '\"lights\"' " << test::shellQuote(state.string())
           << " && break; sleep 0.1; done\n"
           << "sleep 0.5\n"
           << "import -window root " << test::shellQuote(shot.string()) << "\n"
