@@ -168,6 +168,10 @@ json precomputePairs(VisibilityStore& store, const std::vector<PairKey>* keys, d
 
 // ---- Table 1 -------------------------------------------------------------------------------
 
+// Every (patch, light) pair of a scene above this many faces is not a precompute anyone would run
+// (the image's pairs are the Table 1 figure there): the all-pairs column is skipped.
+constexpr uint32_t kAllPairsMaxFaces = 10000;
+
 json table1Row(const std::string& path, const BenchOptions& o, const fs::path& dir, bool large) {
     const Scene scene = loadSceneFile(path);
     int w = 0, h = 0;
@@ -235,7 +239,10 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
         e["fileBytes"] = fileSize(store, dir, "table1");
         row["exact"] = e;
     }
-    if (!large && !o.quick) {
+    if (!large && !o.quick && scene.faceCount() > kAllPairsMaxFaces) {
+        std::printf("  all pairs: skipped (%u faces, above %u)\n", scene.faceCount(),
+                    kAllPairsMaxFaces);
+    } else if (!large && !o.quick) {
         VisibilityStore store(scene, &bvh);
         json all = precomputePairs(store, nullptr, o.limit);
         all["fileBytes"] = fileSize(store, dir, "all");
@@ -578,7 +585,8 @@ std::string report(const json& b, bool plots, const std::string& plotNote) {
              "patch, light) pair on the `PrecomputeScheduler`. Times in seconds, wall / CPU (all "
              "threads). Speed-up = sampled time / (exact precompute + render), CPU times; in "
              "parentheses the render alone. Too complex: pairs over the build budget "
-             "(`BuildOptions::maxLpSolves`), which have no tree.\n\n"
+             "(`BuildOptions::maxLpSolves`), which have no tree. All pairs are skipped above "
+          << kAllPairsMaxFaces << " faces.\n\n"
           << "| scene | faces | image | sampled 128 | exact precompute | exact render | speed-up "
              "| trees | too complex | file (image) | all pairs: time | all pairs: file | all "
              "pairs: too complex |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
@@ -605,7 +613,8 @@ std::string report(const json& b, bool plots, const std::string& plotNote) {
                   << num(a["fileBytes"].get<double>() / 1024.0, "%.1f") << " KB | "
                   << a["kinds"]["tooComplex"] << " |\n";
             } else {
-                r << "- | - | - |\n";
+                r << (row["faces"].get<uint32_t>() > kAllPairsMaxFaces ? "skipped | - | - |\n"
+                                                                       : "- | - | - |\n");
             }
         }
         r << "\n";
