@@ -181,12 +181,27 @@ class Builder {
             const int b = occluder_->blockedSign;
             if ((b > 0 && anyNeg) || (b < 0 && anyPos) || (b == 0 && anyPos && anyNeg)) return;
         }
-        splitChain(s, inside, 0, occluder_->blockedSign, cls, false);
+        const size_t nodesBefore = nodes_.size();
+        if (!splitChain(s, inside, 0, occluder_->blockedSign, cls, false) && options_.mergeLeaves) {
+            // The occluder blocks no line of this leaf after all (an edge found further down the
+            // chain leaves the blocked part empty): every node the chain made has only visible
+            // leaves below it. They are the last ones made: drop them, the leaf stays visible.
+            set(s, kVisibleLeaf);
+            nodes_.resize(nodesBefore);
+            nodeRow_.resize(nodesBefore);
+            nodeOccluder_.resize(nodesBefore);
+            ++stats_.mergedLeaves;
+        }
     }
 
-    void splitChain(Slot s, WitnessMask inside, size_t start, int sign, std::vector<Side> cls,
+    // Splits the leaf at s by the occluder's edges from `start` on and labels the blocked part
+    // hidden. Returns whether it made a hidden leaf. With leaf merging, a part of the chain that
+    // blocks nothing is collapsed back to one visible leaf (the paper's sibling merge, applied to
+    // the whole all-visible subtree at once).
+    bool splitChain(Slot s, WitnessMask inside, size_t start, int sign, std::vector<Side> cls,
                     bool shrunk) {
         size_t pushed = 0;
+        const Slot first = s;
         for (size_t i = start; i < cls.size(); ++i) {
             Side c = cls[i];
             if (c == Side::Mixed && shrunk) c = classify(inside, *edgeRows_[i]);
@@ -199,16 +214,24 @@ class Builder {
                 const uint32_t n = newNode(i);
                 set(s, n);
                 path_.push_back({row, +1});
-                splitChain(Slot{n, 0}, inside & row->certainNonNegative, i + 1, +1, cls, true);
+                const bool pos =
+                    splitChain(Slot{n, 0}, inside & row->certainNonNegative, i + 1, +1, cls, true);
                 path_.back().sign = -1;
-                splitChain(Slot{n, 1}, inside & row->certainNonPositive, i + 1, -1, cls, true);
+                const bool neg =
+                    splitChain(Slot{n, 1}, inside & row->certainNonPositive, i + 1, -1, cls, true);
                 path_.pop_back();
                 for (; pushed > 0; --pushed) path_.pop_back();
-                return;
+                if (options_.mergeLeaves) {
+                    if (!pos) nodes_[n].child[0] = kVisibleLeaf;
+                    if (!neg) nodes_[n].child[1] = kVisibleLeaf;
+                    if (!pos && !neg) set(first, kVisibleLeaf);
+                }
+                return pos || neg;
             }
             if (toInt(static_cast<Sign>(c)) == -sign) {  // this part is untouched
                 for (; pushed > 0; --pushed) path_.pop_back();
-                return;
+                if (options_.mergeLeaves) set(first, kVisibleLeaf);
+                return false;
             }
             if (c != Side::Mixed) continue;  // already on the blocked side of this edge
             const uint32_t n = newNode(i);
@@ -221,6 +244,7 @@ class Builder {
         }
         set(s, kHiddenLeaf);
         for (; pushed > 0; --pushed) path_.pop_back();
+        return true;
     }
 
     uint32_t newNode(size_t edge) {

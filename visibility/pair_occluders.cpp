@@ -6,6 +6,35 @@
 #include "visibility/polygon_clip.h"
 
 namespace penumbra::vis {
+namespace {
+
+// The supporting planes of conv(B u L) through an edge of one polygon and a vertex of the other,
+// oriented so that every vertex of B and L lies on their closed positive side. Every segment from
+// B to L lies in that hull, so a polygon with no vertex strictly on the positive side of one of
+// these planes meets the segments in a set of measure zero at most. Exact: the planes go through
+// the input points and every side is an orient3d sign.
+std::vector<PlaneOrient> hullPlanes(std::span<const Vec3> b, std::span<const Vec3> l) {
+    std::vector<PlaneOrient> planes;
+    auto tryPlane = [&](const Vec3& p, const Vec3& q, const Vec3& r) {
+        const PlaneOrient plane(p, q, r);
+        bool pos = false, neg = false;
+        for (std::span<const Vec3> poly : {b, l})
+            for (const Vec3& v : poly) {
+                const Sign s = plane.sign(v);
+                pos |= s == Sign::Positive;
+                neg |= s == Sign::Negative;
+            }
+        if (pos && neg) return;    // not a supporting plane
+        if (!pos && !neg) return;  // every vertex on it: degenerate, no information
+        planes.push_back(neg ? PlaneOrient(p, r, q) : plane);
+    };
+    for (auto [from, to] : {std::pair{b, l}, std::pair{l, b}})
+        for (size_t i = 0; i < from.size(); ++i)
+            for (const Vec3& v : to) tryPlane(from[i], from[(i + 1) % from.size()], v);
+    return planes;
+}
+
+}  // namespace
 
 FacePlane facePlane(const PolygonMesh& mesh, uint32_t face) {
     const auto& f = mesh.faces[face];
@@ -33,6 +62,19 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
     for (const Vec3& p : receiverRegion) shaft.add(p);
     for (uint32_t v : mesh.faces[light]) shaft.add(mesh.vertices[v]);
 
+    std::vector<Vec3> lightPoints;
+    for (uint32_t v : mesh.faces[light]) lightPoints.push_back(mesh.vertices[v]);
+    const std::vector<PlaneOrient> hull = hullPlanes(receiverRegion, lightPoints);
+    // Outside the hull of B and L (or touching it only): blocks no segment of positive measure.
+    auto outsideHull = [&](std::span<const Vec3> poly) {
+        for (const PlaneOrient& plane : hull) {
+            bool inside = false;
+            for (const Vec3& p : poly) inside |= plane.sign(p) == Sign::Positive;
+            if (!inside) return true;
+        }
+        return false;
+    };
+
     const uint32_t meshVertexCount = static_cast<uint32_t>(mesh.vertices.size());
     const OrientedPlane clipB{pb.a, pb.b, pb.c}, clipL{pl.a, pl.b, pl.c};
     auto consider = [&](uint32_t f) {
@@ -46,6 +88,7 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
         if (poly.size() < 3) return;
         poly = clipConvexPositive(poly, clipL);
         if (poly.size() < 3) return;
+        if (outsideHull(poly)) return;
         // Which way do segments from B to L cross the occluder's plane?
         const FacePlane po = facePlane(mesh, f);
         int bPos = 0, bNeg = 0, lPos = 0, lNeg = 0;

@@ -1,0 +1,160 @@
+// penumbra_pair_stats SCENE [--max-lp-solves N] [--no-prune] [--no-merge] [--patch-fraction F]
+//                     [--top K] [--tsv FILE]
+//
+// Builds the history tree of every (receiver patch, light) pair of SCENE on one thread, in face
+// order, and prints where the precompute goes: totals of the builder's counters (BuildStats) per
+// pair kind, and the K most expensive pairs with their counters. --tsv writes one line per pair.
+// A developer's measuring tool for the visibility core (the product's precompute runs on the
+// PrecomputeScheduler, penumbra precompute).
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "engine/embree_scene.h"
+#include "engine/scene_loader.h"
+#include "engine/visibility_store.h"
+
+namespace {
+
+using namespace penumbra;
+
+struct Row {
+    PairKey key;
+    vis::PairKind kind;
+    vis::BuildStats stats;
+    size_t nodes = 0;
+};
+
+int usage() {
+    std::fprintf(stderr,
+                 "usage: penumbra_pair_stats SCENE [--max-lp-solves N] [--no-prune] [--no-merge] "
+                 "[--patch-fraction F] [--top K] [--tsv FILE]\n");
+    return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc < 2) return usage();
+    VisibilityStore::Options options;
+    size_t top = 15;
+    std::string tsv;
+    for (int i = 2; i < argc; ++i) {
+        const std::string a = argv[i];
+        auto value = [&]() -> const char* {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "penumbra_pair_stats: %s needs a value\n", a.c_str());
+                std::exit(2);
+            }
+            return argv[++i];
+        };
+        if (a == "--max-lp-solves")
+            options.build.maxLpSolves = std::strtoull(value(), nullptr, 10);
+        else if (a == "--no-prune")
+            options.build.quadricPruning = false;
+        else if (a == "--no-merge")
+            options.build.mergeLeaves = false;
+        else if (a == "--patch-fraction")
+            options.patchFraction = std::strtod(value(), nullptr);
+        else if (a == "--top")
+            top = std::strtoull(value(), nullptr, 10);
+        else if (a == "--tsv")
+            tsv = value();
+        else
+            return usage();
+    }
+    try {
+        const Scene scene = loadScene(argv[1]);
+        const EmbreeScene bvh(scene.mesh);
+        VisibilityStore store(scene, &bvh, options);
+        std::vector<Row> rows;
+        const auto start = std::chrono::steady_clock::now();
+        for (uint32_t f = 0; f < scene.faceCount(); ++f) {
+            const auto patches =
+                static_cast<uint32_t>(std::max<size_t>(store.patches(f).patches.size(), 1));
+            for (uint32_t p = 0; p < patches; ++p)
+                for (uint32_t light : scene.lights) {
+                    if (light == f) continue;
+                    const PairKey key{f, p, light};
+                    const PairRecord& r = store.getOrBuild(key);
+                    rows.push_back({key, r.tree.kind, r.stats, r.tree.nodes.size()});
+                }
+        }
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        std::printf("%s: %u faces, %zu pairs, %.3f s on one thread\n", argv[1], scene.faceCount(),
+                    rows.size(), seconds);
+        std::printf("%-14s %6s %9s %9s %11s %11s %9s %9s %9s %9s\n", "kind", "pairs", "seconds",
+                    "nodes", "classify", "lps", "uncertain", "pruned", "rl-tests", "occluders");
+        for (int k = 0; k < vis::kPairKindCount; ++k) {
+            Row sum{};
+            size_t count = 0;
+            uint64_t occluders = 0;
+            for (const Row& r : rows) {
+                if (static_cast<int>(r.kind) != k) continue;
+                ++count;
+                sum.stats.seconds += r.stats.seconds;
+                sum.nodes += r.nodes;
+                sum.stats.classifications += r.stats.classifications;
+                sum.stats.lpSolves += r.stats.lpSolves;
+                sum.stats.uncertain += r.stats.uncertain;
+                sum.stats.prunedSplits += r.stats.prunedSplits;
+                sum.stats.realLineTests += r.stats.realLineTests;
+                occluders += r.stats.occludersInShaft;
+            }
+            if (count == 0) continue;
+            std::printf("%-14s %6zu %9.3f %9zu %11llu %11llu %9llu %9llu %9llu %9llu\n",
+                        std::string(vis::toString(static_cast<vis::PairKind>(k))).c_str(), count,
+                        sum.stats.seconds, sum.nodes,
+                        static_cast<unsigned long long>(sum.stats.classifications),
+                        static_cast<unsigned long long>(sum.stats.lpSolves),
+                        static_cast<unsigned long long>(sum.stats.uncertain),
+                        static_cast<unsigned long long>(sum.stats.prunedSplits),
+                        static_cast<unsigned long long>(sum.stats.realLineTests),
+                        static_cast<unsigned long long>(occluders));
+        }
+        std::vector<const Row*> order;
+        for (const Row& r : rows) order.push_back(&r);
+        std::sort(order.begin(), order.end(),
+                  [](const Row* a, const Row* b) { return a->stats.seconds > b->stats.seconds; });
+        std::printf("\nmost expensive pairs:\n%-16s %-11s %8s %7s %9s %9s %7s %9s\n",
+                    "face/patch/light", "kind", "seconds", "nodes", "lps", "inShaft", "inserted",
+                    "pruned");
+        for (size_t i = 0; i < std::min(top, order.size()); ++i) {
+            const Row& r = *order[i];
+            std::printf("%5u/%4u/%5u %-11s %8.3f %7zu %9llu %9u %7u %9llu\n", r.key.receiver,
+                        r.key.patch, r.key.lightFace, std::string(vis::toString(r.kind)).c_str(),
+                        r.stats.seconds, r.nodes, static_cast<unsigned long long>(r.stats.lpSolves),
+                        r.stats.occludersInShaft, r.stats.occludersInserted,
+                        static_cast<unsigned long long>(r.stats.prunedSplits));
+        }
+        if (!tsv.empty()) {
+            FILE* out = std::fopen(tsv.c_str(), "w");
+            if (out == nullptr) {
+                std::fprintf(stderr, "penumbra_pair_stats: cannot write %s\n", tsv.c_str());
+                return 1;
+            }
+            std::fprintf(out,
+                         "receiver\tpatch\tlight\tkind\tseconds\tnodes\tlps\tclassifications\t"
+                         "pruned\toccluders_in_shaft\toccluders_inserted\n");
+            for (const Row& r : rows)
+                std::fprintf(out, "%u\t%u\t%u\t%s\t%.6f\t%zu\t%llu\t%llu\t%llu\t%u\t%u\n",
+                             r.key.receiver, r.key.patch, r.key.lightFace,
+                             std::string(vis::toString(r.kind)).c_str(), r.stats.seconds, r.nodes,
+                             static_cast<unsigned long long>(r.stats.lpSolves),
+                             static_cast<unsigned long long>(r.stats.classifications),
+                             static_cast<unsigned long long>(r.stats.prunedSplits),
+                             r.stats.occludersInShaft, r.stats.occludersInserted);
+            std::fclose(out);
+        }
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "penumbra_pair_stats: error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
