@@ -20,6 +20,23 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 constexpr int kTileSize = 16;
+// The exact method shades a tile in cells of kRegionCell x kRegionCell pixels: the points of one
+// receiver patch in one cell share the region decisions of the from-point query.
+constexpr int kRegionCell = 8;
+static_assert(kTileSize % kRegionCell == 0 &&
+              (kTileSize / kRegionCell) * (kTileSize / kRegionCell) <= 256);
+
+// The distinct corners of a box (1, 2, 4 or 8 of them: a flat box has fewer).
+void boxCorners(const vis::Bounds3& box, std::vector<Vec3>& out) {
+    out.clear();
+    const double xs[2] = {box.lo.x, box.hi.x}, ys[2] = {box.lo.y, box.hi.y},
+                 zs[2] = {box.lo.z, box.hi.z};
+    const int nx = box.lo.x == box.hi.x ? 1 : 2, ny = box.lo.y == box.hi.y ? 1 : 2,
+              nz = box.lo.z == box.hi.z ? 1 : 2;
+    for (int i = 0; i < nx; ++i)
+        for (int j = 0; j < ny; ++j)
+            for (int k = 0; k < nz; ++k) out.push_back({xs[i], ys[j], zs[k]});
+}
 // Tags that keep the light streams apart from the pixel streams when the two seeds are equal.
 constexpr uint64_t kPixelStream = 0x50495845ull, kLightStream = 0x4C494748ull;
 
@@ -223,6 +240,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     const int samples = settings.method == DirectMethod::Reference ? settings.referenceSamples
                                                                    : settings.lightSamples;
     const CameraRays rays(camera, w, h);
+    const bool exact = settings.method == DirectMethod::Exact;
 
     tbb::parallel_for(
         tbb::blocked_range<int>(0, tileCount(settings), 1),
@@ -234,6 +252,13 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                 std::optional<EmbreeScene::Hit> hit;
             };
             std::vector<PrimaryHit> hits;
+            struct TilePoint {
+                int x = 0, y = 0;
+                SurfacePoint point;
+                uint64_t group = 0;  // receiver face, patch and region cell (exact method)
+            };
+            std::vector<TilePoint> points;
+            uint64_t regionCounter = 0;
             for (int t = range.begin(); t != range.end(); ++t) {
                 if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) {
                     cancelled.store(true, std::memory_order_relaxed);
@@ -249,6 +274,12 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                     }
                 }
                 const auto b = Clock::now();
+                // The tile's shading points. For the exact method they are shaded group by group,
+                // a group being the points of one receiver patch in one region cell of the tile:
+                // the query then decides once per group the nodes that send all of its points
+                // the same way (ExactScratch::regionCorners). Each pixel's value does not depend
+                // on the order (its random numbers are its own).
+                points.clear();
                 size_t i = 0;
                 for (int y = tile.y0; y < tile.y1; ++y) {
                     for (int x = tile.x0; x < tile.x1; ++x, ++i) {
@@ -260,7 +291,10 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                         // only to its front: a face seen from behind is black.
                         if (!(dot(ph.ray.direction, n) < 0)) continue;
                         if (faces.empty() || faces.back() != f) faces.push_back(f);
-                        SurfacePoint p;
+                        TilePoint tp;
+                        tp.x = x;
+                        tp.y = y;
+                        SurfacePoint& p = tp.point;
                         p.face = f;
                         // Embree's hit is computed in float and lies a hair off the face's plane;
                         // the exact query wants x on the face, so project it onto the plane.
@@ -268,21 +302,49 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                         p.n = n;
                         p.wo = -ph.ray.direction;
                         p.material = &scene_.material(f);
+                        if (exact) {
+                            const uint32_t cell = static_cast<uint32_t>(
+                                ((y - tile.y0) / kRegionCell) * (kTileSize / kRegionCell) +
+                                (x - tile.x0) / kRegionCell);
+                            tp.group = (static_cast<uint64_t>(f) << 32) |
+                                       (static_cast<uint64_t>(store_.patches(f).find(p.x)) << 8) |
+                                       cell;
+                        }
+                        points.push_back(tp);
+                    }
+                }
+                if (exact)
+                    std::sort(
+                        points.begin(), points.end(),
+                        [](const TilePoint& l, const TilePoint& r) { return l.group < r.group; });
+                for (size_t g = 0; g < points.size();) {
+                    size_t end = g + 1;
+                    while (end < points.size() && points[end].group == points[g].group) ++end;
+                    if (exact) {
+                        vis::Bounds3 box;
+                        for (size_t q = g; q < end; ++q) box.add(points[q].point.x);
+                        boxCorners(box, scratch.regionCorners);
+                        scratch.regionId = ++regionCounter;
+                    }
+                    for (size_t q = g; q < end; ++q) {
+                        const SurfacePoint& p = points[q].point;
+                        const int x = points[q].x, y = points[q].y;
                         Vec3 radiance = p.material->isEmissive() ? p.material->ke : Vec3{};
                         SplitMix64 rng = SplitMix64::forIndices(
                             {kLightStream, settings.lightSeed, static_cast<uint64_t>(pass),
                              static_cast<uint64_t>(y) * static_cast<uint64_t>(w) +
                                  static_cast<uint64_t>(x)});
-                        if (settings.method == DirectMethod::Exact)
-                            radiance +=
-                                lighting_->exactAreaLights(p, settings.glossySamples,
-                                                           settings.lightSamples, rng, scratch);
+                        if (exact)
+                            radiance += lighting_->exactAreaLights(
+                                p, settings.glossySamples, settings.lightSamples, rng, scratch);
                         else
                             radiance += lighting_->sampledAreaLights(p, samples, rng);
                         radiance += lighting_->pointLights(p);
                         image[static_cast<size_t>(y) * w + x] = radiance;
                     }
+                    g = end;
                 }
+                scratch.regionCorners.clear();
                 const auto c = Clock::now();
                 if (times != nullptr) {
                     times->primaryNs.fetch_add(

@@ -125,7 +125,19 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             if (scratch.clippedLight[k].size() < 3) continue;
             fragments = std::span<const vis::Polygon3>(&scratch.clippedLight[k], 1);
         } else {
-            list = &scratch.query.run(scene_.mesh, record->tree, p.x);
+            vis::RegionDecisions* region = nullptr;
+            if (!scratch.regionCorners.empty()) {
+                if (scratch.regions.size() != lights_.size()) {
+                    scratch.regions.assign(lights_.size(), vis::RegionDecisions{});
+                    scratch.regionOf.assign(lights_.size(), 0);
+                }
+                region = &scratch.regions[k];
+                if (scratch.regionOf[k] != scratch.regionId || region->tree() != &record->tree) {
+                    region->reset(scene_.mesh, record->tree, scratch.regionCorners);
+                    scratch.regionOf[k] = scratch.regionId;
+                }
+            }
+            list = &scratch.query.run(scene_.mesh, record->tree, p.x, nullptr, region);
             if (list->empty()) continue;
         }
         if (list == nullptr && fragments.empty()) continue;

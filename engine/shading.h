@@ -106,6 +106,15 @@ struct ExactScratch {
     TriangleSampler fragments;
     vis::FromPointQuery query;    // FPQuery workspace: no allocation per point after warm-up
     size_t tooComplexPoints = 0;  // shading points whose pair had no tree (sampled instead)
+
+    // The region the next points lie in (optional): corners spanning a box that holds them, all on
+    // one receiver patch (so one tree per light). FPQuery then skips the plane tests of the nodes
+    // that send the whole region one way (vis::RegionDecisions). The caller sets the corners and
+    // a new regionId (never 0) for each group of points; empty corners = no region.
+    std::vector<Vec3> regionCorners;
+    uint64_t regionId = 0;
+    std::vector<vis::RegionDecisions> regions;  // per light
+    std::vector<uint64_t> regionOf;             // per light: the regionId of its decisions
 };
 
 class DirectLighting {

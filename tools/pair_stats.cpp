@@ -91,6 +91,12 @@ int main(int argc, char** argv) {
                     rows.size(), seconds);
         std::printf("%-14s %6s %9s %9s %11s %11s %9s %9s %9s %9s\n", "kind", "pairs", "seconds",
                     "nodes", "classify", "lps", "uncertain", "pruned", "rl-tests", "occluders");
+        double rlSeconds = 0;
+        uint64_t rlLps = 0;
+        for (const Row& r : rows) {
+            rlSeconds += r.stats.realLineSeconds;
+            rlLps += r.stats.realLineLpSolves;
+        }
         for (int k = 0; k < vis::kPairKindCount; ++k) {
             Row sum{};
             size_t count = 0;
@@ -118,6 +124,8 @@ int main(int argc, char** argv) {
                         static_cast<unsigned long long>(sum.stats.realLineTests),
                         static_cast<unsigned long long>(occluders));
         }
+        std::printf("real-line (quadric) tests: %.3f s, %llu linear programs\n", rlSeconds,
+                    static_cast<unsigned long long>(rlLps));
         std::vector<const Row*> order;
         for (const Row& r : rows) order.push_back(&r);
         std::sort(order.begin(), order.end(),

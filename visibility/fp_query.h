@@ -13,6 +13,7 @@
 
 #include "visibility/history_tree.h"
 #include "visibility/polygon_clip.h"
+#include "visibility/region_decisions.h"
 
 namespace penumbra::vis {
 
@@ -59,8 +60,11 @@ class FromPointQuery {
     // When `path` is given, the visited node ids are appended in depth-first order. The result is
     // valid until the next run. A TooComplex tree answers nothing (no fragment): callers check
     // tree.kind and estimate such a pair otherwise.
+    // `region`, when given, must have been reset for this tree and a region holding x: nodes it
+    // decides for the whole region are followed without a plane test (region_decisions.h).
     const FragmentList& run(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x,
-                            std::vector<uint32_t>* path = nullptr);
+                            std::vector<uint32_t>* path = nullptr,
+                            RegionDecisions* region = nullptr);
     uint32_t nodesVisited() const { return nodesVisited_; }
 
   private:
@@ -72,6 +76,7 @@ class FromPointQuery {
     const HistoryTree* tree_ = nullptr;
     Vec3 x_;
     std::vector<uint32_t>* path_ = nullptr;
+    RegionDecisions* region_ = nullptr;
     uint32_t nodesVisited_ = 0;
     FragmentList fragments_;
     // The pair's part that does not depend on x (preparePair): L's vertices, its plane, L clipped

@@ -149,13 +149,28 @@ class Builder {
 
     Side classify(const WitnessMask& inside, const HyperplaneRow& row) {
         ++stats_.classifications;
-        Side c = space_.classify(path_, inside, row, polyStats_);
+        Side c = space_.classify(path_, inside, row, polyStats_, &relaxation_);
         if (c == Side::Mixed && options_.quadricPruning) {
-            if (space_.provablyNoRealLine(path_, inside, row, -1, kPruneLevels, polyStats_)) {
+            const uint64_t lpsBefore = polyStats_.lpSolves;
+            const auto t0 = std::chrono::steady_clock::now();
+            struct Count {
+                BuildStats& stats;
+                uint64_t before;
+                const PolytopeStats& poly;
+                std::chrono::steady_clock::time_point t0;
+                ~Count() {
+                    stats.realLineLpSolves += poly.lpSolves - before;
+                    stats.realLineSeconds +=
+                        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
+                            .count();
+                }
+            } count{stats_, lpsBefore, polyStats_, t0};
+            if (space_.provablyNoRealLine(path_, inside, row, -1, kPruneLevels, polyStats_,
+                                          &relaxation_)) {
                 ++stats_.prunedSplits;
                 c = Side::Positive;
-            } else if (space_.provablyNoRealLine(path_, inside, row, +1, kPruneLevels,
-                                                 polyStats_)) {
+            } else if (space_.provablyNoRealLine(path_, inside, row, +1, kPruneLevels, polyStats_,
+                                                 &relaxation_)) {
                 ++stats_.prunedSplits;
                 c = Side::Negative;
             }
@@ -267,6 +282,7 @@ class Builder {
     std::vector<Vec3> receiverPoints_, lightPoints_, occluderPoints_;
     uint32_t meshVertexCount_;
     PolytopeStats polyStats_;
+    RelaxationPoints relaxation_;  // what the last classification left for the real-line tests
 
     uint32_t root_ = kVisibleLeaf;
     std::vector<HistoryNode> nodes_;

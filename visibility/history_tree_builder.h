@@ -40,6 +40,8 @@ struct BuildStats {
     uint64_t prunedSplits = 0;       // splits dropped by the real-line (quadric) test
     uint64_t realLineTests = 0;      // real-line tests run (each side of a Mixed split)
     uint64_t realLineWitness = 0;    // ... settled by finding a real line (no proof needed)
+    uint64_t realLineLpSolves = 0;   // linear programs of the real-line tests (in lpSolves too)
+    double realLineSeconds = 0;      // time in the real-line tests (in seconds too)
     uint64_t mergedLeaves = 0;
     bool budgetExceeded = false;  // the build stopped at maxLpSolves (kind TooComplex)
     double seconds = 0;

@@ -302,7 +302,9 @@ bool LinePolytopeSpace::certifyExactly(std::span<const Constraint> path, const H
 }
 
 Side LinePolytopeSpace::classify(std::span<const Constraint> path, const WitnessMask& inside,
-                                 const HyperplaneRow& h, PolytopeStats& stats) const {
+                                 const HyperplaneRow& h, PolytopeStats& stats,
+                                 RelaxationPoints* points) const {
+    if (points != nullptr) points->known = {false, false};
     // The hyperplane of an edge already on the path (occluders sharing an edge, or collinear
     // edges): the polytope lies on the known side of it. Decided exactly, with no linear program:
     // the rounded rows of the same hyperplane cannot certify a zero margin.
@@ -314,20 +316,31 @@ Side LinePolytopeSpace::classify(std::span<const Constraint> path, const Witness
             return same * c.sign > 0 ? Side::Positive : Side::Negative;
         }
     }
+    // A failed certificate of sign s leaves the program's primal point: a point of the relaxation
+    // on the side -s of h (RelaxationPoints).
+    auto certify = [&](int sign) {
+        const size_t k = sign > 0 ? 0 : 1;
+        std::vector<double>* witness = points != nullptr ? &points->onSide[k] : nullptr;
+        if (witness != nullptr) witness->clear();
+        const bool ok = certifyNonNegative(path, h, sign, stats, witness);
+        if (points != nullptr && !ok) points->known[k] = true;
+        return ok;
+    };
     const bool hasPos = (inside & strictPositive(h)).any();
     const bool hasNeg = (inside & strictNegative(h)).any();
     if (hasPos && hasNeg) return Side::Mixed;
     if (!hasNeg) {
-        if (certifyNonNegative(path, h, +1, stats, nullptr)) return Side::Positive;
+        if (certify(+1)) return Side::Positive;
         if (hasPos) return Side::Mixed;
-        return certifyNonNegative(path, h, -1, stats, nullptr) ? Side::Negative : Side::Mixed;
+        return certify(-1) ? Side::Negative : Side::Mixed;
     }
-    return certifyNonNegative(path, h, -1, stats, nullptr) ? Side::Negative : Side::Mixed;
+    return certify(-1) ? Side::Negative : Side::Mixed;
 }
 
 bool LinePolytopeSpace::provablyNoRealLine(std::span<const Constraint> path,
                                            const WitnessMask& inside, const HyperplaneRow& h,
-                                           int side, int maxLevels, PolytopeStats& stats) const {
+                                           int side, int maxLevels, PolytopeStats& stats,
+                                           const RelaxationPoints* points) const {
     // A generator strictly on that side is a real line there.
     ++stats.realLineTests;
     if ((inside & (side > 0 ? strictPositive(h) : strictNegative(h))).any() ||
@@ -335,17 +348,26 @@ bool LinePolytopeSpace::provablyNoRealLine(std::span<const Constraint> path,
         ++stats.realLineWitness;
         return false;
     }
-    const size_t nB = b_.size();
+    const size_t nB = b_.size(), nL = l_.size();
     {
-        std::vector<double> primal;
-        if (certifyNonNegative(path, h, -side, stats, &primal)) {
-            ++stats.realLineProofs;  // even the relaxation has nothing there
-            return true;
+        // The relaxation's point on that side: from classify's failed certificate when it ran
+        // one (the same program), else solved here.
+        const size_t k = side < 0 ? 0 : 1;  // RelaxationPoints' index of `side`
+        std::vector<double> solved;
+        const std::vector<double>* primal = nullptr;
+        if (points != nullptr && points->known[k]) {
+            primal = &points->onSide[k];
+        } else {
+            if (certifyNonNegative(path, h, -side, stats, &solved)) {
+                ++stats.realLineProofs;  // even the relaxation has nothing there
+                return true;
+            }
+            primal = &solved;
         }
-        if (!primal.empty()) {
+        if (!primal->empty()) {
             Vec3 b{};
             for (size_t i = 0; i < nB; ++i)
-                for (size_t j = 0; j < l_.size(); ++j) b += b_[i] * primal[i * l_.size() + j];
+                for (size_t j = 0; j < nL; ++j) b += b_[i] * (*primal)[i * nL + j];
             if (findRealLine(path, {}, h, side, std::span<const Vec3>(&b, 1))) {
                 ++stats.realLineWitness;
                 return false;
@@ -393,7 +415,9 @@ bool LinePolytopeSpace::findRealLine(std::span<const Constraint> path, const Wit
             return poly.size() >= 3;
         };
         bool ok = keep(h, side);
-        for (size_t k = 0; ok && k < path.size(); ++k) ok = keep(*path[k].row, path[k].sign);
+        // Deepest half-spaces first: they are the narrowest, so a point whose lines miss the
+        // polytope is usually rejected after a few clips.
+        for (size_t k = path.size(); ok && k-- > 0;) ok = keep(*path[k].row, path[k].sign);
         if (ok) return true;
     }
     return false;
@@ -403,6 +427,7 @@ bool LinePolytopeSpace::provePieceEmpty(std::span<const Constraint> path, const 
                                         int side, const PieceWeights& w, int levelsLeft,
                                         PolytopeStats& stats) const {
     const size_t nB = b_.size(), nL = l_.size();
+    double bary[3] = {0, 0, 0};  // where the relaxation's point lies, as weights of the corners
     {
         // The restricted rows are needed only for this one program: one scratch serves every
         // level of the recursion.
@@ -416,7 +441,11 @@ bool LinePolytopeSpace::provePieceEmpty(std::span<const Constraint> path, const 
         }
         restrictRowInto(h, w, nB, nL, scratch_.h);
         // No line of the piece strictly on `side`: min over the piece of (-side) * h >= 0.
-        if (certifyNonNegative(sub, scratch_.h, -side, stats, nullptr)) return true;
+        std::vector<double>& primal = scratch_.piecePrimal;
+        primal.clear();
+        if (certifyNonNegative(sub, scratch_.h, -side, stats, &primal)) return true;
+        for (size_t k = 0; k < 3 && !primal.empty(); ++k)
+            for (size_t j = 0; j < nL; ++j) bary[k] += primal[k * nL + j];
     }
     if (levelsLeft <= 0) return false;
     std::vector<double> mids[3];  // the edges' midpoints: dyadic weights, exact
@@ -427,8 +456,14 @@ bool LinePolytopeSpace::provePieceEmpty(std::span<const Constraint> path, const 
     const std::vector<double>*m01 = &mids[0], *m12 = &mids[1], *m20 = &mids[2];
     const PieceWeights pieces[4] = {
         {w[0], m01, m20}, {m01, w[1], m12}, {m20, m12, w[2]}, {m01, m12, m20}};
-    for (const PieceWeights& p : pieces)
-        if (!provePieceEmpty(path, h, side, p, levelsLeft - 1, stats)) return false;
+    // The sub-piece holding the relaxation's point first: when the proof fails it usually fails
+    // there, before programs are spent on the others.
+    int first = 3;
+    for (int k = 0; k < 3; ++k)
+        if (bary[k] >= 0.5) first = k;
+    const int order[4][4] = {{0, 1, 2, 3}, {1, 0, 2, 3}, {2, 0, 1, 3}, {3, 0, 1, 2}};
+    for (int i : order[first])
+        if (!provePieceEmpty(path, h, side, pieces[i], levelsLeft - 1, stats)) return false;
     return true;
 }
 

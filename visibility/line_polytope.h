@@ -70,6 +70,15 @@ using PieceWeights = std::array<const std::vector<double>*, 3>;
 
 enum class Side : int8_t { Negative = -1, Mixed = 0, Positive = 1 };
 
+// What classify learns about the relaxation besides its answer: a failed certificate for the
+// sign s leaves the program's primal point, a point of the relaxation on the side -s of h (weights
+// over the generators, summing to 1; empty when the program gave none). provablyNoRealLine needs
+// exactly that program for the side -s, so it takes the point instead of solving it again.
+struct RelaxationPoints {
+    std::array<std::vector<double>, 2> onSide;  // [0]: side -1, [1]: side +1
+    std::array<bool, 2> known{false, false};    // whether classify ran that program
+};
+
 struct PolytopeStats {
     uint64_t lpSolves = 0;
     uint64_t uncertain = 0;  // an LP said one-sided but no certificate verified (took the split)
@@ -96,13 +105,16 @@ class LinePolytopeSpace {
 
     // Which side of h the polytope {path} lies on. `inside` is the mask of witness lines that lie
     // in the polytope: they make most Mixed answers free of any linear program.
+    // `points`, when given, receives the relaxation's points left by failed certificates.
     Side classify(std::span<const Constraint> path, const WitnessMask& inside,
-                  const HyperplaneRow& h, PolytopeStats& stats) const;
+                  const HyperplaneRow& h, PolytopeStats& stats,
+                  RelaxationPoints* points = nullptr) const;
 
     // True only if it is proven that no real line lies in {path} strictly on the `side` of h.
+    // `points`: what classify left for the same path and h (saves a program), or nullptr.
     bool provablyNoRealLine(std::span<const Constraint> path, const WitnessMask& inside,
-                            const HyperplaneRow& h, int side, int maxLevels,
-                            PolytopeStats& stats) const;
+                            const HyperplaneRow& h, int side, int maxLevels, PolytopeStats& stats,
+                            const RelaxationPoints* points = nullptr) const;
 
   private:
     // Looks for a real line in {path} strictly on `side` of h (a witness, not a proof): for a few
@@ -114,6 +126,8 @@ class LinePolytopeSpace {
     // Certified: min over {path} of sign * h . lambda >= 0 (the rows may be restricted to a piece).
     bool certifyNonNegative(std::span<const Constraint> path, const HyperplaneRow& h, int sign,
                             PolytopeStats& stats, std::vector<double>* witness) const;
+    // True only if it is proven that no line through the piece lies in {path} strictly on
+    // `side` (the relaxation of the piece, subdivided up to levelsLeft more times).
     bool provePieceEmpty(std::span<const Constraint> path, const HyperplaneRow& h, int side,
                          const PieceWeights& weights, int levelsLeft, PolytopeStats& stats) const;
 
@@ -143,6 +157,7 @@ class LinePolytopeSpace {
         std::vector<HyperplaneRow> rows;
         std::vector<Constraint> sub;
         HyperplaneRow h;
+        std::vector<double> piecePrimal;
     };
     mutable Scratch scratch_;
 };

@@ -1,6 +1,7 @@
 #include "visibility/pair_occluders.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "visibility/form_factor.h"
 #include "visibility/polygon_clip.h"
@@ -75,6 +76,38 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
         return false;
     };
 
+    // Insertion order: the occluders that hide the most of L from the centroid of B first. A
+    // large early shadow makes the leaves behind it hidden, and later occluders there cost
+    // nothing. (A heuristic in doubles: any order gives an exact tree. Measured against the
+    // clipped area alone and against shadows summed over several points of B, this was the
+    // fastest on table and grids; penumbra_pair_stats.)
+    Vec3 eye{};
+    for (const Vec3& p : receiverRegion) eye += p / static_cast<double>(receiverRegion.size());
+    std::vector<OrientedPlane> pyramid;  // the side planes of the pyramid from eye over L
+    for (size_t i = 0; i < lightPoints.size(); ++i) {
+        const Vec3& a = lightPoints[i];
+        const Vec3& b = lightPoints[(i + 1) % lightPoints.size()];
+        const Vec3& inner = lightPoints[(i + 2) % lightPoints.size()];
+        OrientedPlane side{eye, a, b};
+        if (side.side(inner) == Sign::Negative) side = OrientedPlane{eye, b, a};
+        pyramid.push_back(side);
+    }
+    const Vec3 lightNormal = mesh.faceAreaNormal(light);
+    auto shadowArea = [&](std::vector<Vec3> poly) {
+        for (const OrientedPlane& plane : pyramid) {
+            poly = clipConvexPositive(poly, plane);
+            if (poly.size() < 3) return 0.0;
+        }
+        // Central projection from the eye onto L's plane, then the area there.
+        const double offset = dot(lightNormal, lightPoints[0] - eye);
+        for (Vec3& p : poly) {
+            const double denom = dot(lightNormal, p - eye);
+            if (!(std::fabs(denom) > 0)) return 0.0;
+            p = eye + (p - eye) * (offset / denom);
+        }
+        return polygonArea(poly);
+    };
+
     const uint32_t meshVertexCount = static_cast<uint32_t>(mesh.vertices.size());
     const OrientedPlane clipB{pb.a, pb.b, pb.c}, clipL{pl.a, pl.b, pl.c};
     auto consider = [&](uint32_t f) {
@@ -124,6 +157,7 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
             }
         }
         occ.area = polygonArea(poly);
+        occ.shadow = shadowArea(poly);
         out.occluders.push_back(std::move(occ));
     };
     if (candidates.empty()) {
@@ -132,7 +166,9 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
         for (uint32_t f : candidates) consider(f);
     }
     std::stable_sort(out.occluders.begin(), out.occluders.end(),
-                     [](const Occluder& a, const Occluder& b) { return a.area > b.area; });
+                     [](const Occluder& a, const Occluder& b) {
+                         return a.shadow != b.shadow ? a.shadow > b.shadow : a.area > b.area;
+                     });
     return out;
 }
 

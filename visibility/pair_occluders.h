@@ -25,12 +25,15 @@ struct Occluder {
     // from L (all crossings in one direction), 0 when it cuts B or L and both can occur.
     int blockedSign = 0;
     double area = 0;
+    // The area of L it hides from the centroid of B (approximate, in doubles): the insertion
+    // order, largest first.
+    double shadow = 0;
 };
 
 struct PairOccluders {
     bool backFacing = false;
-    std::vector<Vec3> extraVertices;   // ids from meshVertexCount on
-    std::vector<Occluder> occluders;   // most important first (largest clipped area)
+    std::vector<Vec3> extraVertices;  // ids from meshVertexCount on
+    std::vector<Occluder> occluders;  // most important first (largest shadow, then area)
 };
 
 // candidates: faces that may occlude (superset is fine); empty = every face of the mesh.

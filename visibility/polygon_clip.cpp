@@ -56,9 +56,25 @@ void writeParts(std::span<const Vec3> polygon, const double* d, Vec3* pos, size_
     negativeCount = nn;
 }
 
+// One part of a split polygon (side +1: values >= 0, side -1: values <= 0), as writeParts
+// writes it.
+size_t writePart(std::span<const Vec3> polygon, const double* d, int side, Vec3* out) {
+    const size_t n = polygon.size();
+    size_t count = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const size_t j = i + 1 == n ? 0 : i + 1;
+        const double si = d[i] * side, sj = d[j] * side;
+        if (si >= 0) out[count++] = polygon[i];
+        if ((si > 0 && sj < 0) || (si < 0 && sj > 0))
+            out[count++] = crossing(polygon[i], polygon[j], d[i], d[j]);
+    }
+    return count;
+}
+
 // The split into SplitParts (written only for Split).
 template <typename ValueOf>
-SplitOutcome splitInto(std::span<const Vec3> polygon, ValueOf valueOf, SplitParts& parts) {
+SplitOutcome splitInto(std::span<const Vec3> polygon, ValueOf valueOf, SplitParts& parts,
+                       KeepParts keep = KeepParts::Both) {
     const size_t n = polygon.size();
     if (parts.values.size() < n) parts.values.resize(n);
     const SplitOutcome outcome = classify(polygon, valueOf, parts.values.data());
@@ -67,8 +83,22 @@ SplitOutcome splitInto(std::span<const Vec3> polygon, ValueOf valueOf, SplitPart
         parts.positiveStorage.resize(partCapacity(n));
         parts.negativeStorage.resize(partCapacity(n));
     }
-    writeParts(polygon, parts.values.data(), parts.positiveStorage.data(), parts.positiveCount,
-               parts.negativeStorage.data(), parts.negativeCount);
+    switch (keep) {
+        case KeepParts::Both:
+            writeParts(polygon, parts.values.data(), parts.positiveStorage.data(),
+                       parts.positiveCount, parts.negativeStorage.data(), parts.negativeCount);
+            break;
+        case KeepParts::Positive:
+            parts.positiveCount =
+                writePart(polygon, parts.values.data(), +1, parts.positiveStorage.data());
+            parts.negativeCount = 0;
+            break;
+        case KeepParts::Negative:
+            parts.negativeCount =
+                writePart(polygon, parts.values.data(), -1, parts.negativeStorage.data());
+            parts.positiveCount = 0;
+            break;
+    }
     return outcome;
 }
 
@@ -89,10 +119,16 @@ void splitIntoVectors(std::span<const Vec3> polygon, ValueOf valueOf, std::vecto
     positive.clear();
     negative.clear();
     switch (outcome) {
-        case SplitOutcome::OnPlane: return;
-        case SplitOutcome::Positive: positive.assign(polygon.begin(), polygon.end()); return;
-        case SplitOutcome::Negative: negative.assign(polygon.begin(), polygon.end()); return;
-        case SplitOutcome::Split: break;
+        case SplitOutcome::OnPlane:
+            return;
+        case SplitOutcome::Positive:
+            positive.assign(polygon.begin(), polygon.end());
+            return;
+        case SplitOutcome::Negative:
+            negative.assign(polygon.begin(), polygon.end());
+            return;
+        case SplitOutcome::Split:
+            break;
     }
     positive.resize(partCapacity(n));
     negative.resize(partCapacity(n));
@@ -112,7 +148,8 @@ void clipConvexInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
 }
 
 SplitOutcome splitConstructed(std::span<const Vec3> polygon, const PlaneOrient& plane,
-                              std::span<const Vec3> inputVertices, SplitParts& parts) {
+                              std::span<const Vec3> inputVertices, SplitParts& parts,
+                              KeepParts keep) {
     return splitInto(
         polygon,
         [&](const Vec3& y) {
@@ -122,10 +159,11 @@ SplitOutcome splitConstructed(std::span<const Vec3> polygon, const PlaneOrient& 
                 if (input.x == y.x && input.y == y.y && input.z == y.z) return plane.value(y).value;
             return 0.0;
         },
-        parts);
+        parts, keep);
 }
 
-SplitOutcome splitExact(std::span<const Vec3> polygon, const PlaneOrient& plane, SplitParts& parts) {
+SplitOutcome splitExact(std::span<const Vec3> polygon, const PlaneOrient& plane,
+                        SplitParts& parts) {
     return splitInto(
         polygon,
         [&](const Vec3& y) {
@@ -139,7 +177,8 @@ SplitOutcome splitExact(std::span<const Vec3> polygon, const PlaneOrient& plane,
         parts);
 }
 
-SplitOutcome splitNaive(std::span<const Vec3> polygon, const PlaneOrient& plane, SplitParts& parts) {
+SplitOutcome splitNaive(std::span<const Vec3> polygon, const PlaneOrient& plane,
+                        SplitParts& parts) {
     return splitInto(
         polygon, [&](const Vec3& y) { return orient3dApprox(plane.a, plane.b, plane.c, y); },
         parts);

@@ -33,6 +33,9 @@ enum class SplitOutcome : uint8_t {
     Split,     // both: `positive` and `negative` hold the two parts
 };
 
+// Which parts a split must write (a part bound for a hidden leaf is not needed).
+enum class KeepParts : uint8_t { Both, Positive, Negative };
+
 // The two parts of a split polygon, in storage that keeps its capacity across calls (no
 // allocation in a hot loop after warm-up). The storage vectors are sized to their capacity; the
 // counts say how much of them each part uses.
@@ -52,8 +55,10 @@ struct SplitParts {
 // the exact sign of the rounded point carries no information, and taking it would only create
 // slivers of rounding width. Areas move by at most that rounding width. `parts` is written only
 // for SplitOutcome::Split.
+// `keep` names the parts written for Split (the other count is 0).
 SplitOutcome splitConstructed(std::span<const Vec3> polygon, const PlaneOrient& plane,
-                              std::span<const Vec3> inputVertices, SplitParts& parts);
+                              std::span<const Vec3> inputVertices, SplitParts& parts,
+                              KeepParts keep = KeepParts::Both);
 
 // For measuring what exactness costs (FromPointQuery's PredicateMode): every sign through the
 // exact stage (no filter), or the plain double determinant's sign (approximate, can be wrong).

@@ -84,9 +84,10 @@ inline constexpr double kOrient3dErrorBound = (7.0 + 56.0 * (DBL_EPSILON / 2)) *
 
 inline PlaneOrient::PlaneOrient(const Vec3& a_, const Vec3& b_, const Vec3& c_)
     : a(a_), b(b_), c(c_) {
-    // As evaluate(a, d, b, c): u = d - a, v = b - a, w = c - a; det = u . (v x w).
-    const double vx = b.x - a.x, vy = b.y - a.y, vz = b.z - a.z;
-    const double wx = c.x - a.x, wy = c.y - a.y, wz = c.z - a.z;
+    // As evaluate(a, d, b, c): u = d - a, v = b - a, w = c - a; det = u . (v x w). (From the
+    // arguments, not the members just written: reading those back stalled on store forwarding.)
+    const double vx = b_.x - a_.x, vy = b_.y - a_.y, vz = b_.z - a_.z;
+    const double wx = c_.x - a_.x, wy = c_.y - a_.y, wz = c_.z - a_.z;
     const double m1 = vy * wz, m2 = vz * wy;
     const double m3 = vz * wx, m4 = vx * wz;
     const double m5 = vx * wy, m6 = vy * wx;
