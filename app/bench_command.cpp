@@ -87,12 +87,13 @@ Camera cameraFor(const Scene& scene) {
     return scene.camera ? *scene.camera : Camera::fitting(scene.mesh.bounds());
 }
 
-json kindsJson(const std::array<size_t, vis::kPairKindCount>& k) {
+json kindsJson(const VisibilityStore& store) {
+    const std::array<size_t, vis::kPairKindCount> k = store.kindCounts();
     return {{"backFacing", k[0]},
             {"fullyVisible", k[1]},
             {"fullyHidden", k[2]},
             {"penumbra", k[3]},
-            {"tooComplex", k[4]}};
+            {"partial", store.partialCount()}};
 }
 
 size_t treeNodes(const VisibilityStore& store) {
@@ -163,7 +164,7 @@ json precomputePairs(VisibilityStore& store, const std::vector<PairKey>* keys, d
             {"trees", store.treeCount()},
             {"nodes", treeNodes(store)},
             {"bytes", store.bytes()},
-            {"kinds", kindsJson(store.kindCounts())}};
+            {"kinds", kindsJson(store)}};
 }
 
 // ---- Table 1 -------------------------------------------------------------------------------
@@ -211,13 +212,10 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
         const bool ok =
             runWithLimit(o.limit, cancel, [&] { prepWall = r.prepare(camera, s, &cancel); });
         prepCpu = cpuNow() - c0;
-        json e = {{"precomputeWall", prepWall},
-                  {"precomputeCpu", prepCpu},
-                  {"precomputeComplete", ok},
-                  {"trees", store.treeCount()},
-                  {"nodes", treeNodes(store)},
-                  {"bytes", store.bytes()},
-                  {"kinds", kindsJson(store.kindCounts())}};
+        json e = {{"precomputeWall", prepWall}, {"precomputeCpu", prepCpu},
+                  {"precomputeComplete", ok},   {"trees", store.treeCount()},
+                  {"nodes", treeNodes(store)},  {"bytes", store.bytes()},
+                  {"kinds", kindsJson(store)}};
         if (ok) {
             RenderTimes t;
             r.render(camera, s, &t);  // the trees are in the store: its prepare finds them
@@ -230,8 +228,8 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
             row["speedupRenderOnlyCpu"] = row["sampled128"]["cpu"].get<double>() / t.totalCpu;
             std::printf(
                 "  exact: precompute %.2f s wall %.2f s cpu, render %.2f s wall %.2f s "
-                "cpu, %zu trees, %zu too complex\n",
-                prepWall, prepCpu, t.total, t.totalCpu, store.treeCount(), store.kindCounts()[4]);
+                "cpu, %zu trees, %zu partial\n",
+                prepWall, prepCpu, t.total, t.totalCpu, store.treeCount(), store.partialCount());
         } else {
             std::printf("  exact: precompute over the %.0f s limit (%zu trees so far)\n", o.limit,
                         store.treeCount());
@@ -290,7 +288,7 @@ json accuracy(const BenchOptions& o) {
               {"meanRadiance", st.meanRadiance},
               {"exact", pointJson(st.exact)},
               {"equalErrorExtrapolated", st.equalErrorExtrapolated},
-              {"tooComplex", store.kindCounts()[4]}};
+              {"tooComplex", store.partialCount()}};
     j["equalErrorSeconds"] =
         std::isfinite(st.equalErrorSeconds) ? json(st.equalErrorSeconds) : json();
     j["equalErrorRays"] = std::isfinite(st.equalErrorRays) ? json(st.equalErrorRays) : json();
@@ -449,10 +447,10 @@ json scaling(const std::vector<std::string>& scenes, const BenchOptions& o) {
         r["loadSeconds"] = loadSeconds;
         std::printf(
             "scaling %s: %u faces, %zu pairs, %.2f s wall, %.2f s cpu, %zu nodes, %zu "
-            "bytes, %zu too complex%s\n",
+            "bytes, %zu partial%s\n",
             path.c_str(), scene.faceCount(), keys.size(), r["seconds"].get<double>(),
             r["cpu"].get<double>(), r["nodes"].get<size_t>(), r["bytes"].get<size_t>(),
-            store.kindCounts()[4], r["complete"].get<bool>() ? "" : " (over the limit)");
+            store.partialCount(), r["complete"].get<bool>() ? "" : " (over the limit)");
         std::fflush(stdout);
         rows.push_back(r);
     }
@@ -604,14 +602,14 @@ std::string report(const json& b, bool plots, const std::string& plotNote) {
               << (row.contains("speedupCpu")
                       ? num(row["speedupCpu"]) + "x (" + num(row["speedupRenderOnlyCpu"]) + "x)"
                       : std::string("-"))
-              << " | " << e["trees"] << " | " << e["kinds"]["tooComplex"] << " | "
+              << " | " << e["trees"] << " | " << e["kinds"]["partial"] << " | "
               << num(e["fileBytes"].get<double>() / 1024.0, "%.1f") << " KB | ";
             if (row.contains("allPairs")) {
                 const json& a = row["allPairs"];
                 r << num(a["seconds"]) << " / " << num(a["cpu"])
                   << (a["complete"].get<bool>() ? "" : " (over the limit)") << " | "
                   << num(a["fileBytes"].get<double>() / 1024.0, "%.1f") << " KB | "
-                  << a["kinds"]["tooComplex"] << " |\n";
+                  << a["kinds"]["partial"] << " |\n";
             } else {
                 r << (row["faces"].get<uint32_t>() > kAllPairsMaxFaces ? "skipped | - | - |\n"
                                                                        : "- | - | - |\n");
@@ -708,7 +706,7 @@ std::string report(const json& b, bool plots, const std::string& plotNote) {
             r << "| " << fs::path(s["scene"].get<std::string>()).filename().string() << " | "
               << s["faces"] << " | " << s["pairs"] << " | " << s["done"] << " | "
               << num(s["seconds"]) << " | " << num(s["cpu"]) << " | " << s["nodes"] << " | "
-              << s["bytes"] << " | " << s["kinds"]["penumbra"] << " | " << s["kinds"]["tooComplex"]
+              << s["bytes"] << " | " << s["kinds"]["penumbra"] << " | " << s["kinds"]["partial"]
               << " |\n";
         if (plots) r << "\n![scaling](scaling.png)\n";
         r << "\n";

@@ -10,9 +10,11 @@ HistoryTreeTopology::HistoryTreeTopology(const vis::HistoryTree& tree) {
     const size_t n = tree.nodes.size();
     if (n >= kNoIndex) throw std::invalid_argument("history tree: too many nodes");
     if (n == 0) {
-        if (tree.kind == vis::PairKind::Penumbra)
+        if (tree.kind == vis::PairKind::Penumbra && !tree.partial())
             throw std::invalid_argument("history tree: a penumbra pair with no nodes");
-        if (tree.kind == vis::PairKind::FullyVisible) rootLeaf = vis::kVisibleLeaf;
+        // A partial tree with no node: one visible leaf (its occluders are all deferred).
+        if (tree.kind == vis::PairKind::FullyVisible || tree.kind == vis::PairKind::Penumbra)
+            rootLeaf = vis::kVisibleLeaf;
         if (tree.kind == vis::PairKind::FullyHidden) rootLeaf = vis::kHiddenLeaf;
         return;
     }

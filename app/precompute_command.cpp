@@ -44,6 +44,7 @@ struct PrecomputeCommandOptions {
     std::string output;
     double memoryBudgetMB = 0;
     double patchFraction = 1.0 / 4;
+    uint64_t maxLpSolves = vis::BuildOptions{}.maxLpSolves;
     int threads = 0;
 };
 
@@ -106,6 +107,7 @@ void runPrecompute(const PrecomputeCommandOptions& o) {
     const EmbreeScene bvh(scene.mesh);
     VisibilityStore::Options storeOptions;
     storeOptions.patchFraction = o.patchFraction;
+    storeOptions.build.maxLpSolves = o.maxLpSolves;
     VisibilityStore store(scene, &bvh, storeOptions);
     const fs::path output(o.output);
 
@@ -167,14 +169,19 @@ void runPrecompute(const PrecomputeCommandOptions& o) {
     }
 
     const auto kinds = store.kindCounts();
-    size_t nodes = 0;
-    store.forEach([&](const PairKey&, const PairRecord& r) { nodes += r.tree.nodes.size(); });
+    size_t nodes = 0, partial = 0, deferred = 0;
+    store.forEach([&](const PairKey&, const PairRecord& r) {
+        nodes += r.tree.nodes.size();
+        partial += r.tree.partial() ? 1 : 0;
+        deferred += r.tree.deferred.size();
+    });
     std::printf("scene    %s: %u faces, %zu lights\n", o.scene.c_str(), scene.faceCount(),
                 scene.lights.size());
     std::printf(
         "pairs    %zu of %zu: %zu back-facing, %zu fully visible, %zu fully hidden, "
-        "%zu penumbra, %zu too complex (over the build budget: sampled when rendering)\n",
-        store.treeCount(), p.total, kinds[0], kinds[1], kinds[2], kinds[3], kinds[4]);
+        "%zu penumbra (%zu partial: the build budget stopped them, %zu occluders left to the "
+        "query)\n",
+        store.treeCount(), p.total, kinds[0], kinds[1], kinds[2], kinds[3], partial, deferred);
     std::printf("nodes    %zu\n", nodes);
     std::printf("bytes    %zu in memory, file %zu\n", store.bytes(), fileBytes);
     std::printf("seconds  %.3f\n", p.seconds);
@@ -214,6 +221,11 @@ void registerPrecomputeCommand(CLI::App& app) {
     sub->add_option("--memory-budget", options->memoryBudgetMB,
                     "Stop once the trees take more than this many MB (0: no limit)")
         ->check(CLI::NonNegativeNumber);
+    sub->add_option("--max-lp-solves", options->maxLpSolves,
+                    "Build budget of one history tree in linear programs; a tree that reaches it "
+                    "is partial, its remaining occluders clipped per point (0 = no limit)")
+        ->capture_default_str()
+        ->type_name("N");
     sub->add_option("--patch-fraction", options->patchFraction,
                     "Receiver patch size as a fraction of the scene diagonal (0: whole faces)")
         ->check(CLI::Range(0.0, 1.0));

@@ -6,9 +6,10 @@
 //   {"point":[x,y,z],"face":F,"lights":[{"light":K,"light_face":LF,"light_area":A,
 //    "visible_area":a,"fraction":a/A,"form_factor":f,"unoccluded_form_factor":u,
 //    "fragments":[[[x,y,z],...],...],"nodes_visited":n,"path":[node ids],
-//    "pair":"penumbra|fully-visible|fully-hidden|back-facing|too-complex"}]}
-// A too-complex pair (the tree exceeded its build budget) prints null for the visible area,
-// fraction and form factor, and an "error" string.
+//    "pair":"penumbra|fully-visible|fully-hidden|back-facing"}]}
+// A pair with a partial tree (its build stopped at the budget, --max-lp-solves) adds
+// "deferred_occluders" (how many the tree left to the query) and "deferred_clipped" (how many of
+// them this point's query clipped against): its answer is exact all the same.
 // Doubles are printed in their shortest round-trip form.
 //
 // The points file holds one point a line, "x y z [face]"; blank lines and '#' comments are
@@ -183,14 +184,10 @@ nlohmann::ordered_json toJson(const QueryPoint& p, uint32_t face,
         j["nodes_visited"] = l.nodesVisited;
         j["path"] = l.path;
         j["pair"] = std::string(vis::toString(l.kind));
-        if (l.kind == vis::PairKind::TooComplex) {
-            // No exact answer exists for this pair: say so instead of printing zeros.
-            j["visible_area"] = nullptr;
-            j["fraction"] = nullptr;
-            j["form_factor"] = nullptr;
-            j["error"] =
-                "the exact history tree of this pair exceeded the build budget "
-                "(--max-lp-solves); no exact result";
+        if (l.deferredOccluders > 0) {
+            // A partial tree: the budget stopped the build; the query clipped the rest from x.
+            j["deferred_occluders"] = l.deferredOccluders;
+            j["deferred_clipped"] = l.deferredActive;
         }
         lightsJson.push_back(std::move(j));
     }
@@ -277,8 +274,9 @@ void registerQueryCommand(CLI::App& app) {
     sub->add_option("--light", options->light, "Only light K (default: every light)")
         ->type_name("K");
     sub->add_option("--max-lp-solves", options->maxLpSolves,
-                    "Build budget of one history tree in linear programs; a pair beyond it is "
-                    "reported as too-complex (0 = no limit)")
+                    "Build budget of one history tree in linear programs; a pair beyond it gets a "
+                    "partial tree whose remaining occluders each query clips itself (0 = no "
+                    "limit)")
         ->capture_default_str()
         ->type_name("N");
     sub->callback([sub, options] { runQuery(*sub, *options); });

@@ -44,6 +44,8 @@ struct RenderOptions {
     int lightSamples = 128;
     int referenceSamples = 1024;
     int glossySamples = 16;
+    uint64_t exactWorkLimit = RenderSettings{}.exactWorkLimit;
+    uint64_t maxLpSolves = vis::BuildOptions{}.maxLpSolves;
     uint64_t seed = 1;
     uint64_t lightSeed = 1;
     double exposure = 1.0;
@@ -118,6 +120,7 @@ void runRender(const RenderOptions& o) {
     settings.lightSamples = o.lightSamples;
     settings.referenceSamples = o.referenceSamples;
     settings.glossySamples = o.glossySamples;
+    settings.exactWorkLimit = o.exactWorkLimit;
     settings.seed = o.seed;
     settings.lightSeed = o.lightSeed;
 
@@ -152,7 +155,9 @@ void runRender(const RenderOptions& o) {
     if (o.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
 
     const EmbreeScene bvh(scene.mesh);
-    VisibilityStore store(scene, &bvh);
+    VisibilityStore::Options storeOptions;
+    storeOptions.build.maxLpSolves = o.maxLpSolves;
+    VisibilityStore store(scene, &bvh, storeOptions);
     size_t loadedTrees = 0;
     const bool exact = settings.method == DirectMethod::Exact;
     if (!o.visibility.empty() && exact) {
@@ -252,6 +257,15 @@ void registerRenderCommand(CLI::App& app) {
     sub->add_option("--glossy-samples", o->glossySamples,
                     "Samples per light inside the visible fragments for glossy materials (exact)")
         ->check(CLI::Range(1, 1 << 20))
+        ->capture_default_str();
+    sub->add_option("--max-lp-solves", o->maxLpSolves,
+                    "Exact: build budget of one history tree in linear programs; a tree that "
+                    "reaches it is partial, its remaining occluders clipped per point (0 = no "
+                    "limit)")
+        ->capture_default_str();
+    sub->add_option("--exact-work-limit", o->exactWorkLimit,
+                    "Exact: plane tests one point's query may make; a point that needs more is "
+                    "sampled with --light-samples rays and counted (0 = every point exact)")
         ->capture_default_str();
     sub->add_option("--seed", o->seed, "Seed of the pixel sampling pattern")->capture_default_str();
     sub->add_option("--light-seed", o->lightSeed, "Seed of the light sampling")

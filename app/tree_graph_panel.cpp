@@ -301,8 +301,13 @@ void TreeGraphPanel::drawHeader() {
         ImGui::PopStyleColor();
         return;
     }
+    if (tree_->partial())
+        ImGui::TextWrapped(
+            "Partial tree: the build budget stopped it; %zu more occluders are clipped by each "
+            "point's query (the answer is exact all the same).",
+            tree_->deferred.size());
     if (tree_->kind != vis::PairKind::Penumbra || topology_->nodeCount() == 0) {
-        ImGui::TextWrapped("No tree for this pair (%.*s).", int(tree_->why.size()),
+        ImGui::TextWrapped("No tree nodes for this pair (%.*s).", int(tree_->why.size()),
                            tree_->why.data());
         if (!topology_->rootLeaf) return;
     } else {

@@ -1,5 +1,7 @@
 #include "engine/effects_summary.h"
 
+#include <algorithm>
+#include <cstdio>
 #include <string>
 
 namespace penumbra {
@@ -51,12 +53,25 @@ std::string EffectsSummary::text() const {
              " - every line blocked: skipped, no light arrives");
         line("pairs back-facing: " + std::to_string(pairsBackFacing) +
              " - light and receiver face away from each other: skipped");
-        if (pairsTooComplex > 0)
-            line("pairs too complex: " + std::to_string(pairsTooComplex) +
-                 " - the exact tree exceeded its build budget: sampled with " +
-                 std::to_string(lightSamples) + " shadow rays per point (not exact)");
+        if (pairsPartial > 0)
+            line("  of them with a partial tree: " + std::to_string(pairsPartial) +
+                 " - the build budget stopped the tree, its other " +
+                 plural(deferredOccluders, "occluder is", "occluders are") +
+                 " clipped from each point (still exact)");
         line("pairs never seen: " + std::to_string(pairsNeverSeen) +
              " - receivers (patches) no primary ray hit: not computed");
+        if (sampledEvaluations > 0) {
+            char share[32];
+            std::snprintf(share, sizeof share, "%.2f%%",
+                          100.0 * static_cast<double>(sampledEvaluations) /
+                              static_cast<double>(std::max<uint64_t>(exactEvaluations, 1)));
+            line("points sampled: " + std::to_string(sampledEvaluations) + " of " +
+                 std::to_string(exactEvaluations) + " (" + share +
+                 ") point-light evaluations - their exact answer needed more than " +
+                 std::to_string(exactWorkLimit) + " plane tests: " + std::to_string(lightSamples) +
+                 " shadow rays each instead (not exact; --exact-work-limit 0 makes every point "
+                 "exact)");
+        }
     }
     if (!method.empty()) {
         if (materialsAnalytic > 0)

@@ -14,9 +14,12 @@ struct EffectsSummary {
     // (receiver patch, light) pairs by what they call for; only penumbra pairs get a tree.
     size_t pairsBackFacing = 0, pairsFullyVisible = 0, pairsFullyHidden = 0, pairsPenumbra = 0;
     size_t pairsNeverSeen = 0;  // pairs of receivers no primary ray hit: not computed
-    // Pairs whose exact tree exceeded the build budget (vis::PairKind::TooComplex): shaded with
-    // `lightSamples` shadow rays at each point instead - the one place the exact method samples.
-    size_t pairsTooComplex = 0;
+    // Of the penumbra pairs, those with a partial tree (the build budget stopped it: the
+    // occluders it left, deferredOccluders in all, are clipped from each shading point, exact).
+    size_t pairsPartial = 0, deferredOccluders = 0;
+    // (shading point, light) evaluations of the exact method, and those whose exact answer needed
+    // more than exactWorkLimit plane tests: sampled with lightSamples shadow rays (not exact).
+    uint64_t exactEvaluations = 0, sampledEvaluations = 0, exactWorkLimit = 0;
     // Materials of the receivers by how they are shaded.
     size_t materialsAnalytic = 0;  // diffuse: form factor of the exact fragments, no samples
     size_t materialsSampled = 0;   // glossy: samples inside the visible fragments only

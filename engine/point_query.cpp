@@ -155,6 +155,9 @@ std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, cons
         r.fragments = std::move(q.fragments);
         r.path = std::move(q.path);
         r.nodesVisited = q.nodesVisited;
+        r.deferredOccluders = static_cast<uint32_t>(tree.deferred.size());
+        r.deferredActive = q.deferredActive;
+        r.deferredClips = q.deferredClips;
         for (const vis::Polygon3& fragment : r.fragments) {
             r.visibleArea += vis::polygonArea(fragment);
             r.formFactor += vis::formFactor(x, normal, fragment);

@@ -12,10 +12,10 @@
 #include <vector>
 
 #include "engine/scene.h"
+#include "engine/visibility_store.h"
 #include "visibility/fp_query.h"
 #include "visibility/history_tree.h"
 #include "visibility/history_tree_builder.h"
-#include "engine/visibility_store.h"
 
 namespace penumbra {
 
@@ -62,6 +62,9 @@ struct LightAtPoint {
     uint32_t nodesVisited = 0;                       // history-tree nodes the query visited
     std::vector<uint32_t> path;                      // their ids, depth-first
     vis::PairKind kind = vis::PairKind::BackFacing;  // what the (receiver, light) pair is
+    // A partial tree (vis::HistoryTree::deferred): its deferred occluders, those the query clipped
+    // against from x, and the clips that changed a fragment.
+    uint32_t deferredOccluders = 0, deferredActive = 0, deferredClips = 0;
 };
 
 // Every light (or only light `onlyLight`) of the store's scene as seen from x on face `face` (x is

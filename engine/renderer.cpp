@@ -145,8 +145,12 @@ ProgressiveRenderer::~ProgressiveRenderer() = default;
 
 void ProgressiveRenderer::recordUse(const std::vector<PairKey>& keys,
                                     const std::vector<uint32_t>& faces,
-                                    const RenderSettings& settings) {
+                                    const RenderSettings& settings, uint64_t exactEvaluations,
+                                    uint64_t sampledEvaluations) {
     std::lock_guard lock(mutex_);
+    exactEvaluations_ += exactEvaluations;
+    sampledEvaluations_ += sampledEvaluations;
+    exactWorkLimit_ = settings.exactWorkLimit;
     usedKeys_.insert(keys.begin(), keys.end());
     for (uint32_t f : faces) faceSeen_[f] = 1;
     rendered_ = true;
@@ -161,6 +165,7 @@ void ProgressiveRenderer::resetEffects() {
     usedKeys_.clear();
     faceSeen_.assign(scene_.faceCount(), 0);
     rendered_ = false;
+    exactEvaluations_ = sampledEvaluations_ = 0;
 }
 
 double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& settings,
@@ -237,6 +242,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     std::mutex mutex;
     std::vector<PairKey> usedKeys;
     std::vector<uint32_t> facesSeen;
+    uint64_t exactEvaluations = 0, sampledEvaluations = 0;  // guarded by mutex
     const int samples = settings.method == DirectMethod::Reference ? settings.referenceSamples
                                                                    : settings.lightSamples;
     const CameraRays rays(camera, w, h);
@@ -246,6 +252,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
         tbb::blocked_range<int>(0, tileCount(settings), 1),
         [&](const tbb::blocked_range<int>& range) {
             ExactScratch scratch;
+            scratch.query.setWorkLimit(settings.exactWorkLimit);
             std::vector<uint32_t> faces;
             struct PrimaryHit {
                 Ray ray;
@@ -358,13 +365,15 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
             std::lock_guard lock(mutex);
             usedKeys.insert(usedKeys.end(), scratch.used.begin(), scratch.used.end());
             facesSeen.insert(facesSeen.end(), faces.begin(), faces.end());
+            exactEvaluations += scratch.exactEvaluations;
+            sampledEvaluations += scratch.sampledEvaluations;
         });
     if (cancelled.load()) return false;
 
     if (pass == 0) film.reset(w, h);
     for (size_t i = 0; i < image.size(); ++i) film.sum[i] += image[i];
     ++film.passes;
-    recordUse(usedKeys, facesSeen, settings);
+    recordUse(usedKeys, facesSeen, settings, exactEvaluations, sampledEvaluations);
     if (times != nullptr) times->wall = seconds(t0, Clock::now());
     return true;
 }
@@ -407,7 +416,10 @@ EffectsSummary ProgressiveRenderer::effects() const {
     std::lock_guard lock(mutex_);
     if (!rendered_) return s;
     s.method = toString(method_);
-    s.lightSamples = lightSamples_;  // exact: the fallback of too-complex pairs
+    s.lightSamples = lightSamples_;  // exact: the points over the work limit
+    s.exactEvaluations = exactEvaluations_;
+    s.sampledEvaluations = sampledEvaluations_;
+    s.exactWorkLimit = exactWorkLimit_;
     s.glossySamples = method_ == DirectMethod::Exact ? glossySamples_ : 0;
     // Materials of the faces the image saw.
     std::vector<char> materialSeen(scene_.materials.size() + 1, 0);  // last slot: the default
@@ -441,9 +453,10 @@ EffectsSummary ProgressiveRenderer::effects() const {
                 break;
             case vis::PairKind::Penumbra:
                 ++s.pairsPenumbra;
-                break;
-            case vis::PairKind::TooComplex:
-                ++s.pairsTooComplex;
+                if (record->tree.partial()) {
+                    ++s.pairsPartial;
+                    s.deferredOccluders += record->tree.deferred.size();
+                }
                 break;
         }
     }

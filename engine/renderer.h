@@ -57,6 +57,11 @@ struct RenderSettings {
     // `seed` so that the pixel pattern can stay fixed while the light samples change.
     uint64_t lightSeed = 1;
     int glossySamples = 16;  // Exact, glossy materials: samples per light inside the fragments
+    // Exact: the work one from-point query may do, in plane tests (vis::FromPointQuery::
+    // setWorkLimit); a point whose exact answer needs more (hundreds of fragments behind a plant's
+    // leaves) is shaded for that light with lightSamples shadow rays instead, and the effects
+    // summary counts it. 0 = no limit: every point exact, whatever it costs.
+    uint64_t exactWorkLimit = 1024;
 };
 
 // Linear radiance, accumulated over passes. A pass adds one jittered sample per pixel; the jitter
@@ -114,7 +119,8 @@ class ProgressiveRenderer {
     bool renderPassTimed(const Camera& camera, const RenderSettings& settings, Film& film,
                          const std::atomic<bool>* cancel, PassTimes* times);
     void recordUse(const std::vector<PairKey>& keys, const std::vector<uint32_t>& faces,
-                   const RenderSettings& settings);
+                   const RenderSettings& settings, uint64_t exactEvaluations = 0,
+                   uint64_t sampledEvaluations = 0);
 
     const Scene& scene_;
     const EmbreeScene& bvh_;
@@ -130,6 +136,9 @@ class ProgressiveRenderer {
     bool rendered_ = false;
     DirectMethod method_ = DirectMethod::Exact;
     int lightSamples_ = 0, glossySamples_ = 0;
+    uint64_t exactWorkLimit_ = 0;
+    // Exact method: (point, light) evaluations, and those over the work limit (sampled).
+    uint64_t exactEvaluations_ = 0, sampledEvaluations_ = 0;
 };
 
 // Output (engine/image_io.cpp). PFM: linear float, little-endian, bottom-to-top rows as the format

@@ -23,7 +23,7 @@ uint64_t sceneHash(const Scene& scene, const VisibilityStore::Options& options) 
     for (uint32_t light : scene.lights) h.addU32(light);
     h.addU32(options.build.mergeLeaves ? 1 : 0);
     h.addU32(options.build.quadricPruning ? 1 : 0);
-    h.addU64(options.build.maxLpSolves);  // decides which pairs are TooComplex
+    h.addU64(options.build.maxLpSolves);  // decides where a tree stops (partial trees)
     h.addDouble(options.patchFraction);
     return h.value();
 }

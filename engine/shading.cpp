@@ -105,11 +105,6 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         }
         const vis::PairKind kind = record->tree.kind;
         if (kind == vis::PairKind::BackFacing || kind == vis::PairKind::FullyHidden) continue;
-        if (kind == vis::PairKind::TooComplex) {
-            ++scratch.tooComplexPoints;
-            out += sampledAreaLight(light, p, fallbackSamples, rng);
-            continue;
-        }
         // The fragments, as polygons (the fully visible pair's cached clip) or the FPQuery list.
         const vis::FragmentList* list = nullptr;
         std::span<const vis::Polygon3> fragments;
@@ -130,6 +125,13 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 if (scratch.regions.size() != lights_.size()) {
                     scratch.regions.assign(lights_.size(), vis::RegionDecisions{});
                     scratch.regionOf.assign(lights_.size(), 0);
+                    scratch.regionOverLimit.assign(lights_.size(), 0);
+                }
+                if (scratch.regionOverLimit[k] == scratch.regionId) {
+                    ++scratch.exactEvaluations;
+                    ++scratch.sampledEvaluations;
+                    out += sampledAreaLight(light, p, fallbackSamples, rng);
+                    continue;
                 }
                 region = &scratch.regions[k];
                 if (scratch.regionOf[k] != scratch.regionId || region->tree() != &record->tree) {
@@ -138,6 +140,13 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 }
             }
             list = &scratch.query.run(scene_.mesh, record->tree, p.x, nullptr, region);
+            ++scratch.exactEvaluations;
+            if (scratch.query.limitReached()) {
+                ++scratch.sampledEvaluations;
+                if (region != nullptr) scratch.regionOverLimit[k] = scratch.regionId;
+                out += sampledAreaLight(light, p, fallbackSamples, rng);
+                continue;
+            }
             if (list->empty()) continue;
         }
         if (list == nullptr && fragments.empty()) continue;

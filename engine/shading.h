@@ -104,8 +104,8 @@ struct ExactScratch {
     std::vector<vis::Polygon3> clippedLight;  // per light
     std::unordered_set<PairKey, PairKeyHash> used;
     TriangleSampler fragments;
-    vis::FromPointQuery query;    // FPQuery workspace: no allocation per point after warm-up
-    size_t tooComplexPoints = 0;  // shading points whose pair had no tree (sampled instead)
+    vis::FromPointQuery query;  // FPQuery workspace: no allocation per point after warm-up
+    uint64_t exactEvaluations = 0, sampledEvaluations = 0;  // see exactAreaLights
 
     // The region the next points lie in (optional): corners spanning a box that holds them, all on
     // one receiver patch (so one tree per light). FPQuery then skips the plane tests of the nodes
@@ -115,6 +115,10 @@ struct ExactScratch {
     uint64_t regionId = 0;
     std::vector<vis::RegionDecisions> regions;  // per light
     std::vector<uint64_t> regionOf;             // per light: the regionId of its decisions
+    // Per light: the regionId in which a query reached the work limit. The later points of that
+    // region (in the caller's order) are sampled without trying: their neighbours' answer is as
+    // complex, and the attempt would be wasted work.
+    std::vector<uint64_t> regionOverLimit;
 };
 
 class DirectLighting {
@@ -125,10 +129,12 @@ class DirectLighting {
     const std::vector<AreaLight>& areaLights() const { return lights_; }
 
     // The reflected radiance at p from every area light, by the exact fragments. glossySamples
-    // samples per light for the Phong lobe (unused for diffuse materials). A pair whose tree
-    // exceeded the build budget (PairKind::TooComplex) has no exact answer: that light is
-    // estimated with `fallbackSamples` stratified shadow rays instead, and counted in
-    // scratch.tooComplexPoints.
+    // samples per light for the Phong lobe (unused for diffuse materials). A partial tree's
+    // deferred occluders are clipped by the query itself. A query that reaches
+    // scratch.query's work limit (FromPointQuery::setWorkLimit) has no exact answer: that light
+    // is estimated with `fallbackSamples` stratified shadow rays, counted in
+    // scratch.sampledEvaluations (scratch.exactEvaluations counts every point-light pair); so
+    // are the later points of the same region (ExactScratch::regionOverLimit).
     Vec3 exactAreaLights(const SurfacePoint& p, int glossySamples, int fallbackSamples,
                          SplitMix64& rng, ExactScratch& scratch) const;
     // The same with `samples` stratified shadow rays per light.

@@ -31,10 +31,11 @@ constexpr std::array<unsigned char, 8> kMagic = {'P', 'E', 'N', 'U', 'M', 'V', '
 constexpr size_t kHeaderBytes = 48;
 constexpr size_t kTrailerBytes = 8;
 // Fixed part of a tree record: 5 u32 + u8 + u8 + u16 + 4 u32.
-constexpr size_t kRecordFixedBytes = 5 * 4 + 1 + 1 + 2 + 4 * 4;
+constexpr size_t kRecordFixedBytes = 5 * 4 + 1 + 1 + 2 + 5 * 4;
 constexpr size_t kNodeBytes = 16;
 constexpr size_t kVertexBytes = 24;
-constexpr size_t kStatsBytes = 2 * 4 + 8 * 8 + 8;
+constexpr size_t kStatsBytes = 3 * 4 + 8 * 8 + 8;
+constexpr size_t kMaxDeferredVertices = 1024;  // a clipped polygon: at most its face's + 2
 constexpr size_t kMaxReasonBytes = 1024;
 
 std::string hex(uint64_t v) {
@@ -95,6 +96,7 @@ std::vector<unsigned char> serialize(const VisibilityStore& store, bool withStat
         w.u32(static_cast<uint32_t>(t.nodes.size()));
         w.u32(static_cast<uint32_t>(t.extraVertices.size()));
         w.u32(static_cast<uint32_t>(t.nodeOccluder.size()));
+        w.u32(static_cast<uint32_t>(t.deferred.size()));
         w.text(t.why.substr(0, kMaxReasonBytes));
         for (const vis::HistoryNode& n : t.nodes) {
             w.u32(n.v0);
@@ -108,10 +110,16 @@ std::vector<unsigned char> serialize(const VisibilityStore& store, bool withStat
             w.f64(v.z);
         }
         for (uint32_t f : t.nodeOccluder) w.u32(f);
+        for (const vis::DeferredOccluder& d : t.deferred) {
+            w.u32(d.face);
+            w.u32(static_cast<uint32_t>(d.vertexIds.size()));
+            for (uint32_t id : d.vertexIds) w.u32(id);
+        }
         if (withStats) {
             const vis::BuildStats& s = record->stats;
             w.u32(s.occludersInShaft);
             w.u32(s.occludersInserted);
+            w.u32(s.occludersDeferred);
             for (uint64_t v : {s.classifications, s.lpSolves, s.uncertain, s.exactCertificates,
                                s.prunedSplits, s.realLineTests, s.realLineWitness, s.mergedLeaves})
                 w.u64(v);
@@ -220,9 +228,10 @@ void validateTree(const PairKey& key, const vis::HistoryTree& t, const Visibilit
         fail("mesh vertex count " + std::to_string(t.meshVertexCount) + " (the scene has " +
              std::to_string(scene.mesh.vertices.size()) + ")");
     const bool penumbra = t.kind == vis::PairKind::Penumbra;
-    if (penumbra && t.nodes.empty()) fail("a penumbra tree without nodes");
-    if (!penumbra && (!t.nodes.empty() || !t.extraVertices.empty()))
-        fail(std::string(vis::toString(t.kind)) + " pair with nodes or vertices");
+    if (penumbra && t.nodes.empty() && t.deferred.empty())
+        fail("a penumbra tree without nodes or deferred occluders");
+    if (!penumbra && (!t.nodes.empty() || !t.extraVertices.empty() || !t.deferred.empty()))
+        fail(std::string(vis::toString(t.kind)) + " pair with nodes, vertices or occluders");
     if (!t.nodeOccluder.empty() && t.nodeOccluder.size() != t.nodes.size())
         fail("node occluder count " + std::to_string(t.nodeOccluder.size()) + " for " +
              std::to_string(t.nodes.size()) + " nodes");
@@ -232,6 +241,14 @@ void validateTree(const PairKey& key, const vis::HistoryTree& t, const Visibilit
         if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
             fail("a constructed vertex is not finite");
     const uint64_t vertexIds = uint64_t{t.meshVertexCount} + t.extraVertices.size();
+    for (size_t i = 0; i < t.deferred.size(); ++i) {
+        const vis::DeferredOccluder& d = t.deferred[i];
+        const std::string what = "deferred occluder " + std::to_string(i);
+        if (d.face >= faces) fail(what + ": face " + std::to_string(d.face) + " out of range");
+        if (d.vertexIds.size() < 3) fail(what + ": fewer than 3 vertices");
+        for (uint32_t id : d.vertexIds)
+            if (id >= vertexIds) fail(what + " uses a vertex id out of range");
+    }
     const auto n = static_cast<uint32_t>(t.nodes.size());
     std::vector<uint32_t> parents(n, 0), depth(n, 1);
     for (uint32_t i = 0; i < n; ++i) {
@@ -319,7 +336,7 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
         const uint8_t hasStats = p.u8();
         const uint16_t reasonBytes = p.u16();
         t.meshVertexCount = p.u32();
-        const uint32_t nodes = p.u32(), extras = p.u32(), occluders = p.u32();
+        const uint32_t nodes = p.u32(), extras = p.u32(), occluders = p.u32(), deferred = p.u32();
         if (kind >= vis::kPairKindCount)
             throw Corrupt(where + ": unknown pair kind " + std::to_string(kind));
         t.kind = static_cast<vis::PairKind>(kind);
@@ -328,7 +345,7 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
         // Every count against the bytes left before anything is allocated.
         const uint64_t need = uint64_t{reasonBytes} + uint64_t{nodes} * kNodeBytes +
                               uint64_t{extras} * kVertexBytes + uint64_t{occluders} * 4 +
-                              (hasStats ? kStatsBytes : 0);
+                              uint64_t{deferred} * 8 + (hasStats ? kStatsBytes : 0);
         if (need > p.left())
             throw Corrupt(where + ": truncated or bad counts (" + std::to_string(nodes) +
                           " nodes, " + std::to_string(extras) + " vertices, " +
@@ -353,10 +370,24 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
         }
         t.nodeOccluder.resize(occluders);
         for (uint32_t& f : t.nodeOccluder) f = p.u32();
+        t.deferred.resize(deferred);
+        for (vis::DeferredOccluder& d : t.deferred) {
+            p.need(8, "a deferred occluder");
+            d.face = p.u32();
+            const uint32_t count = p.u32();
+            if (count > kMaxDeferredVertices)
+                throw Corrupt(where + ": a deferred occluder with " + std::to_string(count) +
+                              " vertices");
+            p.need(uint64_t{count} * 4, "a deferred occluder's vertices");
+            d.vertexIds.resize(count);
+            for (uint32_t& id : d.vertexIds) id = p.u32();
+        }
+        if (hasStats) p.need(kStatsBytes, "the build statistics");
         if (hasStats) {
             vis::BuildStats& s = pt.record.stats;
             s.occludersInShaft = p.u32();
             s.occludersInserted = p.u32();
+            s.occludersDeferred = p.u32();
             for (uint64_t* v :
                  {&s.classifications, &s.lpSolves, &s.uncertain, &s.exactCertificates,
                   &s.prunedSplits, &s.realLineTests, &s.realLineWitness, &s.mergedLeaves})
@@ -364,6 +395,7 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
             s.seconds = p.f64();
         }
         validateTree(key, t, store, where);
+        vis::boundDeferred(store.scene().mesh, t);
         if (!seen.insert(key).second) throw Corrupt(where + ": a second tree for the same pair");
         out.push_back(std::move(pt));
     }

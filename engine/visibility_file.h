@@ -1,7 +1,8 @@
 // The visibility file (.pvis): the history trees of a VisibilityStore on disk, so that a scene's
 // precompute is paid once.
 //
-// Format, version 1, every integer little-endian, doubles as their IEEE-754 bit patterns:
+// Format, version 2 (version 1 had no deferred occluders), every integer little-endian, doubles
+// as their IEEE-754 bit patterns:
 //   header (48 bytes)  magic "PENUMVIS", u32 version, u32 header size (48), u64 scene hash
 //                      (engine/scene_hash.h), u64 tree count, u64 payload size, u64 flags (0)
 //   payload            one record per tree, in increasing PairKey order:
@@ -9,9 +10,10 @@
 //                        u32 tree.receiver, tree.light               (equal to the key's)
 //                        u8 kind, u8 has-stats, u16 reason length, u32 meshVertexCount,
 //                        u32 node count, u32 extra-vertex count, u32 node-occluder count,
-//                        the reason text (HistoryTree::why), nodes (4 x u32 each), extra vertices
-//                        (3 x f64 each), node occluders (u32 each), and with has-stats the
-//                        BuildStats (2 x u32, 8 x u64, f64)
+//                        u32 deferred-occluder count, the reason text (HistoryTree::why), nodes
+//                        (4 x u32 each), extra vertices (3 x f64 each), node occluders (u32
+//                        each), deferred occluders (u32 face, u32 vertex count, the vertex ids),
+//                        and with has-stats the BuildStats (3 x u32, 8 x u64, f64)
 //   trailer (8 bytes)  u64 checksum (engine/hash64.h) of header and payload
 //
 // Writing is atomic: a temporary file in the same directory, fsync, rename over the target (then
@@ -37,7 +39,7 @@
 
 namespace penumbra {
 
-inline constexpr uint32_t kVisibilityFileVersion = 1;
+inline constexpr uint32_t kVisibilityFileVersion = 2;
 inline constexpr uint32_t kMaxTreeDepth = 20000;
 
 enum class VisibilityFileStatus {

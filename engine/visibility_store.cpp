@@ -32,8 +32,7 @@ size_t VisibilityStore::KeyHash::operator()(const PairKey& k) const noexcept {
     return static_cast<size_t>(h);
 }
 
-VisibilityStore::VisibilityStore(const Scene& scene, const EmbreeScene* bvh,
-                                 const Options& options)
+VisibilityStore::VisibilityStore(const Scene& scene, const EmbreeScene* bvh, const Options& options)
     : scene_(scene), bvh_(bvh), options_(options) {
     maxPatchDiameter_ =
         options_.patchFraction > 0 ? options_.patchFraction * scene.mesh.bounds().diagonal() : 0;
@@ -89,6 +88,7 @@ void VisibilityStore::publish(Entry& entry, std::unique_ptr<PairRecord> record) 
     bytes_.fetch_add(raw->tree.bytes() + raw->tree.nodeOccluder.size() * sizeof(uint32_t),
                      std::memory_order_relaxed);
     kinds_[static_cast<int>(raw->tree.kind)].fetch_add(1, std::memory_order_relaxed);
+    if (raw->tree.partial()) partial_.fetch_add(1, std::memory_order_relaxed);
     treeCount_.fetch_add(1, std::memory_order_relaxed);
     entry.record = std::move(record);
     entry.ready.store(raw, std::memory_order_release);
@@ -120,8 +120,7 @@ std::unique_ptr<PairRecord> VisibilityStore::build(const PairKey& key,
     return record;
 }
 
-const PairRecord& VisibilityStore::getOrBuild(const PairKey& key,
-                                              const std::atomic<bool>* cancel) {
+const PairRecord& VisibilityStore::getOrBuild(const PairKey& key, const std::atomic<bool>* cancel) {
     Entry& entry = entryFor(key);
     if (const PairRecord* r = entry.ready.load(std::memory_order_acquire)) return *r;
     std::unique_lock lock(entry.mutex);
@@ -189,6 +188,7 @@ void VisibilityStore::clear() {
     treeCount_ = 0;
     bytes_ = 0;
     for (auto& k : kinds_) k = 0;
+    partial_ = 0;
 }
 
 }  // namespace penumbra

@@ -32,9 +32,9 @@ namespace penumbra {
 class EmbreeScene;
 
 struct PairKey {
-    uint32_t receiver = 0;  // receiver face
-    uint32_t patch = 0;     // patch of the receiver (0 for a face that is one patch)
-    uint32_t lightFace = 0; // light face (not the light number)
+    uint32_t receiver = 0;   // receiver face
+    uint32_t patch = 0;      // patch of the receiver (0 for a face that is one patch)
+    uint32_t lightFace = 0;  // light face (not the light number)
     auto operator<=>(const PairKey&) const = default;
 };
 
@@ -45,7 +45,7 @@ struct PairRecord {
 };
 
 class VisibilityStore {
-public:
+  public:
     struct Options {
         vis::BuildOptions build;
         // Receivers larger than this fraction of the scene diagonal are split; 0 = never.
@@ -91,11 +91,13 @@ public:
     size_t bytes() const { return bytes_.load(std::memory_order_relaxed); }
     // Published trees per PairKind (index = static_cast<int>(kind)).
     std::array<size_t, vis::kPairKindCount> kindCounts() const;
+    // Published penumbra trees that are partial (the build budget stopped them).
+    size_t partialCount() const { return partial_.load(std::memory_order_relaxed); }
 
     // Drops every tree (not thread-safe against concurrent users).
     void clear();
 
-private:
+  private:
     struct Entry;
     struct KeyHash {
         size_t operator()(const PairKey& k) const noexcept;
@@ -121,6 +123,7 @@ private:
     std::atomic<size_t> treeCount_{0};
     std::atomic<size_t> bytes_{0};
     std::array<std::atomic<size_t>, vis::kPairKindCount> kinds_{};
+    std::atomic<size_t> partial_{0};
 };
 
 }  // namespace penumbra

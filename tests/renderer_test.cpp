@@ -190,6 +190,45 @@ TEST(Renderer, ExactDiffuseAgreesWithConvergedShadowRays) {
     expectAgreement(e, std::vector<double>(e.size(), 0.0), sampled, "exact vs sampled");
 }
 
+// A point whose exact query needs more plane tests than RenderSettings::exactWorkLimit is shaded
+// by the sampled estimator with the point's own random numbers: such pixels come out bit for bit
+// as in the sampled render, the effects summary counts them, and without a limit none is sampled.
+TEST(Renderer, PointsOverTheWorkLimitAreSampledAndCounted) {
+    Rig rig(penumbraScene(Material{}));
+    const Camera camera = penumbraCamera();
+    RenderSettings s;
+    s.width = s.height = 24;
+    s.spp = 2;
+    s.lightSamples = 8;
+    s.exactWorkLimit = 0;
+    const Film exact = rig.renderer.render(camera, s);
+    EXPECT_EQ(rig.renderer.effects().sampledEvaluations, 0u);
+    EXPECT_GT(rig.renderer.effects().exactEvaluations, 0u);
+    rig.renderer.resetEffects();
+    s.exactWorkLimit = 1;
+    const Film limited = rig.renderer.render(camera, s);
+    const EffectsSummary e = rig.renderer.effects();
+    EXPECT_GT(e.sampledEvaluations, e.exactEvaluations / 4);
+    EXPECT_LE(e.sampledEvaluations, e.exactEvaluations);
+    EXPECT_NE(e.text().find("points sampled: "), std::string::npos) << e.text();
+    rig.renderer.resetEffects();
+    s.method = DirectMethod::Sampled;
+    const Film sampled = rig.renderer.render(camera, s);
+    size_t likeSampled = 0, likeExact = 0, unlike = 0;
+    for (size_t i = 0; i < limited.sum.size(); ++i) {
+        if (limited.sum[i] == exact.sum[i] && limited.sum[i] == sampled.sum[i]) continue;
+        if (limited.sum[i] == sampled.sum[i])
+            ++likeSampled;
+        else if (limited.sum[i] == exact.sum[i])
+            ++likeExact;
+        else
+            ++unlike;  // a pixel whose samples went both ways
+    }
+    EXPECT_GT(likeSampled, limited.sum.size() / 10);
+    EXPECT_GT(likeExact, 0u);  // fully visible pairs need no query: still exact
+    EXPECT_LT(unlike, limited.sum.size() / 4);
+}
+
 TEST(Renderer, GlossyExactAgreesWithReference) {
     Material glossy;
     glossy.kd = {0.3, 0.3, 0.3};

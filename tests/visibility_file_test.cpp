@@ -62,9 +62,10 @@ class VisibilityFileTest : public ::testing::Test {
     }
     // The status readVisibilityFile reports for `path` (into a fresh store), or nullopt if it
     // reads fine; the message must name the file.
-    static std::optional<VisibilityFileStatus> readStatus(const fs::path& path, const Scene& scene,
-                                                          std::string* message = nullptr) {
-        VisibilityStore store(scene);
+    static std::optional<VisibilityFileStatus> readStatus(
+        const fs::path& path, const Scene& scene, std::string* message = nullptr,
+        const VisibilityStore::Options& options = {}) {
+        VisibilityStore store(scene, nullptr, options);
         try {
             readVisibilityFile(path, store);
         } catch (const VisibilityFileError& e) {
@@ -172,16 +173,61 @@ TEST_F(VisibilityFileTest, RoundTripKeepsEveryFieldAndEveryQuery) {
     EXPECT_EQ(partial.treeCount(), store.treeCount());
 }
 
-// A small file (grids, a few pairs) for the byte-level tests.
+// Partial trees (a small build budget) come back with their deferred occluders, boxes included,
+// and answer every query as before.
+TEST_F(VisibilityFileTest, RoundTripKeepsPartialTrees) {
+    const Scene scene = makeStairs();
+    VisibilityStore::Options options;
+    options.build.maxLpSolves = 200;
+    VisibilityStore store(scene, nullptr, options);
+    std::mt19937_64 rng(5);
+    std::vector<uint32_t> faces;
+    for (int i = 0; i < test::scaled(30); ++i)
+        faces.push_back(1 + static_cast<uint32_t>(rng() % (scene.faceCount() - 1)));
+    buildFaces(store, faces);
+    ASSERT_GT(store.partialCount(), 2u);
+    const fs::path file = dir_ / "partial.pvis";
+    writeVisibilityFile(file, store);
+    VisibilityStore loaded(scene, nullptr, options);
+    EXPECT_EQ(readVisibilityFile(file, loaded), store.treeCount());
+    EXPECT_EQ(loaded.partialCount(), store.partialCount());
+    EXPECT_EQ(loaded.bytes(), store.bytes());
+    store.forEach([&](const PairKey& k, const PairRecord& original) {
+        const PairRecord* r = loaded.find(k);
+        ASSERT_NE(r, nullptr);
+        EXPECT_TRUE(test::sameTree(r->tree, original.tree));
+        EXPECT_EQ(r->stats.occludersDeferred, original.stats.occludersDeferred);
+    });
+    int deferredQueries = 0;
+    for (uint32_t f : faces) {
+        for (int i = 0; i < 5; ++i) {
+            const Vec3 x = randomPointOn(scene, f, rng);
+            const PairKey key = loaded.keyAt(f, x, scene.lights[0]);
+            const PairRecord* a = loaded.find(key);
+            const PairRecord* b = store.find(key);
+            if (a == nullptr || b == nullptr) continue;
+            const vis::FromPointResult qa = vis::fromPointQuery(scene.mesh, a->tree, x);
+            const vis::FromPointResult qb = vis::fromPointQuery(scene.mesh, b->tree, x);
+            EXPECT_EQ(qa.fragments, qb.fragments);
+            deferredQueries += qa.deferredActive > 0;
+        }
+    }
+    EXPECT_GT(deferredQueries, 0);  // some queries did clip deferred occluders
+}
+
+// A small file (grids, a few pairs) for the byte-level tests. Built with a small build budget so
+// that it holds partial trees (deferred occluders) as well as complete ones.
 class SmallFile : public VisibilityFileTest {
   protected:
     void SetUp() override {
         VisibilityFileTest::SetUp();
         scene_ = makeGrids();
-        VisibilityStore store(scene_);
+        options_.build.maxLpSolves = 25;
+        VisibilityStore store(scene_, nullptr, options_);
         const uint32_t light = scene_.lights[0];
         for (uint32_t f : {0u, 1u, 5u, 30u}) store.getOrBuild({f, 0, light});
         ASSERT_GT(store.kindCounts()[static_cast<int>(vis::PairKind::Penumbra)], 0u);
+        ASSERT_GT(store.partialCount(), 0u);
         file_ = dir_ / "grids.pvis";
         writeVisibilityFile(file_, store);
         bytes_ = readBytes(file_);
@@ -201,29 +247,47 @@ class SmallFile : public VisibilityFileTest {
     static void setU32(Bytes& b, size_t at, uint32_t v) {
         for (int k = 0; k < 4; ++k) b[at + k] = static_cast<unsigned char>(v >> (8 * k));
     }
-    // Offset of the first record with at least two nodes, read with the documented layout.
-    size_t firstTreeWithNodes(uint32_t* nodes) const {
-        size_t at = 48;
-        for (;;) {
-            const uint8_t hasStats = bytes_[at + 21];
-            const uint32_t reason = bytes_[at + 22] | (bytes_[at + 23] << 8);
-            const uint32_t n = u32At(bytes_, at + 28), e = u32At(bytes_, at + 32),
-                           o = u32At(bytes_, at + 36);
-            if (n >= 2) {
-                *nodes = n;
-                return at;
-            }
-            at += 40 + reason + 16 * n + 24 * e + 4 * o + (hasStats ? 80 : 0);
-            if (at >= bytes_.size() - 8) {
-                ADD_FAILURE() << "no tree with two nodes";
-                return 48;
-            }
+    // The documented layout of the record at `at`: its counts, and where its parts begin.
+    struct Record {
+        size_t at = 0, reasonAt = 0, nodesAt = 0, deferredAt = 0, end = 0;
+        uint32_t nodes = 0, deferred = 0;
+    };
+    Record recordAt(size_t at) const {
+        Record r;
+        r.at = at;
+        const uint8_t hasStats = bytes_[at + 21];
+        const uint32_t reason = bytes_[at + 22] | (bytes_[at + 23] << 8);
+        r.nodes = u32At(bytes_, at + 28);
+        const uint32_t e = u32At(bytes_, at + 32), o = u32At(bytes_, at + 36);
+        r.deferred = u32At(bytes_, at + 40);
+        r.reasonAt = at + 44;
+        r.nodesAt = r.reasonAt + reason;
+        r.deferredAt = r.nodesAt + 16 * r.nodes + 24 * e + 4 * o;
+        size_t end = r.deferredAt;
+        for (uint32_t i = 0; i < r.deferred; ++i) end += 8 + 4 * u32At(bytes_, end + 4);
+        r.end = end + (hasStats ? 84 : 0);
+        return r;
+    }
+    // The first record that satisfies `want`, read with the documented layout.
+    template <typename Want>
+    Record firstRecord(Want want, const char* what) const {
+        for (size_t at = 48; at < bytes_.size() - 8;) {
+            const Record r = recordAt(at);
+            if (want(r)) return r;
+            at = r.end;
         }
+        ADD_FAILURE() << "no record with " << what;
+        return recordAt(48);
+    }
+    size_t firstTreeWithNodes(uint32_t* nodes) const {
+        const Record r = firstRecord([](const Record& x) { return x.nodes >= 2; }, "two nodes");
+        *nodes = r.nodes;
+        return r.at;
     }
     std::string statusOf(const Bytes& b, VisibilityFileStatus expected) {
         writeBytes(file_, b);
         std::string message;
-        const auto s = readStatus(file_, scene_, &message);
+        const auto s = readStatus(file_, scene_, &message, options_);
         EXPECT_TRUE(s.has_value());
         if (s) {
             EXPECT_EQ(*s, expected) << message;
@@ -232,11 +296,16 @@ class SmallFile : public VisibilityFileTest {
     }
 
     Scene scene_;
+    VisibilityStore::Options options_;
     fs::path file_;
     Bytes bytes_;
 };
 
-TEST_F(SmallFile, ReadsBackIntact) { EXPECT_EQ(readStatus(file_, scene_), std::nullopt); }
+TEST_F(SmallFile, ReadsBackIntact) {
+    EXPECT_EQ(readStatus(file_, scene_, nullptr, options_), std::nullopt);
+    // The same file is stale for the default build budget (the budget shapes the trees).
+    EXPECT_EQ(readStatus(file_, scene_), VisibilityFileStatus::Stale);
+}
 
 TEST_F(SmallFile, EveryFlippedByteIsDetected) {
     // Every position (the file is small), each with a different bit pattern.
@@ -245,7 +314,7 @@ TEST_F(SmallFile, EveryFlippedByteIsDetected) {
         Bytes b = bytes_;
         b[i] ^= static_cast<unsigned char>(1 + rng() % 255);
         writeBytes(file_, b);
-        const auto s = readStatus(file_, scene_);
+        const auto s = readStatus(file_, scene_, nullptr, options_);
         ASSERT_TRUE(s.has_value()) << "flipped byte " << i << " of " << bytes_.size();
         EXPECT_EQ(*s, VisibilityFileStatus::Corrupt) << "byte " << i;
     }
@@ -258,7 +327,7 @@ TEST_F(SmallFile, EveryFlippedByteIsDetected) {
 TEST_F(SmallFile, EveryTruncationIsDetected) {
     for (size_t n = 0; n < bytes_.size(); n += (n < 100 ? 1 : 7)) {
         writeBytes(file_, Bytes(bytes_.begin(), bytes_.begin() + n));
-        const auto s = readStatus(file_, scene_);
+        const auto s = readStatus(file_, scene_, nullptr, options_);
         ASSERT_TRUE(s.has_value()) << "truncated to " << n;
         EXPECT_EQ(*s, VisibilityFileStatus::Corrupt);
     }
@@ -274,14 +343,14 @@ TEST_F(SmallFile, ChangedSceneOrSettingsMakeItStale) {
     std::string message;
     Scene moved = scene_;
     moved.mesh.vertices[7].y = std::nextafter(moved.mesh.vertices[7].y, 1e300);  // one ulp
-    ASSERT_EQ(readStatus(file_, moved, &message), VisibilityFileStatus::Stale);
+    ASSERT_EQ(readStatus(file_, moved, &message, options_), VisibilityFileStatus::Stale);
     EXPECT_NE(message.find("another scene"), std::string::npos) << message;
 
     Scene noLight = scene_;
     noLight.lights.clear();
-    EXPECT_EQ(readStatus(file_, noLight), VisibilityFileStatus::Stale);
+    EXPECT_EQ(readStatus(file_, noLight, nullptr, options_), VisibilityFileStatus::Stale);
 
-    VisibilityStore::Options other;
+    VisibilityStore::Options other = options_;
     other.patchFraction = 0.5;
     VisibilityStore store(scene_, nullptr, other);
     EXPECT_NE(sceneHash(scene_, other), sceneHash(scene_, VisibilityStore::Options{}));
@@ -309,8 +378,7 @@ TEST_F(SmallFile, MissingFileAndNotAFile) {
 TEST_F(SmallFile, ContentErrorsBehindAValidChecksum) {
     uint32_t nodes = 0;
     const size_t rec = firstTreeWithNodes(&nodes);
-    const uint32_t reason = bytes_[rec + 22] | (bytes_[rec + 23] << 8);
-    const size_t node0 = rec + 40 + reason;  // first node: v0, v1, child0, child1
+    const size_t node0 = recordAt(rec).nodesAt;  // first node: v0, v1, child0, child1
     auto expectCorrupt = [&](Bytes b, const char* needle) {
         fixChecksum(b);
         const std::string m = statusOf(b, VisibilityFileStatus::Corrupt);
@@ -338,7 +406,7 @@ TEST_F(SmallFile, ContentErrorsBehindAValidChecksum) {
     }
     {
         Bytes b = bytes_;
-        b[rec + 40] ^= 0x20;  // reason text
+        b[rec + 44] ^= 0x20;  // reason text
         expectCorrupt(b, "unknown reason");
     }
     {
@@ -355,6 +423,29 @@ TEST_F(SmallFile, ContentErrorsBehindAValidChecksum) {
         Bytes b = bytes_;
         setU32(b, rec + 4, 100000);  // patch out of range
         expectCorrupt(b, "patch out of range");
+    }
+    // A partial tree's deferred occluders.
+    const Record partial =
+        firstRecord([](const Record& r) { return r.deferred > 0; }, "deferred occluders");
+    {
+        Bytes b = bytes_;
+        setU32(b, partial.deferredAt, 100000);  // its face
+        expectCorrupt(b, "deferred occluder 0: face 100000 out of range");
+    }
+    {
+        Bytes b = bytes_;
+        setU32(b, partial.deferredAt + 8, 0x7FFFFFFF);  // its first vertex id
+        expectCorrupt(b, "deferred occluder 0 uses a vertex id out of range");
+    }
+    {
+        Bytes b = bytes_;
+        setU32(b, partial.deferredAt + 4, 2000);  // its vertex count
+        expectCorrupt(b, "a deferred occluder with 2000 vertices");
+    }
+    {
+        Bytes b = bytes_;
+        setU32(b, partial.at + 40, 0x10000000);  // deferred count far beyond the file
+        expectCorrupt(b, "bad counts");
     }
     {
         Bytes b = bytes_;

@@ -1,5 +1,6 @@
 #include "visibility/fp_query.h"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "visibility/pair_occluders.h"
@@ -12,10 +13,11 @@ void FromPointQuery::visit(uint32_t node, std::span<const Vec3> poly, size_t dep
     // goes on, nothing is copied); recursion only where it is split in two.
     for (;;) {
         if (node == kVisibleLeaf) {
-            fragments_.add(poly);
+            reachVisible(poly, 0, depth);
             return;
         }
         if (node == kHiddenLeaf) return;
+        if (limitReached_) return;
         if (path_ != nullptr) path_->push_back(node);
         ++nodesVisited_;
         const HistoryNode& n = tree_->nodes[node];
@@ -43,9 +45,9 @@ void FromPointQuery::visit(uint32_t node, std::span<const Vec3> poly, size_t dep
         const KeepParts keep = c0 == kHiddenLeaf   ? KeepParts::Negative
                                : c1 == kHiddenLeaf ? KeepParts::Positive
                                                    : KeepParts::Both;
+        if (!spend()) return;
         const PlaneOrient plane(x_, tree_->vertex(*mesh_, n.v0), tree_->vertex(*mesh_, n.v1));
-        if (parts_.size() <= depth) parts_.resize(depth + 1);
-        SplitParts& parts = parts_[depth];
+        SplitParts& parts = partsAt(depth);
         SplitOutcome outcome = SplitOutcome::OnPlane;
         switch (mode_) {
             case PredicateMode::Filtered:
@@ -92,6 +94,130 @@ void FromPointQuery::visit(uint32_t node, std::span<const Vec3> poly, size_t dep
     }
 }
 
+void FromPointQuery::reachVisible(std::span<const Vec3> poly, size_t from, size_t depth) {
+    if (!deferredPrepared_) {  // on the first visible leaf: a point in full shadow pays nothing
+        deferredPrepared_ = true;
+        prepareDeferred(*mesh_, *tree_);
+    }
+    // Algorithm 1 in 3D, from x: a deferred occluder blocks the lines from x that lie on its
+    // blocked side of every plane through x and one of its edges. Each part split off on the
+    // unblocked side of an edge goes on to the next occluder; what is left after the last edge is
+    // hidden. The signs are those of the walk (splitConstructed).
+    for (size_t j = from; j < active_.size(); ++j) {
+        if (limitReached_) return;
+        const ActiveOccluder& o = active_[j];
+        const SplitOutcome unblocked =
+            o.blocked == Sign::Positive ? SplitOutcome::Negative : SplitOutcome::Positive;
+        // Entirely outside one of its edge planes: it blocks none of this polygon. Checked for
+        // every edge before any split, so that an occluder beside the polygon cuts nothing (a
+        // split by the first edge would leave two visible pieces where one was).
+        bool outside = false;
+        for (uint32_t e = 0; e < o.planeCount && !outside; ++e) {
+            if (!spend()) return;
+            SplitOutcome side = sideOfConstructed(poly, activePlanes_[o.firstPlane + e], light_);
+            if (side == SplitOutcome::OnPlane) side = SplitOutcome::Positive;  // as visit()
+            outside = side == unblocked;
+        }
+        if (outside) continue;
+        std::span<const Vec3> current = poly;
+        size_t d = depth;
+        bool split = false;
+        bool untouched = false;
+        for (uint32_t e = 0; e < o.planeCount; ++e) {
+            if (!spend()) return;
+            SplitParts& parts = partsAt(d);
+            SplitOutcome outcome = splitConstructed(current, activePlanes_[o.firstPlane + e],
+                                                    light_, parts, KeepParts::Both);
+            if (outcome == SplitOutcome::OnPlane) outcome = SplitOutcome::Positive;  // as visit()
+            if (outcome == unblocked) {
+                untouched = true;
+                break;
+            }
+            if (outcome != SplitOutcome::Split) continue;  // wholly on the blocked side of it
+            const std::span<const Vec3> freePart =
+                o.blocked == Sign::Positive ? parts.negative() : parts.positive();
+            current = o.blocked == Sign::Positive ? parts.positive() : parts.negative();
+            split = true;
+            reachVisible(freePart, j + 1, d + 1);
+            ++d;  // `current` lives in parts_[d - 1] now
+        }
+        if (untouched && !split) continue;  // this occluder blocks none of it
+        ++deferredClips_;
+        if (untouched) {
+            reachVisible(current, j + 1, d);  // the rest is outside it too
+            return;
+        }
+        return;  // the rest is blocked
+    }
+    if (limitReached_) return;
+    fragments_.add(poly);
+}
+
+void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree& tree) {
+    active_.clear();
+    activePlanes_.clear();
+    deferredClips_ = 0;
+    if (!tree.partial()) return;
+    // The pyramid from x over L (clipped to B's front): a line from x to L lies inside it, so an
+    // occluder with no vertex strictly inside one of its side planes blocks none of them.
+    pyramid_.clear();
+    const size_t n = lightClipped_.size();
+    for (size_t i = 0; i < n; ++i) {
+        const Vec3& a = lightClipped_[i];
+        const Vec3& b = lightClipped_[(i + 1) % n];
+        PlaneOrient plane(x_, a, b);
+        const Sign inner = plane.sign(lightClipped_[(i + 2) % n]);
+        if (inner == Sign::Zero) continue;  // degenerate: no help
+        if (inner == Sign::Negative) plane = PlaneOrient(x_, b, a);
+        pyramid_.push_back(plane);
+    }
+    // With region decisions, only the region's candidates (the others miss conv(R u L)).
+    const size_t count =
+        region_ != nullptr ? region_->deferredCandidates().size() : tree.deferred.size();
+    for (size_t c = 0; c < count; ++c) {
+        const DeferredOccluder& d =
+            tree.deferred[region_ != nullptr ? region_->deferredCandidates()[c] : c];
+        // Quick skip on the box (certain, not exact: PlaneOrient::boxNegative).
+        if (!d.box.empty()) {
+            bool outside = false;
+            for (const PlaneOrient& plane : pyramid_)
+                if (plane.boxNegative(d.box.lo, d.box.hi)) {
+                    outside = true;
+                    break;
+                }
+            if (outside) continue;
+        }
+        if (!spend()) return;
+        // x on the occluder's plane: its lines from x lie in that plane (measure zero).
+        const FacePlane facing = facePlane(mesh, d.face);
+        const Sign side = facing.side(x_);
+        if (side == Sign::Zero) continue;
+        occluderPoints_.clear();
+        for (uint32_t id : d.vertexIds) occluderPoints_.push_back(tree.vertex(mesh, id));
+        bool outside = false;
+        for (const PlaneOrient& plane : pyramid_) {
+            bool inside = false;
+            for (const Vec3& p : occluderPoints_) inside |= plane.sign(p) == Sign::Positive;
+            if (!inside) {
+                outside = true;
+                break;
+            }
+        }
+        if (outside) continue;
+        // Seen from x in front of its plane, the occluder is counter-clockwise, and the lines
+        // from x through it lie on the negative side of every plane (x, a, b) of its edges
+        // a -> b: orient3d(x, p, a, b) = -orient3d(p, a, b, x) for p inside it.
+        ActiveOccluder a;
+        a.firstPlane = static_cast<uint32_t>(activePlanes_.size());
+        a.planeCount = static_cast<uint32_t>(occluderPoints_.size());
+        a.blocked = side == Sign::Positive ? Sign::Negative : Sign::Positive;
+        for (size_t i = 0; i < occluderPoints_.size(); ++i)
+            activePlanes_.emplace_back(x_, occluderPoints_[i],
+                                       occluderPoints_[(i + 1) % occluderPoints_.size()]);
+        active_.push_back(a);
+    }
+}
+
 void FromPointQuery::preparePair(const PolygonMesh& mesh, const HistoryTree& tree) {
     // What depends on the pair and not on x: reused while consecutive runs ask for the same pair.
     // Checked by value (the faces' vertex coordinates), so a changed or reloaded mesh is noticed.
@@ -124,10 +250,11 @@ const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTr
         throw std::invalid_argument("FromPointQuery::run: region decisions of another tree");
     fragments_.clear();
     nodesVisited_ = 0;
-    // TooComplex: no tree, no answer here (the caller samples; fp_query.h).
-    if (tree.kind == PairKind::BackFacing || tree.kind == PairKind::FullyHidden ||
-        tree.kind == PairKind::TooComplex)
-        return fragments_;
+    work_ = 0;
+    limitReached_ = false;
+    active_.clear();
+    deferredClips_ = 0;
+    if (tree.kind == PairKind::BackFacing || tree.kind == PairKind::FullyHidden) return fragments_;
     preparePair(mesh, tree);
     // The light emits only to its front: x must be strictly in front of L's plane.
     if (lightPlane_.sign(x) != Sign::Positive) return fragments_;
@@ -141,7 +268,13 @@ const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTr
     x_ = x;
     path_ = path;
     region_ = region;
-    visit(0, lightClipped_, 0);
+    active_.clear();
+    activePlanes_.clear();
+    deferredPrepared_ = !tree.partial();
+    if (tree.nodes.empty())  // a partial tree with no node: one visible leaf
+        reachVisible(lightClipped_, 0, 0);
+    else
+        visit(0, lightClipped_, 0);
     path_ = nullptr;
     region_ = nullptr;
     return fragments_;
@@ -155,6 +288,8 @@ FromPointResult fromPointQuery(const PolygonMesh& mesh, const HistoryTree& tree,
     for (size_t i = 0; i < fragments.size(); ++i)
         out.fragments.emplace_back(fragments[i].begin(), fragments[i].end());
     out.nodesVisited = query.nodesVisited();
+    out.deferredActive = query.deferredActive();
+    out.deferredClips = query.deferredClips();
     return out;
 }
 

@@ -58,8 +58,9 @@ class FromPointQuery {
     // projected): disjoint convex parts of L, counter-clockwise as L. Applies the receiver's front
     // hemisphere and the light's one-sided emission: a point behind the light gets no fragment.
     // When `path` is given, the visited node ids are appended in depth-first order. The result is
-    // valid until the next run. A TooComplex tree answers nothing (no fragment): callers check
-    // tree.kind and estimate such a pair otherwise.
+    // valid until the next run. A partial tree (HistoryTree::deferred) gives the same answer: what
+    // reaches a visible leaf is clipped against the deferred occluders from x (those whose box
+    // can meet the pyramid from x over L), with the same signs as the walk.
     // `region`, when given, must have been reset for this tree and a region holding x: nodes it
     // decides for the whole region are followed without a plane test (region_decisions.h).
     const FragmentList& run(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x,
@@ -67,9 +68,29 @@ class FromPointQuery {
                             RegionDecisions* region = nullptr);
     uint32_t nodesVisited() const { return nodesVisited_; }
 
+    // Work budget of one run, in plane tests (a node's test, or a deferred occluder's edge
+    // against a fragment): 0 = none. A run that reaches it stops, answers an incomplete fragment
+    // list and reports limitReached(); the caller must then answer the point otherwise (the
+    // renderer samples it and says so). Counts, not seconds: deterministic.
+    void setWorkLimit(uint64_t planeTests) { workLimit_ = planeTests; }
+    uint64_t work() const { return work_; }
+    bool limitReached() const { return limitReached_; }
+    // Of a partial tree's deferred occluders, those the last run clipped against (their cone from
+    // x may meet L), and the clips that changed a fragment (split or removed it).
+    uint32_t deferredActive() const { return static_cast<uint32_t>(active_.size()); }
+    uint32_t deferredClips() const { return deferredClips_; }
+
   private:
     void preparePair(const PolygonMesh& mesh, const HistoryTree& tree);
     void visit(uint32_t node, std::span<const Vec3> poly, size_t depth);
+    // What reaches a visible leaf: kept, or with deferred occluders clipped against those from
+    // active_[from] on.
+    void reachVisible(std::span<const Vec3> poly, size_t from, size_t depth);
+    void prepareDeferred(const PolygonMesh& mesh, const HistoryTree& tree);
+    SplitParts& partsAt(size_t depth) {
+        if (parts_.size() <= depth) parts_.resize(depth + 1);
+        return parts_[depth];
+    }
 
     PredicateMode mode_;
     const PolygonMesh* mesh_ = nullptr;
@@ -78,6 +99,14 @@ class FromPointQuery {
     std::vector<uint32_t>* path_ = nullptr;
     RegionDecisions* region_ = nullptr;
     uint32_t nodesVisited_ = 0;
+    uint64_t workLimit_ = 0, work_ = 0;
+    bool limitReached_ = false;
+    // Counts one plane test; false once the work limit is reached (the run then unwinds).
+    bool spend() {
+        ++work_;
+        if (workLimit_ != 0 && work_ > workLimit_) limitReached_ = true;
+        return !limitReached_;
+    }
     FragmentList fragments_;
     // The pair's part that does not depend on x (preparePair): L's vertices, its plane, L clipped
     // to B's front half-space, and what identifies them.
@@ -88,12 +117,25 @@ class FromPointQuery {
     std::vector<Vec3> light_, lightClipped_, discard_;
     // The split parts per recursion depth, reused along the walk and across runs.
     std::vector<SplitParts> parts_;
+    // Per run of a partial tree: the deferred occluders that may block a line from x to L, each
+    // with the planes through x and its edges and the side of them its blocked lines are on.
+    struct ActiveOccluder {
+        uint32_t firstPlane = 0, planeCount = 0;
+        Sign blocked = Sign::Zero;
+    };
+    std::vector<ActiveOccluder> active_;
+    std::vector<PlaneOrient> activePlanes_;
+    std::vector<PlaneOrient> pyramid_;  // the planes through x and L's edges, interior positive
+    std::vector<Vec3> occluderPoints_;
+    uint32_t deferredClips_ = 0;
+    bool deferredPrepared_ = true;  // active_ is ready for this run
 };
 
 struct FromPointResult {
     std::vector<Polygon3> fragments;  // disjoint convex parts of L visible from x (CCW as L)
     std::vector<uint32_t> path;       // node ids visited, in depth-first order
     uint32_t nodesVisited = 0;
+    uint32_t deferredActive = 0, deferredClips = 0;  // FromPointQuery's counters
 };
 
 // One-shot FromPointQuery::run with the path recorded.

@@ -15,8 +15,6 @@ std::string_view toString(PairKind k) {
             return "fully-hidden";
         case PairKind::Penumbra:
             return "penumbra";
-        case PairKind::TooComplex:
-            return "too-complex";
     }
     return "?";
 }
@@ -25,9 +23,16 @@ std::span<const std::string_view> knownReasons() {
     static constexpr std::string_view kAll[] = {
         reasons::kBackFacing,      reasons::kNoOccluder,       reasons::kBlockNothing,
         reasons::kSingleBlocksAll, reasons::kTogetherBlockAll, reasons::kPenumbra,
-        reasons::kTooComplex,
+        reasons::kPartial,
     };
     return kAll;
+}
+
+void boundDeferred(const PolygonMesh& mesh, HistoryTree& tree) {
+    for (DeferredOccluder& d : tree.deferred) {
+        d.box = Bounds3{};
+        for (uint32_t id : d.vertexIds) d.box.add(tree.vertex(mesh, id));
+    }
 }
 
 uint32_t HistoryTree::depth() const {
@@ -45,11 +50,12 @@ uint32_t HistoryTree::depth() const {
 }
 
 uint32_t HistoryTree::leafCount(bool visible) const {
-    if (nodes.empty())
-        return (kind == PairKind::FullyVisible) == visible && kind != PairKind::BackFacing &&
-                       kind != PairKind::TooComplex
-                   ? 1
-                   : 0;
+    if (nodes.empty()) {
+        // A leaf alone: FullyVisible (or a partial Penumbra tree with no node) is one visible
+        // leaf, FullyHidden one hidden leaf, BackFacing none.
+        const bool visibleLeaf = kind == PairKind::FullyVisible || kind == PairKind::Penumbra;
+        return kind != PairKind::BackFacing && visibleLeaf == visible ? 1 : 0;
+    }
     uint32_t count = 0;
     for (const HistoryNode& n : nodes)
         for (uint32_t c : n.child) count += c == (visible ? kVisibleLeaf : kHiddenLeaf);

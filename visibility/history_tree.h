@@ -32,12 +32,9 @@ enum class PairKind : uint8_t {
     BackFacing,    // L entirely behind B's plane or B entirely behind L's plane: no light
     FullyVisible,  // no occluder can block any line between B and L
     FullyHidden,   // every line between B and L is blocked
-    Penumbra,      // partly blocked: the tree decides per line
-    // The exact tree exceeded the build budget (BuildOptions::maxLpSolves): no tree is kept and
-    // FPQuery returns no fragment; the engine shades such a pair by sampling and says so.
-    TooComplex,
+    Penumbra,      // partly blocked: the tree decides per line (a partial tree: see deferred)
 };
-inline constexpr int kPairKindCount = 5;
+inline constexpr int kPairKindCount = 4;
 std::string_view toString(PairKind k);
 
 // The sentences HistoryTree::why points to: the builder uses these, and a tree read back from a
@@ -51,11 +48,28 @@ inline constexpr std::string_view kBlockNothing =
 inline constexpr std::string_view kSingleBlocksAll = "a single occluder blocks every line";
 inline constexpr std::string_view kTogetherBlockAll = "the occluders together block every line";
 inline constexpr std::string_view kPenumbra = "partly blocked: the history tree decides per line";
-inline constexpr std::string_view kTooComplex =
-    "the exact tree exceeded the build budget (linear programs): shaded by sampling";
+inline constexpr std::string_view kPartial =
+    "partly blocked: the tree holds the occluders its build budget allowed, the others are "
+    "clipped from each point";
 }  // namespace reasons
+// Fills DeferredOccluder::box for every deferred occluder of `tree` (a tree of `mesh`).
+struct HistoryTree;
+void boundDeferred(const PolygonMesh& mesh, HistoryTree& tree);
+
 // Every reason above, for mapping a stored text back to its static string.
 std::span<const std::string_view> knownReasons();
+
+// An occluder the build did not insert (it stopped at BuildOptions::maxLpSolves). FPQuery clips
+// every fragment that reaches a visible leaf against it, from the query point, with the same
+// exact signs as the walk: a partial tree answers exactly like the complete one, only the work
+// moves from the precompute to the query.
+struct DeferredOccluder {
+    uint32_t face = 0;                // the mesh face it was clipped from (its plane: facePlane)
+    std::vector<uint32_t> vertexIds;  // the clipped polygon (pair_occluders.h), ids as the nodes'
+    // Derived, not stored in files: the box of its vertices, which lets a query skip it cheaply
+    // (boundDeferred() fills it; an empty box only means "no quick skip").
+    Bounds3 box;
+};
 
 struct HistoryTree {
     uint32_t receiver = 0;
@@ -71,14 +85,20 @@ struct HistoryTree {
     std::vector<Vec3> extraVertices;
     // Debug information, not part of the 16-byte budget: the occluder face of each node.
     std::vector<uint32_t> nodeOccluder;
+    // The occluders left out of a partial tree, in insertion order (largest shadow first). A
+    // Penumbra tree may have no node and only these (the budget ran out on the first occluder).
+    std::vector<DeferredOccluder> deferred;
 
     Vec3 vertex(const PolygonMesh& mesh, uint32_t id) const {
         return id < meshVertexCount ? mesh.vertices[id] : extraVertices[id - meshVertexCount];
     }
     // Storage the tree needs: nodes and constructed vertices (not the debug information).
     size_t bytes() const {
-        return nodes.size() * sizeof(HistoryNode) + extraVertices.size() * sizeof(Vec3);
+        size_t b = nodes.size() * sizeof(HistoryNode) + extraVertices.size() * sizeof(Vec3);
+        for (const DeferredOccluder& d : deferred) b += sizeof(uint32_t) * (2 + d.vertexIds.size());
+        return b;
     }
+    bool partial() const { return !deferred.empty(); }
     uint32_t depth() const;
     uint32_t leafCount(bool visible) const;
 };

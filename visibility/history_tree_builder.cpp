@@ -323,12 +323,17 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
     } else {
         stats.occludersInShaft = static_cast<uint32_t>(occ.occluders.size());
         Builder builder(mesh, region, light, occ, options, stats);
+        size_t inserting = 0;
         try {
-            for (const Occluder& o : occ.occluders) {
-                builder.insert(o);
+            for (; inserting < occ.occluders.size(); ++inserting) {
+                builder.insert(occ.occluders[inserting]);
                 if (builder.root() == kHiddenLeaf) break;
             }
         } catch (const BudgetExceeded&) {
+            // The budget stopped the insertion of occluder `inserting` between two leaves: the
+            // leaves it has processed are right for it, the others not yet. Deferring it with the
+            // rest is exact: the query clips every visible fragment against it again, which
+            // changes nothing where it has already been accounted for.
             stats.budgetExceeded = true;
         }
         stats.lpSolves = builder.polytopeStats().lpSolves;
@@ -336,9 +341,14 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
         stats.realLineTests = builder.polytopeStats().realLineTests;
         stats.realLineWitness = builder.polytopeStats().realLineWitness;
         stats.exactCertificates = builder.polytopeStats().exactCertificates;
-        if (stats.budgetExceeded) {
-            tree.kind = PairKind::TooComplex;
-            tree.why = reasons::kTooComplex;
+        if (stats.budgetExceeded && builder.root() != kHiddenLeaf)
+            for (size_t i = inserting; i < occ.occluders.size(); ++i)
+                tree.deferred.push_back({occ.occluders[i].face, occ.occluders[i].vertexIds, {}});
+        stats.occludersDeferred = static_cast<uint32_t>(tree.deferred.size());
+        if (tree.partial()) {
+            tree.kind = PairKind::Penumbra;
+            tree.why = reasons::kPartial;
+            builder.emit(tree);  // (no node when the budget ran out on the first occluder)
         } else if (builder.root() == kVisibleLeaf) {
             tree.kind = PairKind::FullyVisible;
             tree.why = reasons::kBlockNothing;
@@ -350,18 +360,26 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
             tree.kind = PairKind::Penumbra;
             tree.why = reasons::kPenumbra;
             builder.emit(tree);
-            // Keep only the constructed vertices the nodes use, renumbered.
+        }
+        if (tree.kind == PairKind::Penumbra) {
+            // Keep only the constructed vertices the nodes and deferred occluders use, renumbered.
             std::vector<uint32_t> remap(occ.extraVertices.size(), UINT32_MAX);
-            for (HistoryNode& n : tree.nodes)
-                for (uint32_t* id : {&n.v0, &n.v1}) {
-                    if (*id < tree.meshVertexCount) continue;
-                    uint32_t& r = remap[*id - tree.meshVertexCount];
-                    if (r == UINT32_MAX) {
-                        r = tree.meshVertexCount + static_cast<uint32_t>(tree.extraVertices.size());
-                        tree.extraVertices.push_back(occ.extraVertices[*id - tree.meshVertexCount]);
-                    }
-                    *id = r;
+            auto renumber = [&](uint32_t& id) {
+                if (id < tree.meshVertexCount) return;
+                uint32_t& r = remap[id - tree.meshVertexCount];
+                if (r == UINT32_MAX) {
+                    r = tree.meshVertexCount + static_cast<uint32_t>(tree.extraVertices.size());
+                    tree.extraVertices.push_back(occ.extraVertices[id - tree.meshVertexCount]);
                 }
+                id = r;
+            };
+            for (HistoryNode& n : tree.nodes) {
+                renumber(n.v0);
+                renumber(n.v1);
+            }
+            for (DeferredOccluder& d : tree.deferred)
+                for (uint32_t& id : d.vertexIds) renumber(id);
+            boundDeferred(mesh, tree);
         }
     }
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -138,6 +138,17 @@ void splitIntoVectors(std::span<const Vec3> polygon, ValueOf valueOf, std::vecto
     negative.resize(nn);
 }
 
+// splitConstructed's value of a vertex: exact sign for input vertices, the filter's otherwise (an
+// uncertain constructed vertex counts as on the plane).
+double constructedValue(const PlaneOrient& plane, std::span<const Vec3> inputVertices,
+                        const Vec3& y) {
+    BoundedValue v;
+    if (plane.filtered(y, v)) return v.value;
+    for (const Vec3& input : inputVertices)
+        if (input.x == y.x && input.y == y.y && input.z == y.z) return plane.value(y).value;
+    return 0.0;
+}
+
 }  // namespace
 
 void clipConvexInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
@@ -151,15 +162,22 @@ SplitOutcome splitConstructed(std::span<const Vec3> polygon, const PlaneOrient& 
                               std::span<const Vec3> inputVertices, SplitParts& parts,
                               KeepParts keep) {
     return splitInto(
-        polygon,
-        [&](const Vec3& y) {
-            BoundedValue v;
-            if (plane.filtered(y, v)) return v.value;
-            for (const Vec3& input : inputVertices)
-                if (input.x == y.x && input.y == y.y && input.z == y.z) return plane.value(y).value;
-            return 0.0;
-        },
-        parts, keep);
+        polygon, [&](const Vec3& y) { return constructedValue(plane, inputVertices, y); }, parts,
+        keep);
+}
+
+SplitOutcome sideOfConstructed(std::span<const Vec3> polygon, const PlaneOrient& plane,
+                               std::span<const Vec3> inputVertices) {
+    bool anyPos = false, anyNeg = false;
+    for (const Vec3& y : polygon) {
+        const double d = constructedValue(plane, inputVertices, y);
+        anyPos |= d > 0;
+        anyNeg |= d < 0;
+        if (anyPos && anyNeg) return SplitOutcome::Split;
+    }
+    if (polygon.size() < 3) return SplitOutcome::OnPlane;
+    if (!anyNeg) return anyPos ? SplitOutcome::Positive : SplitOutcome::OnPlane;
+    return SplitOutcome::Negative;
 }
 
 SplitOutcome splitExact(std::span<const Vec3> polygon, const PlaneOrient& plane,

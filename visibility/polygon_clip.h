@@ -60,6 +60,10 @@ SplitOutcome splitConstructed(std::span<const Vec3> polygon, const PlaneOrient& 
                               std::span<const Vec3> inputVertices, SplitParts& parts,
                               KeepParts keep = KeepParts::Both);
 
+// Where `polygon` lies against the plane, with splitConstructed's signs, writing nothing.
+SplitOutcome sideOfConstructed(std::span<const Vec3> polygon, const PlaneOrient& plane,
+                               std::span<const Vec3> inputVertices);
+
 // For measuring what exactness costs (FromPointQuery's PredicateMode): every sign through the
 // exact stage (no filter), or the plain double determinant's sign (approximate, can be wrong).
 SplitOutcome splitExact(std::span<const Vec3> polygon, const PlaneOrient& plane, SplitParts& parts);

@@ -71,6 +71,9 @@ struct PlaneOrient {
     // The filter alone: false when it cannot certify the sign (then `out` holds the rounded value
     // and its error bound, |value| <= error). Inline: FPQuery calls it per vertex per node.
     bool filtered(const Vec3& d, BoundedValue& out) const;
+    // True only if every point of the box is certainly strictly on the negative side (a quick
+    // test in doubles with a margin far above their rounding; false means "not certain").
+    bool boxNegative(const Vec3& lo, const Vec3& hi) const;
 
     Vec3 a, b, c;
     double n[3] = {0, 0, 0};     // (b - a) x (c - a), rounded as evaluate() rounds it
@@ -107,6 +110,17 @@ inline bool PlaneOrient::filtered(const Vec3& d, BoundedValue& out) const {
     const double bound = kOrient3dErrorBound * permanent;
     out = {det, bound};
     return std::fabs(det) > bound;
+}
+
+inline bool PlaneOrient::boxNegative(const Vec3& lo, const Vec3& hi) const {
+    const double cx = 0.5 * (lo.x + hi.x) - a.x, cy = 0.5 * (lo.y + hi.y) - a.y,
+                 cz = 0.5 * (lo.z + hi.z) - a.z;
+    const double hx = 0.5 * (hi.x - lo.x), hy = 0.5 * (hi.y - lo.y), hz = 0.5 * (hi.z - lo.z);
+    const double at = cx * n[0] + cy * n[1] + cz * n[2];
+    const double reach = hx * std::fabs(n[0]) + hy * std::fabs(n[1]) + hz * std::fabs(n[2]);
+    const double size = (std::fabs(cx) + std::fabs(cy) + std::fabs(cz) + hx + hy + hz) *
+                        (perm[0] + perm[1] + perm[2]);
+    return at + reach < -1e-9 * size;
 }
 
 // Exactly: do a, b, c lie on one line (a zero cross product (b-a) x (c-a))?

@@ -296,6 +296,11 @@ void Viewer::drawPathPanel() {
             const LightInspection& li = inspection_->lights[selectedLight_];
             ImGui::Text("light %u, tree %s: %zu nodes visited (L cycles lights)", li.result.light,
                         std::string(vis::toString(li.result.kind)).c_str(), li.steps.size());
+            if (li.result.deferredOccluders > 0)
+                ImGui::Text(
+                    "partial tree: %u deferred occluders, %u clipped from this point "
+                    "(%u clips changed a fragment)",
+                    li.result.deferredOccluders, li.result.deferredActive, li.result.deferredClips);
             if (ImGui::BeginTable(
                     "path", 5,
                     ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY)) {

@@ -68,6 +68,8 @@ nlohmann::json Viewer::stateJson() const {
                               {"formFactor", li.result.formFactor},
                               {"unoccludedFormFactor", li.result.unoccludedFormFactor},
                               {"nodesVisited", li.result.nodesVisited},
+                              {"deferredOccluders", li.result.deferredOccluders},
+                              {"deferredActive", li.result.deferredActive},
                               {"seconds", li.seconds},
                               {"treeNodes", li.tree ? li.tree->nodes.size() : 0},
                               {"fragments", fragments},
