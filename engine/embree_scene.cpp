@@ -225,7 +225,7 @@ EmbreeScene::EmbreeScene(const vis::PolygonMesh& mesh, const Options& options)
         boxes[f].add(faceBox_[f].hi);
         include[f] = faceFirstPrim_[f + 1] > faceFirstPrim_[f];
     }
-    shaftTree_ = FaceBoxTree(boxes, include);
+    shaftTree_ = vis::BoxTree(boxes, include);
 }
 
 EmbreeScene::~EmbreeScene() = default;

@@ -27,7 +27,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/face_box_tree.h"
+#include "visibility/box_tree.h"
 #include "visibility/polygon_mesh.h"
 
 // Embree's opaque handle types (RTCDevice = RTCDeviceTy*, RTCScene = RTCSceneTy*), declared here
@@ -111,7 +111,7 @@ public:
     // the faces that can cut the shaft between them (the shaft lies inside the convex hull of the
     // two faces, which lies inside that box). Faces with fewer than 3 vertices (no triangles,
     // invisible to the rays too) are left out. Returned in increasing face order.
-    // Cost: a query of a bounding-volume hierarchy over the face boxes (face_box_tree.h, exact
+    // Cost: a query of a bounding-volume hierarchy over the face boxes (visibility/box_tree.h, exact
     // double-precision box tests, built with the scene): O(log faces + candidates), not O(faces).
     std::vector<uint32_t> shaftCandidates(uint32_t receiver, uint32_t light) const;
 
@@ -150,7 +150,7 @@ private:
     std::vector<Vec3> faceNormal_;         // per face: Newell area normal
     std::vector<double> faceArea_;         // per face: sum of its triangles' areas
     std::vector<Box> faceBox_;             // per face
-    FaceBoxTree shaftTree_;                // over faceBox_, for shaftCandidates
+    vis::BoxTree shaftTree_;                // over faceBox_, for shaftCandidates
 };
 
 }  // namespace penumbra

@@ -177,38 +177,40 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
         return cancel != nullptr && cancel->load(std::memory_order_relaxed);
     };
 
-    // The pairs the first pass's primary hits need.
+    // The pairs the primary hits of every pass need (each pass jitters its rays: on a finely
+    // tessellated mesh a pixel covers many receivers, and later passes hit others).
     const CameraRays rays(camera, settings.width, settings.height);
     std::mutex mutex;
     std::unordered_set<PairKey, PairKeyHash> needed;
     std::vector<uint32_t> facesSeen;
-    tbb::parallel_for(tbb::blocked_range<int>(0, tileCount(settings), 1),
-                      [&](const tbb::blocked_range<int>& range) {
-                          std::unordered_set<PairKey, PairKeyHash> local;
-                          std::vector<uint32_t> faces;
-                          for (int t = range.begin(); t != range.end(); ++t) {
-                              if (cancelled()) return;
-                              const Tile tile = tileAt(t, settings);
-                              for (int y = tile.y0; y < tile.y1; ++y) {
-                                  for (int x = tile.x0; x < tile.x1; ++x) {
-                                      const Ray ray = primaryRay(rays, settings, 0, x, y);
-                                      const auto hit = bvh_.intersect(ray.origin, ray.direction);
-                                      if (!hit) continue;
-                                      const uint32_t f = hit->face;
-                                      const Vec3 n = faceNormal_[f];
-                                      if (!(dot(ray.direction, n) < 0)) continue;  // back side
-                                      if (faces.empty() || faces.back() != f) faces.push_back(f);
-                                      const Vec3 xs =
-                                          hit->point - n * dot(n, hit->point - faceOrigin_[f]);
-                                      for (uint32_t lf : scene_.lights)
-                                          if (lf != f) local.insert(store_.keyAt(f, xs, lf));
-                                  }
-                              }
-                          }
-                          std::lock_guard lock(mutex);
-                          needed.insert(local.begin(), local.end());
-                          facesSeen.insert(facesSeen.end(), faces.begin(), faces.end());
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, tileCount(settings), 1),
+        [&](const tbb::blocked_range<int>& range) {
+            std::unordered_set<PairKey, PairKeyHash> local;
+            std::vector<uint32_t> faces;
+            for (int t = range.begin(); t != range.end(); ++t) {
+                if (cancelled()) return;
+                const Tile tile = tileAt(t, settings);
+                for (int pass = 0; pass < settings.spp; ++pass)
+                    for (int y = tile.y0; y < tile.y1; ++y) {
+                        for (int x = tile.x0; x < tile.x1; ++x) {
+                            const Ray ray = primaryRay(rays, settings, pass, x, y);
+                            const auto hit = bvh_.intersect(ray.origin, ray.direction);
+                            if (!hit) continue;
+                            const uint32_t f = hit->face;
+                            const Vec3 n = faceNormal_[f];
+                            if (!(dot(ray.direction, n) < 0)) continue;  // back side
+                            if (faces.empty() || faces.back() != f) faces.push_back(f);
+                            const Vec3 xs = hit->point - n * dot(n, hit->point - faceOrigin_[f]);
+                            for (uint32_t lf : scene_.lights)
+                                if (lf != f) local.insert(store_.keyAt(f, xs, lf));
+                        }
+                    }
+            }
+            std::lock_guard lock(mutex);
+            needed.insert(local.begin(), local.end());
+            facesSeen.insert(facesSeen.end(), faces.begin(), faces.end());
+        });
     if (cancelled()) return seconds(t0, Clock::now());
     const std::vector<PairKey> keys(needed.begin(), needed.end());
     tbb::parallel_for(tbb::blocked_range<size_t>(0, keys.size(), 1),

@@ -91,7 +91,8 @@ class ProgressiveRenderer {
     ProgressiveRenderer(const Scene& scene, const EmbreeScene& bvh, VisibilityStore& store);
 
     // The trees the image needs (for Exact), built in parallel before shading: the (receiver
-    // patch, light) pairs hit by the primary rays of the first pass. Returns seconds spent.
+    // patch, light) pairs hit by the primary rays of every pass (settings.spp of them; the rays
+    // are traced again by the passes). Returns seconds spent.
     // Cancellable; returns early when cancelled.
     double prepare(const Camera& camera, const RenderSettings& settings,
                    const std::atomic<bool>* cancel = nullptr);

@@ -395,7 +395,7 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
             s.seconds = p.f64();
         }
         validateTree(key, t, store, where);
-        vis::boundDeferred(store.scene().mesh, t);
+        vis::indexDeferred(store.scene().mesh, t);
         if (!seen.insert(key).second) throw Corrupt(where + ": a second tree for the same pair");
         out.push_back(std::move(pt));
     }

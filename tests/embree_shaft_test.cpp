@@ -1,4 +1,4 @@
-// EmbreeScene::shaftCandidates (a query of the hierarchy of face boxes, face_box_tree.h) against
+// EmbreeScene::shaftCandidates (a query of the hierarchy of face boxes, visibility/box_tree.h) against
 // the brute-force closed-box test over every face: the sets must be identical.
 #include <gtest/gtest.h>
 

@@ -1,5 +1,6 @@
 #include "visibility/fp_query.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -171,22 +172,22 @@ void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree&
         if (inner == Sign::Negative) plane = PlaneOrient(x_, b, a);
         pyramid_.push_back(plane);
     }
-    // With region decisions, only the region's candidates (the others miss conv(R u L)).
-    const size_t count =
-        region_ != nullptr ? region_->deferredCandidates().size() : tree.deferred.size();
-    for (size_t c = 0; c < count; ++c) {
-        const DeferredOccluder& d =
-            tree.deferred[region_ != nullptr ? region_->deferredCandidates()[c] : c];
-        // Quick skip on the box (certain, not exact: PlaneOrient::boxNegative).
-        if (!d.box.empty()) {
-            bool outside = false;
-            for (const PlaneOrient& plane : pyramid_)
-                if (plane.boxNegative(d.box.lo, d.box.hi)) {
-                    outside = true;
-                    break;
-                }
-            if (outside) continue;
+    // The occluders whose box may meet the pyramid: from the index (each node visited is one
+    // unit of work), in insertion order.
+    candidates_.clear();
+    if (!tree.deferredIndex.empty()) {
+        const uint32_t visited = tree.deferredIndex.notOutside(pyramid_, candidates_);
+        std::sort(candidates_.begin(), candidates_.end());
+        work_ += visited;
+        if (workLimit_ != 0 && work_ > workLimit_) {
+            limitReached_ = true;
+            return;
         }
+    } else {
+        for (uint32_t k = 0; k < tree.deferred.size(); ++k) candidates_.push_back(k);
+    }
+    for (uint32_t k : candidates_) {
+        const DeferredOccluder& d = tree.deferred[k];
         if (!spend()) return;
         // x on the occluder's plane: its lines from x lie in that plane (measure zero).
         const FacePlane facing = facePlane(mesh, d.face);

@@ -127,6 +127,7 @@ class FromPointQuery {
     std::vector<PlaneOrient> activePlanes_;
     std::vector<PlaneOrient> pyramid_;  // the planes through x and L's edges, interior positive
     std::vector<Vec3> occluderPoints_;
+    std::vector<uint32_t> candidates_;
     uint32_t deferredClips_ = 0;
     bool deferredPrepared_ = true;  // active_ is ready for this run
 };

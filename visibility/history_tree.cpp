@@ -28,11 +28,15 @@ std::span<const std::string_view> knownReasons() {
     return kAll;
 }
 
-void boundDeferred(const PolygonMesh& mesh, HistoryTree& tree) {
+void indexDeferred(const PolygonMesh& mesh, HistoryTree& tree) {
+    std::vector<Bounds3> boxes;
+    boxes.reserve(tree.deferred.size());
     for (DeferredOccluder& d : tree.deferred) {
         d.box = Bounds3{};
         for (uint32_t id : d.vertexIds) d.box.add(tree.vertex(mesh, id));
+        boxes.push_back(d.box);
     }
+    tree.deferredIndex = BoxTree(boxes);
 }
 
 uint32_t HistoryTree::depth() const {

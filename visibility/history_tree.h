@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "visibility/box_tree.h"
 #include "visibility/polygon_mesh.h"
 
 namespace penumbra::vis {
@@ -52,9 +53,10 @@ inline constexpr std::string_view kPartial =
     "partly blocked: the tree holds the occluders its build budget allowed, the others are "
     "clipped from each point";
 }  // namespace reasons
-// Fills DeferredOccluder::box for every deferred occluder of `tree` (a tree of `mesh`).
+// Fills DeferredOccluder::box for every deferred occluder of `tree` (a tree of `mesh`) and builds
+// HistoryTree::deferredIndex over them.
 struct HistoryTree;
-void boundDeferred(const PolygonMesh& mesh, HistoryTree& tree);
+void indexDeferred(const PolygonMesh& mesh, HistoryTree& tree);
 
 // Every reason above, for mapping a stored text back to its static string.
 std::span<const std::string_view> knownReasons();
@@ -67,7 +69,7 @@ struct DeferredOccluder {
     uint32_t face = 0;                // the mesh face it was clipped from (its plane: facePlane)
     std::vector<uint32_t> vertexIds;  // the clipped polygon (pair_occluders.h), ids as the nodes'
     // Derived, not stored in files: the box of its vertices, which lets a query skip it cheaply
-    // (boundDeferred() fills it; an empty box only means "no quick skip").
+    // (indexDeferred() fills it; an empty box only means "no quick skip").
     Bounds3 box;
 };
 
@@ -88,6 +90,7 @@ struct HistoryTree {
     // The occluders left out of a partial tree, in insertion order (largest shadow first). A
     // Penumbra tree may have no node and only these (the budget ran out on the first occluder).
     std::vector<DeferredOccluder> deferred;
+    BoxTree deferredIndex;  // over the deferred boxes (indexDeferred), not stored in files
 
     Vec3 vertex(const PolygonMesh& mesh, uint32_t id) const {
         return id < meshVertexCount ? mesh.vertices[id] : extraVertices[id - meshVertexCount];

@@ -379,7 +379,7 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
             }
             for (DeferredOccluder& d : tree.deferred)
                 for (uint32_t& id : d.vertexIds) renumber(id);
-            boundDeferred(mesh, tree);
+            indexDeferred(mesh, tree);
         }
     }
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

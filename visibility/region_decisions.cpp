@@ -24,57 +24,6 @@ void RegionDecisions::reset(const PolygonMesh& mesh, const HistoryTree& tree,
         generation_ = 1;
     }
     decided_ = splits_ = 0;
-    candidatesReady_ = false;
-}
-
-const std::vector<uint32_t>& RegionDecisions::deferredCandidates() {
-    if (candidatesReady_) return candidates_;
-    candidatesReady_ = true;
-    candidates_.clear();
-    // Supporting planes of conv(R u L) through an edge of L and a corner of R, oriented with R and
-    // L on their closed positive side (exact signs).
-    std::vector<PlaneOrient> planes;
-    for (size_t i = 0; i < light_.size(); ++i) {
-        const Vec3& a = light_[i];
-        const Vec3& b = light_[(i + 1) % light_.size()];
-        for (const Vec3& r : corners_) {
-            const PlaneOrient plane(a, b, r);
-            bool pos = false, neg = false;
-            for (const std::vector<Vec3>* points : {&light_, &corners_})
-                for (const Vec3& p : *points) {
-                    const Sign s = plane.sign(p);
-                    pos |= s == Sign::Positive;
-                    neg |= s == Sign::Negative;
-                }
-            if (pos == neg) continue;  // not supporting, or everything on it
-            planes.push_back(neg ? PlaneOrient(b, a, r) : plane);
-        }
-    }
-    std::vector<Vec3> points;
-    for (uint32_t k = 0; k < tree_->deferred.size(); ++k) {
-        const DeferredOccluder& d = tree_->deferred[k];
-        bool boxOutside = false;
-        if (!d.box.empty())
-            for (const PlaneOrient& plane : planes)
-                if (plane.boxNegative(d.box.lo, d.box.hi)) {
-                    boxOutside = true;
-                    break;
-                }
-        if (boxOutside) continue;
-        points.clear();
-        for (uint32_t id : d.vertexIds) points.push_back(tree_->vertex(*mesh_, id));
-        bool outside = false;
-        for (const PlaneOrient& plane : planes) {
-            bool inside = false;
-            for (const Vec3& p : points) inside |= plane.sign(p) == Sign::Positive;
-            if (!inside) {
-                outside = true;
-                break;
-            }
-        }
-        if (!outside) candidates_.push_back(k);
-    }
-    return candidates_;
 }
 
 RegionDecisions::Decision RegionDecisions::compute(uint32_t node) {

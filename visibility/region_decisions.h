@@ -49,10 +49,6 @@ class RegionDecisions {
     uint32_t decided() const { return decided_; }
     uint32_t splits() const { return splits_; }
 
-    // A partial tree's deferred occluders that may block a line from R to L (computed on first
-    // use): the others lie outside a supporting plane of conv(R u L), through an edge of L and a
-    // corner of R, so no segment from R to L meets them. Indices into tree.deferred, in order.
-    const std::vector<uint32_t>& deferredCandidates();
 
   private:
     Decision compute(uint32_t node);
@@ -64,8 +60,6 @@ class RegionDecisions {
     std::vector<Decision> decision_;
     uint32_t generation_ = 0;
     uint32_t decided_ = 0, splits_ = 0;
-    std::vector<uint32_t> candidates_;
-    bool candidatesReady_ = false;
 };
 
 }  // namespace penumbra::vis

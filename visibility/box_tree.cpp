@@ -1,0 +1,99 @@
+#include "visibility/box_tree.h"
+
+#include <algorithm>
+
+namespace penumbra::vis {
+
+namespace {
+constexpr uint32_t kLeafSize = 4;
+
+bool outsideOne(std::span<const PlaneOrient> planes, const Bounds3& box) {
+    for (const PlaneOrient& p : planes)
+        if (p.boxNegative(box.lo, box.hi)) return true;
+    return false;
+}
+}  // namespace
+
+BoxTree::BoxTree(std::span<const Bounds3> boxes, const std::vector<bool>& include)
+    : boxes_(boxes.begin(), boxes.end()) {
+    std::vector<Vec3> centre(boxes.size());
+    for (uint32_t f = 0; f < boxes.size(); ++f) {
+        if ((!include.empty() && !include[f]) || boxes[f].empty()) continue;
+        items_.push_back(f);
+        centre[f] = (boxes[f].lo + boxes[f].hi) * 0.5;
+    }
+    if (items_.empty()) return;
+    nodes_.reserve(2 * items_.size() / kLeafSize + 2);
+    build(0, static_cast<uint32_t>(items_.size()), centre);
+}
+
+uint32_t BoxTree::build(uint32_t begin, uint32_t end, std::vector<Vec3>& centre) {
+    const auto index = static_cast<uint32_t>(nodes_.size());
+    nodes_.emplace_back();
+    Bounds3 box, centres;
+    for (uint32_t i = begin; i < end; ++i) {
+        const Bounds3& b = boxes_[items_[i]];
+        box.add(b.lo);
+        box.add(b.hi);
+        centres.add(centre[items_[i]]);
+    }
+    nodes_[index].box = box;
+    if (end - begin <= kLeafSize) {
+        nodes_[index].first = begin;
+        nodes_[index].count = end - begin;
+        return index;
+    }
+    const Vec3 extent = centres.hi - centres.lo;
+    const int axis =
+        extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+    const uint32_t mid = begin + (end - begin) / 2;
+    std::nth_element(items_.begin() + begin, items_.begin() + mid, items_.begin() + end,
+                     [&](uint32_t a, uint32_t b) { return centre[a][axis] < centre[b][axis]; });
+    build(begin, mid, centre);  // the left child is index + 1
+    const uint32_t right = build(mid, end, centre);
+    nodes_[index].first = right;
+    return index;
+}
+
+void BoxTree::overlapping(const Bounds3& query, std::vector<uint32_t>& out) const {
+    if (nodes_.empty()) return;
+    uint32_t stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& n = nodes_[stack[--top]];
+        if (!n.box.overlaps(query)) continue;
+        if (n.count > 0) {
+            for (uint32_t i = n.first; i < n.first + n.count; ++i)
+                if (boxes_[items_[i]].overlaps(query)) out.push_back(items_[i]);
+            continue;
+        }
+        // Depth is at most log2(faces / kLeafSize) + 1 (median splits): 64 levels suffice.
+        stack[top++] = n.first;
+        stack[top++] = static_cast<uint32_t>(&n - nodes_.data()) + 1;
+    }
+}
+
+uint32_t BoxTree::notOutside(std::span<const PlaneOrient> planes,
+                             std::vector<uint32_t>& out) const {
+    if (nodes_.empty()) return 0;
+    uint32_t visited = 0;
+    uint32_t stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& n = nodes_[stack[--top]];
+        ++visited;
+        if (outsideOne(planes, n.box)) continue;
+        if (n.count > 0) {
+            for (uint32_t i = n.first; i < n.first + n.count; ++i)
+                if (!outsideOne(planes, boxes_[items_[i]])) out.push_back(items_[i]);
+            continue;
+        }
+        stack[top++] = n.first;
+        stack[top++] = static_cast<uint32_t>(&n - nodes_.data()) + 1;
+    }
+    return visited;
+}
+
+}  // namespace penumbra::vis

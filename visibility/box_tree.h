@@ -1,0 +1,51 @@
+// BoxTree: a bounding-volume hierarchy over axis-aligned boxes (of faces, of deferred occluders),
+// for two queries: which boxes meet a box (the shaft candidates of a receiver/light pair), and
+// which boxes are not certainly outside a set of planes (the occluders that may meet the pyramid
+// from a query point over a light).
+//
+// Node boxes are unions (min / max, no rounding) of the double boxes below them. The box query is
+// the closed-box overlap test in doubles, so it returns exactly the items a loop over all items
+// would (touching counts). The plane query skips a box only when PlaneOrient::boxNegative proves
+// it strictly outside a plane: certain, never a wrong skip. Built by median splits of the box
+// centres along the widest axis, leaves of at most 4 items: O(log n + reported) per query when
+// the reported items are clustered.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "visibility/bounds3.h"
+#include "visibility/predicates.h"
+
+namespace penumbra::vis {
+
+class BoxTree {
+  public:
+    BoxTree() = default;
+    // boxes[i] is item i's box; items with include[i] == false (when include is given) and items
+    // with an empty box are left out of every answer.
+    explicit BoxTree(std::span<const Bounds3> boxes, const std::vector<bool>& include = {});
+
+    bool empty() const { return nodes_.empty(); }
+
+    // Appends to `out` every item whose box meets `query` (closed), in no order.
+    void overlapping(const Bounds3& query, std::vector<uint32_t>& out) const;
+    // Appends to `out` every item whose box is not certainly outside one of `planes` (strictly on
+    // its negative side), in no order. Returns the nodes visited (the query's cost).
+    uint32_t notOutside(std::span<const PlaneOrient> planes, std::vector<uint32_t>& out) const;
+
+  private:
+    struct Node {
+        Bounds3 box;
+        uint32_t first = 0;  // leaf: first index into items_; inner: index of the right child
+        uint32_t count = 0;  // leaf: number of items (> 0); inner: 0 (left child = this + 1)
+    };
+    uint32_t build(uint32_t begin, uint32_t end, std::vector<Vec3>& centre);
+
+    std::vector<Node> nodes_;
+    std::vector<uint32_t> items_;  // item ids, grouped by leaf
+    std::vector<Bounds3> boxes_;   // per item id
+};
+
+}  // namespace penumbra::vis
