@@ -46,6 +46,7 @@ struct RenderOptions {
     int glossySamples = 16;
     uint64_t exactWorkLimit = RenderSettings{}.exactWorkLimit;
     uint64_t maxLpSolves = vis::BuildOptions{}.maxLpSolves;
+    uint64_t minTreeSamples = RenderSettings{}.minTreeSamples;
     uint64_t seed = 1;
     uint64_t lightSeed = 1;
     double exposure = 1.0;
@@ -121,6 +122,7 @@ void runRender(const RenderOptions& o) {
     settings.referenceSamples = o.referenceSamples;
     settings.glossySamples = o.glossySamples;
     settings.exactWorkLimit = o.exactWorkLimit;
+    settings.minTreeSamples = o.minTreeSamples;
     settings.seed = o.seed;
     settings.lightSeed = o.lightSeed;
 
@@ -262,6 +264,10 @@ void registerRenderCommand(CLI::App& app) {
                     "Exact: build budget of one history tree in linear programs; a tree that "
                     "reaches it is partial, its remaining occluders clipped per point (0 = no "
                     "limit)")
+        ->capture_default_str();
+    sub->add_option("--min-tree-samples", o->minTreeSamples,
+                    "Exact: a pair the image samples fewer times gets no history tree, its points "
+                    "are evaluated directly (0 = a tree for every pair)")
         ->capture_default_str();
     sub->add_option("--exact-work-limit", o->exactWorkLimit,
                     "Exact: plane tests one point's query may make; a point that needs more is "

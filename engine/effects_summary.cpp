@@ -58,6 +58,11 @@ std::string EffectsSummary::text() const {
                  " - the build budget stopped the tree, its other " +
                  plural(deferredOccluders, "occluder is", "occluders are") +
                  " clipped from each point (still exact)");
+        if (pairsDirect > 0)
+            line("pairs without a tree: " + std::to_string(pairsDirect) + " - seen by fewer than " +
+                 std::to_string(minTreeSamples) +
+                 " samples: each point clips the faces in its pyramid to the light directly (" +
+                 std::to_string(directEvaluations) + " evaluations, exact, no precompute)");
         line("pairs never seen: " + std::to_string(pairsNeverSeen) +
              " - receivers (patches) no primary ray hit: not computed");
         if (sampledEvaluations > 0) {

@@ -20,6 +20,10 @@ struct EffectsSummary {
     // (shading point, light) evaluations of the exact method, and those whose exact answer needed
     // more than exactWorkLimit plane tests: sampled with lightSamples shadow rays (not exact).
     uint64_t exactEvaluations = 0, sampledEvaluations = 0, exactWorkLimit = 0;
+    // Pairs seen by fewer than minTreeSamples primary samples: no tree, each point evaluated
+    // directly (exact), and those evaluations.
+    size_t pairsDirect = 0;
+    uint64_t directEvaluations = 0, minTreeSamples = 0;
     // Materials of the receivers by how they are shaded.
     size_t materialsAnalytic = 0;  // diffuse: form factor of the exact fragments, no samples
     size_t materialsSampled = 0;   // glossy: samples inside the visible fragments only

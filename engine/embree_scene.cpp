@@ -11,19 +11,28 @@
 #include <type_traits>
 #include <utility>
 
+#include "visibility/pair_occluders.h"
+
 namespace penumbra {
 
 namespace {
 
 const char* errorName(RTCError code) {
     switch (code) {
-        case RTC_ERROR_NONE: return "RTC_ERROR_NONE";
-        case RTC_ERROR_UNKNOWN: return "RTC_ERROR_UNKNOWN";
-        case RTC_ERROR_INVALID_ARGUMENT: return "RTC_ERROR_INVALID_ARGUMENT";
-        case RTC_ERROR_INVALID_OPERATION: return "RTC_ERROR_INVALID_OPERATION";
-        case RTC_ERROR_OUT_OF_MEMORY: return "RTC_ERROR_OUT_OF_MEMORY";
-        case RTC_ERROR_UNSUPPORTED_CPU: return "RTC_ERROR_UNSUPPORTED_CPU";
-        case RTC_ERROR_CANCELLED: return "RTC_ERROR_CANCELLED";
+        case RTC_ERROR_NONE:
+            return "RTC_ERROR_NONE";
+        case RTC_ERROR_UNKNOWN:
+            return "RTC_ERROR_UNKNOWN";
+        case RTC_ERROR_INVALID_ARGUMENT:
+            return "RTC_ERROR_INVALID_ARGUMENT";
+        case RTC_ERROR_INVALID_OPERATION:
+            return "RTC_ERROR_INVALID_OPERATION";
+        case RTC_ERROR_OUT_OF_MEMORY:
+            return "RTC_ERROR_OUT_OF_MEMORY";
+        case RTC_ERROR_UNSUPPORTED_CPU:
+            return "RTC_ERROR_UNSUPPORTED_CPU";
+        case RTC_ERROR_CANCELLED:
+            return "RTC_ERROR_CANCELLED";
     }
     return "RTC_ERROR_?";
 }
@@ -148,8 +157,10 @@ EmbreeScene::EmbreeScene(const vis::PolygonMesh& mesh, const Options& options)
             box.lo = box.hi = mesh.vertices[idx[0]];
             for (uint32_t v : idx) {
                 const Vec3& p = mesh.vertices[v];
-                box.lo = {std::min(box.lo.x, p.x), std::min(box.lo.y, p.y), std::min(box.lo.z, p.z)};
-                box.hi = {std::max(box.hi.x, p.x), std::max(box.hi.y, p.y), std::max(box.hi.z, p.z)};
+                box.lo = {std::min(box.lo.x, p.x), std::min(box.lo.y, p.y),
+                          std::min(box.lo.z, p.z)};
+                box.hi = {std::max(box.hi.x, p.x), std::max(box.hi.y, p.y),
+                          std::max(box.hi.z, p.z)};
             }
         }
         faceBox_.push_back(box);
@@ -172,18 +183,18 @@ EmbreeScene::EmbreeScene(const vis::PolygonMesh& mesh, const Options& options)
     const std::string& deviceConfig = options.deviceConfig;
     device_.reset(rtcNewDevice(deviceConfig.empty() ? nullptr : deviceConfig.c_str()));
     if (!device_)
-        throw std::runtime_error(std::string("Embree error in rtcNewDevice: ") +
-                                 errorName(rtcGetDeviceError(nullptr)) +
-                                 (deviceConfig.empty() ? "" : " (config \"" + deviceConfig + "\")"));
+        throw std::runtime_error(
+            std::string("Embree error in rtcNewDevice: ") + errorName(rtcGetDeviceError(nullptr)) +
+            (deviceConfig.empty() ? "" : " (config \"" + deviceConfig + "\")"));
     rtcSetDeviceErrorFunction(device_.get(), &onEmbreeError, errors_.get());
 
     scene_.reset(rtcNewScene(device_.get()));
     throwIfError("rtcNewScene");
     if (!scene_) throw std::runtime_error("Embree error in rtcNewScene: no scene");
     // The context filter flag is what makes Embree call IgnoreFacesContext's filter.
-    rtcSetSceneFlags(scene_.get(), options.robust ? RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION |
-                                                        RTC_SCENE_FLAG_ROBUST
-                                                  : RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
+    rtcSetSceneFlags(scene_.get(),
+                     options.robust ? RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION | RTC_SCENE_FLAG_ROBUST
+                                    : RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
     rtcSetSceneBuildQuality(scene_.get(), RTC_BUILD_QUALITY_HIGH);
 
     const size_t nt = primToFace_.size();
@@ -203,7 +214,8 @@ EmbreeScene::EmbreeScene(const vis::PolygonMesh& mesh, const Options& options)
         auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
             geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nt));
         throwIfError("rtcSetNewGeometryBuffer");
-        if (!vb || !ib) throw std::runtime_error("Embree error in rtcSetNewGeometryBuffer: no buffer");
+        if (!vb || !ib)
+            throw std::runtime_error("Embree error in rtcSetNewGeometryBuffer: no buffer");
         for (size_t v = 0; v < nv; ++v) {
             vb[3 * v + 0] = static_cast<float>(mesh.vertices[v].x);
             vb[3 * v + 1] = static_cast<float>(mesh.vertices[v].y);
@@ -249,7 +261,7 @@ EmbreeScene& EmbreeScene::operator=(EmbreeScene&& o) noexcept {
 }
 
 std::optional<EmbreeScene::Hit> EmbreeScene::intersect(Vec3 org, Vec3 dir, double tnear,
-                                                        double tfar) const {
+                                                       double tfar) const {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);  // filter = NULL: nothing is ignored
     RTCRayHit rh;
@@ -343,29 +355,41 @@ double EmbreeScene::sampledFraction(uint32_t receiver, uint32_t light, Vec3 x, i
     return static_cast<double>(visible) / samples;
 }
 
+std::vector<Vec3> EmbreeScene::facePolygon(uint32_t face) const {
+    // The fan triangles (v0, v_i, v_i+1) of the face, in order: v0, v1, v2, then each third.
+    std::vector<Vec3> out;
+    for (uint32_t p = faceFirstPrim_[face]; p < faceFirstPrim_[face + 1]; ++p) {
+        if (out.empty()) out.insert(out.end(), {primVertex_[3 * p], primVertex_[3 * p + 1]});
+        out.push_back(primVertex_[3 * p + 2]);
+    }
+    return out;
+}
+
 std::vector<uint32_t> EmbreeScene::shaftCandidates(uint32_t receiver, uint32_t light) const {
     checkFace(receiver, "receiver");
+    return shaftCandidates(receiver, facePolygon(receiver), light);
+}
+
+std::vector<uint32_t> EmbreeScene::shaftCandidates(uint32_t receiver, std::span<const Vec3> region,
+                                                   uint32_t light) const {
+    checkFace(receiver, "receiver");
     checkFace(light, "light");
-    vis::Bounds3 shaft;
-    for (const Box* b : {&faceBox_[receiver], &faceBox_[light]}) {
-        shaft.add(b->lo);
-        shaft.add(b->hi);
-    }
+    // The faces whose box is not certainly outside a supporting plane of the hull of the region
+    // and the light (the segments between them lie in that hull): a box query of the hierarchy
+    // with the hull's planes, certain skips only.
+    const std::vector<Vec3> lightPoints = facePolygon(light);
+    const std::vector<vis::PlaneOrient> hull = vis::hullPlanes(region, lightPoints);
     std::vector<uint32_t> out;
-    shaftTree_.overlapping(shaft, out);
-    std::erase_if(out, [&](uint32_t f) { return f == receiver || f == light; });
-    // Increasing face order: a sort for few candidates, a bitmap over all faces (O(faces / 64 +
-    // candidates)) for many.
-    if (out.size() * 64 < faceCount()) {
-        std::sort(out.begin(), out.end());
-        return out;
+    if (hull.empty() || region.size() < 3 || lightPoints.size() < 3) {  // degenerate: the box
+        vis::Bounds3 shaft;
+        for (const Vec3& p : region) shaft.add(p);
+        for (const Vec3& p : lightPoints) shaft.add(p);
+        shaftTree_.overlapping(shaft, out);
+    } else {
+        shaftTree_.notOutside(hull, out);
     }
-    std::vector<uint64_t> bits((faceCount() + 63) / 64, 0);
-    for (uint32_t f : out) bits[f / 64] |= uint64_t{1} << (f % 64);
-    out.clear();
-    for (size_t w = 0; w < bits.size(); ++w)
-        for (uint64_t b = bits[w]; b != 0; b &= b - 1)
-            out.push_back(static_cast<uint32_t>(w * 64 + std::countr_zero(b)));
+    std::erase_if(out, [&](uint32_t f) { return f == receiver || f == light; });
+    std::sort(out.begin(), out.end());
     return out;
 }
 

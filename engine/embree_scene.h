@@ -24,6 +24,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -44,7 +45,7 @@ struct EmbreeErrorState;  // defined in embree_scene.cpp
 using vis::Vec3;
 
 class EmbreeScene {
-public:
+  public:
     // Face id meaning "no face" (e.g. an ignore slot of occluded() that ignores nothing).
     static constexpr uint32_t kNoFace = std::numeric_limits<uint32_t>::max();
     // occluded() tests the segment from + t (to - from) for t in [kSegmentEpsilon,
@@ -55,8 +56,8 @@ public:
 
     struct Hit {
         uint32_t face = kNoFace;  // face id of the mesh
-        double t = 0;             // ray parameter: point = org + t * dir (dir as given, not normalised)
-        Vec3 point;               // org + t * dir
+        double t = 0;  // ray parameter: point = org + t * dir (dir as given, not normalised)
+        Vec3 point;    // org + t * dir
     };
 
     struct Options {
@@ -96,9 +97,10 @@ public:
     // x on face `receiver`, estimated with `samples` stratified, area-uniform points on the light.
     //  - Stratification: samples = a * b with a the largest divisor of `samples` not above its
     //    square root, one jittered sample per cell of an a x b grid over the unit square (a square
-    //    count gives the sqrt(N) x sqrt(N) grid; a prime count degenerates to N jittered 1D strata).
-    //    The unit square maps onto the light area-uniformly: u picks a fan triangle by its share of
-    //    the area and, within it, the distance from v0 (sqrt warp); v the position across it.
+    //    count gives the sqrt(N) x sqrt(N) grid; a prime count degenerates to N jittered 1D
+    //    strata). The unit square maps onto the light area-uniformly: u picks a fan triangle by its
+    //    share of the area and, within it, the distance from v0 (sqrt warp); v the position across
+    //    it.
     //  - If x is not strictly in front of the light's plane the result is 0. A sample behind (or
     //    on) the receiver's plane counts as not visible (weight 0). Every other sample counts 1 if
     //    occluded(x, sample, receiver, light) is false.
@@ -106,14 +108,24 @@ public:
     double sampledFraction(uint32_t receiver, uint32_t light, Vec3 x, int samples,
                            uint64_t seed) const;
 
-    // Faces other than `receiver` and `light` whose axis-aligned bounding box meets (closed boxes,
-    // touching counts) the bounding box of receiver and light together: a conservative superset of
-    // the faces that can cut the shaft between them (the shaft lies inside the convex hull of the
-    // two faces, which lies inside that box). Faces with fewer than 3 vertices (no triangles,
+    // Faces other than `receiver` and `light` whose axis-aligned bounding box is not certainly
+    // outside a supporting plane of the convex hull of receiver and light (PlaneOrient::boxNegative
+    // against vis::hullPlanes): a conservative superset of the faces that can cut the shaft between
+    // them (the shaft lies inside that hull). Faces with fewer than 3 vertices (no triangles,
     // invisible to the rays too) are left out. Returned in increasing face order.
-    // Cost: a query of a bounding-volume hierarchy over the face boxes (visibility/box_tree.h, exact
-    // double-precision box tests, built with the scene): O(log faces + candidates), not O(faces).
+    // Cost: a query of a bounding-volume hierarchy over the face boxes (visibility/box_tree.h,
+    // exact double-precision box tests, built with the scene): O(log faces + candidates), not
+    // O(faces).
     std::vector<uint32_t> shaftCandidates(uint32_t receiver, uint32_t light) const;
+    // The same for a part of the receiver (a patch, receiver_patches.h): the faces whose box meets
+    // the box of `region` and the light together.
+    std::vector<uint32_t> shaftCandidates(uint32_t receiver, std::span<const Vec3> region,
+                                          uint32_t light) const;
+    // That hierarchy of face boxes (faces with triangles), for the direct per-point query
+    // (vis::FromPointQuery::runDirect).
+    const vis::BoxTree& faceBoxes() const { return shaftTree_; }
+    // A face's vertices as Embree holds them (double precision, the input's), from its triangles.
+    std::vector<Vec3> facePolygon(uint32_t face) const;
 
     // Face data kept by the scene (double precision, from the input mesh).
     Vec3 faceAreaNormal(uint32_t face) const { return faceNormal_.at(face); }
@@ -124,7 +136,7 @@ public:
     };
     const Box& faceBox(uint32_t face) const { return faceBox_.at(face); }
 
-private:
+  private:
     struct DeviceDeleter {
         void operator()(RTCDeviceTy* device) const noexcept;
     };
@@ -143,14 +155,15 @@ private:
     std::unique_ptr<RTCDeviceTy, DeviceDeleter> device_;
     std::unique_ptr<RTCSceneTy, SceneDeleter> scene_;
 
-    std::vector<uint32_t> primToFace_;     // per triangle: its face
-    std::vector<uint32_t> faceFirstPrim_;  // faces + 1 entries: face f owns triangles [f], .. [f+1] - 1
-    std::vector<Vec3> primVertex_;         // 3 per triangle, double precision
-    std::vector<double> primArea_;         // per triangle
-    std::vector<Vec3> faceNormal_;         // per face: Newell area normal
-    std::vector<double> faceArea_;         // per face: sum of its triangles' areas
-    std::vector<Box> faceBox_;             // per face
-    vis::BoxTree shaftTree_;                // over faceBox_, for shaftCandidates
+    std::vector<uint32_t> primToFace_;  // per triangle: its face
+    std::vector<uint32_t>
+        faceFirstPrim_;             // faces + 1 entries: face f owns triangles [f], .. [f+1] - 1
+    std::vector<Vec3> primVertex_;  // 3 per triangle, double precision
+    std::vector<double> primArea_;  // per triangle
+    std::vector<Vec3> faceNormal_;  // per face: Newell area normal
+    std::vector<double> faceArea_;  // per face: sum of its triangles' areas
+    std::vector<Box> faceBox_;      // per face
+    vis::BoxTree shaftTree_;        // over faceBox_, for shaftCandidates
 };
 
 }  // namespace penumbra

@@ -18,18 +18,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using State = PrecomputeProgress::State;
 
-struct KeyHash {
-    size_t operator()(const PairKey& k) const noexcept {
-        uint64_t h = 0x2545F4914F6CDD1Dull;
-        for (uint32_t v : {k.receiver, k.patch, k.lightFace}) {
-            h ^= v;
-            h *= 0x9E3779B97F4A7C15ull;
-            h ^= h >> 29;
-        }
-        return static_cast<size_t>(h);
-    }
-};
-
 enum class KeyState : uint8_t { Queued, Running, Done };
 
 // ThreadSanitizer cannot see the synchronisation inside oneTBB (not instrumented): the enqueuing
@@ -108,8 +96,8 @@ struct PrecomputeScheduler::Impl {
     // Pending keys, front first. May hold stale entries (keys moved to the front by a later
     // request, or no longer Queued): popNext() skips them; compact() drops them when they pile up.
     std::deque<PairKey> queue;
-    std::unordered_map<PairKey, KeyState, KeyHash> batch;  // every key of the current batch
-    size_t queued = 0;                                     // keys of the batch in state Queued
+    std::unordered_map<PairKey, KeyState, PairKeyHash> batch;  // every key of the current batch
+    size_t queued = 0;                                         // keys of the batch in state Queued
     size_t done = 0, total = 0, nodes = 0, built = 0;
     Clock::time_point start{};
     double frozenSeconds = 0;
@@ -187,7 +175,7 @@ struct PrecomputeScheduler::Impl {
     // Drops stale queue entries once they outnumber the live ones (amortised O(1) per entry).
     void compact() {
         if (queue.size() <= 2 * queued + 1024) return;
-        std::unordered_set<PairKey, KeyHash> seen;
+        std::unordered_set<PairKey, PairKeyHash> seen;
         std::deque<PairKey> kept;
         for (const PairKey& key : queue) {
             const auto it = batch.find(key);

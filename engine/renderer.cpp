@@ -8,6 +8,7 @@
 #include <chrono>
 #include <optional>
 #include <stdexcept>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "engine/embree_scene.h"
@@ -146,10 +147,14 @@ ProgressiveRenderer::~ProgressiveRenderer() = default;
 void ProgressiveRenderer::recordUse(const std::vector<PairKey>& keys,
                                     const std::vector<uint32_t>& faces,
                                     const RenderSettings& settings, uint64_t exactEvaluations,
-                                    uint64_t sampledEvaluations) {
+                                    uint64_t sampledEvaluations, uint64_t directEvaluations,
+                                    const std::vector<PairKey>& directKeys) {
     std::lock_guard lock(mutex_);
     exactEvaluations_ += exactEvaluations;
     sampledEvaluations_ += sampledEvaluations;
+    directEvaluations_ += directEvaluations;
+    minTreeSamples_ = settings.minTreeSamples;
+    directUsed_.insert(directKeys.begin(), directKeys.end());
     exactWorkLimit_ = settings.exactWorkLimit;
     usedKeys_.insert(keys.begin(), keys.end());
     for (uint32_t f : faces) faceSeen_[f] = 1;
@@ -165,7 +170,8 @@ void ProgressiveRenderer::resetEffects() {
     usedKeys_.clear();
     faceSeen_.assign(scene_.faceCount(), 0);
     rendered_ = false;
-    exactEvaluations_ = sampledEvaluations_ = 0;
+    exactEvaluations_ = sampledEvaluations_ = directEvaluations_ = 0;
+    directUsed_.clear();
 }
 
 double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& settings,
@@ -180,18 +186,22 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
     // The pairs the primary hits of every pass need (each pass jitters its rays: on a finely
     // tessellated mesh a pixel covers many receivers, and later passes hit others).
     const CameraRays rays(camera, settings.width, settings.height);
+    // With a tree for every pair (minTreeSamples 0) every pass is traced, so that the passes find
+    // all their trees built; otherwise the first two give the counts.
+    const int passesTraced =
+        settings.minTreeSamples == 0 ? settings.spp : std::min(settings.spp, 2);
     std::mutex mutex;
-    std::unordered_set<PairKey, PairKeyHash> needed;
+    std::unordered_map<PairKey, uint64_t, PairKeyHash> needed;  // samples per pair
     std::vector<uint32_t> facesSeen;
     tbb::parallel_for(
         tbb::blocked_range<int>(0, tileCount(settings), 1),
         [&](const tbb::blocked_range<int>& range) {
-            std::unordered_set<PairKey, PairKeyHash> local;
+            std::unordered_map<PairKey, uint64_t, PairKeyHash> local;
             std::vector<uint32_t> faces;
             for (int t = range.begin(); t != range.end(); ++t) {
                 if (cancelled()) return;
                 const Tile tile = tileAt(t, settings);
-                for (int pass = 0; pass < settings.spp; ++pass)
+                for (int pass = 0; pass < passesTraced; ++pass)
                     for (int y = tile.y0; y < tile.y1; ++y) {
                         for (int x = tile.x0; x < tile.x1; ++x) {
                             const Ray ray = primaryRay(rays, settings, pass, x, y);
@@ -203,16 +213,25 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
                             if (faces.empty() || faces.back() != f) faces.push_back(f);
                             const Vec3 xs = hit->point - n * dot(n, hit->point - faceOrigin_[f]);
                             for (uint32_t lf : scene_.lights)
-                                if (lf != f) local.insert(store_.keyAt(f, xs, lf));
+                                if (lf != f) ++local[store_.keyAt(f, xs, lf)];
                         }
                     }
             }
             std::lock_guard lock(mutex);
-            needed.insert(local.begin(), local.end());
+            for (const auto& [key, count] : local) needed[key] += count;
             facesSeen.insert(facesSeen.end(), faces.begin(), faces.end());
         });
     if (cancelled()) return seconds(t0, Clock::now());
-    const std::vector<PairKey> keys(needed.begin(), needed.end());
+    // A pair the image samples fewer than minTreeSamples times gets no tree: its points are
+    // evaluated directly (FromPointQuery::runDirect), which costs no precompute. The counts come
+    // from the first passes (scaled to all of them), so that prepare does not trace the whole
+    // image's rays twice; a pair no traced pass hit is rare, and evaluated directly too.
+    std::vector<PairKey> keys, all;
+    for (const auto& [key, count] : needed) {
+        all.push_back(key);
+        const uint64_t estimate = count * static_cast<uint64_t>(settings.spp) / passesTraced;
+        if (estimate >= settings.minTreeSamples || store_.find(key) != nullptr) keys.push_back(key);
+    }
     tbb::parallel_for(tbb::blocked_range<size_t>(0, keys.size(), 1),
                       [&](const tbb::blocked_range<size_t>& range) {
                           for (size_t i = range.begin(); i != range.end(); ++i) {
@@ -220,7 +239,8 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
                               store_.getOrBuild(keys[i]);
                           }
                       });
-    recordUse(keys, facesSeen, settings);
+    recordUse(all, facesSeen, settings);
+    directMissing_ = settings.minTreeSamples > 0;
     return seconds(t0, Clock::now());
 }
 
@@ -244,7 +264,8 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     std::mutex mutex;
     std::vector<PairKey> usedKeys;
     std::vector<uint32_t> facesSeen;
-    uint64_t exactEvaluations = 0, sampledEvaluations = 0;  // guarded by mutex
+    uint64_t exactEvaluations = 0, sampledEvaluations = 0, directEvaluations = 0;  // by mutex
+    std::vector<PairKey> directKeys;                                               // by mutex
     const int samples = settings.method == DirectMethod::Reference ? settings.referenceSamples
                                                                    : settings.lightSamples;
     const CameraRays rays(camera, w, h);
@@ -255,6 +276,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
         [&](const tbb::blocked_range<int>& range) {
             ExactScratch scratch;
             scratch.query.setWorkLimit(settings.exactWorkLimit);
+            scratch.buildMissing = !directMissing_;
             std::vector<uint32_t> faces;
             struct PrimaryHit {
                 Ray ray;
@@ -369,13 +391,17 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
             facesSeen.insert(facesSeen.end(), faces.begin(), faces.end());
             exactEvaluations += scratch.exactEvaluations;
             sampledEvaluations += scratch.sampledEvaluations;
+            directEvaluations += scratch.directEvaluations;
+            directKeys.insert(directKeys.end(), scratch.usedDirect.begin(),
+                              scratch.usedDirect.end());
         });
     if (cancelled.load()) return false;
 
     if (pass == 0) film.reset(w, h);
     for (size_t i = 0; i < image.size(); ++i) film.sum[i] += image[i];
     ++film.passes;
-    recordUse(usedKeys, facesSeen, settings, exactEvaluations, sampledEvaluations);
+    recordUse(usedKeys, facesSeen, settings, exactEvaluations, sampledEvaluations,
+              directEvaluations, directKeys);
     if (times != nullptr) times->wall = seconds(t0, Clock::now());
     return true;
 }
@@ -422,6 +448,9 @@ EffectsSummary ProgressiveRenderer::effects() const {
     s.exactEvaluations = exactEvaluations_;
     s.sampledEvaluations = sampledEvaluations_;
     s.exactWorkLimit = exactWorkLimit_;
+    s.pairsDirect = directUsed_.size();
+    s.directEvaluations = directEvaluations_;
+    s.minTreeSamples = minTreeSamples_;
     s.glossySamples = method_ == DirectMethod::Exact ? glossySamples_ : 0;
     // Materials of the faces the image saw.
     std::vector<char> materialSeen(scene_.materials.size() + 1, 0);  // last slot: the default

@@ -30,6 +30,7 @@
 #include <mutex>
 #include <set>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 #include "engine/camera.h"
@@ -62,6 +63,14 @@ struct RenderSettings {
     // leaves) is shaded for that light with lightSamples shadow rays instead, and the effects
     // summary counts it. 0 = no limit: every point exact, whatever it costs.
     uint64_t exactWorkLimit = 1024;
+    // Exact: a (receiver patch, light) pair that the image's primary samples (all passes) hit
+    // fewer times than this gets no history tree; its points are evaluated directly
+    // (vis::FromPointQuery::runDirect: the faces in each point's pyramid to the light, clipped
+    // from the point; exact, no precompute). On a finely tessellated mesh most receivers are seen
+    // by a few samples each, and a tree would cost more than all of their queries. 0 = a tree for
+    // every pair. Only prepare() decides this (a pass alone, without prepare, builds what it
+    // needs); it counts the samples of the first two passes.
+    uint64_t minTreeSamples = 64;
 };
 
 // Linear radiance, accumulated over passes. A pass adds one jittered sample per pixel; the jitter
@@ -91,8 +100,8 @@ class ProgressiveRenderer {
     ProgressiveRenderer(const Scene& scene, const EmbreeScene& bvh, VisibilityStore& store);
 
     // The trees the image needs (for Exact), built in parallel before shading: the (receiver
-    // patch, light) pairs hit by the primary rays of every pass (settings.spp of them; the rays
-    // are traced again by the passes). Returns seconds spent.
+    // patch, light) pairs hit by the primary rays often enough (RenderSettings::minTreeSamples,
+    // counted on the first two passes; every pass is traced when it is 0). Returns seconds spent.
     // Cancellable; returns early when cancelled.
     double prepare(const Camera& camera, const RenderSettings& settings,
                    const std::atomic<bool>* cancel = nullptr);
@@ -121,7 +130,8 @@ class ProgressiveRenderer {
                          const std::atomic<bool>* cancel, PassTimes* times);
     void recordUse(const std::vector<PairKey>& keys, const std::vector<uint32_t>& faces,
                    const RenderSettings& settings, uint64_t exactEvaluations = 0,
-                   uint64_t sampledEvaluations = 0);
+                   uint64_t sampledEvaluations = 0, uint64_t directEvaluations = 0,
+                   const std::vector<PairKey>& directKeys = {});
 
     const Scene& scene_;
     const EmbreeScene& bvh_;
@@ -139,7 +149,13 @@ class ProgressiveRenderer {
     int lightSamples_ = 0, glossySamples_ = 0;
     uint64_t exactWorkLimit_ = 0;
     // Exact method: (point, light) evaluations, and those over the work limit (sampled).
-    uint64_t exactEvaluations_ = 0, sampledEvaluations_ = 0;
+    uint64_t exactEvaluations_ = 0, sampledEvaluations_ = 0, directEvaluations_ = 0;
+    uint64_t minTreeSamples_ = 0;
+    std::set<PairKey> directUsed_;
+    // Set by prepare() with minTreeSamples > 0: the passes evaluate the pairs without a tree
+    // point by point instead of building them (written by prepare, read by the passes, never at
+    // the same time).
+    bool directMissing_ = false;
 };
 
 // Output (engine/image_io.cpp). PFM: linear float, little-endian, bottom-to-top rows as the format

@@ -60,12 +60,6 @@ Vec3 TriangleSampler::sample(double u, double v) const {
     return tri.a + (tri.b - tri.a) * (s * (1 - v)) + (tri.c - tri.a) * (s * v);
 }
 
-size_t PairKeyHash::operator()(const PairKey& k) const noexcept {
-    uint64_t h = SplitMix64::mix(k.receiver + 0x9E3779B97F4A7C15ull);
-    h = SplitMix64::mix(h ^ k.patch);
-    return static_cast<size_t>(SplitMix64::mix(h ^ k.lightFace));
-}
-
 DirectLighting::DirectLighting(const Scene& scene, const EmbreeScene& bvh, VisibilityStore* store)
     : scene_(scene), bvh_(bvh), store_(store) {
     for (uint32_t face : scene.lights) {
@@ -83,12 +77,11 @@ DirectLighting::DirectLighting(const Scene& scene, const EmbreeScene& bvh, Visib
 
 Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, int fallbackSamples,
                                      SplitMix64& rng, ExactScratch& scratch) const {
-    const Material& m = *p.material;
-    const bool glossy = m.isGlossy() && glossySamples > 0;
     if (scratch.lastTree.size() != lights_.size()) {
         scratch.lastKey.assign(lights_.size(), PairKey{});
         scratch.lastTree.assign(lights_.size(), nullptr);
         scratch.clippedFace.assign(lights_.size(), EmbreeScene::kNoFace);
+        scratch.lastDirect.assign(lights_.size(), 0);
         scratch.clippedLight.assign(lights_.size(), vis::Polygon3{});
     }
     Vec3 out{};
@@ -97,11 +90,29 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         if (light.face == p.face) continue;  // a light does not light itself
         const PairKey key = store_->keyAt(p.face, p.x, light.face);
         const PairRecord* record = scratch.lastTree[k];
-        if (record == nullptr || scratch.lastKey[k] != key) {
-            record = &store_->getOrBuild(key);
+        if ((record == nullptr && !scratch.lastDirect[k]) || scratch.lastKey[k] != key) {
+            // Without a tree and not to be built: evaluated point by point (buildMissing).
+            record = store_->find(key);
+            const bool direct = record == nullptr && !scratch.buildMissing;
+            if (record == nullptr && !direct) record = &store_->getOrBuild(key);
             scratch.lastKey[k] = key;
             scratch.lastTree[k] = record;
+            scratch.lastDirect[k] = direct;
             scratch.used.insert(key);
+            if (direct) scratch.usedDirect.insert(key);
+        }
+        if (record == nullptr) {  // direct: the faces in the pyramid from x, clipped from x
+            const vis::FragmentList& list =
+                scratch.query.runDirect(scene_.mesh, p.face, light.face, p.x, bvh_.faceBoxes());
+            ++scratch.exactEvaluations;
+            ++scratch.directEvaluations;
+            if (scratch.query.limitReached()) {
+                ++scratch.sampledEvaluations;
+                out += sampledAreaLight(light, p, fallbackSamples, rng);
+                continue;
+            }
+            out += shadeFragments(p, light, list, {}, glossySamples, rng, scratch);
+            continue;
         }
         const vis::PairKind kind = record->tree.kind;
         if (kind == vis::PairKind::BackFacing || kind == vis::PairKind::FullyHidden) continue;
@@ -150,45 +161,49 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             if (list->empty()) continue;
         }
         if (list == nullptr && fragments.empty()) continue;
-        // Diffuse: irradiance pi ke F times kd / pi. Exact up to rounding.
-        double formFactor = 0;
-        if (list != nullptr) {
-            for (size_t i = 0; i < list->size(); ++i)
-                formFactor += vis::formFactor(p.x, p.n, (*list)[i]);
-        } else {
-            for (const vis::Polygon3& fragment : fragments)
-                formFactor += vis::formFactor(p.x, p.n, fragment);
-        }
-        out += mul(m.kd, light.ke) * formFactor;
-        if (!glossy) continue;
-        // Glossy: stratified area samples inside the visible fragments only (no shadow rays).
-        TriangleSampler& sampler = scratch.fragments;
-        sampler.clear();
-        if (list != nullptr) {
-            for (size_t i = 0; i < list->size(); ++i) sampler.addPolygon((*list)[i]);
-        } else {
-            for (const vis::Polygon3& fragment : fragments) sampler.addPolygon(fragment);
-        }
-        if (sampler.empty()) continue;
-        int a = 1, b = 1;
-        stratifiedGrid(glossySamples, a, b);
-        double sum = 0;
-        for (int i = 0; i < b; ++i) {
-            for (int j = 0; j < a; ++j) {
-                const double u = (i + rng.uniform()) / b;
-                const double v = (j + rng.uniform()) / a;
-                const Vec3 d = sampler.sample(u, v) - p.x;
-                const double r2 = dot(d, d);
-                if (!(r2 > 0)) continue;
-                const Vec3 wi = d / std::sqrt(r2);
-                const double cosX = dot(p.n, wi), cosY = -dot(light.normal, wi);
-                if (!(cosX > 0) || !(cosY > 0)) continue;
-                sum += phongLobe(m.ns, p.n, p.wo, wi) * cosX * cosY / r2;
-            }
-        }
-        out += mul(m.ks, light.ke) * (sum * sampler.area() / glossySamples);
+        out += list != nullptr
+                   ? shadeFragments(p, light, *list, {}, glossySamples, rng, scratch)
+                   : shadeFragments(p, light, {}, fragments, glossySamples, rng, scratch);
     }
     return out;
+}
+
+Vec3 DirectLighting::shadeFragments(const SurfacePoint& p, const AreaLight& light,
+                                    const vis::FragmentList& list,
+                                    std::span<const vis::Polygon3> fragments, int glossySamples,
+                                    SplitMix64& rng, ExactScratch& scratch) const {
+    const Material& m = *p.material;
+    const bool glossy = m.isGlossy() && glossySamples > 0;
+    // Diffuse: irradiance pi ke F times kd / pi. Exact up to rounding.
+    double formFactor = 0;
+    for (size_t i = 0; i < list.size(); ++i) formFactor += vis::formFactor(p.x, p.n, list[i]);
+    for (const vis::Polygon3& fragment : fragments)
+        formFactor += vis::formFactor(p.x, p.n, fragment);
+    Vec3 out = mul(m.kd, light.ke) * formFactor;
+    if (!glossy) return out;
+    // Glossy: stratified area samples inside the visible fragments only (no shadow rays).
+    TriangleSampler& sampler = scratch.fragments;
+    sampler.clear();
+    for (size_t i = 0; i < list.size(); ++i) sampler.addPolygon(list[i]);
+    for (const vis::Polygon3& fragment : fragments) sampler.addPolygon(fragment);
+    if (sampler.empty()) return out;
+    int a = 1, b = 1;
+    stratifiedGrid(glossySamples, a, b);
+    double sum = 0;
+    for (int i = 0; i < b; ++i) {
+        for (int j = 0; j < a; ++j) {
+            const double u = (i + rng.uniform()) / b;
+            const double v = (j + rng.uniform()) / a;
+            const Vec3 d = sampler.sample(u, v) - p.x;
+            const double r2 = dot(d, d);
+            if (!(r2 > 0)) continue;
+            const Vec3 wi = d / std::sqrt(r2);
+            const double cosX = dot(p.n, wi), cosY = -dot(light.normal, wi);
+            if (!(cosX > 0) || !(cosY > 0)) continue;
+            sum += phongLobe(m.ns, p.n, p.wo, wi) * cosX * cosY / r2;
+        }
+    }
+    return out + mul(m.ks, light.ke) * (sum * sampler.area() / glossySamples);
 }
 
 Vec3 DirectLighting::sampledAreaLight(const AreaLight& light, const SurfacePoint& p, int samples,

@@ -88,10 +88,6 @@ struct SurfacePoint {
     const Material* material = nullptr;
 };
 
-struct PairKeyHash {
-    size_t operator()(const PairKey& k) const noexcept;
-};
-
 // Per-thread (per-tile) state of the exact estimator: the last tree used per light (neighbouring
 // pixels hit the same receiver patch, so most lookups skip the store), the keys the tile needed,
 // and scratch for the fragments. For a fully visible pair the fragment is the light clipped to
@@ -102,10 +98,17 @@ struct ExactScratch {
     std::vector<const PairRecord*> lastTree;  // per light (nullptr: none yet)
     std::vector<uint32_t> clippedFace;        // per light: the receiver of clippedLight
     std::vector<vis::Polygon3> clippedLight;  // per light
+    std::vector<char> lastDirect;             // per light: lastKey is a direct pair
     std::unordered_set<PairKey, PairKeyHash> used;
     TriangleSampler fragments;
     vis::FromPointQuery query;  // FPQuery workspace: no allocation per point after warm-up
     uint64_t exactEvaluations = 0, sampledEvaluations = 0;  // see exactAreaLights
+    // False: a pair the store holds no tree for is evaluated point by point, without a tree
+    // (FromPointQuery::runDirect), instead of building one: the renderer's choice once prepare()
+    // has built the trees its image samples often enough.
+    bool buildMissing = true;
+    std::unordered_set<PairKey, PairKeyHash> usedDirect;  // the pairs evaluated that way
+    uint64_t directEvaluations = 0;                       // and their (point, light) evaluations
 
     // The region the next points lie in (optional): corners spanning a box that holds them, all on
     // one receiver patch (so one tree per light). FPQuery then skips the plane tests of the nodes
@@ -143,6 +146,10 @@ class DirectLighting {
     Vec3 pointLights(const SurfacePoint& p) const;
 
   private:
+    // Shading from the visible fragments of one light (those of `list`, then `fragments`).
+    Vec3 shadeFragments(const SurfacePoint& p, const AreaLight& light,
+                        const vis::FragmentList& list, std::span<const vis::Polygon3> fragments,
+                        int glossySamples, SplitMix64& rng, ExactScratch& scratch) const;
     Vec3 sampledAreaLight(const AreaLight& light, const SurfacePoint& p, int samples,
                           SplitMix64& rng) const;
 

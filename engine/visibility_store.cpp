@@ -22,7 +22,7 @@ struct VisibilityStore::PatchSlot {
     vis::ReceiverPatches patches;
 };
 
-size_t VisibilityStore::KeyHash::operator()(const PairKey& k) const noexcept {
+size_t PairKeyHash::operator()(const PairKey& k) const noexcept {
     uint64_t h = 0x9E3779B97F4A7C15ull;
     for (uint32_t v : {k.receiver, k.patch, k.lightFace}) {
         h ^= v;
@@ -60,7 +60,7 @@ PairKey VisibilityStore::keyAt(uint32_t face, const Vec3& x, uint32_t lightFace)
 }
 
 VisibilityStore::Shard& VisibilityStore::shardOf(const PairKey& key) const {
-    return shards_[KeyHash{}(key) % kShards];
+    return shards_[PairKeyHash{}(key) % kShards];
 }
 
 const PairRecord* VisibilityStore::find(const PairKey& key) const {
@@ -104,14 +104,17 @@ std::unique_ptr<PairRecord> VisibilityStore::build(const PairKey& key,
         throw std::out_of_range("patch " + std::to_string(key.patch) + " of face " +
                                 std::to_string(key.receiver) + " out of range");
     std::vector<uint32_t> candidates;
+    const bool whole = p.patches.size() <= 1;
     if (bvh_ != nullptr) {
-        candidates = bvh_->shaftCandidates(key.receiver, key.lightFace);
+        // The patch's own shaft: a floor patch far from the scene's clutter sees none of it.
+        candidates = whole
+                         ? bvh_->shaftCandidates(key.receiver, key.lightFace)
+                         : bvh_->shaftCandidates(key.receiver, p.patches[key.patch], key.lightFace);
         // An empty candidate list means "all faces" to the builder; the receiver alone never
         // occludes its own pair, so it stands for "none".
         if (candidates.empty()) candidates.push_back(key.receiver);
     }
     auto record = std::make_unique<PairRecord>();
-    const bool whole = p.patches.size() <= 1;
     vis::BuildOptions buildOptions = options_.build;
     if (cancel != nullptr) buildOptions.cancel = cancel;
     record->tree = vis::buildHistoryTree(

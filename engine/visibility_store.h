@@ -38,6 +38,12 @@ struct PairKey {
     auto operator<=>(const PairKey&) const = default;
 };
 
+// The hash of a PairKey for unordered containers (the store's shards, the scheduler's batch, the
+// renderer's pair sets).
+struct PairKeyHash {
+    size_t operator()(const PairKey& k) const noexcept;
+};
+
 // A built tree and what building it took.
 struct PairRecord {
     vis::HistoryTree tree;
@@ -99,12 +105,9 @@ class VisibilityStore {
 
   private:
     struct Entry;
-    struct KeyHash {
-        size_t operator()(const PairKey& k) const noexcept;
-    };
     struct Shard {
         mutable std::shared_mutex mutex;
-        std::unordered_map<PairKey, std::unique_ptr<Entry>, KeyHash> entries;
+        std::unordered_map<PairKey, std::unique_ptr<Entry>, PairKeyHash> entries;
     };
     struct PatchSlot;
     static constexpr size_t kShards = 64;

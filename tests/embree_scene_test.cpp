@@ -1,6 +1,5 @@
 // Tests of EmbreeScene: ray casting, filtered shadow segments, the sampled visibility baseline.
 #include "engine/embree_scene.h"
-#include "tests/test_scale.h"
 
 #include <gtest/gtest.h>
 
@@ -15,6 +14,8 @@
 #include <type_traits>
 #include <utility>
 #include <vector>
+
+#include "tests/test_scale.h"
 
 namespace {
 
@@ -107,8 +108,8 @@ TEST(EmbreeScene, IntersectHitsRightFaceAtRightT) {
 TEST(EmbreeScene, OccludedIgnoresReceiverAndLight) {
     EmbreeScene s(halfBlockedScene());
     const Vec3 x{0, 0, 0};
-    EXPECT_TRUE(s.occluded(x, {-0.25, 0, 2}, kFloor, kLight));   // through the blocker
-    EXPECT_FALSE(s.occluded(x, {0.25, 0, 2}, kFloor, kLight));   // clear
+    EXPECT_TRUE(s.occluded(x, {-0.25, 0, 2}, kFloor, kLight));  // through the blocker
+    EXPECT_FALSE(s.occluded(x, {0.25, 0, 2}, kFloor, kLight));  // clear
     EXPECT_FALSE(s.occluded({0.5, 0.5, 0}, {0.3, 0.3, 2}, kFloor, kLight));
     // Open segment ends: touching faces at the end points do not count even if not ignored.
     EXPECT_FALSE(s.occluded({0.5, 0.5, 0}, {0.3, 0.3, 2}));
@@ -188,13 +189,15 @@ double areaLeftOfYAxis(const std::vector<Vec3>& poly) {
 
 TEST(EmbreeScene, SampledFractionIsAreaUniformOnPolygons) {
     // An irregular convex pentagon light (fan triangles of unequal area), half-plane blocker.
-    const std::vector<Vec3> pent{{-0.6, -0.4, 0}, {0.5, -0.5, 0}, {0.7, 0.2, 0}, {0.1, 0.6, 0},
-                                 {-0.5, 0.3, 0}};
+    const std::vector<Vec3> pent{
+        {-0.6, -0.4, 0}, {0.5, -0.5, 0}, {0.7, 0.2, 0}, {0.1, 0.6, 0}, {-0.5, 0.3, 0}};
     PolygonMesh m;
     addRect(m, -2, 2, -2, 2, 0, true);  // floor, face 0
     // Light at z=2 facing down: reverse the (ccw from above) order.
-    const uint32_t light = addFace(m, {{pent[0].x, pent[0].y, 2}, {pent[4].x, pent[4].y, 2},
-                                       {pent[3].x, pent[3].y, 2}, {pent[2].x, pent[2].y, 2},
+    const uint32_t light = addFace(m, {{pent[0].x, pent[0].y, 2},
+                                       {pent[4].x, pent[4].y, 2},
+                                       {pent[3].x, pent[3].y, 2},
+                                       {pent[2].x, pent[2].y, 2},
                                        {pent[1].x, pent[1].y, 2}});
     addRect(m, -5, 0, -5, 5, 1, false);  // blocker: hides exactly the x<0 part from the origin
     EmbreeScene s(m);
@@ -209,14 +212,21 @@ TEST(EmbreeScene, SampledFractionIsAreaUniformOnPolygons) {
     EXPECT_NEAR(s.sampledFraction(0, light, {0, 0, 0}, 1000, 9), expected, 0.02);
 }
 
-TEST(EmbreeScene, ShaftCandidatesUseBoxOverlap) {
+// The candidates are the faces whose box meets the hull of receiver and light (a frustum here:
+// the floor [-2,2]^2 at z 0, the light [-0.5,0.5]^2 at z 2; at z 0.5 it reaches x = 1.625), not
+// their common bounding box.
+TEST(EmbreeScene, ShaftCandidatesAreTheFacesNearTheHull) {
     PolygonMesh m = halfBlockedScene();
-    addRect(m, 5, 6, 5, 6, 1, true);        // face 4: far away
-    addRect(m, 1.9, 3, 1.9, 3, 2.5, true);  // face 5: xy overlaps, but above the light's z
-    addRect(m, 2, 3, -1, 1, 0.5, true);     // face 6: touches the box at x = 2
+    addRect(m, 5, 6, 5, 6, 1, true);         // face 4: far away
+    addRect(m, 1.9, 3, 1.9, 3, 2.5, true);   // face 5: above the light, outside the hull
+    addRect(m, 1.5, 3, -1, 1, 0.5, true);    // face 6: reaches into the hull
+    addRect(m, 1.75, 3, -1, 1, 0.5, true);   // face 7: in the bounding box, outside the hull
+    addRect(m, 1.625, 3, -1, 1, 0.5, true);  // face 8: touches the hull
     EmbreeScene s(m);
-    EXPECT_EQ(s.shaftCandidates(kFloor, kLight), (std::vector<uint32_t>{kBlocker, 6}));
-    EXPECT_EQ(s.shaftCandidates(kCeiling, kLight), (std::vector<uint32_t>{5}));
+    EXPECT_EQ(s.shaftCandidates(kFloor, kLight), (std::vector<uint32_t>{kBlocker, 6, 8}));
+    // A part of the floor (a patch): its own hull with the light.
+    const std::vector<Vec3> corner = {{1, 1, 0}, {2, 1, 0}, {2, 2, 0}, {1, 2, 0}};
+    EXPECT_EQ(s.shaftCandidates(kFloor, corner, kLight), (std::vector<uint32_t>{6, 8}));
 }
 
 TEST(EmbreeScene, BadArgumentsThrow) {
@@ -265,8 +275,8 @@ TEST(EmbreeScene, RandomSceneTiming) {
     std::mt19937_64 rng(42);
     std::uniform_real_distribution<double> U(0, 1);
     PolygonMesh m;
-    addRect(m, -5, 5, -5, 5, 0, true);             // receiver, face 0
-    addRect(m, -1, 1, -1, 1, 4, false);            // light, face 1
+    addRect(m, -5, 5, -5, 5, 0, true);   // receiver, face 0
+    addRect(m, -1, 1, -1, 1, 4, false);  // light, face 1
     for (int i = 0; i < 1000; ++i) {
         const Vec3 c{-3 + 6 * U(rng), -3 + 6 * U(rng), 0.5 + 3 * U(rng)};
         auto jitter = [&] { return Vec3{U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5} * 0.6; };
@@ -290,9 +300,10 @@ TEST(EmbreeScene, RandomSceneTiming) {
         const auto t1 = std::chrono::steady_clock::now();
         const double us = std::chrono::duration<double, std::micro>(t1 - t0).count() / points;
         const double cpuUs = 1e6 * static_cast<double>(c1 - c0) / CLOCKS_PER_SEC / points;
-        std::printf("[ timing ] sampledFraction, 128 samples, %zu triangles, robust=%d: "
-                    "%.2f us/point wall, %.2f us/point CPU (mean visible fraction %.4f, %d points)\n",
-                    s.triangleCount(), robust ? 1 : 0, us, cpuUs, sum / points, points);
+        std::printf(
+            "[ timing ] sampledFraction, 128 samples, %zu triangles, robust=%d: "
+            "%.2f us/point wall, %.2f us/point CPU (mean visible fraction %.4f, %d points)\n",
+            s.triangleCount(), robust ? 1 : 0, us, cpuUs, sum / points, points);
         RecordProperty(robust ? "us_per_point_128_robust" : "us_per_point_128_fast",
                        std::to_string(us));
         means[robust ? 0 : 1] = sum / points;

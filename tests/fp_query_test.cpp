@@ -14,6 +14,7 @@
 #include "engine/procedural_scenes.h"
 #include "tests/support/exact_reference.h"
 #include "tests/test_scale.h"
+#include "visibility/box_tree.h"
 #include "visibility/form_factor.h"
 #include "visibility/history_tree_builder.h"
 #include "visibility/pair_occluders.h"
@@ -152,6 +153,54 @@ TEST(FpQuery, HardCasesMatchExactReference) {
 TEST(FpQuery, RandomSoupsMatchExactReference) {
     for (uint64_t seed = 0; seed < 3; ++seed)
         checkAgainstReference(makeRandomSoup(40, seed), test::scaled(700), 100 + seed, "soup");
+}
+
+// The direct query (no tree: the faces in the pyramid from x clipped from x) against the exact
+// reference, on every scene and hard case.
+void checkDirectAgainstReference(const Scene& scene, int points, uint64_t seed, const char* name) {
+    const vis::PolygonMesh& m = scene.mesh;
+    std::vector<vis::Bounds3> boxes(scene.faceCount());
+    for (uint32_t f = 0; f < scene.faceCount(); ++f) boxes[f] = m.faceBounds(f);
+    const vis::BoxTree faces(boxes);
+    vis::FromPointQuery query;
+    std::mt19937_64 rng(seed);
+    int compared = 0, nonTrivial = 0;
+    for (int i = 0; i < points; ++i) {
+        const uint32_t r = static_cast<uint32_t>(rng() % scene.faceCount());
+        const uint32_t l = scene.lights[rng() % scene.lights.size()];
+        if (r == l) continue;
+        const Vec3 x = randomPointOn(m, r, rng);
+        const vis::FragmentList& fragments = query.runDirect(m, r, l, x, faces);
+        double area = 0, ff = 0;
+        const Vec3 n = unitNormal(m, r);
+        for (size_t k = 0; k < fragments.size(); ++k) {
+            area += vis::polygonArea(fragments[k]);
+            ff += vis::formFactor(x, n, fragments[k]);
+        }
+        const test::ReferenceResult ref = test::exactReference(m, r, l, x);
+        ++compared;
+        nonTrivial += ref.fraction > 1e-9 && ref.fraction < 1 - 1e-9;
+        EXPECT_NEAR(area / m.faceArea(l), ref.fraction, 1e-9)
+            << name << ": receiver " << r << " light " << l << " x " << vis::toString(x);
+        EXPECT_NEAR(ff, ref.formFactor, 1e-9 * std::max(ref.formFactor, 1e-6))
+            << name << ": receiver " << r << " light " << l << " x " << vis::toString(x);
+        if (::testing::Test::HasFailure()) return;
+    }
+    EXPECT_GT(compared, points / 2) << name;
+    EXPECT_GT(nonTrivial, 0) << name << ": no point in a penumbra";
+}
+
+TEST(FpQuery, DirectQueryMatchesExactReference) {
+    checkDirectAgainstReference(makeStairs(), test::scaled(1000), 41, "stairs");
+    checkDirectAgainstReference(makeGrids(), test::scaled(1000), 42, "grids");
+    checkDirectAgainstReference(makeCornellBox(), test::scaled(1000), 43, "cornell");
+    checkDirectAgainstReference(makeTable(), test::scaled(100), 44, "table");
+    uint64_t seed = 50;
+    for (const auto& [name, scene] : makeHardCases())
+        checkDirectAgainstReference(scene, test::scaled(300), seed++, name.c_str());
+    for (uint64_t seed2 = 0; seed2 < 3; ++seed2)
+        checkDirectAgainstReference(makeRandomSoup(40, seed2), test::scaled(300), 60 + seed2,
+                                    "soup");
 }
 
 // The work limit: a run allowed exactly the plane tests it needs gives the same answer; one test

@@ -54,6 +54,8 @@ class RenderCommand : public ::testing::Test {
     std::vector<std::string> base() const {
         std::vector<std::string> args = {path("scene.obj"), "--camera", "0.3,-5,1.5,0,0,0.3,40"};
         args.insert(args.end(), {"--up", "0,0,1", "--size", "16x12", "--spp", "2"});
+        // A tree for every pair, however few samples (what the --visibility tests count).
+        args.insert(args.end(), {"--min-tree-samples", "0"});
         return args;
     }
     fs::path dir_;
@@ -118,7 +120,8 @@ TEST_F(RenderCommand, VisibilityFileIsReusedExtendedAndRepaired) {
 
     // Another view sees other receiver patches: their trees are added to the file.
     r = run({path("scene.obj"), "--camera", "-3,4,2.5,0,0,0", "--up", "0,0,1", "--size", "16x12",
-             "--spp", "2", "--visibility", pvis, "--out-pfm", path("other.pfm")});
+             "--spp", "2", "--min-tree-samples", "0", "--visibility", pvis, "--out-pfm",
+             path("other.pfm")});
     ASSERT_EQ(r.exitCode, 0) << output(r);
     EXPECT_NE(output(r).find("added, wrote"), std::string::npos) << output(r);
     EXPECT_GT(fs::file_size(pvis), firstSize);

@@ -171,6 +171,8 @@ TEST(Renderer, ExactDiffuseIsIndependentOfTheLightSeed) {
     EXPECT_NE(c.sum, d.sum);
 }
 
+// Both exact paths: history trees for every pair (minTreeSamples 0), and no tree at all (every
+// pair below minTreeSamples: each point evaluated directly). Same image up to rounding.
 TEST(Renderer, ExactDiffuseAgreesWithConvergedShadowRays) {
     Rig rig(penumbraScene(Material{}));
     const Camera camera = penumbraCamera();
@@ -178,12 +180,25 @@ TEST(Renderer, ExactDiffuseAgreesWithConvergedShadowRays) {
     s.width = s.height = 32;
     s.spp = 2;
     s.seed = 7;
+    s.minTreeSamples = 0;
     const Film exact = rig.renderer.render(camera, s);
     // The image has a penumbra: some receiver patches are partly blocked.
     EXPECT_GT(rig.renderer.effects().pairsPenumbra, 0u);
+    EXPECT_EQ(rig.renderer.effects().pairsDirect, 0u);
     if (const char* dump = std::getenv("PENUMBRA_TEST_DUMP")) writePng(exact, dump);
     std::vector<double> e(exact.sum.size());
     for (size_t i = 0; i < e.size(); ++i) e[i] = channelSum(exact.sum[i] / exact.passes);
+    {
+        Rig fresh(penumbraScene(Material{}));
+        RenderSettings d = s;
+        d.minTreeSamples = 1u << 30;
+        const Film direct = fresh.renderer.render(camera, d);
+        EXPECT_GT(fresh.renderer.effects().pairsDirect, 0u);
+        EXPECT_EQ(fresh.store.treeCount(), 0u);  // nothing was built
+        for (size_t i = 0; i < e.size(); ++i)
+            EXPECT_NEAR(channelSum(direct.sum[i] / direct.passes), e[i], 1e-9 * (1 + e[i]))
+                << "pixel " << i;
+    }
     s.method = DirectMethod::Sampled;
     s.lightSamples = test::scaled(64);
     const Replicates sampled = replicate(rig, camera, s, 24);
@@ -277,6 +292,7 @@ TEST(Renderer, PointUnderSquareLightMatchesClosedForm) {
     RenderSettings s;
     s.width = s.height = 1;
     s.spp = 3;
+    s.minTreeSamples = 0;  // a tree per pair, to count the pairs below
     const Film film = rig.renderer.render(camera, s);
     const double f = 4 * cornerFormFactor(0.5, 0.5, 1.0);
     const Vec3 expected{kd.x * ke.x * f, kd.y * ke.y * f, kd.z * ke.z * f};

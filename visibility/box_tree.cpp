@@ -74,14 +74,15 @@ void BoxTree::overlapping(const Bounds3& query, std::vector<uint32_t>& out) cons
     }
 }
 
-uint32_t BoxTree::notOutside(std::span<const PlaneOrient> planes,
-                             std::vector<uint32_t>& out) const {
+uint32_t BoxTree::notOutside(std::span<const PlaneOrient> planes, std::vector<uint32_t>& out,
+                             uint64_t maxVisits) const {
     if (nodes_.empty()) return 0;
     uint32_t visited = 0;
     uint32_t stack[64];
     int top = 0;
     stack[top++] = 0;
     while (top > 0) {
+        if (maxVisits != 0 && visited > maxVisits) break;
         const Node& n = nodes_[stack[--top]];
         ++visited;
         if (outsideOne(planes, n.box)) continue;

@@ -32,8 +32,10 @@ class BoxTree {
     // Appends to `out` every item whose box meets `query` (closed), in no order.
     void overlapping(const Bounds3& query, std::vector<uint32_t>& out) const;
     // Appends to `out` every item whose box is not certainly outside one of `planes` (strictly on
-    // its negative side), in no order. Returns the nodes visited (the query's cost).
-    uint32_t notOutside(std::span<const PlaneOrient> planes, std::vector<uint32_t>& out) const;
+    // its negative side), in no order. Returns the nodes visited (the query's cost); stops early,
+    // with an incomplete answer, once more than maxVisits nodes were visited (0 = no limit).
+    uint32_t notOutside(std::span<const PlaneOrient> planes, std::vector<uint32_t>& out,
+                        uint64_t maxVisits = 0) const;
 
   private:
     struct Node {

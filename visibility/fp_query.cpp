@@ -154,11 +154,7 @@ void FromPointQuery::reachVisible(std::span<const Vec3> poly, size_t from, size_
     fragments_.add(poly);
 }
 
-void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree& tree) {
-    active_.clear();
-    activePlanes_.clear();
-    deferredClips_ = 0;
-    if (!tree.partial()) return;
+void FromPointQuery::preparePyramid() {
     // The pyramid from x over L (clipped to B's front): a line from x to L lies inside it, so an
     // occluder with no vertex strictly inside one of its side planes blocks none of them.
     pyramid_.clear();
@@ -172,72 +168,127 @@ void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree&
         if (inner == Sign::Negative) plane = PlaneOrient(x_, b, a);
         pyramid_.push_back(plane);
     }
+}
+
+void FromPointQuery::activate(const PolygonMesh& mesh, uint32_t face,
+                              std::span<const Vec3> points) {
+    // x on the occluder's plane: its lines from x lie in that plane (measure zero).
+    const Sign side = facePlane(mesh, face).side(x_);
+    if (side == Sign::Zero) return;
+    for (const PlaneOrient& plane : pyramid_) {
+        bool inside = false;
+        for (const Vec3& p : points) inside |= plane.sign(p) == Sign::Positive;
+        if (!inside) return;
+    }
+    // Seen from x in front of its plane, the occluder is counter-clockwise, and the lines from x
+    // through it lie on the negative side of every plane (x, a, b) of its edges a -> b:
+    // orient3d(x, p, a, b) = -orient3d(p, a, b, x) for p inside it.
+    ActiveOccluder a;
+    a.firstPlane = static_cast<uint32_t>(activePlanes_.size());
+    a.planeCount = static_cast<uint32_t>(points.size());
+    a.blocked = side == Sign::Positive ? Sign::Negative : Sign::Positive;
+    for (size_t i = 0; i < points.size(); ++i)
+        activePlanes_.emplace_back(x_, points[i], points[(i + 1) % points.size()]);
+    active_.push_back(a);
+}
+
+void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree& tree) {
+    active_.clear();
+    activePlanes_.clear();
+    deferredClips_ = 0;
+    if (!tree.partial()) return;
+    preparePyramid();
     // The occluders whose box may meet the pyramid: from the index (each node visited is one
     // unit of work), in insertion order.
     candidates_.clear();
     if (!tree.deferredIndex.empty()) {
-        const uint32_t visited = tree.deferredIndex.notOutside(pyramid_, candidates_);
-        std::sort(candidates_.begin(), candidates_.end());
-        work_ += visited;
+        work_ += tree.deferredIndex.notOutside(pyramid_, candidates_, workBudgetLeft());
         if (workLimit_ != 0 && work_ > workLimit_) {
             limitReached_ = true;
             return;
         }
+        std::sort(candidates_.begin(), candidates_.end());
     } else {
         for (uint32_t k = 0; k < tree.deferred.size(); ++k) candidates_.push_back(k);
     }
     for (uint32_t k : candidates_) {
-        const DeferredOccluder& d = tree.deferred[k];
         if (!spend()) return;
-        // x on the occluder's plane: its lines from x lie in that plane (measure zero).
-        const FacePlane facing = facePlane(mesh, d.face);
-        const Sign side = facing.side(x_);
-        if (side == Sign::Zero) continue;
+        const DeferredOccluder& d = tree.deferred[k];
         occluderPoints_.clear();
         for (uint32_t id : d.vertexIds) occluderPoints_.push_back(tree.vertex(mesh, id));
-        bool outside = false;
-        for (const PlaneOrient& plane : pyramid_) {
-            bool inside = false;
-            for (const Vec3& p : occluderPoints_) inside |= plane.sign(p) == Sign::Positive;
-            if (!inside) {
-                outside = true;
-                break;
-            }
-        }
-        if (outside) continue;
-        // Seen from x in front of its plane, the occluder is counter-clockwise, and the lines
-        // from x through it lie on the negative side of every plane (x, a, b) of its edges
-        // a -> b: orient3d(x, p, a, b) = -orient3d(p, a, b, x) for p inside it.
-        ActiveOccluder a;
-        a.firstPlane = static_cast<uint32_t>(activePlanes_.size());
-        a.planeCount = static_cast<uint32_t>(occluderPoints_.size());
-        a.blocked = side == Sign::Positive ? Sign::Negative : Sign::Positive;
-        for (size_t i = 0; i < occluderPoints_.size(); ++i)
-            activePlanes_.emplace_back(x_, occluderPoints_[i],
-                                       occluderPoints_[(i + 1) % occluderPoints_.size()]);
-        active_.push_back(a);
+        activate(mesh, d.face, occluderPoints_);
     }
 }
 
-void FromPointQuery::preparePair(const PolygonMesh& mesh, const HistoryTree& tree) {
+const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t receiver,
+                                              uint32_t light, const Vec3& x, const BoxTree& faces) {
+    fragments_.clear();
+    nodesVisited_ = 0;
+    work_ = 0;
+    limitReached_ = false;
+    active_.clear();
+    activePlanes_.clear();
+    deferredClips_ = 0;
+    path_ = nullptr;
+    region_ = nullptr;
+    if (receiver == light) return fragments_;
+    preparePair(mesh, receiver, light);
+    if (lightPlane_.sign(x) != Sign::Positive) return fragments_;
+    if (lightClipped_.size() < 3) return fragments_;
+    mesh_ = &mesh;
+    tree_ = nullptr;
+    x_ = x;
+    preparePyramid();
+    candidates_.clear();
+    work_ += faces.notOutside(pyramid_, candidates_, workBudgetLeft());
+    if (workLimit_ != 0 && work_ > workLimit_) {
+        limitReached_ = true;
+        return fragments_;
+    }
+    // Insertion order as the builder's (pair_occluders.h) would be costlier to find than it
+    // saves; face order keeps the answer deterministic.
+    std::sort(candidates_.begin(), candidates_.end());
+    // Each candidate clipped to the region strictly in front of B's and L's planes, as the
+    // builder clips its occluders: a line from x to L meets the clipped part between them.
+    const OrientedPlane frontB{receiverPlane_[0], receiverPlane_[1], receiverPlane_[2]};
+    const FacePlane pl = facePlane(mesh, light);
+    const OrientedPlane frontL{pl.a, pl.b, pl.c};
+    for (uint32_t f : candidates_) {
+        if (f == receiver || f == light) continue;
+        if (!spend()) return fragments_;
+        occluderPoints_.clear();
+        for (uint32_t v : mesh.faces[f]) occluderPoints_.push_back(mesh.vertices[v]);
+        if (occluderPoints_.size() < 3) continue;
+        clipConvexInto(occluderPoints_, frontB, directClip_, discard_);
+        if (directClip_.size() < 3) continue;
+        clipConvexInto(directClip_, frontL, occluderPoints_, discard_);
+        if (occluderPoints_.size() < 3) continue;
+        activate(mesh, f, occluderPoints_);
+    }
+    deferredPrepared_ = true;
+    reachVisible(lightClipped_, 0, 0);
+    return fragments_;
+}
+
+void FromPointQuery::preparePair(const PolygonMesh& mesh, uint32_t receiver, uint32_t light) {
     // What depends on the pair and not on x: reused while consecutive runs ask for the same pair.
     // Checked by value (the faces' vertex coordinates), so a changed or reloaded mesh is noticed.
-    const auto& lightFace = mesh.faces[tree.light];
-    const auto& receiverFace = mesh.faces[tree.receiver];
-    bool same = preparedMesh_ == &mesh && preparedReceiver_ == tree.receiver &&
-                preparedLight_ == tree.light && light_.size() == lightFace.size();
+    const auto& lightFace = mesh.faces[light];
+    const auto& receiverFace = mesh.faces[receiver];
+    bool same = preparedMesh_ == &mesh && preparedReceiver_ == receiver &&
+                preparedLight_ == light && light_.size() == lightFace.size();
     for (size_t i = 0; same && i < lightFace.size(); ++i)
         same = light_[i] == mesh.vertices[lightFace[i]];
     for (size_t i = 0; same && i < 3; ++i)
         same = receiverPlane_[i] == mesh.vertices[receiverFace[i]];
     if (same) return;
     preparedMesh_ = &mesh;
-    preparedReceiver_ = tree.receiver;
-    preparedLight_ = tree.light;
+    preparedReceiver_ = receiver;
+    preparedLight_ = light;
     light_.clear();
     for (uint32_t v : lightFace) light_.push_back(mesh.vertices[v]);
     for (size_t i = 0; i < 3; ++i) receiverPlane_[i] = mesh.vertices[receiverFace[i]];
-    const FacePlane pl = facePlane(mesh, tree.light);
+    const FacePlane pl = facePlane(mesh, light);
     lightPlane_ = PlaneOrient(pl.a, pl.b, pl.c);
     // The receiver sees only its front hemisphere (B's plane, exact on input points).
     clipConvexInto(light_, OrientedPlane{receiverPlane_[0], receiverPlane_[1], receiverPlane_[2]},
@@ -256,7 +307,7 @@ const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTr
     active_.clear();
     deferredClips_ = 0;
     if (tree.kind == PairKind::BackFacing || tree.kind == PairKind::FullyHidden) return fragments_;
-    preparePair(mesh, tree);
+    preparePair(mesh, tree.receiver, tree.light);
     // The light emits only to its front: x must be strictly in front of L's plane.
     if (lightPlane_.sign(x) != Sign::Positive) return fragments_;
     if (lightClipped_.size() < 3) return fragments_;

@@ -66,6 +66,13 @@ class FromPointQuery {
     const FragmentList& run(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x,
                             std::vector<uint32_t>* path = nullptr,
                             RegionDecisions* region = nullptr);
+    // The same answer without a tree: the visible fragments of `light` from x on `receiver`, with
+    // every face of `faces` (a hierarchy over the mesh's face boxes) that may meet the pyramid from
+    // x over the light clipped from x directly (as a partial tree's deferred occluders are). Exact
+    // like run(); costs O(log faces + the faces in that pyramid) per point and no precompute: for
+    // pairs seen by a few points only (the renderer's choice). Honours the work limit.
+    const FragmentList& runDirect(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
+                                  const Vec3& x, const BoxTree& faces);
     uint32_t nodesVisited() const { return nodesVisited_; }
 
     // Work budget of one run, in plane tests (a node's test, or a deferred occluder's edge
@@ -81,7 +88,11 @@ class FromPointQuery {
     uint32_t deferredClips() const { return deferredClips_; }
 
   private:
-    void preparePair(const PolygonMesh& mesh, const HistoryTree& tree);
+    void preparePair(const PolygonMesh& mesh, uint32_t receiver, uint32_t light);
+    void preparePyramid();  // pyramid_: the planes through x_ and the edges of lightClipped_
+    // Adds the occluder polygon `points` (ids and plane from face `face`) to active_ unless it
+    // certainly blocks nothing from x_ (outside the pyramid, or x_ on its plane).
+    void activate(const PolygonMesh& mesh, uint32_t face, std::span<const Vec3> points);
     void visit(uint32_t node, std::span<const Vec3> poly, size_t depth);
     // What reaches a visible leaf: kept, or with deferred occluders clipped against those from
     // active_[from] on.
@@ -101,6 +112,10 @@ class FromPointQuery {
     uint32_t nodesVisited_ = 0;
     uint64_t workLimit_ = 0, work_ = 0;
     bool limitReached_ = false;
+    // What is left of the work limit (0 = no limit: unbounded).
+    uint64_t workBudgetLeft() const {
+        return workLimit_ == 0 ? 0 : (work_ < workLimit_ ? workLimit_ - work_ : 1);
+    }
     // Counts one plane test; false once the work limit is reached (the run then unwinds).
     bool spend() {
         ++work_;
@@ -128,6 +143,7 @@ class FromPointQuery {
     std::vector<PlaneOrient> pyramid_;  // the planes through x and L's edges, interior positive
     std::vector<Vec3> occluderPoints_;
     std::vector<uint32_t> candidates_;
+    std::vector<Vec3> directClip_;
     uint32_t deferredClips_ = 0;
     bool deferredPrepared_ = true;  // active_ is ready for this run
 };

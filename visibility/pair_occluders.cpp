@@ -7,13 +7,8 @@
 #include "visibility/polygon_clip.h"
 
 namespace penumbra::vis {
-namespace {
+namespace {}  // namespace
 
-// The supporting planes of conv(B u L) through an edge of one polygon and a vertex of the other,
-// oriented so that every vertex of B and L lies on their closed positive side. Every segment from
-// B to L lies in that hull, so a polygon with no vertex strictly on the positive side of one of
-// these planes meets the segments in a set of measure zero at most. Exact: the planes go through
-// the input points and every side is an orient3d sign.
 std::vector<PlaneOrient> hullPlanes(std::span<const Vec3> b, std::span<const Vec3> l) {
     std::vector<PlaneOrient> planes;
     auto tryPlane = [&](const Vec3& p, const Vec3& q, const Vec3& r) {
@@ -32,10 +27,11 @@ std::vector<PlaneOrient> hullPlanes(std::span<const Vec3> b, std::span<const Vec
     for (auto [from, to] : {std::pair{b, l}, std::pair{l, b}})
         for (size_t i = 0; i < from.size(); ++i)
             for (const Vec3& v : to) tryPlane(from[i], from[(i + 1) % from.size()], v);
+    // The polygons' own planes, where the other lies on one side (the caps of the hull).
+    for (std::span<const Vec3> poly : {b, l})
+        if (poly.size() >= 3) tryPlane(poly[0], poly[1], poly[2]);
     return planes;
 }
-
-}  // namespace
 
 FacePlane facePlane(const PolygonMesh& mesh, uint32_t face) {
     const auto& f = mesh.faces[face];

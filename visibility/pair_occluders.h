@@ -42,6 +42,14 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
                               std::span<const uint32_t> candidates,
                               std::span<const Vec3> receiverRegion);
 
+// The supporting planes of conv(B u L) through an edge of one polygon and a vertex of the other,
+// and B's and L's own planes where they support it (B and L planar: their first three vertices),
+// oriented so that every vertex of B and L lies on their closed positive side. Every segment from
+// B to L lies in that hull, so a polygon with no vertex strictly on the positive side of one of
+// these planes meets the segments in a set of measure zero at most. Exact: the planes go through
+// the input points and every side is an orient3d sign.
+std::vector<PlaneOrient> hullPlanes(std::span<const Vec3> b, std::span<const Vec3> l);
+
 // The three input vertices that define a face's plane for exact side tests (the first three:
 // faces are validated planar and strictly convex on load).
 struct FacePlane {

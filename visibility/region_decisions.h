@@ -49,7 +49,6 @@ class RegionDecisions {
     uint32_t decided() const { return decided_; }
     uint32_t splits() const { return splits_; }
 
-
   private:
     Decision compute(uint32_t node);
 
