@@ -65,15 +65,49 @@ def scaling(rows, out):
     for r in rows:
         if r["bytes"] == 0:
             ax[1].axvline(r["faces"], color="gray", linestyle=":", linewidth=1)
-    ax[1].set_title("dotted: no tree built (all too complex or over the limit)", fontsize=8)
+    ax[1].set_title("dotted: no tree built (over the limit)", fontsize=8)
     ax[1].set_xlabel("faces")
     ax[1].legend(fontsize=8)
     ax[1].grid(True, which="both", alpha=0.3)
     for r in rows:
-        ax[0].annotate("%d/%d done, %d too complex%s" % (r["done"], r["pairs"], r["kinds"]["tooComplex"],
+        ax[0].annotate("%d/%d done, %d partial%s" % (r["done"], r["pairs"], r["kinds"]["partial"],
                        "" if r["complete"] else ", limit"), (r["faces"], max(r["cpu"], 1e-6)),
                        textcoords="offset points", xytext=(4, -10), fontsize=7)
     fig.suptitle("Precompute of a fixed set of receiver patches (floor + 32 model faces)")
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    plt.close(fig)
+
+
+def table1(rows, out):
+    """Wall time per scene: 128-ray sampling against the exact method (precompute + render)."""
+    rows = [r for r in rows if "renderWall" in r["exact"]]
+    if not rows:
+        return
+    names = [os.path.splitext(os.path.basename(r["scene"]))[0] for r in rows]
+    x = range(len(rows))
+    fig, ax = plt.subplots(figsize=(9, 4))
+    w = 0.38
+    ax.bar([i - w / 2 for i in x], [r["sampled128"]["wall"] for r in rows], w,
+           label="sampled, 128 rays", color="#c44e52")
+    pre = [r["exact"]["precomputeWall"] for r in rows]
+    ren = [r["exact"]["renderWall"] for r in rows]
+    ax.bar([i + w / 2 for i in x], pre, w, label="exact: precompute", color="#8172b2")
+    ax.bar([i + w / 2 for i in x], ren, w, bottom=pre, label="exact: render", color="#4c72b0")
+    for i, r in enumerate(rows):
+        e = r["exact"]
+        share = 100.0 * e.get("sampledEvaluations", 0) / max(1, e.get("evaluations", 1))
+        ax.annotate("%.1fx%s" % (r["speedupWall"], "\n%.0f%% sampled" % share if share >= 0.5 else ""),
+                    (i + w / 2, pre[i] + ren[i]), textcoords="offset points", xytext=(0, 3),
+                    ha="center", fontsize=7)
+    ax.set_xticks(list(x))
+    ax.set_xticklabels(["%s\n%s faces, %dx%d" % (n, r["faces"], r["width"], r["height"])
+                        for n, r in zip(names, rows)], fontsize=7)
+    ax.set_yscale("log")
+    ax.set_ylabel("wall seconds (log)")
+    ax.set_title("Table 1: exact against 128-ray sampling, %d spp" % rows[0]["spp"])
+    ax.legend(fontsize=8)
+    ax.grid(True, axis="y", which="both", alpha=0.3)
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     plt.close(fig)
@@ -85,6 +119,8 @@ def main():
     d = sys.argv[1]
     with open(os.path.join(d, "bench.json")) as fh:
         b = json.load(fh)
+    if b.get("table1"):
+        table1(b["table1"], os.path.join(d, "table1.png"))
     if "accuracy" in b:
         accuracy(b["accuracy"], os.path.join(d, "accuracy.png"))
     if b.get("scaling"):

@@ -12,7 +12,8 @@ double polygonArea(std::span<const Vec3> polygon);
 
 // Point-to-polygon form factor by Lambert's formula:
 //   F = 1/(2 pi) * sum_i Theta_i * (n . Gamma_i)
-// with Theta_i the angle subtended at x by edge i (atan2 of |a x b| and a . b, never acos) and
+// with Theta_i the angle subtended at x by edge i (from |a x b| and a . b by the half-angle
+// identity, never acos) and
 // Gamma_i the unit normal of the plane through x and edge i. n is the unit receiver normal.
 // The polygon is taken as seen (no horizon clipping): clip it to n's hemisphere first.
 // Returns a non-negative value for a polygon whose front faces x.

@@ -138,15 +138,23 @@ void splitIntoVectors(std::span<const Vec3> polygon, ValueOf valueOf, std::vecto
     negative.resize(nn);
 }
 
-// splitConstructed's value of a vertex: exact sign for input vertices, the filter's otherwise (an
-// uncertain constructed vertex counts as on the plane).
-double constructedValue(const PlaneOrient& plane, std::span<const Vec3> inputVertices,
-                        const Vec3& y) {
-    BoundedValue v;
-    if (plane.filtered(y, v)) return v.value;
+// The filter could not decide: exact for an input vertex, on the plane for a constructed one.
+[[gnu::noinline]] double uncertainValue(const PlaneOrient& plane,
+                                        std::span<const Vec3> inputVertices, const Vec3& y) {
     for (const Vec3& input : inputVertices)
         if (input.x == y.x && input.y == y.y && input.z == y.z) return plane.value(y).value;
     return 0.0;
+}
+
+// splitConstructed's value of a vertex: exact sign for input vertices, the filter's otherwise (an
+// uncertain constructed vertex counts as on the plane). The filter's path inlined: it is the
+// from-point query's innermost loop.
+[[gnu::always_inline]] inline double constructedValue(const PlaneOrient& plane,
+                                                      std::span<const Vec3> inputVertices,
+                                                      const Vec3& y) {
+    BoundedValue v;
+    if (plane.filtered(y, v)) return v.value;
+    return uncertainValue(plane, inputVertices, y);
 }
 
 }  // namespace
