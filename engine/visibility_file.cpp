@@ -35,7 +35,6 @@ constexpr size_t kRecordFixedBytes = 5 * 4 + 1 + 1 + 2 + 5 * 4;
 constexpr size_t kNodeBytes = 16;
 constexpr size_t kVertexBytes = 24;
 constexpr size_t kStatsBytes = 3 * 4 + 8 * 8 + 8;
-constexpr size_t kMaxDeferredVertices = 1024;  // a clipped polygon: at most its face's + 2
 constexpr size_t kMaxReasonBytes = 1024;
 
 std::string hex(uint64_t v) {
@@ -110,11 +109,7 @@ std::vector<unsigned char> serialize(const VisibilityStore& store, bool withStat
             w.f64(v.z);
         }
         for (uint32_t f : t.nodeOccluder) w.u32(f);
-        for (const vis::DeferredOccluder& d : t.deferred) {
-            w.u32(d.face);
-            w.u32(static_cast<uint32_t>(d.vertexIds.size()));
-            for (uint32_t id : d.vertexIds) w.u32(id);
-        }
+        for (const vis::DeferredOccluder& d : t.deferred) w.u32(d.face);
         if (withStats) {
             const vis::BuildStats& s = record->stats;
             w.u32(s.occludersInShaft);
@@ -245,9 +240,8 @@ void validateTree(const PairKey& key, const vis::HistoryTree& t, const Visibilit
         const vis::DeferredOccluder& d = t.deferred[i];
         const std::string what = "deferred occluder " + std::to_string(i);
         if (d.face >= faces) fail(what + ": face " + std::to_string(d.face) + " out of range");
-        if (d.vertexIds.size() < 3) fail(what + ": fewer than 3 vertices");
-        for (uint32_t id : d.vertexIds)
-            if (id >= vertexIds) fail(what + " uses a vertex id out of range");
+        if (d.face == key.receiver || d.face == key.lightFace)
+            fail(what + ": the receiver or the light itself");
     }
     const auto n = static_cast<uint32_t>(t.nodes.size());
     std::vector<uint32_t> parents(n, 0), depth(n, 1);
@@ -345,7 +339,7 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
         // Every count against the bytes left before anything is allocated.
         const uint64_t need = uint64_t{reasonBytes} + uint64_t{nodes} * kNodeBytes +
                               uint64_t{extras} * kVertexBytes + uint64_t{occluders} * 4 +
-                              uint64_t{deferred} * 8 + (hasStats ? kStatsBytes : 0);
+                              uint64_t{deferred} * 4 + (hasStats ? kStatsBytes : 0);
         if (need > p.left())
             throw Corrupt(where + ": truncated or bad counts (" + std::to_string(nodes) +
                           " nodes, " + std::to_string(extras) + " vertices, " +
@@ -371,17 +365,7 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
         t.nodeOccluder.resize(occluders);
         for (uint32_t& f : t.nodeOccluder) f = p.u32();
         t.deferred.resize(deferred);
-        for (vis::DeferredOccluder& d : t.deferred) {
-            p.need(8, "a deferred occluder");
-            d.face = p.u32();
-            const uint32_t count = p.u32();
-            if (count > kMaxDeferredVertices)
-                throw Corrupt(where + ": a deferred occluder with " + std::to_string(count) +
-                              " vertices");
-            p.need(uint64_t{count} * 4, "a deferred occluder's vertices");
-            d.vertexIds.resize(count);
-            for (uint32_t& id : d.vertexIds) id = p.u32();
-        }
+        for (vis::DeferredOccluder& d : t.deferred) d.face = p.u32();
         if (hasStats) p.need(kStatsBytes, "the build statistics");
         if (hasStats) {
             vis::BuildStats& s = pt.record.stats;

@@ -12,8 +12,8 @@
 //                        u32 node count, u32 extra-vertex count, u32 node-occluder count,
 //                        u32 deferred-occluder count, the reason text (HistoryTree::why), nodes
 //                        (4 x u32 each), extra vertices (3 x f64 each), node occluders (u32
-//                        each), deferred occluders (u32 face, u32 vertex count, the vertex ids),
-//                        and with has-stats the BuildStats (3 x u32, 8 x u64, f64)
+//                        each), deferred occluders (u32 face each), and with has-stats the
+//                        BuildStats (3 x u32, 8 x u64, f64)
 //   trailer (8 bytes)  u64 checksum (engine/hash64.h) of header and payload
 //
 // Writing is atomic: a temporary file in the same directory, fsync, rename over the target (then

@@ -192,6 +192,20 @@ void FromPointQuery::activate(const PolygonMesh& mesh, uint32_t face,
     active_.push_back(a);
 }
 
+void FromPointQuery::activateFace(const PolygonMesh& mesh, uint32_t face) {
+    // Clipped to the region strictly in front of B's and L's planes, as the builder clips its
+    // occluders: a line from x to L meets the clipped part between them (and the line beyond x
+    // or beyond L, which the sign test would also see, lies outside that region).
+    occluderPoints_.clear();
+    for (uint32_t v : mesh.faces[face]) occluderPoints_.push_back(mesh.vertices[v]);
+    if (occluderPoints_.size() < 3) return;
+    clipConvexInto(occluderPoints_, frontB_, directClip_, discard_);
+    if (directClip_.size() < 3) return;
+    clipConvexInto(directClip_, frontL_, occluderPoints_, discard_);
+    if (occluderPoints_.size() < 3) return;
+    activate(mesh, face, occluderPoints_);
+}
+
 void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree& tree) {
     active_.clear();
     activePlanes_.clear();
@@ -213,10 +227,7 @@ void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree&
     }
     for (uint32_t k : candidates_) {
         if (!spend()) return;
-        const DeferredOccluder& d = tree.deferred[k];
-        occluderPoints_.clear();
-        for (uint32_t id : d.vertexIds) occluderPoints_.push_back(tree.vertex(mesh, id));
-        activate(mesh, d.face, occluderPoints_);
+        activateFace(mesh, tree.deferred[k].face);
     }
 }
 
@@ -248,22 +259,10 @@ const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t 
     // Insertion order as the builder's (pair_occluders.h) would be costlier to find than it
     // saves; face order keeps the answer deterministic.
     std::sort(candidates_.begin(), candidates_.end());
-    // Each candidate clipped to the region strictly in front of B's and L's planes, as the
-    // builder clips its occluders: a line from x to L meets the clipped part between them.
-    const OrientedPlane frontB{receiverPlane_[0], receiverPlane_[1], receiverPlane_[2]};
-    const FacePlane pl = facePlane(mesh, light);
-    const OrientedPlane frontL{pl.a, pl.b, pl.c};
     for (uint32_t f : candidates_) {
         if (f == receiver || f == light) continue;
         if (!spend()) return fragments_;
-        occluderPoints_.clear();
-        for (uint32_t v : mesh.faces[f]) occluderPoints_.push_back(mesh.vertices[v]);
-        if (occluderPoints_.size() < 3) continue;
-        clipConvexInto(occluderPoints_, frontB, directClip_, discard_);
-        if (directClip_.size() < 3) continue;
-        clipConvexInto(directClip_, frontL, occluderPoints_, discard_);
-        if (occluderPoints_.size() < 3) continue;
-        activate(mesh, f, occluderPoints_);
+        activateFace(mesh, f);
     }
     deferredPrepared_ = true;
     reachVisible(lightClipped_, 0, 0);
@@ -291,8 +290,9 @@ void FromPointQuery::preparePair(const PolygonMesh& mesh, uint32_t receiver, uin
     const FacePlane pl = facePlane(mesh, light);
     lightPlane_ = PlaneOrient(pl.a, pl.b, pl.c);
     // The receiver sees only its front hemisphere (B's plane, exact on input points).
-    clipConvexInto(light_, OrientedPlane{receiverPlane_[0], receiverPlane_[1], receiverPlane_[2]},
-                   lightClipped_, discard_);
+    frontB_ = OrientedPlane{receiverPlane_[0], receiverPlane_[1], receiverPlane_[2]};
+    frontL_ = OrientedPlane{pl.a, pl.b, pl.c};
+    clipConvexInto(light_, frontB_, lightClipped_, discard_);
 }
 
 const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTree& tree,

@@ -93,6 +93,8 @@ class FromPointQuery {
     // Adds the occluder polygon `points` (ids and plane from face `face`) to active_ unless it
     // certainly blocks nothing from x_ (outside the pyramid, or x_ on its plane).
     void activate(const PolygonMesh& mesh, uint32_t face, std::span<const Vec3> points);
+    // activate() for mesh face `face`, clipped to the region in front of B's and L's planes.
+    void activateFace(const PolygonMesh& mesh, uint32_t face);
     void visit(uint32_t node, std::span<const Vec3> poly, size_t depth);
     // What reaches a visible leaf: kept, or with deferred occluders clipped against those from
     // active_[from] on.
@@ -129,6 +131,7 @@ class FromPointQuery {
     uint32_t preparedReceiver_ = 0, preparedLight_ = 0;
     Vec3 receiverPlane_[3];
     PlaneOrient lightPlane_;
+    OrientedPlane frontB_{{}, {}, {}}, frontL_{{}, {}, {}};  // B's and L's planes (preparePair)
     std::vector<Vec3> light_, lightClipped_, discard_;
     // The split parts per recursion depth, reused along the walk and across runs.
     std::vector<SplitParts> parts_;

@@ -33,7 +33,7 @@ void indexDeferred(const PolygonMesh& mesh, HistoryTree& tree) {
     boxes.reserve(tree.deferred.size());
     for (DeferredOccluder& d : tree.deferred) {
         d.box = Bounds3{};
-        for (uint32_t id : d.vertexIds) d.box.add(tree.vertex(mesh, id));
+        for (uint32_t v : mesh.faces[d.face]) d.box.add(mesh.vertices[v]);
         boxes.push_back(d.box);
     }
     tree.deferredIndex = BoxTree(boxes);

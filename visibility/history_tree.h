@@ -61,15 +61,16 @@ void indexDeferred(const PolygonMesh& mesh, HistoryTree& tree);
 // Every reason above, for mapping a stored text back to its static string.
 std::span<const std::string_view> knownReasons();
 
-// An occluder the build did not insert (it stopped at BuildOptions::maxLpSolves). FPQuery clips
-// every fragment that reaches a visible leaf against it, from the query point, with the same
-// exact signs as the walk: a partial tree answers exactly like the complete one, only the work
-// moves from the precompute to the query.
+// An occluder the build did not insert (it stopped at BuildOptions::maxLpSolves): a mesh face.
+// FPQuery clips it to the region in front of B's and L's planes as the builder clips its
+// occluders (pair_occluders.h), then clips every fragment that reaches a visible leaf against it,
+// from the query point, with the same exact signs as the walk: a partial tree answers exactly
+// like the complete one, only the work moves from the precompute to the query. Stored as the face
+// alone (4 bytes): a partial tree of a large mesh defers tens of thousands.
 struct DeferredOccluder {
-    uint32_t face = 0;                // the mesh face it was clipped from (its plane: facePlane)
-    std::vector<uint32_t> vertexIds;  // the clipped polygon (pair_occluders.h), ids as the nodes'
-    // Derived, not stored in files: the box of its vertices, which lets a query skip it cheaply
-    // (indexDeferred() fills it; an empty box only means "no quick skip").
+    uint32_t face = 0;
+    // Derived, not stored in files: the box of the face's vertices, which lets a query skip it
+    // cheaply (indexDeferred() fills it; an empty box only means "no quick skip").
     Bounds3 box;
 };
 
@@ -98,7 +99,7 @@ struct HistoryTree {
     // Storage the tree needs: nodes and constructed vertices (not the debug information).
     size_t bytes() const {
         size_t b = nodes.size() * sizeof(HistoryNode) + extraVertices.size() * sizeof(Vec3);
-        for (const DeferredOccluder& d : deferred) b += sizeof(uint32_t) * (2 + d.vertexIds.size());
+        b += deferred.size() * sizeof(uint32_t);
         return b;
     }
     bool partial() const { return !deferred.empty(); }

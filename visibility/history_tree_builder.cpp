@@ -343,7 +343,7 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
         stats.exactCertificates = builder.polytopeStats().exactCertificates;
         if (stats.budgetExceeded && builder.root() != kHiddenLeaf)
             for (size_t i = inserting; i < occ.occluders.size(); ++i)
-                tree.deferred.push_back({occ.occluders[i].face, occ.occluders[i].vertexIds, {}});
+                tree.deferred.push_back({occ.occluders[i].face, {}});
         stats.occludersDeferred = static_cast<uint32_t>(tree.deferred.size());
         if (tree.partial()) {
             tree.kind = PairKind::Penumbra;
@@ -362,7 +362,7 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
             builder.emit(tree);
         }
         if (tree.kind == PairKind::Penumbra) {
-            // Keep only the constructed vertices the nodes and deferred occluders use, renumbered.
+            // Keep only the constructed vertices the nodes use, renumbered.
             std::vector<uint32_t> remap(occ.extraVertices.size(), UINT32_MAX);
             auto renumber = [&](uint32_t& id) {
                 if (id < tree.meshVertexCount) return;
@@ -377,8 +377,6 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
                 renumber(n.v0);
                 renumber(n.v1);
             }
-            for (DeferredOccluder& d : tree.deferred)
-                for (uint32_t& id : d.vertexIds) renumber(id);
             indexDeferred(mesh, tree);
         }
     }
