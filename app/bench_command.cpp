@@ -681,8 +681,8 @@ std::string report(const json& b, bool plots, const std::string& plotNote) {
                                                                        : "- | - |\n");
             }
         }
-        if (plots) r << "![Table 1](table1.png)\n\n";
         r << "\n";
+        if (plots) r << "![Table 1](table1.png)\n\n";
     }
     if (b.contains("accuracy")) {
         const json& a = b["accuracy"];
