@@ -101,6 +101,23 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             scratch.used.insert(key);
             if (direct) scratch.usedDirect.insert(key);
         }
+        // The points of a region cell after one whose query reached the work limit: sampled
+        // without trying (ExactScratch::regionOverLimit).
+        if (!scratch.regionCorners.empty()) {
+            if (scratch.regions.size() != lights_.size()) {
+                scratch.regions.assign(lights_.size(), vis::RegionDecisions{});
+                scratch.regionOf.assign(lights_.size(), 0);
+                scratch.regionOverLimit.assign(lights_.size(), 0);
+            }
+            if (scratch.regionOverLimit[k] == scratch.regionId &&
+                (record == nullptr || record->tree.kind == vis::PairKind::Penumbra)) {
+                ++scratch.exactEvaluations;
+                ++scratch.sampledEvaluations;
+                if (record == nullptr) ++scratch.directEvaluations;
+                out += sampledAreaLight(light, p, fallbackSamples, rng);
+                continue;
+            }
+        }
         if (record == nullptr) {  // direct: the faces in the pyramid from x, clipped from x
             const vis::FragmentList& list =
                 scratch.query.runDirect(scene_.mesh, p.face, light.face, p.x, bvh_.faceBoxes());
@@ -108,6 +125,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             ++scratch.directEvaluations;
             if (scratch.query.limitReached()) {
                 ++scratch.sampledEvaluations;
+                if (!scratch.regionCorners.empty()) scratch.regionOverLimit[k] = scratch.regionId;
                 out += sampledAreaLight(light, p, fallbackSamples, rng);
                 continue;
             }
@@ -133,17 +151,6 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         } else {
             vis::RegionDecisions* region = nullptr;
             if (!scratch.regionCorners.empty()) {
-                if (scratch.regions.size() != lights_.size()) {
-                    scratch.regions.assign(lights_.size(), vis::RegionDecisions{});
-                    scratch.regionOf.assign(lights_.size(), 0);
-                    scratch.regionOverLimit.assign(lights_.size(), 0);
-                }
-                if (scratch.regionOverLimit[k] == scratch.regionId) {
-                    ++scratch.exactEvaluations;
-                    ++scratch.sampledEvaluations;
-                    out += sampledAreaLight(light, p, fallbackSamples, rng);
-                    continue;
-                }
                 region = &scratch.regions[k];
                 if (scratch.regionOf[k] != scratch.regionId || region->tree() != &record->tree) {
                     region->reset(scene_.mesh, record->tree, scratch.regionCorners);
@@ -161,9 +168,10 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             if (list->empty()) continue;
         }
         if (list == nullptr && fragments.empty()) continue;
+        static const vis::FragmentList kNone;  // immutable: shared by every thread
         out += list != nullptr
                    ? shadeFragments(p, light, *list, {}, glossySamples, rng, scratch)
-                   : shadeFragments(p, light, {}, fragments, glossySamples, rng, scratch);
+                   : shadeFragments(p, light, kNone, fragments, glossySamples, rng, scratch);
     }
     return out;
 }
