@@ -13,6 +13,7 @@
 #include "engine/point_query.h"
 #include "engine/procedural_scenes.h"
 #include "tests/support/exact_reference.h"
+#include "tests/support/random_points.h"
 #include "tests/test_scale.h"
 #include "visibility/box_tree.h"
 #include "visibility/form_factor.h"
@@ -46,18 +47,7 @@ QueryOutcome evaluate(const vis::PolygonMesh& m, const vis::HistoryTree& t, cons
     return q;
 }
 
-// A random point strictly inside a convex face (a random convex combination of its vertices).
-Vec3 randomPointOn(const vis::PolygonMesh& m, uint32_t f, std::mt19937_64& rng) {
-    std::uniform_real_distribution<double> u(0.02, 1.0);
-    Vec3 p{};
-    double total = 0;
-    for (uint32_t v : m.faces[f]) {
-        const double w = u(rng);
-        p += m.vertices[v] * w;
-        total += w;
-    }
-    return p / total;
-}
+using test::randomPointOn;  // strictly inside a face (tests/support/random_points.h)
 
 // Trees per (receiver patch, light), as the query command builds them.
 struct Trees {

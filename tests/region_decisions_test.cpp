@@ -11,6 +11,7 @@
 #include "engine/procedural_scenes.h"
 #include "engine/visibility_store.h"
 #include "tests/support/exact_reference.h"
+#include "tests/support/random_points.h"
 #include "tests/test_scale.h"
 #include "visibility/form_factor.h"
 #include "visibility/fp_query.h"
@@ -20,17 +21,7 @@ namespace {
 
 using vis::Vec3;
 
-Vec3 randomPointOn(const vis::PolygonMesh& m, uint32_t f, std::mt19937_64& rng) {
-    std::uniform_real_distribution<double> u(0.02, 1.0);
-    Vec3 p{};
-    double total = 0;
-    for (uint32_t v : m.faces[f]) {
-        const double w = u(rng);
-        p += m.vertices[v] * w;
-        total += w;
-    }
-    return p / total;
-}
+using test::randomPointOn;
 
 // A small cluster of points on face f around a random centre (what a tile of pixels gives):
 // points within `radius` of the centre, pulled back into the face.
@@ -86,7 +77,6 @@ TEST(RegionDecisions, EveryLineOfTheRegionGoesTheDecidedWay) {
     const Scene scene = makeGrids();
     const vis::PolygonMesh& m = scene.mesh;
     std::mt19937_64 rng(7);
-    std::uniform_real_distribution<double> u(0, 1);
     size_t positive = 0, negative = 0, split = 0, lines = 0;
     forClusters(scene, test::scaled(60), 0.05, 11,
                 [&](const vis::HistoryTree& tree, const std::vector<Vec3>& points) {
@@ -105,22 +95,8 @@ TEST(RegionDecisions, EveryLineOfTheRegionGoesTheDecidedWay) {
                         const Vec3 v1 = tree.vertex(m, tree.nodes[node].v1);
                         for (int i = 0; i < 8; ++i) {
                             // A random point of the box and a random point of L.
-                            Vec3 x{};
-                            double wx = 0;
-                            for (const Vec3& c : corners) {
-                                const double w = u(rng);
-                                x += c * w;
-                                wx += w;
-                            }
-                            x = x / wx;
-                            Vec3 y{};
-                            double wy = 0;
-                            for (const Vec3& c : light) {
-                                const double w = u(rng);
-                                y += c * w;
-                                wy += w;
-                            }
-                            y = y / wy;
+                            const Vec3 x = test::randomCombination(corners, rng, 0.0);
+                            const Vec3 y = test::randomCombination(light, rng, 0.0);
                             const vis::Sign s = vis::orientSignExact(x, y, v0, v1);
                             ++lines;
                             if (d == vis::RegionDecisions::Decision::Positive)
