@@ -230,8 +230,8 @@ TEST(FpQuery, WorkLimitStopsARunAndSaysSo) {
         }
         ++checked;
     }
-    EXPECT_GT(checked, 50);
-    EXPECT_GT(stopped, 20);
+    EXPECT_GT(checked, test::scaled(300) / 6);
+    EXPECT_GT(stopped, test::scaled(300) / 15);
 }
 
 // The penumbra points must actually exercise the trees: in the grids scene most receiver points

@@ -107,10 +107,11 @@ TEST(RegionDecisions, EveryLineOfTheRegionGoesTheDecidedWay) {
                     }
                 });
     // Not vacuous: small regions decide most nodes, and some are split.
-    EXPECT_GT(positive, 100u);
-    EXPECT_GT(negative, 100u);
-    EXPECT_GT(split, 10u);
-    EXPECT_GT(lines, 1000u);
+    const auto atLeast = [](int n) { return static_cast<size_t>(test::scaled(n)); };
+    EXPECT_GT(positive, atLeast(100));
+    EXPECT_GT(negative, atLeast(100));
+    EXPECT_GT(split, atLeast(10));
+    EXPECT_GT(lines, atLeast(1000));
 }
 
 TEST(RegionDecisions, QueriesWithDecisionsMatchTheExactReference) {
@@ -143,10 +144,10 @@ TEST(RegionDecisions, QueriesWithDecisionsMatchTheExactReference) {
                         }
                         skipped += decisions.decided() - decisions.splits();
                     });
-        EXPECT_GT(compared, 50u);
+        EXPECT_GT(compared, static_cast<size_t>(test::scaled(50)));
     }
     // The decisions were used (the queries above went through decided nodes).
-    EXPECT_GT(skipped, 100u);
+    EXPECT_GT(skipped, static_cast<size_t>(test::scaled(100)));
 }
 
 TEST(RegionDecisions, RejectsRegionsOfAnotherTreeAndBadCorners) {
