@@ -31,6 +31,7 @@ AccuracyPlotRange accuracyPlotRange(const AccuracyStudy& s) {
     };
     for (const AccuracyPoint& p : s.sampled) add(p.seconds, p.rmse);
     add(s.exact.seconds, s.exact.rmse);
+    add(s.equalErrorSeconds, s.exact.rmse);  // the equal-error mark stays inside the plot
     if (s.referenceNoise > 0 && r.valid) {
         e0 = std::min(e0, std::log10(s.referenceNoise));
         e1 = std::max(e1, std::log10(s.referenceNoise));
@@ -100,7 +101,9 @@ void AccuracyPanel::drawPlot(ImDrawList* dl, ImVec2 o, ImVec2 size) {
         if (prev) dl->AddLine(last, q, kSampled, 2);
         dl->AddCircleFilled(q, 4, kSampled);
         std::snprintf(text, sizeof text, "%d", p.rays);
-        dl->AddText(ImVec2(q.x + 5, q.y - 15), kSampled, text);
+        // Right of the point, or left of it where the label would leave the plot.
+        const float w = ImGui::CalcTextSize(text).x;
+        dl->AddText(ImVec2(q.x + 5 + w > b.x ? q.x - 5 - w : q.x + 5, q.y - 15), kSampled, text);
         last = q;
         prev = &last;
         ++pointsDrawn_;
@@ -141,6 +144,8 @@ void AccuracyPanel::draw(const char* title) {
         ImGui::End();
         return;
     }
+    const ImVec2 pos = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
+    windowRect_ = {pos.x, pos.y, size.x, size.y};
     if (!has_) {
         ImGui::TextWrapped("No measurement yet: run the accuracy study for the current scene.");
         ImGui::End();

@@ -7,6 +7,7 @@
 
 #include <imgui.h>
 
+#include <array>
 #include <cstddef>
 
 #include "engine/accuracy_study.h"
@@ -29,6 +30,9 @@ class AccuracyPanel {
     void draw(const char* title);
     // Points drawn in the last frame (sampled + exact), for tests.
     size_t pointsDrawn() const { return pointsDrawn_; }
+    const AccuracyStudy& study() const { return study_; }
+    // The window's screen rectangle (x, y, width, height) in the last frame drawn.
+    const std::array<float, 4>& windowRect() const { return windowRect_; }
 
   private:
     void drawPlot(ImDrawList* dl, ImVec2 origin, ImVec2 size);
@@ -37,6 +41,7 @@ class AccuracyPanel {
     AccuracyPlotRange range_;
     bool has_ = false;
     size_t pointsDrawn_ = 0;
+    std::array<float, 4> windowRect_{0, 0, 0, 0};
 };
 
 }  // namespace penumbra::ui

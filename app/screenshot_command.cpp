@@ -1,5 +1,6 @@
 // `penumbra screenshot SCENE [--point X,Y,Z | --pixel X,Y] [--camera ...] [--size WxH]
-//  --out FILE.png [--state-out FILE.json] [--preview-out FILE.png] [--backend osmesa|egl] ...`
+//  --out FILE.png [--state-out FILE.json] [--preview-out FILE.png] [--backend osmesa|egl]
+//  [--precompute] [--accuracy] ...`
 //
 // Renders the complete viewer UI offscreen (app/viewer/headless_host.h): the same Viewer code as
 // the window, with the inspected point's fragments, path and tree panels open.
@@ -18,7 +19,7 @@ struct ScreenshotOptions {
     std::string scene, point, pixel, camera, size = "1280x800", out, stateOut, previewOut;
     std::string backend = "osmesa", previewMode = "exact";
     int lightSamples = 16, passes = 8;
-    bool noPreview = false, precompute = false;
+    bool noPreview = false, precompute = false, accuracy = false;
 };
 
 viewer::PreviewMode parsePreviewMode(const std::string& s) {
@@ -69,6 +70,7 @@ void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
     h.stateOut = o.stateOut;
     h.previewOut = o.previewOut;
     h.precompute = o.precompute;
+    h.accuracy = o.accuracy;
     try {
         viewer::runHeadless(h);
     } catch (const CommandError&) {
@@ -110,6 +112,9 @@ void registerScreenshotCommand(CLI::App& app) {
     sub->add_flag("--precompute", o->precompute,
                   "Precompute every pair in the background while drawing frames; the state "
                   "JSON records the frame times");
+    sub->add_flag("--accuracy", o->accuracy,
+                  "Run the view's accuracy-vs-time study (64x64, 2 spp: exact against 1..1024 "
+                  "shadow rays) in the background while drawing frames, and show its panel");
     sub->callback([sub, o] { runScreenshot(*sub, *o); });
 }
 

@@ -73,6 +73,10 @@ TEST(AccuracyPanel, RangeCoversThePointsInWholeDecades) {
     EXPECT_DOUBLE_EQ(r.logErrMin, -3);   // 0.0015625
     EXPECT_DOUBLE_EQ(r.logErrMax, -1);   // 0.1
     EXPECT_FALSE(penumbra::ui::accuracyPlotRange(AccuracyStudy{}).valid);
+    // An equal-error time beyond the sampled curve (extrapolated) widens the time axis to hold it.
+    AccuracyStudy far = handStudy();
+    far.equalErrorSeconds = 2;
+    EXPECT_DOUBLE_EQ(penumbra::ui::accuracyPlotRange(far).logTimeMax, 1);
 }
 
 }  // namespace

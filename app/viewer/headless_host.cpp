@@ -48,6 +48,11 @@ void runHeadless(const HeadlessOptions& o) {
                             {"meanSeconds", stats.frames ? stats.sumSeconds / stats.frames : 0.0},
                             {"precomputeSeconds", seconds}};
     }
+    if (o.accuracy) {
+        // As in the window: the study runs on the viewer's tasks while frames are drawn.
+        viewer.openAccuracyStudy();
+        while (viewer.accuracyStudyRunning()) viewer.frame(o.width, o.height, dt);
+    }
     viewer.waitForBackground();
     // A few frames: auto-sized windows settle in two.
     for (int i = 0; i < 3; ++i) viewer.frame(o.width, o.height, dt);

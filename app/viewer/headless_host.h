@@ -24,6 +24,9 @@ struct HeadlessOptions {
     // Start the precompute of every pair and draw frames until it ends, recording the frame
     // times (state JSON "precomputeFrames").
     bool precompute = false;
+    // Run the "Accuracy vs time" study of the view and draw frames until it ends: the panel is
+    // in the screenshot and the study in the state JSON ("accuracy").
+    bool accuracy = false;
     ViewerOptions viewer;
 };
 

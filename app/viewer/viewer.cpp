@@ -250,7 +250,7 @@ bool Viewer::precomputeRunning() const {
 }
 
 void Viewer::waitForBackground() {
-    if (previewDirty_) restartPreview();
+    if (options_.preview && previewDirty_) restartPreview();  // --no-preview: none
     tasks_.wait();
     preview_.wait();
     pollBackground();
@@ -330,7 +330,10 @@ void Viewer::frame(int width, int height, double deltaSeconds) {
     drawLightPlanePanel();
     drawPathPanel();
     if (showHelp_) drawHelpPanel();
-    if (showAccuracy_) drawAccuracyPanel();
+    if (showAccuracy_)
+        drawAccuracyPanel();
+    else
+        panelRects_.erase("Accuracy vs time");
     drawStatusBar();
     ImGui::Render();
 

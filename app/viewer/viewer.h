@@ -96,6 +96,11 @@ class Viewer {
     void cancelPrecompute();
     bool precomputeRunning() const;
 
+    // The "Accuracy vs time" study of the current view (engine/accuracy_study.h), in the
+    // background: opens its panels and starts it (the A key and the panel's button do the same).
+    void openAccuracyStudy();
+    bool accuracyStudyRunning() const;
+
     // One frame: ImGui frame (after the host's platform NewFrame), input, panels, the 3D view,
     // ImGui's draw data. The framebuffer must be bound and of this size.
     void frame(int width, int height, double deltaSeconds);

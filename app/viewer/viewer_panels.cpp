@@ -387,6 +387,13 @@ void Viewer::startAccuracyStudy() {
     });
 }
 
+void Viewer::openAccuracyStudy() {
+    showAccuracy_ = true;
+    startAccuracyStudy();
+}
+
+bool Viewer::accuracyStudyRunning() const { return accuracyJob_ && !accuracyJob_->done; }
+
 void Viewer::cancelAccuracyStudy() {
     if (accuracyJob_) accuracyJob_->cancel = true;
 }
@@ -398,8 +405,12 @@ void Viewer::drawAccuracyPanel() {
         accuracyPanel_->setResult(job->result);
         accuracyJob_.reset();
     }
-    ImGui::SetNextWindowSize(ImVec2(560, 460), ImGuiCond_FirstUseEver);
-    if (ImGui::Begin("Accuracy controls", &showAccuracy_, ImGuiWindowFlags_NoSavedSettings)) {
+    // First shown over the 3D view: the controls at its top left, the plot beside them.
+    const Viewport& vp = layout_.view;
+    const float vx = static_cast<float>(vp.x), vy = static_cast<float>(vp.y);
+    ImGui::SetNextWindowPos(ImVec2(vx + 8, vy + 64), ImGuiCond_FirstUseEver);
+    if (ImGui::Begin("Accuracy controls", &showAccuracy_,
+                     ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_AlwaysAutoResize)) {
         if (accuracyJob_ && !accuracyJob_->done) {
             ImGui::ProgressBar(static_cast<float>(accuracyJob_->progress.load()), ImVec2(-1, 0),
                                "measuring exact vs 1..1024 shadow rays");
@@ -409,7 +420,13 @@ void Viewer::drawAccuracyPanel() {
         }
     }
     ImGui::End();
-    if (accuracyPanel_->hasResult()) accuracyPanel_->draw("Accuracy vs time");
+    if (!accuracyPanel_->hasResult()) return;
+    ImGui::SetNextWindowPos(
+        ImVec2(vx + std::max(8.0f, 0.5f * (static_cast<float>(vp.width) - 640)), vy + 110),
+        ImGuiCond_FirstUseEver);
+    accuracyPanel_->draw("Accuracy vs time");
+    const std::array<float, 4>& r = accuracyPanel_->windowRect();
+    panelRects_["Accuracy vs time"] = {r[0], r[1], r[2], r[3]};
 }
 
 void Viewer::drawStatusBar() {

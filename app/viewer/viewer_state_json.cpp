@@ -1,8 +1,11 @@
 // Viewer::stateJson: what the UI shows, for `--state-out` and the tests that check screenshots
 // against independent queries.
+#include <cmath>
+
 #include "app/viewer/palette.h"
 #include "app/viewer/tree_panel.h"
 #include "app/viewer/viewer.h"
+#include "engine/accuracy_study.h"
 #include "engine/precompute_scheduler.h"
 
 namespace penumbra::viewer {
@@ -92,6 +95,35 @@ nlohmann::json Viewer::stateJson() const {
                    {"maxSeconds", frameStats_.maxSeconds},
                    {"meanSeconds",
                     frameStats_.frames > 0 ? frameStats_.sumSeconds / frameStats_.frames : 0.0}};
+    json accuracy = {{"shown", showAccuracy_}, {"running", accuracyStudyRunning()}};
+    if (accuracyPanel_ && accuracyPanel_->hasResult()) {
+        const AccuracyStudy& st = accuracyPanel_->study();
+        auto point = [](const AccuracyPoint& p) {
+            return json{{"rays", p.rays},
+                        {"seconds", p.seconds},
+                        {"rmse", p.rmse},
+                        {"maxError", p.maxError},
+                        {"precomputeSeconds", p.precomputeSeconds}};
+        };
+        json sampled = json::array();
+        for (const AccuracyPoint& p : st.sampled) sampled.push_back(point(p));
+        auto finiteOrNull = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+        accuracy["study"] = {{"width", st.options.width},
+                             {"height", st.options.height},
+                             {"spp", st.options.spp},
+                             {"complete", st.complete},
+                             {"sampled", sampled},
+                             {"exact", point(st.exact)},
+                             {"referenceNoise", st.referenceNoise},
+                             {"meanRadiance", st.meanRadiance},
+                             {"equalErrorSeconds", finiteOrNull(st.equalErrorSeconds)},
+                             {"equalErrorRays", finiteOrNull(st.equalErrorRays)},
+                             {"equalErrorExtrapolated", st.equalErrorExtrapolated},
+                             {"pointsDrawn", accuracyPanel_->pointsDrawn()}};
+    } else {
+        accuracy["study"] = nullptr;
+    }
+    s["accuracy"] = accuracy;
     if (precompute_) {
         const PrecomputeProgress p = precompute_->progress();
         s["precompute"] = {

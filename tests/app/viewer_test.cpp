@@ -204,6 +204,63 @@ TEST(ViewerScreenshot, SampledPreviewConvergesToTheExactOne) {
     EXPECT_TRUE(fs::exists(dir / "preview.png"));
 }
 
+// The "Accuracy vs time" panel of the view, run as the viewer runs it (in the background, frames
+// drawn meanwhile): the study's curve behaves as Monte Carlo must (the error of the sampled image
+// falls with every doubling of the rays, by about 1/sqrt(2) or faster with stratification), the
+// exact image agrees with the converged two-seed reference to within that reference's own noise,
+// and the panel draws the curve across the plot.
+TEST(ViewerScreenshot, AccuracyPanelPlotsTheStudyOfThisView) {
+    const fs::path dir = test::scratchDir("viewer_accuracy");
+    const fs::path scene = test::sourceDir() / "assets" / "scenes" / "cornell_box.json";
+    const test::ProcessResult r = test::runPenumbraGl(
+        {"screenshot", scene.string(), "--accuracy", "--no-preview", "--size", "1280x800", "--out",
+         (dir / "shot.png").string(), "--state-out", (dir / "state.json").string()});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const json state = test::readJson(dir / "state.json");
+    const json& a = state["accuracy"];
+    ASSERT_TRUE(a["shown"].get<bool>());
+    ASSERT_FALSE(a["running"].get<bool>());
+    ASSERT_FALSE(a["study"].is_null());
+    const json& st = a["study"];
+    ASSERT_TRUE(st["complete"].get<bool>());
+    const json& sampled = st["sampled"];
+    ASSERT_EQ(sampled.size(), 11u);  // 1, 2, 4 ... 1024 rays
+    for (size_t i = 0; i < sampled.size(); ++i) {
+        EXPECT_EQ(sampled[i]["rays"], 1 << i);
+        if (i == 0) continue;
+        EXPECT_LT(sampled[i]["rmse"].get<double>(), 0.9 * sampled[i - 1]["rmse"].get<double>())
+            << "rays " << sampled[i]["rays"];
+    }
+    const double exactRmse = st["exact"]["rmse"].get<double>();
+    const double noise = st["referenceNoise"].get<double>();
+    EXPECT_GT(noise, 0.0);
+    EXPECT_LT(exactRmse, 1.3 * noise);
+    EXPECT_LT(exactRmse, sampled.back()["rmse"].get<double>());
+    EXPECT_EQ(st["pointsDrawn"], 12);  // 11 sampled + the exact point
+
+    // The curve's colour (app/accuracy_panel.cpp kSampled) across the panel, not only in its
+    // legend: the points span three decades of time on the plot's log axis.
+    ASSERT_TRUE(state["panelRects"].contains("Accuracy vs time"));
+    const json& rect = state["panelRects"]["Accuracy vs time"];
+    const int x0 = rect[0], y0 = rect[1], w = rect[2], h = rect[3];
+    const test::Image image = test::readPng(dir / "shot.png");
+    ASSERT_GE(image.width, x0 + w);
+    ASSERT_GE(image.height, y0 + h);
+    int count = 0, minX = image.width, maxX = -1;
+    for (int y = y0; y < y0 + h; ++y)
+        for (int x = x0; x < x0 + w; ++x) {
+            const unsigned char* p = image.at(x, y);
+            if (std::abs(p[0] - 90) <= 12 && std::abs(p[1] - 160) <= 12 &&
+                std::abs(p[2] - 255) <= 12) {
+                ++count;
+                minX = std::min(minX, x);
+                maxX = std::max(maxX, x);
+            }
+        }
+    EXPECT_GT(count, 300);
+    EXPECT_GT(maxX - minX, w / 2) << "sampled-colour pixels from x " << minX << " to " << maxX;
+}
+
 // `penumbra view` with no display says so and writes the headless screenshot and its state
 // (with the surface point at the centre of the 3D view inspected) instead of failing.
 TEST(ViewerFallback, NoDisplayWritesTheHeadlessScreenshot) {
