@@ -87,6 +87,11 @@ bool Viewer::openScene(const std::filesystem::path& path) {
     error_.clear();
     clearSelection();
     preview_.stop();
+    // An accuracy study belongs to the scene it measured: a running one is dropped (its task
+    // keeps the old scene alive until it stops), a finished one is no longer shown.
+    cancelAccuracyStudy();
+    accuracyJob_.reset();
+    if (accuracyPanel_) accuracyPanel_->clear();
     if (precompute_) {
         // The old scheduler's destructor waits for its builds: let a task do that.
         cancelPrecompute();
