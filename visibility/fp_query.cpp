@@ -157,17 +157,7 @@ void FromPointQuery::reachVisible(std::span<const Vec3> poly, size_t from, size_
 void FromPointQuery::preparePyramid() {
     // The pyramid from x over L (clipped to B's front): a line from x to L lies inside it, so an
     // occluder with no vertex strictly inside one of its side planes blocks none of them.
-    pyramid_.clear();
-    const size_t n = lightClipped_.size();
-    for (size_t i = 0; i < n; ++i) {
-        const Vec3& a = lightClipped_[i];
-        const Vec3& b = lightClipped_[(i + 1) % n];
-        PlaneOrient plane(x_, a, b);
-        const Sign inner = plane.sign(lightClipped_[(i + 2) % n]);
-        if (inner == Sign::Zero) continue;  // degenerate: no help
-        if (inner == Sign::Negative) plane = PlaneOrient(x_, b, a);
-        pyramid_.push_back(plane);
-    }
+    pyramidPlanes(x_, lightClipped_, pyramid_);
 }
 
 void FromPointQuery::activate(const PolygonMesh& mesh, uint32_t face,
@@ -175,11 +165,7 @@ void FromPointQuery::activate(const PolygonMesh& mesh, uint32_t face,
     // x on the occluder's plane: its lines from x lie in that plane (measure zero).
     const Sign side = facePlane(mesh, face).side(x_);
     if (side == Sign::Zero) return;
-    for (const PlaneOrient& plane : pyramid_) {
-        bool inside = false;
-        for (const Vec3& p : points) inside |= plane.sign(p) == Sign::Positive;
-        if (!inside) return;
-    }
+    if (outsideOnePlane(pyramid_, points)) return;
     // Seen from x in front of its plane, the occluder is counter-clockwise, and the lines from x
     // through it lie on the negative side of every plane (x, a, b) of its edges a -> b:
     // orient3d(x, p, a, b) = -orient3d(p, a, b, x) for p inside it.
@@ -212,17 +198,11 @@ void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree&
     deferredClips_ = 0;
     if (!tree.partial()) return;
     preparePyramid();
-    // The occluders whose box may meet the pyramid: from the index (each node visited is one
-    // unit of work), in insertion order.
-    candidates_.clear();
+    // The occluders whose box may meet the pyramid, in insertion order.
     if (!tree.deferredIndex.empty()) {
-        work_ += tree.deferredIndex.notOutside(pyramid_, candidates_, workBudgetLeft());
-        if (workLimit_ != 0 && work_ > workLimit_) {
-            limitReached_ = true;
-            return;
-        }
-        std::sort(candidates_.begin(), candidates_.end());
+        if (!findCandidates(tree.deferredIndex)) return;
     } else {
+        candidates_.clear();
         for (uint32_t k = 0; k < tree.deferred.size(); ++k) candidates_.push_back(k);
     }
     for (uint32_t k : candidates_) {
@@ -231,8 +211,14 @@ void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree&
     }
 }
 
-const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t receiver,
-                                              uint32_t light, const Vec3& x, const BoxTree& faces) {
+bool FromPointQuery::findCandidates(const BoxTree& index) {
+    candidates_.clear();
+    if (!spend(index.notOutside(pyramid_, candidates_, workBudgetLeft()))) return false;
+    std::sort(candidates_.begin(), candidates_.end());
+    return true;
+}
+
+void FromPointQuery::startRun() {
     fragments_.clear();
     nodesVisited_ = 0;
     work_ = 0;
@@ -242,6 +228,11 @@ const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t 
     deferredClips_ = 0;
     path_ = nullptr;
     region_ = nullptr;
+}
+
+const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t receiver,
+                                              uint32_t light, const Vec3& x, const BoxTree& faces) {
+    startRun();
     if (receiver == light) return fragments_;
     preparePair(mesh, receiver, light);
     if (lightPlane_.sign(x) != Sign::Positive) return fragments_;
@@ -250,15 +241,9 @@ const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t 
     tree_ = nullptr;
     x_ = x;
     preparePyramid();
-    candidates_.clear();
-    work_ += faces.notOutside(pyramid_, candidates_, workBudgetLeft());
-    if (workLimit_ != 0 && work_ > workLimit_) {
-        limitReached_ = true;
-        return fragments_;
-    }
     // Insertion order as the builder's (pair_occluders.h) would be costlier to find than it
     // saves; face order keeps the answer deterministic.
-    std::sort(candidates_.begin(), candidates_.end());
+    if (!findCandidates(faces)) return fragments_;
     for (uint32_t f : candidates_) {
         if (f == receiver || f == light) continue;
         if (!spend()) return fragments_;
@@ -300,12 +285,7 @@ const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTr
                                         RegionDecisions* region) {
     if (region != nullptr && region->tree() != &tree)
         throw std::invalid_argument("FromPointQuery::run: region decisions of another tree");
-    fragments_.clear();
-    nodesVisited_ = 0;
-    work_ = 0;
-    limitReached_ = false;
-    active_.clear();
-    deferredClips_ = 0;
+    startRun();
     if (tree.kind == PairKind::BackFacing || tree.kind == PairKind::FullyHidden) return fragments_;
     preparePair(mesh, tree.receiver, tree.light);
     // The light emits only to its front: x must be strictly in front of L's plane.
@@ -320,8 +300,6 @@ const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTr
     x_ = x;
     path_ = path;
     region_ = region;
-    active_.clear();
-    activePlanes_.clear();
     deferredPrepared_ = !tree.partial();
     if (tree.nodes.empty())  // a partial tree with no node: one visible leaf
         reachVisible(lightClipped_, 0, 0);

@@ -100,6 +100,11 @@ class FromPointQuery {
     // active_[from] on.
     void reachVisible(std::span<const Vec3> poly, size_t from, size_t depth);
     void prepareDeferred(const PolygonMesh& mesh, const HistoryTree& tree);
+    // Resets the per-run state (the answer, counters, active occluders, path and region).
+    void startRun();
+    // candidates_: the items of `index` whose box may meet pyramid_, in increasing order, each
+    // node visited counted as work; false when the work limit stopped the search.
+    bool findCandidates(const BoxTree& index);
     SplitParts& partsAt(size_t depth) {
         if (parts_.size() <= depth) parts_.resize(depth + 1);
         return parts_[depth];
@@ -118,9 +123,10 @@ class FromPointQuery {
     uint64_t workBudgetLeft() const {
         return workLimit_ == 0 ? 0 : (work_ < workLimit_ ? workLimit_ - work_ : 1);
     }
-    // Counts one plane test; false once the work limit is reached (the run then unwinds).
-    bool spend() {
-        ++work_;
+    // Counts `tests` plane tests (or hierarchy nodes visited); false once the work limit is
+    // reached (the run then unwinds).
+    bool spend(uint64_t tests = 1) {
+        work_ += tests;
         if (workLimit_ != 0 && work_ > workLimit_) limitReached_ = true;
         return !limitReached_;
     }

@@ -7,7 +7,6 @@
 #include "visibility/polygon_clip.h"
 
 namespace penumbra::vis {
-namespace {}  // namespace
 
 std::vector<PlaneOrient> hullPlanes(std::span<const Vec3> b, std::span<const Vec3> l) {
     std::vector<PlaneOrient> planes;
@@ -31,6 +30,29 @@ std::vector<PlaneOrient> hullPlanes(std::span<const Vec3> b, std::span<const Vec
     for (std::span<const Vec3> poly : {b, l})
         if (poly.size() >= 3) tryPlane(poly[0], poly[1], poly[2]);
     return planes;
+}
+
+void pyramidPlanes(const Vec3& apex, std::span<const Vec3> polygon, std::vector<PlaneOrient>& out) {
+    out.clear();
+    const size_t n = polygon.size();
+    for (size_t i = 0; i < n; ++i) {
+        const Vec3& a = polygon[i];
+        const Vec3& b = polygon[(i + 1) % n];
+        PlaneOrient plane(apex, a, b);
+        const Sign inner = plane.sign(polygon[(i + 2) % n]);
+        if (inner == Sign::Zero) continue;  // degenerate: no help
+        if (inner == Sign::Negative) plane = PlaneOrient(apex, b, a);
+        out.push_back(plane);
+    }
+}
+
+bool outsideOnePlane(std::span<const PlaneOrient> planes, std::span<const Vec3> polygon) {
+    for (const PlaneOrient& plane : planes) {
+        bool inside = false;
+        for (const Vec3& p : polygon) inside |= plane.sign(p) == Sign::Positive;
+        if (!inside) return true;
+    }
+    return false;
 }
 
 FacePlane facePlane(const PolygonMesh& mesh, uint32_t face) {
@@ -63,14 +85,7 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
     for (uint32_t v : mesh.faces[light]) lightPoints.push_back(mesh.vertices[v]);
     const std::vector<PlaneOrient> hull = hullPlanes(receiverRegion, lightPoints);
     // Outside the hull of B and L (or touching it only): blocks no segment of positive measure.
-    auto outsideHull = [&](std::span<const Vec3> poly) {
-        for (const PlaneOrient& plane : hull) {
-            bool inside = false;
-            for (const Vec3& p : poly) inside |= plane.sign(p) == Sign::Positive;
-            if (!inside) return true;
-        }
-        return false;
-    };
+    auto outsideHull = [&](std::span<const Vec3> poly) { return outsideOnePlane(hull, poly); };
 
     // Insertion order: the occluders that hide the most of L from the centroid of B first. A
     // large early shadow makes the leaves behind it hidden, and later occluders there cost
@@ -79,15 +94,12 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
     // fastest on table and grids; penumbra_pair_stats.)
     Vec3 eye{};
     for (const Vec3& p : receiverRegion) eye += p / static_cast<double>(receiverRegion.size());
-    std::vector<OrientedPlane> pyramid;  // the side planes of the pyramid from eye over L
-    for (size_t i = 0; i < lightPoints.size(); ++i) {
-        const Vec3& a = lightPoints[i];
-        const Vec3& b = lightPoints[(i + 1) % lightPoints.size()];
-        const Vec3& inner = lightPoints[(i + 2) % lightPoints.size()];
-        OrientedPlane side{eye, a, b};
-        if (side.side(inner) == Sign::Negative) side = OrientedPlane{eye, b, a};
-        pyramid.push_back(side);
-    }
+    // The side planes of the pyramid from eye over L. (An eye in L's plane gives none, where every
+    // plane through it and an edge would be L's own; either way every shadow area is 0 then.)
+    std::vector<PlaneOrient> eyePyramid;
+    pyramidPlanes(eye, lightPoints, eyePyramid);
+    std::vector<OrientedPlane> pyramid;
+    for (const PlaneOrient& p : eyePyramid) pyramid.push_back(OrientedPlane{p.a, p.b, p.c});
     const Vec3 lightNormal = mesh.faceAreaNormal(light);
     auto shadowArea = [&](std::vector<Vec3> poly) {
         for (const OrientedPlane& plane : pyramid) {

@@ -50,6 +50,17 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
 // the input points and every side is an orient3d sign.
 std::vector<PlaneOrient> hullPlanes(std::span<const Vec3> b, std::span<const Vec3> l);
 
+// The side planes of the pyramid from `apex` over the convex polygon `polygon` (one per edge, the
+// plane through the apex and the edge), oriented so that the polygon lies on their closed positive
+// side; a plane the polygon's next vertex lies on (the apex in the polygon's plane) is left out.
+// Exact signs. Into `out` (cleared: hot loops reuse its capacity).
+void pyramidPlanes(const Vec3& apex, std::span<const Vec3> polygon, std::vector<PlaneOrient>& out);
+
+// Whether some plane has no vertex of `polygon` strictly on its positive side (exact signs): then
+// the polygon meets the region on the positive side of all of them in a set of measure zero at
+// most (hullPlanes, pyramidPlanes).
+bool outsideOnePlane(std::span<const PlaneOrient> planes, std::span<const Vec3> polygon);
+
 // The three input vertices that define a face's plane for exact side tests (the first three:
 // faces are validated planar and strictly convex on load).
 struct FacePlane {
