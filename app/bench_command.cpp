@@ -250,9 +250,7 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
                 "  exact: precompute %.2f s wall %.2f s cpu, render %.2f s wall %.2f s cpu, %zu "
                 "trees (%zu partial), %zu pairs without a tree, %.2f%% of evaluations sampled\n",
                 prepWall, prepCpu, t.total, t.totalCpu, store.treeCount(), store.partialCount(),
-                fx.pairsDirect,
-                100.0 * static_cast<double>(fx.sampledEvaluations) /
-                    static_cast<double>(std::max<uint64_t>(fx.exactEvaluations, 1)));
+                fx.pairsDirect, fx.sampledPercent());
             // Every point exact (no work limit), for the scenes whose hybrid sampled some points:
             // what the last part of exactness costs. Same trees, render only, cut at the limit.
             if (fx.sampledEvaluations > 0 && !large && !o.quick &&

@@ -169,10 +169,9 @@ void runPrecompute(const PrecomputeCommandOptions& o) {
     }
 
     const auto kinds = store.kindCounts();
-    size_t nodes = 0, partial = 0, deferred = 0;
+    size_t nodes = 0, deferred = 0;
     store.forEach([&](const PairKey&, const PairRecord& r) {
         nodes += r.tree.nodes.size();
-        partial += r.tree.partial() ? 1 : 0;
         deferred += r.tree.deferred.size();
     });
     std::printf("scene    %s: %u faces, %zu lights\n", o.scene.c_str(), scene.faceCount(),
@@ -181,7 +180,8 @@ void runPrecompute(const PrecomputeCommandOptions& o) {
         "pairs    %zu of %zu: %zu back-facing, %zu fully visible, %zu fully hidden, "
         "%zu penumbra (%zu partial: the build budget stopped them, %zu occluders left to the "
         "query)\n",
-        store.treeCount(), p.total, kinds[0], kinds[1], kinds[2], kinds[3], partial, deferred);
+        store.treeCount(), p.total, kinds[0], kinds[1], kinds[2], kinds[3], store.partialCount(),
+        deferred);
     std::printf("nodes    %zu\n", nodes);
     std::printf("bytes    %zu in memory, file %zu\n", store.bytes(), fileBytes);
     std::printf("seconds  %.3f\n", p.seconds);

@@ -1,6 +1,5 @@
 #include "engine/effects_summary.h"
 
-#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -67,9 +66,7 @@ std::string EffectsSummary::text() const {
              " - receivers (patches) no primary ray hit: not computed");
         if (sampledEvaluations > 0) {
             char share[32];
-            std::snprintf(share, sizeof share, "%.2f%%",
-                          100.0 * static_cast<double>(sampledEvaluations) /
-                              static_cast<double>(std::max<uint64_t>(exactEvaluations, 1)));
+            std::snprintf(share, sizeof share, "%.2f%%", sampledPercent());
             line("points sampled: " + std::to_string(sampledEvaluations) + " of " +
                  std::to_string(exactEvaluations) + " (" + share +
                  ") point-light evaluations - their exact answer needed more than " +

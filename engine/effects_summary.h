@@ -6,9 +6,23 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 
 namespace penumbra {
+
+// The exact method's (point, light) evaluations that needed a query (counted per renderer
+// thread, summed into EffectsSummary): all of them, those over the work limit (sampled instead),
+// and those of pairs without a tree (evaluated directly).
+struct ExactEvaluations {
+    uint64_t all = 0, sampled = 0, direct = 0;
+    ExactEvaluations& operator+=(const ExactEvaluations& o) {
+        all += o.all;
+        sampled += o.sampled;
+        direct += o.direct;
+        return *this;
+    }
+};
 
 struct EffectsSummary {
     // (receiver patch, light) pairs by what they call for; only penumbra pairs get a tree.
@@ -20,6 +34,12 @@ struct EffectsSummary {
     // (shading point, light) evaluations of the exact method, and those whose exact answer needed
     // more than exactWorkLimit plane tests: sampled with lightSamples shadow rays (not exact).
     uint64_t exactEvaluations = 0, sampledEvaluations = 0, exactWorkLimit = 0;
+    // sampledEvaluations as a percentage of exactEvaluations (0 when there were none).
+    double sampledPercent() const {
+        return exactEvaluations == 0 ? 0.0
+                                     : 100.0 * static_cast<double>(sampledEvaluations) /
+                                           static_cast<double>(exactEvaluations);
+    }
     // Pairs seen by fewer than minTreeSamples primary samples: no tree, each point evaluated
     // directly (exact), and those evaluations.
     size_t pairsDirect = 0;

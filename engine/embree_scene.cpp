@@ -366,7 +366,7 @@ std::vector<Vec3> EmbreeScene::facePolygon(uint32_t face) const {
 }
 
 std::vector<uint32_t> EmbreeScene::shaftCandidates(uint32_t receiver, uint32_t light) const {
-    checkFace(receiver, "receiver");
+    checkFace(receiver, "receiver");  // before facePolygon reads it
     return shaftCandidates(receiver, facePolygon(receiver), light);
 }
 

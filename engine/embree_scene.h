@@ -117,8 +117,8 @@ class EmbreeScene {
     // exact double-precision box tests, built with the scene): O(log faces + candidates), not
     // O(faces).
     std::vector<uint32_t> shaftCandidates(uint32_t receiver, uint32_t light) const;
-    // The same for a part of the receiver (a patch, receiver_patches.h): the faces whose box meets
-    // the box of `region` and the light together.
+    // The same for a part of the receiver (a patch, receiver_patches.h): the hull of `region` and
+    // the light instead of the receiver's.
     std::vector<uint32_t> shaftCandidates(uint32_t receiver, std::span<const Vec3> region,
                                           uint32_t light) const;
     // That hierarchy of face boxes (faces with triangles), for the direct per-point query

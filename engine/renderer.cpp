@@ -146,13 +146,11 @@ ProgressiveRenderer::~ProgressiveRenderer() = default;
 
 void ProgressiveRenderer::recordUse(const std::vector<PairKey>& keys,
                                     const std::vector<uint32_t>& faces,
-                                    const RenderSettings& settings, uint64_t exactEvaluations,
-                                    uint64_t sampledEvaluations, uint64_t directEvaluations,
+                                    const RenderSettings& settings,
+                                    const ExactEvaluations& evaluations,
                                     const std::vector<PairKey>& directKeys) {
     std::lock_guard lock(mutex_);
-    exactEvaluations_ += exactEvaluations;
-    sampledEvaluations_ += sampledEvaluations;
-    directEvaluations_ += directEvaluations;
+    evaluations_ += evaluations;
     minTreeSamples_ = settings.minTreeSamples;
     directUsed_.insert(directKeys.begin(), directKeys.end());
     exactWorkLimit_ = settings.exactWorkLimit;
@@ -170,7 +168,7 @@ void ProgressiveRenderer::resetEffects() {
     usedKeys_.clear();
     faceSeen_.assign(scene_.faceCount(), 0);
     rendered_ = false;
-    exactEvaluations_ = sampledEvaluations_ = directEvaluations_ = 0;
+    evaluations_ = {};
     directUsed_.clear();
 }
 
@@ -264,8 +262,8 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     std::mutex mutex;
     std::vector<PairKey> usedKeys;
     std::vector<uint32_t> facesSeen;
-    uint64_t exactEvaluations = 0, sampledEvaluations = 0, directEvaluations = 0;  // by mutex
-    std::vector<PairKey> directKeys;                                               // by mutex
+    ExactEvaluations evaluations;     // by mutex
+    std::vector<PairKey> directKeys;  // by mutex
     const int samples = settings.method == DirectMethod::Reference ? settings.referenceSamples
                                                                    : settings.lightSamples;
     const CameraRays rays(camera, w, h);
@@ -389,9 +387,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
             std::lock_guard lock(mutex);
             usedKeys.insert(usedKeys.end(), scratch.used.begin(), scratch.used.end());
             facesSeen.insert(facesSeen.end(), faces.begin(), faces.end());
-            exactEvaluations += scratch.exactEvaluations;
-            sampledEvaluations += scratch.sampledEvaluations;
-            directEvaluations += scratch.directEvaluations;
+            evaluations += scratch.evaluations;
             directKeys.insert(directKeys.end(), scratch.usedDirect.begin(),
                               scratch.usedDirect.end());
         });
@@ -400,8 +396,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     if (pass == 0) film.reset(w, h);
     for (size_t i = 0; i < image.size(); ++i) film.sum[i] += image[i];
     ++film.passes;
-    recordUse(usedKeys, facesSeen, settings, exactEvaluations, sampledEvaluations,
-              directEvaluations, directKeys);
+    recordUse(usedKeys, facesSeen, settings, evaluations, directKeys);
     if (times != nullptr) times->wall = seconds(t0, Clock::now());
     return true;
 }
@@ -445,11 +440,11 @@ EffectsSummary ProgressiveRenderer::effects() const {
     if (!rendered_) return s;
     s.method = toString(method_);
     s.lightSamples = lightSamples_;  // exact: the points over the work limit
-    s.exactEvaluations = exactEvaluations_;
-    s.sampledEvaluations = sampledEvaluations_;
+    s.exactEvaluations = evaluations_.all;
+    s.sampledEvaluations = evaluations_.sampled;
     s.exactWorkLimit = exactWorkLimit_;
     s.pairsDirect = directUsed_.size();
-    s.directEvaluations = directEvaluations_;
+    s.directEvaluations = evaluations_.direct;
     s.minTreeSamples = minTreeSamples_;
     s.glossySamples = method_ == DirectMethod::Exact ? glossySamples_ : 0;
     // Materials of the faces the image saw.

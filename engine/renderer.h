@@ -129,8 +129,7 @@ class ProgressiveRenderer {
     bool renderPassTimed(const Camera& camera, const RenderSettings& settings, Film& film,
                          const std::atomic<bool>* cancel, PassTimes* times);
     void recordUse(const std::vector<PairKey>& keys, const std::vector<uint32_t>& faces,
-                   const RenderSettings& settings, uint64_t exactEvaluations = 0,
-                   uint64_t sampledEvaluations = 0, uint64_t directEvaluations = 0,
+                   const RenderSettings& settings, const ExactEvaluations& evaluations = {},
                    const std::vector<PairKey>& directKeys = {});
 
     const Scene& scene_;
@@ -149,7 +148,7 @@ class ProgressiveRenderer {
     int lightSamples_ = 0, glossySamples_ = 0;
     uint64_t exactWorkLimit_ = 0;
     // Exact method: (point, light) evaluations, and those over the work limit (sampled).
-    uint64_t exactEvaluations_ = 0, sampledEvaluations_ = 0, directEvaluations_ = 0;
+    ExactEvaluations evaluations_;
     uint64_t minTreeSamples_ = 0;
     std::set<PairKey> directUsed_;
     // Set by prepare() with minTreeSamples > 0: the passes evaluate the pairs without a tree

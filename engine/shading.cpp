@@ -101,35 +101,36 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             scratch.used.insert(key);
             if (direct) scratch.usedDirect.insert(key);
         }
-        // The points of a region cell after one whose query reached the work limit: sampled
-        // without trying (ExactScratch::regionOverLimit).
-        if (!scratch.regionCorners.empty()) {
+        // The evaluations that need a query: a pair without a tree, or a tree to walk.
+        const bool queried = record == nullptr || record->tree.kind == vis::PairKind::Penumbra;
+        if (queried) {
+            ++scratch.evaluations.all;
+            if (record == nullptr) ++scratch.evaluations.direct;
+        }
+        // Over the work limit: shadow rays instead, and the region marked so that its later
+        // points skip the attempt (ExactScratch::regionOverLimit).
+        auto overLimit = [&] {
+            ++scratch.evaluations.sampled;
+            if (!scratch.regionCorners.empty()) scratch.regionOverLimit[k] = scratch.regionId;
+            return sampledAreaLight(light, p, fallbackSamples, rng);
+        };
+        if (queried && !scratch.regionCorners.empty()) {
             if (scratch.regions.size() != lights_.size()) {
                 scratch.regions.assign(lights_.size(), vis::RegionDecisions{});
                 scratch.regionOf.assign(lights_.size(), 0);
                 scratch.regionOverLimit.assign(lights_.size(), 0);
             }
-            if (scratch.regionOverLimit[k] == scratch.regionId &&
-                (record == nullptr || record->tree.kind == vis::PairKind::Penumbra)) {
-                ++scratch.exactEvaluations;
-                ++scratch.sampledEvaluations;
-                if (record == nullptr) ++scratch.directEvaluations;
-                out += sampledAreaLight(light, p, fallbackSamples, rng);
+            if (scratch.regionOverLimit[k] == scratch.regionId) {
+                out += overLimit();
                 continue;
             }
         }
         if (record == nullptr) {  // direct: the faces in the pyramid from x, clipped from x
             const vis::FragmentList& list =
                 scratch.query.runDirect(scene_.mesh, p.face, light.face, p.x, bvh_.faceBoxes());
-            ++scratch.exactEvaluations;
-            ++scratch.directEvaluations;
-            if (scratch.query.limitReached()) {
-                ++scratch.sampledEvaluations;
-                if (!scratch.regionCorners.empty()) scratch.regionOverLimit[k] = scratch.regionId;
-                out += sampledAreaLight(light, p, fallbackSamples, rng);
-                continue;
-            }
-            out += shadeFragments(p, light, list, {}, glossySamples, rng, scratch);
+            out += scratch.query.limitReached()
+                       ? overLimit()
+                       : shadeFragments(p, light, list, {}, glossySamples, rng, scratch);
             continue;
         }
         const vis::PairKind kind = record->tree.kind;
@@ -158,11 +159,8 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 }
             }
             list = &scratch.query.run(scene_.mesh, record->tree, p.x, nullptr, region);
-            ++scratch.exactEvaluations;
             if (scratch.query.limitReached()) {
-                ++scratch.sampledEvaluations;
-                if (region != nullptr) scratch.regionOverLimit[k] = scratch.regionId;
-                out += sampledAreaLight(light, p, fallbackSamples, rng);
+                out += overLimit();
                 continue;
             }
             if (list->empty()) continue;

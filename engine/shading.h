@@ -26,6 +26,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "engine/effects_summary.h"
 #include "engine/random.h"
 #include "engine/scene.h"
 #include "engine/visibility_store.h"
@@ -101,14 +102,13 @@ struct ExactScratch {
     std::vector<char> lastDirect;             // per light: lastKey is a direct pair
     std::unordered_set<PairKey, PairKeyHash> used;
     TriangleSampler fragments;
-    vis::FromPointQuery query;  // FPQuery workspace: no allocation per point after warm-up
-    uint64_t exactEvaluations = 0, sampledEvaluations = 0;  // see exactAreaLights
+    vis::FromPointQuery query;     // FPQuery workspace: no allocation per point after warm-up
+    ExactEvaluations evaluations;  // see exactAreaLights
     // False: a pair the store holds no tree for is evaluated point by point, without a tree
     // (FromPointQuery::runDirect), instead of building one: the renderer's choice once prepare()
     // has built the trees its image samples often enough.
     bool buildMissing = true;
     std::unordered_set<PairKey, PairKeyHash> usedDirect;  // the pairs evaluated that way
-    uint64_t directEvaluations = 0;                       // and their (point, light) evaluations
 
     // The region the next points lie in (optional): corners spanning a box that holds them, all on
     // one receiver patch (so one tree per light). FPQuery then skips the plane tests of the nodes
@@ -136,7 +136,7 @@ class DirectLighting {
     // deferred occluders are clipped by the query itself. A query that reaches
     // scratch.query's work limit (FromPointQuery::setWorkLimit) has no exact answer: that light
     // is estimated with `fallbackSamples` stratified shadow rays, counted in
-    // scratch.sampledEvaluations (scratch.exactEvaluations counts every point-light pair); so
+    // scratch.evaluations.sampled (.all counts every point-light pair that needed a query); so
     // are the later points of the same region (ExactScratch::regionOverLimit).
     Vec3 exactAreaLights(const SurfacePoint& p, int glossySamples, int fallbackSamples,
                          SplitMix64& rng, ExactScratch& scratch) const;

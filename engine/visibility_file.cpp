@@ -366,7 +366,6 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
         for (uint32_t& f : t.nodeOccluder) f = p.u32();
         t.deferred.resize(deferred);
         for (vis::DeferredOccluder& d : t.deferred) d.face = p.u32();
-        if (hasStats) p.need(kStatsBytes, "the build statistics");
         if (hasStats) {
             vis::BuildStats& s = pt.record.stats;
             s.occludersInShaft = p.u32();
