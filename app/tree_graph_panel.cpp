@@ -41,24 +41,27 @@ ImU32 lerpColor(ImU32 a, ImU32 b, float t) {
            (0xFFu << IM_COL32_A_SHIFT);
 }
 
-// Text of vertex `id` of the tree: its coordinates when the mesh is known and the id is valid.
-std::string vertexText(const vis::HistoryTree& tree, const vis::PolygonMesh* mesh, uint32_t id) {
-    char buf[128];
-    if (!mesh) {
-        std::snprintf(buf, sizeof buf, "v%u", id);
-        return buf;
-    }
-    const bool inMesh = id < tree.meshVertexCount;
-    const bool valid = inMesh ? id < mesh->vertices.size()
-                              : size_t(id - tree.meshVertexCount) < tree.extraVertices.size();
-    if (!valid) {
-        std::snprintf(buf, sizeof buf, "v%u (out of range)", id);
-        return buf;
-    }
-    const vis::Vec3 p = tree.vertex(*mesh, id);
-    std::snprintf(buf, sizeof buf, "v%u%s (%.5g, %.5g, %.5g)", id, inMesh ? "" : " [clipped]", p.x,
-                  p.y, p.z);
-    return buf;
+// Text of a node's edge: a chord (face and plane) or an input edge (vertex ids), with the
+// coordinates of a segment of it when the mesh is known and the ids are valid.
+std::string edgeText(const vis::HistoryTree& tree, const vis::PolygonMesh* mesh,
+                     const vis::HistoryNode& n) {
+    char buf[256];
+    const bool chord = vis::isClipEdge(n.v0);
+    const uint32_t face = n.v0 & ~vis::kClipEdge;
+    const char* plane = n.v1 == vis::kReceiverPlaneEdge ? "receiver" : "light";
+    if (chord)
+        std::snprintf(buf, sizeof buf, "face %u meets the %s plane", face, plane);
+    else
+        std::snprintf(buf, sizeof buf, "v%u -> v%u", n.v0, n.v1);
+    std::string text = buf;
+    if (!mesh) return text;
+    const bool valid = chord ? face < mesh->faces.size()
+                             : n.v0 < mesh->vertices.size() && n.v1 < mesh->vertices.size();
+    if (!valid) return text + " (out of range)";
+    const auto [a, b] = vis::edgeSegment(*mesh, tree.receiver, tree.light, n.v0, n.v1);
+    std::snprintf(buf, sizeof buf, " (%.5g, %.5g, %.5g) -> (%.5g, %.5g, %.5g)", a.x, a.y, a.z, b.x,
+                  b.y, b.z);
+    return text + buf;
 }
 
 const char* childText(uint32_t c, char* buf, size_t size) {
@@ -661,8 +664,7 @@ void TreeGraphPanel::drawTooltip(uint32_t item) {
         const HistoryTreeTopology& t = *topology_;
         const bool collapsed = it.kind == GraphItemKind::CollapsedNode;
         ImGui::Text("node %u%s", it.node, collapsed ? " (collapsed)" : "");
-        ImGui::Text("edge %s -> %s", vertexText(*tree_, mesh_, n.v0).c_str(),
-                    vertexText(*tree_, mesh_, n.v1).c_str());
+        ImGui::Text("edge %s", edgeText(*tree_, mesh_, n).c_str());
         if (it.node < tree_->nodeOccluder.size())
             ImGui::Text("occluder face %u", tree_->nodeOccluder[it.node]);
         else

@@ -33,7 +33,6 @@ constexpr size_t kTrailerBytes = 8;
 // Fixed part of a tree record: 5 u32 + u8 + u8 + u16 + 4 u32.
 constexpr size_t kRecordFixedBytes = 5 * 4 + 1 + 1 + 2 + 5 * 4;
 constexpr size_t kNodeBytes = 16;
-constexpr size_t kVertexBytes = 24;
 constexpr size_t kStatsBytes = 3 * 4 + 8 * 8 + 8;
 constexpr size_t kMaxReasonBytes = 1024;
 
@@ -93,7 +92,7 @@ std::vector<unsigned char> serialize(const VisibilityStore& store, bool withStat
         w.u16(static_cast<uint16_t>(std::min(t.why.size(), kMaxReasonBytes)));
         w.u32(t.meshVertexCount);
         w.u32(static_cast<uint32_t>(t.nodes.size()));
-        w.u32(static_cast<uint32_t>(t.extraVertices.size()));
+        w.u32(static_cast<uint32_t>(t.occluders.size()));
         w.u32(static_cast<uint32_t>(t.nodeOccluder.size()));
         w.u32(static_cast<uint32_t>(t.deferred.size()));
         w.text(t.why.substr(0, kMaxReasonBytes));
@@ -103,11 +102,7 @@ std::vector<unsigned char> serialize(const VisibilityStore& store, bool withStat
             w.u32(n.child[0]);
             w.u32(n.child[1]);
         }
-        for (const Vec3& v : t.extraVertices) {
-            w.f64(v.x);
-            w.f64(v.y);
-            w.f64(v.z);
-        }
+        for (uint32_t f : t.occluders) w.u32(f);
         for (uint32_t f : t.nodeOccluder) w.u32(f);
         for (const vis::DeferredOccluder& d : t.deferred) w.u32(d.face);
         if (withStats) {
@@ -225,17 +220,22 @@ void validateTree(const PairKey& key, const vis::HistoryTree& t, const Visibilit
     const bool penumbra = t.kind == vis::PairKind::Penumbra;
     if (penumbra && t.nodes.empty() && t.deferred.empty())
         fail("a penumbra tree without nodes or deferred occluders");
-    if (!penumbra && (!t.nodes.empty() || !t.extraVertices.empty() || !t.deferred.empty()))
-        fail(std::string(vis::toString(t.kind)) + " pair with nodes, vertices or occluders");
+    if (!penumbra && (!t.nodes.empty() || !t.deferred.empty()))
+        fail(std::string(vis::toString(t.kind)) + " pair with nodes or deferred occluders");
+    if (t.kind == vis::PairKind::BackFacing && !t.occluders.empty())
+        fail("back-facing pair with occluders");
     if (!t.nodeOccluder.empty() && t.nodeOccluder.size() != t.nodes.size())
         fail("node occluder count " + std::to_string(t.nodeOccluder.size()) + " for " +
              std::to_string(t.nodes.size()) + " nodes");
     for (uint32_t f : t.nodeOccluder)
         if (f >= faces) fail("node occluder face " + std::to_string(f) + " out of range");
-    for (const Vec3& v : t.extraVertices)
-        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
-            fail("a constructed vertex is not finite");
-    const uint64_t vertexIds = uint64_t{t.meshVertexCount} + t.extraVertices.size();
+    for (size_t i = 0; i < t.occluders.size(); ++i) {
+        const uint32_t f = t.occluders[i];
+        const std::string what = "occluder " + std::to_string(i);
+        if (f >= faces) fail(what + ": face " + std::to_string(f) + " out of range");
+        if (f == key.receiver || f == key.lightFace)
+            fail(what + ": the receiver or the light itself");
+    }
     for (size_t i = 0; i < t.deferred.size(); ++i) {
         const vis::DeferredOccluder& d = t.deferred[i];
         const std::string what = "deferred occluder " + std::to_string(i);
@@ -247,8 +247,13 @@ void validateTree(const PairKey& key, const vis::HistoryTree& t, const Visibilit
     std::vector<uint32_t> parents(n, 0), depth(n, 1);
     for (uint32_t i = 0; i < n; ++i) {
         const vis::HistoryNode& node = t.nodes[i];
-        if (node.v0 >= vertexIds || node.v1 >= vertexIds)
+        if (vis::isClipEdge(node.v0)) {
+            if ((node.v0 & ~vis::kClipEdge) >= faces ||
+                (node.v1 != vis::kReceiverPlaneEdge && node.v1 != vis::kLightPlaneEdge))
+                fail("node " + std::to_string(i) + " has a chord of an unknown face or plane");
+        } else if (node.v0 >= t.meshVertexCount || node.v1 >= t.meshVertexCount) {
             fail("node " + std::to_string(i) + " uses a vertex id out of range");
+        }
         for (uint32_t c : node.child) {
             if (vis::isLeaf(c)) continue;
             // Nodes are stored parent first: a child index is always larger than its parent's.
@@ -330,7 +335,7 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
         const uint8_t hasStats = p.u8();
         const uint16_t reasonBytes = p.u16();
         t.meshVertexCount = p.u32();
-        const uint32_t nodes = p.u32(), extras = p.u32(), occluders = p.u32(), deferred = p.u32();
+        const uint32_t nodes = p.u32(), inserted = p.u32(), occluders = p.u32(), deferred = p.u32();
         if (kind >= vis::kPairKindCount)
             throw Corrupt(where + ": unknown pair kind " + std::to_string(kind));
         t.kind = static_cast<vis::PairKind>(kind);
@@ -338,12 +343,12 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
         if (reasonBytes > kMaxReasonBytes) throw Corrupt(where + ": reason text too long");
         // Every count against the bytes left before anything is allocated.
         const uint64_t need = uint64_t{reasonBytes} + uint64_t{nodes} * kNodeBytes +
-                              uint64_t{extras} * kVertexBytes + uint64_t{occluders} * 4 +
+                              uint64_t{inserted} * 4 + uint64_t{occluders} * 4 +
                               uint64_t{deferred} * 4 + (hasStats ? kStatsBytes : 0);
         if (need > p.left())
             throw Corrupt(where + ": truncated or bad counts (" + std::to_string(nodes) +
-                          " nodes, " + std::to_string(extras) + " vertices, " +
-                          std::to_string(occluders) + " occluders need " + std::to_string(need) +
+                          " nodes, " + std::to_string(inserted) + " occluders, " +
+                          std::to_string(occluders) + " node occluders need " + std::to_string(need) +
                           " bytes, " + std::to_string(p.left()) + " left)");
         const std::string_view reason = p.text(reasonBytes);
         t.why = canonicalReason(reason);
@@ -356,12 +361,8 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
             n.child[0] = p.u32();
             n.child[1] = p.u32();
         }
-        t.extraVertices.resize(extras);
-        for (Vec3& v : t.extraVertices) {
-            v.x = p.f64();
-            v.y = p.f64();
-            v.z = p.f64();
-        }
+        t.occluders.resize(inserted);
+        for (uint32_t& f : t.occluders) f = p.u32();
         t.nodeOccluder.resize(occluders);
         for (uint32_t& f : t.nodeOccluder) f = p.u32();
         t.deferred.resize(deferred);
@@ -378,7 +379,7 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
             s.seconds = p.f64();
         }
         validateTree(key, t, store, where);
-        vis::indexDeferred(store.scene().mesh, t);
+        vis::prepareForQueries(store.scene().mesh, t);
         if (!seen.insert(key).second) throw Corrupt(where + ": a second tree for the same pair");
         out.push_back(std::move(pt));
     }

@@ -1,18 +1,20 @@
 // The visibility file (.pvis): the history trees of a VisibilityStore on disk, so that a scene's
 // precompute is paid once.
 //
-// Format, version 2 (version 1 had no deferred occluders), every integer little-endian, doubles
-// as their IEEE-754 bit patterns:
+// Format, version 3 (version 1 had no deferred occluders, version 2 stored constructed vertices
+// where nodes now name exact chords), every integer little-endian, doubles as their IEEE-754 bit
+// patterns:
 //   header (48 bytes)  magic "PENUMVIS", u32 version, u32 header size (48), u64 scene hash
 //                      (engine/scene_hash.h), u64 tree count, u64 payload size, u64 flags (0)
 //   payload            one record per tree, in increasing PairKey order:
 //                        u32 receiver, patch, light face            (PairKey)
 //                        u32 tree.receiver, tree.light               (equal to the key's)
 //                        u8 kind, u8 has-stats, u16 reason length, u32 meshVertexCount,
-//                        u32 node count, u32 extra-vertex count, u32 node-occluder count,
+//                        u32 node count, u32 occluder count, u32 node-occluder count,
 //                        u32 deferred-occluder count, the reason text (HistoryTree::why), nodes
-//                        (4 x u32 each), extra vertices (3 x f64 each), node occluders (u32
-//                        each), deferred occluders (u32 face each), and with has-stats the
+//                        (4 x u32 each: v0, v1, children; history_tree.h), occluders (u32 face
+//                        each: HistoryTree::occluders), node occluders (u32 each), deferred
+//                        occluders (u32 face each), and with has-stats the
 //                        BuildStats (3 x u32, 8 x u64, f64)
 //   trailer (8 bytes)  u64 checksum (engine/hash64.h) of header and payload
 //
@@ -25,8 +27,8 @@
 // made for another scene or other settings), then every record: counts bounded by the bytes left,
 // kinds and reasons known, keys in range (faces, patches), node children either leaves or later
 // nodes each referenced once (a tree, no cycles), depth at most kMaxTreeDepth (FPQuery recurses
-// per level), vertex ids in range, constructed vertices finite, no duplicate keys, no bytes left
-// over. A file that passes cannot make FPQuery read out of bounds or loop.
+// per level), vertex ids and chords' faces in range, occluder faces in range, no duplicate keys,
+// no bytes left over. A file that passes cannot make FPQuery read out of bounds or loop.
 #pragma once
 
 #include <cstddef>
@@ -39,7 +41,7 @@
 
 namespace penumbra {
 
-inline constexpr uint32_t kVisibilityFileVersion = 2;
+inline constexpr uint32_t kVisibilityFileVersion = 3;
 inline constexpr uint32_t kMaxTreeDepth = 20000;
 
 enum class VisibilityFileStatus {

@@ -13,6 +13,7 @@
 #include "tests/support/exact_reference.h"
 #include "tests/support/random_points.h"
 #include "tests/test_scale.h"
+#include "visibility/exact_orient.h"
 #include "visibility/form_factor.h"
 #include "visibility/fp_query.h"
 
@@ -91,13 +92,13 @@ TEST(RegionDecisions, EveryLineOfTheRegionGoesTheDecidedWay) {
                         negative += d == vis::RegionDecisions::Decision::Negative;
                         split += d == vis::RegionDecisions::Decision::Split;
                         if (d == vis::RegionDecisions::Decision::Split) continue;
-                        const Vec3 v0 = tree.vertex(m, tree.nodes[node].v0);
-                        const Vec3 v1 = tree.vertex(m, tree.nodes[node].v1);
+                        const vis::EdgeLine edge = tree.edgeLine(m, tree.nodes[node]);
                         for (int i = 0; i < 8; ++i) {
                             // A random point of the box and a random point of L.
                             const Vec3 x = test::randomCombination(corners, rng, 0.0);
                             const Vec3 y = test::randomCombination(light, rng, 0.0);
-                            const vis::Sign s = vis::orientSignExact(x, y, v0, v1);
+                            const int e = sgn(vis::sideExact(x, y, edge));  // rationals alone
+                            const vis::Sign s = e > 0 ? vis::Sign::Positive : (e < 0 ? vis::Sign::Negative : vis::Sign::Zero);
                             ++lines;
                             if (d == vis::RegionDecisions::Decision::Positive)
                                 EXPECT_NE(s, vis::Sign::Negative) << "node " << node;

@@ -125,7 +125,7 @@ TEST_F(VisibilityFileTest, RoundTripKeepsEveryFieldAndEveryQuery) {
     EXPECT_EQ(loaded.bytes(), store.bytes());
     EXPECT_EQ(loaded.kindCounts(), store.kindCounts());
     const auto reasons = vis::knownReasons();
-    size_t withExtraVertices = 0;
+    size_t withChords = 0;
     store.forEach([&](const PairKey& k, const PairRecord& original) {
         const PairRecord* r = loaded.find(k);
         ASSERT_NE(r, nullptr);
@@ -138,9 +138,10 @@ TEST_F(VisibilityFileTest, RoundTripKeepsEveryFieldAndEveryQuery) {
         EXPECT_EQ(r->stats.lpSolves, original.stats.lpSolves);
         EXPECT_EQ(r->stats.occludersInShaft, original.stats.occludersInShaft);
         EXPECT_EQ(r->stats.seconds, original.stats.seconds);
-        withExtraVertices += !r->tree.extraVertices.empty();
+        withChords += std::any_of(r->tree.nodes.begin(), r->tree.nodes.end(),
+                                  [](const vis::HistoryNode& n) { return vis::isClipEdge(n.v0); });
     });
-    EXPECT_GT(withExtraVertices, 0u);  // the constructed vertices are exercised
+    EXPECT_GT(withChords, 0u);  // the chords of clipped occluders are exercised
 
     // FPQuery on the loaded trees against trees built afresh (no store, no BVH, no file).
     const uint32_t light = scene.lights[0];
@@ -249,8 +250,8 @@ class SmallFile : public VisibilityFileTest {
     }
     // The documented layout of the record at `at`: its counts, and where its parts begin.
     struct Record {
-        size_t at = 0, reasonAt = 0, nodesAt = 0, deferredAt = 0, end = 0;
-        uint32_t nodes = 0, deferred = 0;
+        size_t at = 0, reasonAt = 0, nodesAt = 0, occludersAt = 0, deferredAt = 0, end = 0;
+        uint32_t nodes = 0, occluders = 0, deferred = 0;
     };
     Record recordAt(size_t at) const {
         Record r;
@@ -258,11 +259,13 @@ class SmallFile : public VisibilityFileTest {
         const uint8_t hasStats = bytes_[at + 21];
         const uint32_t reason = bytes_[at + 22] | (bytes_[at + 23] << 8);
         r.nodes = u32At(bytes_, at + 28);
-        const uint32_t e = u32At(bytes_, at + 32), o = u32At(bytes_, at + 36);
+        r.occluders = u32At(bytes_, at + 32);
+        const uint32_t o = u32At(bytes_, at + 36);
         r.deferred = u32At(bytes_, at + 40);
         r.reasonAt = at + 44;
         r.nodesAt = r.reasonAt + reason;
-        r.deferredAt = r.nodesAt + 16 * r.nodes + 24 * e + 4 * o;
+        r.occludersAt = r.nodesAt + 16 * r.nodes;
+        r.deferredAt = r.occludersAt + 4 * r.occluders + 4 * o;
         r.end = r.deferredAt + 4 * r.deferred + (hasStats ? 84 : 0);
         return r;
     }
@@ -399,6 +402,17 @@ TEST_F(SmallFile, ContentErrorsBehindAValidChecksum) {
     }
     {
         Bytes b = bytes_;
+        setU32(b, node0, vis::kClipEdge | 100000);  // a chord of a face out of range
+        expectCorrupt(b, "chord of an unknown face or plane");
+    }
+    {
+        Bytes b = bytes_;
+        setU32(b, node0, vis::kClipEdge | 0);
+        setU32(b, node0 + 4, 7);  // a chord of an unknown plane
+        expectCorrupt(b, "chord of an unknown face or plane");
+    }
+    {
+        Bytes b = bytes_;
         b[rec + 20] = 9;  // kind
         expectCorrupt(b, "unknown pair kind");
     }
@@ -421,6 +435,19 @@ TEST_F(SmallFile, ContentErrorsBehindAValidChecksum) {
         Bytes b = bytes_;
         setU32(b, rec + 4, 100000);  // patch out of range
         expectCorrupt(b, "patch out of range");
+    }
+    // The inserted occluders.
+    const Record withOccluders =
+        firstRecord([](const Record& r) { return r.occluders > 0; }, "occluders");
+    {
+        Bytes b = bytes_;
+        setU32(b, withOccluders.occludersAt, 100000);
+        expectCorrupt(b, "occluder 0: face 100000 out of range");
+    }
+    {
+        Bytes b = bytes_;
+        setU32(b, withOccluders.occludersAt, u32At(bytes_, withOccluders.at + 16));  // the light
+        expectCorrupt(b, "occluder 0: the receiver or the light itself");
     }
     // A partial tree's deferred occluders.
     const Record partial =

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 
 #include "visibility/pair_occluders.h"
 #include "visibility/polygon_clip.h"
@@ -47,19 +48,23 @@ void FromPointQuery::visit(uint32_t node, std::span<const Vec3> poly, size_t dep
                                : c1 == kHiddenLeaf ? KeepParts::Positive
                                                    : KeepParts::Both;
         if (!spend()) return;
-        const PlaneOrient plane(x_, tree_->vertex(*mesh_, n.v0), tree_->vertex(*mesh_, n.v1));
         SplitParts& parts = partsAt(depth);
-        SplitOutcome outcome = SplitOutcome::OnPlane;
-        switch (mode_) {
-            case PredicateMode::Filtered:
-                outcome = splitConstructed(poly, plane, light_, parts, keep);
-                break;
-            case PredicateMode::AlwaysExact:
-                outcome = splitExact(poly, plane, parts);
-                break;
-            case PredicateMode::Naive:
-                outcome = splitNaive(poly, plane, parts);
-                break;
+        SplitOutcome outcome;
+        if (!isClipEdge(n.v0)) {
+            outcome = splitBy(
+                poly, PlaneOrient(x_, mesh_->vertices[n.v0], mesh_->vertices[n.v1]), parts, keep);
+        } else {
+            // A chord of a clip: the plane through x and the meet of B's (or L's) plane with the
+            // occluder's, as the pencil of the two (edge_line.h); exact for L's vertices too.
+            const uint32_t face = n.v0 & ~kClipEdge;
+            const auto& f = mesh_->faces[face];
+            const PlaneOrient occluderPlane(mesh_->vertices[f[0]], mesh_->vertices[f[1]],
+                                            mesh_->vertices[f[2]]);
+            outcome = splitBy(poly,
+                              PencilPlane(x_, n.v1 == kReceiverPlaneEdge ? frontB_.orient
+                                                                         : frontL_.orient,
+                                          occluderPlane),
+                              parts, keep);
         }
         switch (outcome) {
             case SplitOutcome::OnPlane:  // measure zero: follows child[0] whole (see above)
@@ -93,6 +98,24 @@ void FromPointQuery::visit(uint32_t node, std::span<const Vec3> poly, size_t dep
             }
         }
     }
+}
+
+template <class Plane>
+SplitOutcome FromPointQuery::splitBy(std::span<const Vec3> poly, const Plane& plane,
+                                     SplitParts& parts, KeepParts keep) const {
+    if constexpr (std::is_same_v<Plane, PlaneOrient>) {
+        switch (mode_) {
+            case PredicateMode::Filtered:
+                break;
+            case PredicateMode::AlwaysExact:
+                return splitExact(poly, plane, parts);
+            case PredicateMode::Naive:
+                return splitNaive(poly, plane, parts);
+        }
+    }
+    // (The chords' pencil planes have no naive or always-exact variant: the predicate study
+    // measures input edges.)
+    return splitConstructed(poly, plane, light_, parts, keep);
 }
 
 void FromPointQuery::reachVisible(std::span<const Vec3> poly, size_t from, size_t depth) {
@@ -160,36 +183,31 @@ void FromPointQuery::preparePyramid() {
     pyramidPlanes(x_, lightClipped_, pyramid_);
 }
 
-void FromPointQuery::activate(const PolygonMesh& mesh, uint32_t face,
-                              std::span<const Vec3> points) {
-    // x on the occluder's plane: its lines from x lie in that plane (measure zero).
+void FromPointQuery::activateFace(const PolygonMesh& mesh, uint32_t face) {
+    // x on the occluder's plane: every segment from x meets that plane at x only, so the
+    // occluder blocks none (the contact rule: a segment that touches an occluder only at its end
+    // point x is not blocked).
     const Sign side = facePlane(mesh, face).side(x_);
     if (side == Sign::Zero) return;
-    if (outsideOnePlane(pyramid_, points)) return;
+    // Clipped to the region in front of B's and L's planes, as the builder clips its occluders,
+    // exactly (clipped_occluder.h): a line from x to L meets the clipped part between them (and
+    // the line beyond x or beyond L, which the sign test would also see, lies outside that
+    // region).
+    clipped_.clip(mesh, face, frontB_.orient, frontL_.orient);
+    if (clipped_.empty()) return;
+    // Outside the pyramid from x over L (exact on the clipped polygon's symbolic vertices).
+    for (const PlaneOrient& h : pyramid_)
+        if (clipped_.outside(h)) return;
     // Seen from x in front of its plane, the occluder is counter-clockwise, and the lines from x
-    // through it lie on the negative side of every plane (x, a, b) of its edges a -> b:
+    // through it lie on the negative side of every plane through x and an edge line a -> b:
     // orient3d(x, p, a, b) = -orient3d(p, a, b, x) for p inside it.
     ActiveOccluder a;
     a.firstPlane = static_cast<uint32_t>(activePlanes_.size());
-    a.planeCount = static_cast<uint32_t>(points.size());
+    a.planeCount = static_cast<uint32_t>(clipped_.edges().size());
     a.blocked = side == Sign::Positive ? Sign::Negative : Sign::Positive;
-    for (size_t i = 0; i < points.size(); ++i)
-        activePlanes_.emplace_back(x_, points[i], points[(i + 1) % points.size()]);
+    for (const auto& [v0, v1] : clipped_.edges())
+        activePlanes_.emplace_back(x_, edgeLine(mesh, preparedReceiver_, preparedLight_, v0, v1));
     active_.push_back(a);
-}
-
-void FromPointQuery::activateFace(const PolygonMesh& mesh, uint32_t face) {
-    // Clipped to the region strictly in front of B's and L's planes, as the builder clips its
-    // occluders: a line from x to L meets the clipped part between them (and the line beyond x
-    // or beyond L, which the sign test would also see, lies outside that region).
-    occluderPoints_.clear();
-    for (uint32_t v : mesh.faces[face]) occluderPoints_.push_back(mesh.vertices[v]);
-    if (occluderPoints_.size() < 3) return;
-    clipConvexInto(occluderPoints_, frontB_, directClip_, discard_);
-    if (directClip_.size() < 3) return;
-    clipConvexInto(directClip_, frontL_, occluderPoints_, discard_);
-    if (occluderPoints_.size() < 3) return;
-    activate(mesh, face, occluderPoints_);
 }
 
 void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree& tree) {
@@ -230,28 +248,44 @@ void FromPointQuery::startRun() {
     region_ = nullptr;
 }
 
+bool FromPointQuery::startPair(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
+                               const Vec3& x) {
+    preparePair(mesh, receiver, light);
+    // The light emits only to its front: x must be strictly in front of L's plane.
+    if (lightPlane_.sign(x) != Sign::Positive) return false;
+    return lightClipped_.size() >= 3;
+}
+
+void FromPointQuery::clipCandidates(const PolygonMesh& mesh) {
+    mesh_ = &mesh;
+    tree_ = nullptr;
+    for (uint32_t f : candidates_) {
+        if (f == preparedReceiver_ || f == preparedLight_) continue;
+        if (!spend()) return;
+        activateFace(mesh, f);
+    }
+    deferredPrepared_ = true;
+    reachVisible(lightClipped_, 0, 0);
+}
+
 const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t receiver,
                                               uint32_t light, const Vec3& x, const BoxTree& faces) {
     startRun();
     if (receiver == light) return fragments_;
-    preparePair(mesh, receiver, light);
-    if (lightPlane_.sign(x) != Sign::Positive) return fragments_;
-    if (lightClipped_.size() < 3) return fragments_;
-    mesh_ = &mesh;
-    tree_ = nullptr;
+    if (!startPair(mesh, receiver, light, x)) return fragments_;
     x_ = x;
     preparePyramid();
     // Insertion order as the builder's (pair_occluders.h) would be costlier to find than it
     // saves; face order keeps the answer deterministic.
     if (!findCandidates(faces)) return fragments_;
-    for (uint32_t f : candidates_) {
-        if (f == receiver || f == light) continue;
-        if (!spend()) return fragments_;
-        activateFace(mesh, f);
-    }
-    deferredPrepared_ = true;
-    reachVisible(lightClipped_, 0, 0);
+    clipCandidates(mesh);
     return fragments_;
+}
+
+bool FromPointQuery::onContact(const HistoryTree& tree, const Vec3& x) const {
+    for (const PlaneOrient& plane : tree.contactPlanes)
+        if (plane.sign(x) == Sign::Zero) return true;
+    return false;
 }
 
 void FromPointQuery::preparePair(const PolygonMesh& mesh, uint32_t receiver, uint32_t light) {
@@ -286,18 +320,34 @@ const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTr
     if (region != nullptr && region->tree() != &tree)
         throw std::invalid_argument("FromPointQuery::run: region decisions of another tree");
     startRun();
-    if (tree.kind == PairKind::BackFacing || tree.kind == PairKind::FullyHidden) return fragments_;
-    preparePair(mesh, tree.receiver, tree.light);
-    // The light emits only to its front: x must be strictly in front of L's plane.
-    if (lightPlane_.sign(x) != Sign::Positive) return fragments_;
-    if (lightClipped_.size() < 3) return fragments_;
+    contactAnswer_ = false;
+    if (tree.kind == PairKind::BackFacing) return fragments_;
+    if (tree.kind == PairKind::FullyHidden && tree.contactPlanes.empty()) return fragments_;
+    if (!startPair(mesh, tree.receiver, tree.light, x)) return fragments_;
     if (tree.kind == PairKind::FullyVisible) {
         fragments_.add(lightClipped_);
         return fragments_;
     }
+    x_ = x;
+    if (onContact(tree, x)) {
+        // x lies in the plane of an occluder that reaches B's plane: it may stand on that
+        // occluder's contact with B, where the tree's cells (closed sets of lines) give the limit
+        // of the neighbouring points and the contract asks for more (a segment touching an
+        // occluder only at x is not blocked). Answered from the pair's occluders directly, which
+        // applies the contract exactly (activateFace). Measure zero: a rendered point is almost
+        // never exactly there.
+        contactAnswer_ = true;
+        candidates_.assign(tree.occluders.begin(), tree.occluders.end());
+        for (const DeferredOccluder& d : tree.deferred) candidates_.push_back(d.face);
+        std::sort(candidates_.begin(), candidates_.end());
+        candidates_.erase(std::unique(candidates_.begin(), candidates_.end()), candidates_.end());
+        preparePyramid();
+        clipCandidates(mesh);
+        return fragments_;
+    }
+    if (tree.kind == PairKind::FullyHidden) return fragments_;
     mesh_ = &mesh;
     tree_ = &tree;
-    x_ = x;
     path_ = path;
     region_ = region;
     deferredPrepared_ = !tree.partial();

@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "visibility/clipped_occluder.h"
+#include "visibility/edge_line.h"
 #include "visibility/history_tree.h"
 #include "visibility/polygon_clip.h"
 #include "visibility/region_decisions.h"
@@ -63,6 +65,12 @@ class FromPointQuery {
     // can meet the pyramid from x over L), with the same signs as the walk.
     // `region`, when given, must have been reset for this tree and a region holding x: nodes it
     // decides for the whole region are followed without a plane test (region_decisions.h).
+    // Contact rule: a segment from x that touches an occluder only at x is not blocked by it. The
+    // tree's cells are closed sets of lines, so where x lies exactly on an occluder's contact
+    // with B they hold the limit of the neighbouring points instead; such an x (exactly in the
+    // plane of an occluder that reaches B's plane: HistoryTree::contactPlanes) is answered from
+    // the pair's occluders directly, as runDirect() does (answeredOnContact() says so, and no
+    // path is recorded).
     const FragmentList& run(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x,
                             std::vector<uint32_t>* path = nullptr,
                             RegionDecisions* region = nullptr);
@@ -74,6 +82,8 @@ class FromPointQuery {
     const FragmentList& runDirect(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
                                   const Vec3& x, const BoxTree& faces);
     uint32_t nodesVisited() const { return nodesVisited_; }
+    // The last run() answered by the contact rule from the pair's occluders, not by the walk.
+    bool answeredOnContact() const { return contactAnswer_; }
 
     // Work budget of one run, in plane tests (a node's test, or a deferred occluder's edge
     // against a fragment): 0 = none. A run that reaches it stops, answers an incomplete fragment
@@ -89,12 +99,22 @@ class FromPointQuery {
 
   private:
     void preparePair(const PolygonMesh& mesh, uint32_t receiver, uint32_t light);
+    // preparePair, then whether x sees any of the light at all (in front of L's plane, and some
+    // of L in front of B's).
+    bool startPair(const PolygonMesh& mesh, uint32_t receiver, uint32_t light, const Vec3& x);
     void preparePyramid();  // pyramid_: the planes through x_ and the edges of lightClipped_
-    // Adds the occluder polygon `points` (ids and plane from face `face`) to active_ unless it
-    // certainly blocks nothing from x_ (outside the pyramid, or x_ on its plane).
-    void activate(const PolygonMesh& mesh, uint32_t face, std::span<const Vec3> points);
-    // activate() for mesh face `face`, clipped to the region in front of B's and L's planes.
+    // Adds mesh face `face`, clipped exactly to the region in front of B's and L's planes
+    // (clipped_occluder.h), to active_ unless it certainly blocks nothing from x_ (outside the
+    // pyramid, or x_ on its plane: the contact rule).
     void activateFace(const PolygonMesh& mesh, uint32_t face);
+    // The answer from the faces in candidates_ alone (no tree): each activated, then L clipped.
+    void clipCandidates(const PolygonMesh& mesh);
+    // Whether x lies exactly in one of tree.contactPlanes.
+    bool onContact(const HistoryTree& tree, const Vec3& x) const;
+    // A node's split with the predicates of mode_ (input edges) or the filtered ones (chords).
+    template <class Plane>
+    SplitOutcome splitBy(std::span<const Vec3> poly, const Plane& plane, SplitParts& parts,
+                         KeepParts keep) const;
     void visit(uint32_t node, std::span<const Vec3> poly, size_t depth);
     // What reaches a visible leaf: kept, or with deferred occluders clipped against those from
     // active_[from] on.
@@ -148,13 +168,13 @@ class FromPointQuery {
         Sign blocked = Sign::Zero;
     };
     std::vector<ActiveOccluder> active_;
-    std::vector<PlaneOrient> activePlanes_;
+    std::vector<EdgePlane> activePlanes_;
     std::vector<PlaneOrient> pyramid_;  // the planes through x and L's edges, interior positive
-    std::vector<Vec3> occluderPoints_;
+    ClippedOccluder clipped_;           // activateFace's scratch
     std::vector<uint32_t> candidates_;
-    std::vector<Vec3> directClip_;
     uint32_t deferredClips_ = 0;
     bool deferredPrepared_ = true;  // active_ is ready for this run
+    bool contactAnswer_ = false;
 };
 
 struct FromPointResult {

@@ -28,7 +28,16 @@ std::span<const std::string_view> knownReasons() {
     return kAll;
 }
 
-void indexDeferred(const PolygonMesh& mesh, HistoryTree& tree) {
+namespace {
+
+PlaneOrient planeOf(const PolygonMesh& mesh, uint32_t face) {
+    const auto& f = mesh.faces[face];
+    return PlaneOrient(mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]);
+}
+
+}  // namespace
+
+void prepareForQueries(const PolygonMesh& mesh, HistoryTree& tree) {
     std::vector<Bounds3> boxes;
     boxes.reserve(tree.deferred.size());
     for (DeferredOccluder& d : tree.deferred) {
@@ -37,6 +46,52 @@ void indexDeferred(const PolygonMesh& mesh, HistoryTree& tree) {
         boxes.push_back(d.box);
     }
     tree.deferredIndex = BoxTree(boxes);
+    tree.contactPlanes.clear();
+    if (tree.kind == PairKind::BackFacing) return;
+    const PlaneOrient receiverPlane = planeOf(mesh, tree.receiver);
+    for (uint32_t f : tree.occluders) {
+        bool reaches = false;
+        for (uint32_t v : mesh.faces[f]) reaches |= receiverPlane.sign(mesh.vertices[v]) != Sign::Positive;
+        if (reaches) tree.contactPlanes.push_back(planeOf(mesh, f));
+    }
+}
+
+EdgeLine edgeLine(const PolygonMesh& mesh, uint32_t receiver, uint32_t light, uint32_t v0,
+                  uint32_t v1) {
+    if (!isClipEdge(v0)) return EdgeLine::through(mesh.vertices[v0], mesh.vertices[v1]);
+    // The chord of a clip: directed n_clip x n_face (clipped_occluder.h).
+    const uint32_t face = v0 & ~kClipEdge;
+    return EdgeLine::meet(planeOf(mesh, v1 == kReceiverPlaneEdge ? receiver : light),
+                          planeOf(mesh, face));
+}
+
+std::pair<Vec3, Vec3> edgeSegment(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
+                                  uint32_t v0, uint32_t v1) {
+    if (!isClipEdge(v0)) return {mesh.vertices[v0], mesh.vertices[v1]};
+    const uint32_t face = v0 & ~kClipEdge;
+    const PlaneOrient clip = planeOf(mesh, v1 == kReceiverPlaneEdge ? receiver : light);
+    const PlaneOrient other = planeOf(mesh, v1 == kReceiverPlaneEdge ? light : receiver);
+    // Where the face's boundary crosses the clip plane (doubles: display only), then the part of
+    // that chord in front of the other plane.
+    const auto& ids = mesh.faces[face];
+    std::vector<Vec3> hits;
+    for (size_t i = 0; i < ids.size(); ++i) {
+        const Vec3 p = mesh.vertices[ids[i]], q = mesh.vertices[ids[(i + 1) % ids.size()]];
+        const double dp = clip.value(p).value, dq = clip.value(q).value;
+        if (dp == 0) hits.push_back(p);
+        if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0)) hits.push_back(p + (q - p) * (dp / (dp - dq)));
+    }
+    if (hits.size() < 2) return {hits.empty() ? Vec3{} : hits[0], hits.empty() ? Vec3{} : hits[0]};
+    Vec3 a = hits.front(), b = hits.back();
+    const double da = other.value(a).value, db = other.value(b).value;
+    if (da < 0 && db > 0) a = a + (b - a) * (da / (da - db));
+    if (db < 0 && da > 0) b = b + (a - b) * (db / (db - da));
+    // Directed as the chord: n_clip x n_face.
+    const Vec3 nClip = cross(clip.b - clip.a, clip.c - clip.a);
+    const PlaneOrient facePlane = planeOf(mesh, face);
+    const Vec3 nFace = cross(facePlane.b - facePlane.a, facePlane.c - facePlane.a);
+    if (dot(b - a, cross(nClip, nFace)) < 0) std::swap(a, b);
+    return {a, b};
 }
 
 uint32_t HistoryTree::depth() const {

@@ -1,19 +1,26 @@
 // HistoryTree: the exact visibility between one receiver polygon B and one light polygon L,
 // recorded as the binary CSG history of the set of lines stabbing B and L (Mora & Aveneau 2005).
 //
-// Each inner node stores one oriented occluder edge (v0 -> v1). Its hyperplane in Plücker space
-// splits line space: a line from y to z is on the node's positive side when
-// orient3d(y, z, v0, v1) > 0 (plucker.h), and then follows child[0]; on the negative side it
-// follows child[1]. Leaves are encoded in the child slots as kVisibleLeaf / kHiddenLeaf.
-// 16 bytes per node, as in the paper.
+// Each inner node stores one oriented occluder edge: its supporting line, exactly (edge_line.h).
+// Its hyperplane in Plücker space splits line space: a line from y to z is on the node's positive
+// side when the side of line(y, z) against the edge's line is > 0 (for an input edge v0 -> v1,
+// orient3d(y, z, v0, v1): plucker.h), and then follows child[0]; on the negative side it follows
+// child[1]. Leaves are encoded in the child slots as kVisibleLeaf / kHiddenLeaf.
+// 16 bytes per node, as in the paper. The edge is (v0, v1): two mesh vertex ids (an input edge of
+// the occluder, or the line of one it was shortened from), or, with kClipEdge set in v0, the chord
+// where occluder face (v0 & ~kClipEdge) meets the receiver's plane (v1 == kReceiverPlaneEdge) or
+// the light's (v1 == kLightPlaneEdge): the new edge of a clipped occluder (clipped_occluder.h).
+// No node refers to a constructed point.
 #pragma once
 
 #include <cstdint>
 #include <span>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "visibility/box_tree.h"
+#include "visibility/edge_line.h"
 #include "visibility/polygon_mesh.h"
 
 namespace penumbra::vis {
@@ -21,6 +28,10 @@ namespace penumbra::vis {
 inline constexpr uint32_t kVisibleLeaf = 0xFFFFFFFFu;
 inline constexpr uint32_t kHiddenLeaf = 0xFFFFFFFEu;
 constexpr bool isLeaf(uint32_t child) { return child >= kHiddenLeaf; }
+
+inline constexpr uint32_t kClipEdge = 0x80000000u;
+inline constexpr uint32_t kReceiverPlaneEdge = 0, kLightPlaneEdge = 1;
+constexpr bool isClipEdge(uint32_t v0) { return (v0 & kClipEdge) != 0; }
 
 struct HistoryNode {
     uint32_t v0 = 0, v1 = 0;  // oriented edge; vertex ids (see HistoryTree::vertex)
@@ -53,10 +64,18 @@ inline constexpr std::string_view kPartial =
     "partly blocked: the tree holds the occluders its build budget allowed, the others are "
     "clipped from each point";
 }  // namespace reasons
-// Fills DeferredOccluder::box for every deferred occluder of `tree` (a tree of `mesh`) and builds
-// HistoryTree::deferredIndex over them.
+// Fills what a tree derives from its mesh for queries (not stored in files): DeferredOccluder::box
+// for every deferred occluder and HistoryTree::deferredIndex over them, and contactPlanes.
 struct HistoryTree;
-void indexDeferred(const PolygonMesh& mesh, HistoryTree& tree);
+void prepareForQueries(const PolygonMesh& mesh, HistoryTree& tree);
+
+// The exact line of an edge (v0, v1) in the node encoding above, for the pair (receiver, light).
+EdgeLine edgeLine(const PolygonMesh& mesh, uint32_t receiver, uint32_t light, uint32_t v0,
+                  uint32_t v1);
+// An approximate segment of that edge, in doubles, for display only: the input edge's end
+// points, or the chord's part inside the occluder face and in front of the other plane.
+std::pair<Vec3, Vec3> edgeSegment(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
+                                  uint32_t v0, uint32_t v1);
 
 // Every reason above, for mapping a stored text back to its static string.
 std::span<const std::string_view> knownReasons();
@@ -70,7 +89,7 @@ std::span<const std::string_view> knownReasons();
 struct DeferredOccluder {
     uint32_t face = 0;
     // Derived, not stored in files: the box of the face's vertices, which lets a query skip it
-    // cheaply (indexDeferred() fills it; an empty box only means "no quick skip").
+    // cheaply (prepareForQueries() fills it; an empty box only means "no quick skip").
     Bounds3 box;
 };
 
@@ -81,26 +100,30 @@ struct HistoryTree {
     std::string_view why;  // one sentence: why this kind (static string)
 
     std::vector<HistoryNode> nodes;  // nodes[0] is the root when kind == Penumbra
-    // Vertex ids below meshVertexCount refer to the mesh; the others to extraVertices: vertices
-    // constructed by clipping occluders to the region between B's and L's planes (rounded
-    // constructions, see pair_setup.cpp).
-    uint32_t meshVertexCount = 0;
-    std::vector<Vec3> extraVertices;
+    uint32_t meshVertexCount = 0;    // of the mesh the tree was built for (ids below it)
     // Debug information, not part of the 16-byte budget: the occluder face of each node.
     std::vector<uint32_t> nodeOccluder;
     // The occluders left out of a partial tree, in insertion order (largest shadow first). A
     // Penumbra tree may have no node and only these (the budget ran out on the first occluder).
     std::vector<DeferredOccluder> deferred;
-    BoxTree deferredIndex;  // over the deferred boxes (indexDeferred), not stored in files
+    BoxTree deferredIndex;  // over the deferred boxes (prepareForQueries), not stored in files
+    // The occluder faces the build inserted, in insertion order (with `deferred`: every occluder
+    // of the pair). The contact rule needs them: a query point on an occluder that reaches B's
+    // plane is answered from these faces directly (fp_query.h).
+    std::vector<uint32_t> occluders;
+    // Derived (prepareForQueries), not stored: the planes of the inserted occluders that reach
+    // B's plane (a vertex on or behind it). A query point exactly on one of these planes is
+    // where the tree's limit answer and the contract can differ.
+    std::vector<PlaneOrient> contactPlanes;
 
-    Vec3 vertex(const PolygonMesh& mesh, uint32_t id) const {
-        return id < meshVertexCount ? mesh.vertices[id] : extraVertices[id - meshVertexCount];
+    EdgeLine edgeLine(const PolygonMesh& mesh, const HistoryNode& n) const {
+        return vis::edgeLine(mesh, receiver, light, n.v0, n.v1);
     }
-    // Storage the tree needs: nodes and constructed vertices (not the debug information).
+    // Storage the tree needs: nodes, occluder faces and deferred faces (not the debug
+    // information).
     size_t bytes() const {
-        size_t b = nodes.size() * sizeof(HistoryNode) + extraVertices.size() * sizeof(Vec3);
-        b += deferred.size() * sizeof(uint32_t);
-        return b;
+        return nodes.size() * sizeof(HistoryNode) + occluders.size() * sizeof(uint32_t) +
+               deferred.size() * sizeof(uint32_t);
     }
     bool partial() const { return !deferred.empty(); }
     uint32_t depth() const;

@@ -20,30 +20,30 @@ struct BudgetExceeded {};
 
 class Builder {
   public:
-    Builder(const PolygonMesh& mesh, std::span<const Vec3> receiver, uint32_t light,
-            const PairOccluders& occ, const BuildOptions& options, BuildStats& stats)
+    Builder(const PolygonMesh& mesh, uint32_t receiverFace, std::span<const Vec3> receiver,
+            uint32_t light, const BuildOptions& options, BuildStats& stats)
         : mesh_(mesh),
-          occ_(occ),
           options_(options),
           stats_(stats),
           space_(receiver, polygon(mesh, light)),
           receiverPoints_(receiver.begin(), receiver.end()),
           lightPoints_(polygon(mesh, light)),
-          meshVertexCount_(static_cast<uint32_t>(mesh.vertices.size())) {}
+          receiverFace_(receiverFace),
+          light_(light) {}
 
     void insert(const Occluder& o) {
         edgeRows_.clear();
         edges_.clear();
-        const size_t k = o.vertexIds.size();
-        for (size_t i = 0; i < k; ++i) {
-            const uint32_t a = o.vertexIds[i], b = o.vertexIds[(i + 1) % k];
-            rowStore_.push_back(space_.row(vertex(a), vertex(b)));
+        for (const auto& [a, b] : o.edges) {
+            rowStore_.push_back(space_.row(edgeLine(mesh_, receiverFace_, light_, a, b)));
             edgeRows_.push_back(&rowStore_.back());
             edges_.push_back({a, b});
         }
         occluder_ = &o;
-        occluderPoints_.clear();
-        for (uint32_t id : o.vertexIds) occluderPoints_.push_back(vertex(id));
+        // The whole face, not its clipped part: the lines from B to the face (or from the face
+        // to L) contain those through the clipped part, so a side certain for them is certain
+        // for the occluder too (occluderSideOf), with no constructed point.
+        occluderPoints_ = polygon(mesh_, o.face);
         walk(Slot{}, space_.allWitnesses());
         ++stats_.occludersInserted;
     }
@@ -80,10 +80,6 @@ class Builder {
         for (uint32_t v : mesh.faces[f]) p.push_back(mesh.vertices[v]);
         return p;
     }
-    Vec3 vertex(uint32_t id) const {
-        return id < meshVertexCount_ ? mesh_.vertices[id]
-                                     : occ_.extraVertices[id - meshVertexCount_];
-    }
     uint32_t get(Slot s) const {
         return s.node == UINT32_MAX ? root_ : nodes_[s.node].child[s.child];
     }
@@ -106,7 +102,7 @@ class Builder {
         // Line-space shaft culling: when every line meeting B (or L) and the occluder lies on one
         // closed side of this node's hyperplane, the other subtree holds no line the occluder can
         // block (its lines are strictly on the other side) and is not visited.
-        const Sign occluderSide = occluderSideOf(nodes_[v].v0, nodes_[v].v1);
+        const Sign occluderSide = occluderSideOf(row->edge);
         path_.push_back({row, +1});
         if (occluderSide != Sign::Negative) walk(Slot{v, 0}, inside & row->certainNonNegative);
         path_.back().sign = -1;
@@ -118,13 +114,12 @@ class Builder {
     // Positive / Negative when all lines from B to the occluder, or all lines from the occluder
     // to L, lie on that closed side of edge (v0, v1)'s hyperplane (they span cones that contain
     // every line stabbing B, the occluder and L); Zero when neither is certain. Exact signs.
-    Sign occluderSideOf(uint32_t v0, uint32_t v1) const {
-        const Vec3 a = vertex(v0), b = vertex(v1);
+    Sign occluderSideOf(const EdgeLine& edge) const {
         auto coneSide = [&](std::span<const Vec3> from, std::span<const Vec3> to) {
             bool pos = true, neg = true;
             for (const Vec3& p : from)
                 for (const Vec3& q : to) {
-                    const Sign s = orientSign(p, q, a, b);
+                    const Sign s = sideSign(p, q, edge);
                     pos &= s != Sign::Negative;
                     neg &= s != Sign::Positive;
                     if (!pos && !neg) return Sign::Zero;
@@ -275,12 +270,11 @@ class Builder {
     static constexpr int kPruneLevels = 3;
 
     const PolygonMesh& mesh_;
-    const PairOccluders& occ_;
     const BuildOptions& options_;
     BuildStats& stats_;
     LinePolytopeSpace space_;
     std::vector<Vec3> receiverPoints_, lightPoints_, occluderPoints_;
-    uint32_t meshVertexCount_;
+    uint32_t receiverFace_, light_;
     PolytopeStats polyStats_;
     RelaxationPoints relaxation_;  // what the last classification left for the real-line tests
 
@@ -322,10 +316,13 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
         tree.why = reasons::kNoOccluder;
     } else {
         stats.occludersInShaft = static_cast<uint32_t>(occ.occluders.size());
-        Builder builder(mesh, region, light, occ, options, stats);
+        Builder builder(mesh, receiver, region, light, options, stats);
         size_t inserting = 0;
         try {
             for (; inserting < occ.occluders.size(); ++inserting) {
+                // Recorded first: an occluder the budget interrupts has nodes too (and is also
+                // deferred), and the contact rule must know it.
+                tree.occluders.push_back(occ.occluders[inserting].face);
                 builder.insert(occ.occluders[inserting]);
                 if (builder.root() == kHiddenLeaf) break;
             }
@@ -361,24 +358,7 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
             tree.why = reasons::kPenumbra;
             builder.emit(tree);
         }
-        if (tree.kind == PairKind::Penumbra) {
-            // Keep only the constructed vertices the nodes use, renumbered.
-            std::vector<uint32_t> remap(occ.extraVertices.size(), UINT32_MAX);
-            auto renumber = [&](uint32_t& id) {
-                if (id < tree.meshVertexCount) return;
-                uint32_t& r = remap[id - tree.meshVertexCount];
-                if (r == UINT32_MAX) {
-                    r = tree.meshVertexCount + static_cast<uint32_t>(tree.extraVertices.size());
-                    tree.extraVertices.push_back(occ.extraVertices[id - tree.meshVertexCount]);
-                }
-                id = r;
-            };
-            for (HistoryNode& n : tree.nodes) {
-                renumber(n.v0);
-                renumber(n.v1);
-            }
-            indexDeferred(mesh, tree);
-        }
+        prepareForQueries(mesh, tree);
     }
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (statsOut) *statsOut = stats;

@@ -108,6 +108,8 @@ LinePolytopeSpace::LinePolytopeSpace(std::span<const Vec3> receiver, std::span<c
     : exact_(std::make_unique<ExactCache>()),
       b_(receiver.begin(), receiver.end()),
       l_(light.begin(), light.end()) {
+    probes_ = b_;
+    probes_.insert(probes_.end(), l_.begin(), l_.end());
     samples_.reserve(kSampleWitnesses);
     for (uint32_t s = 0; s < kSampleWitnesses; ++s) {
         const uint32_t i = s + 1;
@@ -125,17 +127,16 @@ WitnessMask LinePolytopeSpace::allWitnesses() const {
     return m;
 }
 
-HyperplaneRow LinePolytopeSpace::row(const Vec3& a, const Vec3& b) const {
+HyperplaneRow LinePolytopeSpace::row(const EdgeLine& edge) const {
     const size_t n = generatorCount();
     HyperplaneRow r;
-    r.edgeFrom = a;
-    r.edgeTo = b;
+    r.edge = edge;
     r.value.resize(n);
     r.error.resize(n);
     double maxAbs = 0;
     for (size_t i = 0; i < b_.size(); ++i)
         for (size_t j = 0; j < l_.size(); ++j) {
-            const BoundedValue v = sideValue(b_[i], l_[j], a, b);
+            const BoundedValue v = sideValue(b_[i], l_[j], edge);
             const size_t g = i * l_.size() + j;
             r.value[g] = v.value;
             r.error[g] = v.error;
@@ -146,8 +147,7 @@ HyperplaneRow LinePolytopeSpace::row(const Vec3& a, const Vec3& b) const {
             }
         }
     for (size_t s = 0; s < samples_.size(); ++s) {
-        const std::optional<Sign> sg =
-            orientSignFiltered(samples_[s].first, samples_[s].second, a, b);
+        const std::optional<Sign> sg = sideSignFiltered(samples_[s].first, samples_[s].second, edge);
         if (!sg) continue;
         if (*sg == Sign::Positive) r.certainNonNegative.set(kGeneratorWitnesses + s);
         if (*sg == Sign::Negative) r.certainNonPositive.set(kGeneratorWitnesses + s);
@@ -216,7 +216,7 @@ bool LinePolytopeSpace::certifyExactly(std::span<const Constraint> path, const H
         std::vector<mpq_class> v(n);
         for (size_t i = 0; i < b_.size(); ++i)
             for (size_t j = 0; j < l_.size(); ++j)
-                v[i * l_.size() + j] = orientExact(b_[i], l_[j], r.edgeFrom, r.edgeTo);
+                v[i * l_.size() + j] = sideExact(b_[i], l_[j], r.edge);
         return exact_->rows.emplace(&r, std::move(v)).first->second;
     };
     // Exact rows, as scaled in the LP: the multipliers are then comparable to mu.
@@ -309,12 +309,9 @@ Side LinePolytopeSpace::classify(std::span<const Constraint> path, const Witness
     // edges): the polytope lies on the known side of it. Decided exactly, with no linear program:
     // the rounded rows of the same hyperplane cannot certify a zero margin.
     for (const Constraint& c : path) {
-        const HyperplaneRow& r = *c.row;
-        if (collinear(r.edgeFrom, r.edgeTo, h.edgeFrom) &&
-            collinear(r.edgeFrom, r.edgeTo, h.edgeTo)) {
-            const int same = dot(h.edgeTo - h.edgeFrom, r.edgeTo - r.edgeFrom) > 0 ? 1 : -1;
+        int same = 0;
+        if (sameLine(c.row->edge, h.edge, probes_, same))
             return same * c.sign > 0 ? Side::Positive : Side::Negative;
-        }
     }
     // A failed certificate of sign s leaves the program's primal point: a point of the relaxation
     // on the side -s of h (RelaxationPoints).
@@ -409,8 +406,7 @@ bool LinePolytopeSpace::findRealLine(std::span<const Constraint> path, const Wit
         // plane through x, a, c (orient3d(x, y, a, c) == orient3d(x, a, c, y)).
         poly.assign(l_.begin(), l_.end());
         auto keep = [&](const HyperplaneRow& row, int s) {
-            const OrientedPlane plane{x, row.edgeFrom, row.edgeTo};
-            clipConvexInto(poly, plane, positive, negative);
+            clipConvexInto(poly, EdgePlane(x, row.edge), positive, negative);
             std::swap(poly, s > 0 ? positive : negative);
             return poly.size() >= 3;
         };

@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "visibility/dual_simplex.h"
+#include "visibility/edge_line.h"
 #include "visibility/predicates.h"
 
 namespace penumbra::vis {
@@ -54,7 +55,7 @@ struct HyperplaneRow {
     std::vector<double> error;  // rigorous bound per entry; 0 for exact values (exact zeros too)
     WitnessMask certainNonNegative;  // witness lines certainly on the closed positive side
     WitnessMask certainNonPositive;  // witness lines certainly on the closed negative side
-    Vec3 edgeFrom, edgeTo;           // the oriented edge whose hyperplane this is
+    EdgeLine edge;                   // the oriented edge line whose hyperplane this is
     int scaleExp = 0;                // value = exact * 2^-scaleExp
     bool restricted = false;         // rows of a sub-polygon of B (no exact fallback for these)
 };
@@ -100,8 +101,8 @@ class LinePolytopeSpace {
     // All witness lines (generators and samples).
     WitnessMask allWitnesses() const;
 
-    // The hyperplane of lines meeting the oriented edge a -> b.
-    HyperplaneRow row(const Vec3& a, const Vec3& b) const;
+    // The hyperplane of lines meeting the oriented edge line (exact signs per generator).
+    HyperplaneRow row(const EdgeLine& edge) const;
 
     // Which side of h the polytope {path} lies on. `inside` is the mask of witness lines that lie
     // in the polytope: they make most Mixed answers free of any linear program.
@@ -140,6 +141,7 @@ class LinePolytopeSpace {
     std::unique_ptr<ExactCache> exact_;  // exact row values, computed on demand
 
     std::vector<Vec3> b_, l_;
+    std::vector<Vec3> probes_;  // B's and L's vertices (sameLine's probes)
     std::vector<std::pair<Vec3, Vec3>> samples_;  // sample lines (point on B, point on L)
 
     // Storage of the linear programs, reused from one to the next (no allocation per program).

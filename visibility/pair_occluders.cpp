@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "visibility/clipped_occluder.h"
 #include "visibility/form_factor.h"
 #include "visibility/polygon_clip.h"
 
@@ -84,8 +85,6 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
     std::vector<Vec3> lightPoints;
     for (uint32_t v : mesh.faces[light]) lightPoints.push_back(mesh.vertices[v]);
     const std::vector<PlaneOrient> hull = hullPlanes(receiverRegion, lightPoints);
-    // Outside the hull of B and L (or touching it only): blocks no segment of positive measure.
-    auto outsideHull = [&](std::span<const Vec3> poly) { return outsideOnePlane(hull, poly); };
 
     // Insertion order: the occluders that hide the most of L from the centroid of B first. A
     // large early shadow makes the leaves behind it hidden, and later occluders there cost
@@ -116,20 +115,18 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
         return polygonArea(poly);
     };
 
-    const uint32_t meshVertexCount = static_cast<uint32_t>(mesh.vertices.size());
     const OrientedPlane clipB{pb.a, pb.b, pb.c}, clipL{pl.a, pl.b, pl.c};
+    ClippedOccluder clipped;
     auto consider = [&](uint32_t f) {
         if (f == receiver || f == light) return;
-        const auto& idx = mesh.faces[f];
         // Closed boxes, touching counts: conservative.
         if (!mesh.faceBounds(f).overlaps(shaft)) return;
-        std::vector<Vec3> poly;
-        for (uint32_t v : idx) poly.push_back(mesh.vertices[v]);
-        poly = clipConvexPositive(poly, clipB);
-        if (poly.size() < 3) return;
-        poly = clipConvexPositive(poly, clipL);
-        if (poly.size() < 3) return;
-        if (outsideHull(poly)) return;
+        clipped.clip(mesh, f, clipB.orient, clipL.orient);
+        if (clipped.empty()) return;
+        // Outside the hull of B and L (or touching it only): blocks no segment of positive
+        // measure. Exact on the symbolic vertices (a corner of the two chords counts as inside).
+        for (const PlaneOrient& h : hull)
+            if (clipped.outside(h)) return;
         // Which way do segments from B to L cross the occluder's plane?
         const FacePlane po = facePlane(mesh, f);
         int bPos = 0, bNeg = 0, lPos = 0, lNeg = 0;
@@ -153,19 +150,13 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
             occ.blockedSign = -1;
         else
             occ.blockedSign = 0;
-        for (const Vec3& p : poly) {
-            auto it = std::find_if(idx.begin(), idx.end(),
-                                   [&](uint32_t v) { return mesh.vertices[v] == p; });
-            if (it != idx.end()) {
-                occ.vertexIds.push_back(*it);
-            } else {
-                occ.vertexIds.push_back(meshVertexCount +
-                                        static_cast<uint32_t>(out.extraVertices.size()));
-                out.extraVertices.push_back(p);
-            }
-        }
-        occ.area = polygonArea(poly);
-        occ.shadow = shadowArea(poly);
+        occ.edges.assign(clipped.edges().begin(), clipped.edges().end());
+        // The insertion order's heuristics, in doubles: the rounded clip of the face (it may be
+        // empty where the exact one is a sliver; then the occluder just comes last).
+        std::vector<Vec3> poly(clipped.facePoints().begin(), clipped.facePoints().end());
+        if (clipped.clipped()) poly = clipConvexPositive(clipConvexPositive(poly, clipB), clipL);
+        occ.area = poly.size() >= 3 ? polygonArea(poly) : 0.0;
+        occ.shadow = poly.size() >= 3 ? shadowArea(poly) : 0.0;
         out.occluders.push_back(std::move(occ));
     };
     if (candidates.empty()) {

@@ -1,15 +1,17 @@
 // The occluders of one (receiver B, light L) pair: the parts of the other faces that can block a
 // line segment from B to L.
 //
-// Each candidate face is clipped to the region strictly in front of both B's and L's planes (the
-// only region a segment from a point of B to a point of L that each face the other can cross), so
-// a stabbing line that meets the clipped occluder meets it between B and L. Sides of input
-// vertices are exact (orient3d); the crossing points of the clip are rounded constructions, stored
-// as extra vertices of the tree.
+// Each candidate face is clipped to the region in front of both B's and L's planes (the only
+// region a segment from a point of B to a point of L that each face the other can cross), so a
+// stabbing line that meets the clipped occluder meets it between B and L. The clip is exact and
+// constructs no point (clipped_occluder.h): the occluder's edges are input edges and the chords
+// where its plane meets B's or L's, and every decision about it (empty or not, outside the hull
+// of B and L or not, which way segments cross it) is an exact function of the input doubles.
 #pragma once
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "visibility/history_tree.h"
@@ -19,11 +21,13 @@ namespace penumbra::vis {
 
 struct Occluder {
     uint32_t face = 0;
-    std::vector<uint32_t> vertexIds;  // clipped polygon, ids as in HistoryTree::vertex
-    // Which side of each of its edge hyperplanes (edge i = vertexIds[i] -> vertexIds[i+1]) the
-    // blocked lines (oriented from B to L) lie on: +1 or -1 when the occluder's plane separates B
-    // from L (all crossings in one direction), 0 when it cuts B or L and both can occur.
+    // The clipped polygon's edges in the face's order, in HistoryNode's (v0, v1) encoding.
+    std::vector<std::pair<uint32_t, uint32_t>> edges;
+    // Which side of each of its edge hyperplanes the blocked lines (oriented from B to L) lie on:
+    // +1 or -1 when the occluder's plane separates B from L (all crossings in one direction), 0
+    // when it cuts B or L and both can occur.
     int blockedSign = 0;
+    // Approximate (doubles, a heuristic only): the clipped polygon's area.
     double area = 0;
     // The area of L it hides from the centroid of B (approximate, in doubles): the insertion
     // order, largest first.
@@ -32,7 +36,6 @@ struct Occluder {
 
 struct PairOccluders {
     bool backFacing = false;
-    std::vector<Vec3> extraVertices;  // ids from meshVertexCount on
     std::vector<Occluder> occluders;  // most important first (largest shadow, then area)
 };
 
@@ -66,6 +69,7 @@ bool outsideOnePlane(std::span<const PlaneOrient> planes, std::span<const Vec3> 
 struct FacePlane {
     Vec3 a, b, c;
     Sign side(const Vec3& y) const { return orientSign(a, b, c, y); }
+    PlaneOrient orient() const { return PlaneOrient(a, b, c); }
 };
 FacePlane facePlane(const PolygonMesh& mesh, uint32_t face);
 

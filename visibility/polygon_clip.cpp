@@ -139,7 +139,8 @@ void splitIntoVectors(std::span<const Vec3> polygon, ValueOf valueOf, std::vecto
 }
 
 // The filter could not decide: exact for an input vertex, on the plane for a constructed one.
-[[gnu::noinline]] double uncertainValue(const PlaneOrient& plane,
+template <class Plane>
+[[gnu::noinline]] double uncertainValue(const Plane& plane,
                                         std::span<const Vec3> inputVertices, const Vec3& y) {
     for (const Vec3& input : inputVertices)
         if (input.x == y.x && input.y == y.y && input.z == y.z) return plane.value(y).value;
@@ -149,7 +150,8 @@ void splitIntoVectors(std::span<const Vec3> polygon, ValueOf valueOf, std::vecto
 // splitConstructed's value of a vertex: exact sign for input vertices, the filter's otherwise (an
 // uncertain constructed vertex counts as on the plane). The filter's path inlined: it is the
 // from-point query's innermost loop.
-[[gnu::always_inline]] inline double constructedValue(const PlaneOrient& plane,
+template <class Plane>
+[[gnu::always_inline]] inline double constructedValue(const Plane& plane,
                                                       std::span<const Vec3> inputVertices,
                                                       const Vec3& y) {
     BoundedValue v;
@@ -166,7 +168,14 @@ void clipConvexInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
         polygon, [&](const Vec3& y) { return plane.value(y).value; }, positive, negative);
 }
 
-SplitOutcome splitConstructed(std::span<const Vec3> polygon, const PlaneOrient& plane,
+void clipConvexInto(std::span<const Vec3> polygon, const EdgePlane& plane,
+                    std::vector<Vec3>& positive, std::vector<Vec3>& negative) {
+    splitIntoVectors(
+        polygon, [&](const Vec3& y) { return plane.value(y).value; }, positive, negative);
+}
+
+template <class Plane>
+SplitOutcome splitConstructed(std::span<const Vec3> polygon, const Plane& plane,
                               std::span<const Vec3> inputVertices, SplitParts& parts,
                               KeepParts keep) {
     return splitInto(
@@ -174,7 +183,8 @@ SplitOutcome splitConstructed(std::span<const Vec3> polygon, const PlaneOrient& 
         keep);
 }
 
-SplitOutcome sideOfConstructed(std::span<const Vec3> polygon, const PlaneOrient& plane,
+template <class Plane>
+SplitOutcome sideOfConstructed(std::span<const Vec3> polygon, const Plane& plane,
                                std::span<const Vec3> inputVertices) {
     bool anyPos = false, anyNeg = false;
     for (const Vec3& y : polygon) {
@@ -187,6 +197,16 @@ SplitOutcome sideOfConstructed(std::span<const Vec3> polygon, const PlaneOrient&
     if (!anyNeg) return anyPos ? SplitOutcome::Positive : SplitOutcome::OnPlane;
     return SplitOutcome::Negative;
 }
+
+#define PENUMBRA_SPLIT_FOR(Plane)                                                              \
+    template SplitOutcome splitConstructed<Plane>(std::span<const Vec3>, const Plane&,          \
+                                                  std::span<const Vec3>, SplitParts&, KeepParts); \
+    template SplitOutcome sideOfConstructed<Plane>(std::span<const Vec3>, const Plane&,         \
+                                                   std::span<const Vec3>);
+PENUMBRA_SPLIT_FOR(PlaneOrient)
+PENUMBRA_SPLIT_FOR(PencilPlane)
+PENUMBRA_SPLIT_FOR(EdgePlane)
+#undef PENUMBRA_SPLIT_FOR
 
 SplitOutcome splitExact(std::span<const Vec3> polygon, const PlaneOrient& plane,
                         SplitParts& parts) {

@@ -5,6 +5,7 @@
 #include <span>
 #include <vector>
 
+#include "visibility/edge_line.h"
 #include "visibility/predicates.h"
 
 namespace penumbra::vis {
@@ -22,6 +23,9 @@ struct OrientedPlane {
 // Splits `polygon` into `positive` and `negative` (cleared first, capacity kept: callers reuse
 // buffers in hot loops). Same rules as clipConvex.
 void clipConvexInto(std::span<const Vec3> polygon, const OrientedPlane& plane,
+                    std::vector<Vec3>& positive, std::vector<Vec3>& negative);
+// The same by the plane through a point and an edge line (exact signs for every vertex).
+void clipConvexInto(std::span<const Vec3> polygon, const EdgePlane& plane,
                     std::vector<Vec3>& positive, std::vector<Vec3>& negative);
 
 // Where a polygon lies against a plane. The split functions below fill their output buffers only
@@ -56,12 +60,16 @@ struct SplitParts {
 // slivers of rounding width. Areas move by at most that rounding width. `parts` is written only
 // for SplitOutcome::Split.
 // `keep` names the parts written for Split (the other count is 0).
-SplitOutcome splitConstructed(std::span<const Vec3> polygon, const PlaneOrient& plane,
+// Plane: PlaneOrient (the plane through x and an input edge), PencilPlane (through x and a chord)
+// or EdgePlane (either), each with filtered() and an exact-sign value() (edge_line.h).
+template <class Plane>
+SplitOutcome splitConstructed(std::span<const Vec3> polygon, const Plane& plane,
                               std::span<const Vec3> inputVertices, SplitParts& parts,
                               KeepParts keep = KeepParts::Both);
 
 // Where `polygon` lies against the plane, with splitConstructed's signs, writing nothing.
-SplitOutcome sideOfConstructed(std::span<const Vec3> polygon, const PlaneOrient& plane,
+template <class Plane>
+SplitOutcome sideOfConstructed(std::span<const Vec3> polygon, const Plane& plane,
                                std::span<const Vec3> inputVertices);
 
 // For measuring what exactness costs (FromPointQuery's PredicateMode): every sign through the

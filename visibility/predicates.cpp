@@ -89,12 +89,16 @@ BoundedValue orientValue(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
         // approx has the exact sign and a relative error below 2^-50 (expansion.h); claim 2^-48.
         return {approx, std::fabs(approx) * 0x1p-48};
     }
-    const mpq_class q = exactDet(a, b, c, d);
+    return roundedExact(exactDet(a, b, c, d));
+}
+
+BoundedValue roundedExact(const mpq_class& q) {
     if (sgn(q) == 0) return {0.0, 0.0};
-    // mpq_get_d truncates towards zero: the result has the exact sign (it cannot underflow to
-    // zero for differences of doubles of this magnitude unless the inputs are subnormal; guard it).
+    // mpq_get_d truncates towards zero: the result has the exact sign unless it underflows to
+    // zero (then the smallest subnormal keeps the sign) or lies beyond the double range.
     double v = q.get_d();
     if (v == 0) v = sgn(q) > 0 ? DBL_TRUE_MIN : -DBL_TRUE_MIN;
+    if (!std::isfinite(v)) v = sgn(q) > 0 ? DBL_MAX : -DBL_MAX;
     const double mag = std::fabs(v);
     const double ulp = std::nextafter(mag, INFINITY) - mag;
     // Strictly smaller than |v| unless v is the smallest subnormal; keep the sign certain.

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "visibility/predicates.h"
+#include "visibility/edge_line.h"
 
 namespace penumbra::vis {
 
@@ -28,11 +28,12 @@ void RegionDecisions::reset(const PolygonMesh& mesh, const HistoryTree& tree,
 
 RegionDecisions::Decision RegionDecisions::compute(uint32_t node) {
     const HistoryNode& n = tree_->nodes[node];
-    const Vec3 v0 = tree_->vertex(*mesh_, n.v0), v1 = tree_->vertex(*mesh_, n.v1);
+    const EdgeLine edge = tree_->edgeLine(*mesh_, n);
     bool pos = false, neg = false;
     for (const Vec3& r : corners_) {
-        // orient3d(r, l, v0, v1) == orient3d(r, v0, v1, l): the plane through r and the edge.
-        const PlaneOrient plane(r, v0, v1);
+        // The side of line(r, l) against the edge is the side of l against the plane through r
+        // and the edge's line (exact: edge_line.h).
+        const EdgePlane plane(r, edge);
         for (const Vec3& l : light_) {
             const Sign s = plane.sign(l);
             pos |= s == Sign::Positive;

@@ -3,7 +3,8 @@
 // region (a tile of pixels, the 16 samples of a pixel) skip their plane tests there.
 //
 // R is given by points spanning it (the corners of a box holding the query points) and L is the
-// light polygon. orient3d(r, l, v0, v1) is affine in r and affine in l (plucker.h), so over every
+// light polygon. The side of line(r, l) against an edge line is affine in r and affine in l
+// (orient3d(r, l, v0, v1) for an input edge, edge_line.h for a chord), so over every
 // line from a point of conv(R) to a point of L its sign lies between the signs at the |R| x |L|
 // corner-vertex pairs. At node n with edge (v0, v1):
 //   Positive  no pair strictly negative: for every x in R, every point of L (so every fragment
@@ -13,7 +14,7 @@
 //             fragment. (A point query at x would send a fragment lying entirely in the plane to
 //             child[0]; such a fragment has zero area, so no area moves.)
 //   Split     otherwise: the query tests the plane through x as usual.
-// Every sign is an exact orient3d of the doubles given (filtered, exact fallback), so a decision
+// Every sign is an exact predicate of the doubles given (filtered, exact fallback), so a decision
 // is exact for every x inside the box; the decision is also right for the exact fragment where the
 // point query's rounded fragment vertices (constructions) lie a hair outside L.
 //

@@ -1,6 +1,7 @@
 #include "app/viewer/point_inspection.h"
 
 #include <chrono>
+#include <tuple>
 
 #include "visibility/pair_occluders.h"
 #include "visibility/polygon_clip.h"
@@ -22,13 +23,12 @@ struct SideWalker {
         step.depth = depth;
         step.v0 = n.v0;
         step.v1 = n.v1;
-        step.a = tree.vertex(mesh, n.v0);
-        step.b = tree.vertex(mesh, n.v1);
+        std::tie(step.a, step.b) = vis::edgeSegment(mesh, tree.receiver, tree.light, n.v0, n.v1);
         if (node < tree.nodeOccluder.size()) step.occluderFace = tree.nodeOccluder[node];
         const size_t index = out.size();
         out.push_back(step);
         std::vector<Vec3> pos, neg;
-        vis::clipConvexInto(poly, vis::OrientedPlane{x, step.a, step.b}, pos, neg);
+        vis::clipConvexInto(poly, vis::EdgePlane(x, tree.edgeLine(mesh, n)), pos, neg);
         if (pos.empty() && neg.empty()) {
             out[index].side = PathSide::InPlane;
             visit(n.child[0], poly, depth + 1);

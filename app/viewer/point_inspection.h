@@ -23,8 +23,8 @@ const char* toString(PathSide side);
 struct PathStep {
     uint32_t node = 0;
     uint32_t depth = 0;                   // 0 at the root
-    uint32_t v0 = 0, v1 = 0;              // the node's oriented edge (HistoryTree vertex ids)
-    Vec3 a, b;                            // their positions (tree.vertex)
+    uint32_t v0 = 0, v1 = 0;              // the node's oriented edge (history_tree.h encoding)
+    Vec3 a, b;                            // a segment of it, for display (vis::edgeSegment)
     uint32_t occluderFace = kNoOccluder;  // HistoryTree::nodeOccluder, when recorded
     PathSide side = PathSide::Positive;
     static constexpr uint32_t kNoOccluder = std::numeric_limits<uint32_t>::max();

@@ -37,7 +37,7 @@ inline ::testing::AssertionResult sameTree(const vis::HistoryTree& a, const vis:
         if (x.v0 != y.v0 || x.v1 != y.v1 || x.child[0] != y.child[0] || x.child[1] != y.child[1])
             return fail("node " + std::to_string(i) + " differs");
     }
-    if (a.extraVertices != b.extraVertices) return fail("extra vertices differ");
+    if (a.occluders != b.occluders) return fail("occluders differ");
     if (a.nodeOccluder != b.nodeOccluder) return fail("node occluders differ");
     if (a.deferred.size() != b.deferred.size())
         return fail("deferred occluder counts " + std::to_string(a.deferred.size()) + " vs " +
