@@ -204,3 +204,78 @@ TEST(Predicates, Collinear) {
 
 }  // namespace
 }  // namespace penumbra::vis
+
+namespace penumbra::vis {
+namespace {
+
+// boxNegative must only say "strictly negative" when every corner of the box is (the value is
+// affine, so the corners decide), at every magnitude: boxes just beside a plane through points
+// around the origin and around 1e4 .. 1e15, some touching or straddling it by less than a unit in
+// the last place of their coordinates.
+TEST(Predicates, BoxNegativeIsCertainAtEveryMagnitude) {
+    std::mt19937_64 rng(17);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int said = 0, checked = 0;
+    for (double scale : {1.0, 1e4, 1e8, 1e12, 1e15}) {
+        for (int i = 0; i < 4000; ++i) {
+            const Vec3 o{scale * u(rng), scale * u(rng), scale * u(rng)};
+            const Vec3 a = o, b = o + Vec3{u(rng), u(rng), u(rng)}, c = o + Vec3{u(rng), u(rng), u(rng)};
+            const PlaneOrient plane(a, b, c);
+            // A box centred near the plane, offset along the normal by a tiny signed amount.
+            const Vec3 n = normalize(cross(b - a, c - a));
+            const double off = std::ldexp(u(rng), -static_cast<int>(rng() % 60));
+            const Vec3 v{u(rng), u(rng), u(rng)};
+            const Vec3 centre = o + (v - n * dot(n, v)) * 0.5;  // in the plane, up to rounding
+            // Half of the boxes a few units in the last place of the coordinates wide and away.
+            const double ulp = scale * 0x1p-52;
+            const bool inUlps = i % 2 == 0;
+            const Vec3 p = centre + n * (inUlps ? ulp * std::round(8 * u(rng)) : off * std::max(1.0, scale * 1e-15));
+            const double half = inUlps ? ulp * std::round(4 * std::fabs(u(rng)))
+                                       : std::ldexp(std::fabs(u(rng)), -static_cast<int>(rng() % 50));
+            const Vec3 lo{p.x - half, p.y - half, p.z - half}, hi{p.x + half, p.y + half, p.z + half};
+            if (!plane.boxNegative(lo, hi)) continue;
+            ++said;
+            for (int k = 0; k < 8; ++k) {
+                const Vec3 corner{k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z};
+                EXPECT_EQ(orientSignExact(a, b, c, corner), Sign::Negative)
+                    << "scale " << scale << " box " << toString(lo) << " .. " << toString(hi);
+                ++checked;
+            }
+            if (::testing::Test::HasFailure()) return;
+        }
+    }
+    EXPECT_GT(said, 2000);  // it does decide most boxes that are not too close
+}
+
+// The filters' error bounds assume that each product and sum is rounded on its own. A fused
+// multiply-add (-ffp-contract=fast on a target with FMA) would round a * b - c * d once, and the
+// values below would differ from the two-step evaluation: this fails if the build contracts.
+TEST(Predicates, FiltersAreEvaluatedWithoutContraction) {
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int differs = 0;
+    for (int i = 0; i < 1000; ++i) {
+        const Vec3 a{u(rng), u(rng), u(rng)}, b{u(rng), u(rng), u(rng)}, c{u(rng), u(rng), u(rng)},
+            d{u(rng), u(rng), u(rng)};
+        // PlaneOrient's evaluation, step by step through volatile temporaries (never fused).
+        volatile double vx = b.x - a.x, vy = b.y - a.y, vz = b.z - a.z;
+        volatile double wx = c.x - a.x, wy = c.y - a.y, wz = c.z - a.z;
+        volatile double m1 = vy * wz, m2 = vz * wy, m3 = vz * wx, m4 = vx * wz, m5 = vx * wy,
+                        m6 = vy * wx;
+        volatile double n0 = m1 - m2, n1 = m3 - m4, n2 = m5 - m6;
+        volatile double ux = d.x - a.x, uy = d.y - a.y, uz = d.z - a.z;
+        volatile double t0 = ux * n0, t1 = uy * n1, t2 = uz * n2;
+        volatile double s01 = t0 + t1;
+        const double stepwise = s01 + t2;
+        BoundedValue out;
+        PlaneOrient(a, b, c).filtered(d, out);
+        EXPECT_EQ(out.value, stepwise) << "contracted evaluation at sample " << i;
+        // The fused value, for the record: it does differ on these inputs.
+        const double fused = std::fma(uz, n2, std::fma(uy, n1, ux * n0));
+        differs += fused != stepwise;
+    }
+    EXPECT_GT(differs, 0);  // the inputs can tell a contracted evaluation from a plain one
+}
+
+}  // namespace
+}  // namespace penumbra::vis

@@ -71,8 +71,8 @@ struct PlaneOrient {
     // The filter alone: false when it cannot certify the sign (then `out` holds the rounded value
     // and its error bound, |value| <= error). Inline: FPQuery calls it per vertex per node.
     bool filtered(const Vec3& d, BoundedValue& out) const;
-    // True only if every point of the box is certainly strictly on the negative side (a quick
-    // test in doubles with a margin far above their rounding; false means "not certain").
+    // True only if every point of the box is certainly strictly on the negative side (a test in
+    // doubles with a rigorous error bound; false means "not certain").
     bool boxNegative(const Vec3& lo, const Vec3& hi) const;
 
     Vec3 a, b, c;
@@ -113,14 +113,25 @@ inline bool PlaneOrient::filtered(const Vec3& d, BoundedValue& out) const {
 }
 
 inline bool PlaneOrient::boxNegative(const Vec3& lo, const Vec3& hi) const {
-    const double cx = 0.5 * (lo.x + hi.x) - a.x, cy = 0.5 * (lo.y + hi.y) - a.y,
-                 cz = 0.5 * (lo.z + hi.z) - a.z;
-    const double hx = 0.5 * (hi.x - lo.x), hy = 0.5 * (hi.y - lo.y), hz = 0.5 * (hi.z - lo.z);
-    const double at = cx * n[0] + cy * n[1] + cz * n[2];
-    const double reach = hx * std::fabs(n[0]) + hy * std::fabs(n[1]) + hz * std::fabs(n[2]);
-    const double size = (std::fabs(cx) + std::fabs(cy) + std::fabs(cz) + hx + hy + hz) *
-                        (perm[0] + perm[1] + perm[2]);
-    return at + reach < -1e-9 * size;
+    // Rigorous: an upper bound, in doubles, on the maximum over the box of the exact value
+    // (y - a) . N (N the exact normal (b - a) x (c - a)); the box is strictly negative if that
+    // bound is. Per component the maximum of (y_i - a_i) N_i over [lo_i, hi_i] is at an end.
+    // The error terms cover the rounded normal (|N_i - n_i| <= 4u perm_i: two rounded
+    // differences, two products and their difference; 8u claimed), the rounded differences
+    // lo_i - a_i and hi_i - a_i (u each), the products and the sum (4u of each term), the bound's
+    // own evaluation (the factor 1 + 8u) and underflow (the absolute term). No scale-dependent
+    // margin: the same certainty near the origin and at 1e15.
+    constexpr double u = DBL_EPSILON / 2;
+    const double lo3[3] = {lo.x - a.x, lo.y - a.y, lo.z - a.z};
+    const double hi3[3] = {hi.x - a.x, hi.y - a.y, hi.z - a.z};
+    double sum = 0, err = 0;
+    for (int i = 0; i < 3; ++i) {
+        const double best = std::fmax(lo3[i] * n[i], hi3[i] * n[i]);
+        const double reach = std::fmax(std::fabs(lo3[i]), std::fabs(hi3[i]));
+        sum += best;
+        err += reach * (8 * u * perm[i] + 4 * u * std::fabs(n[i])) + 4 * u * std::fabs(best);
+    }
+    return sum + err * (1 + 8 * u) + 0x1p-1060 < 0;  // NaN or infinity: false (not certain)
 }
 
 // Exactly: do a, b, c lie on one line (a zero cross product (b-a) x (c-a))?
