@@ -31,6 +31,7 @@
 #include <thread>
 
 #include "app/commands.h"
+#include "engine/finite_output.h"
 #include "engine/accuracy_study.h"
 #include "engine/embree_scene.h"
 #include "engine/precompute_scheduler.h"
@@ -840,6 +841,7 @@ void runBench(const BenchOptions& o, const std::string& commandLine) {
     b["perPoint"] = json::array();
     for (const std::string& s : small) b["perPoint"].push_back(perPoint(s, o));
 
+    requireFinite(b, (dir / "bench.json").string());
     writeAtomically(dir / "bench.json", b.dump(2));
     std::printf("wrote %s\n", (dir / "bench.json").c_str());
     bool plots = false;

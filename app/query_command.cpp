@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "engine/finite_output.h"
 #include "engine/point_query.h"
 
 namespace penumbra::cli {
@@ -241,7 +242,9 @@ void runQuery(const CLI::App& sub, const QueryOptions& options) {
     for (size_t i = 0; i < points.size(); ++i) {
         const std::vector<LightAtPoint> lights =
             queryPoint(store, faces[i], points[i].x, lightFlag);
-        std::cout << toJson(points[i], faces[i], lights).dump() << '\n';
+        const nlohmann::json answer = toJson(points[i], faces[i], lights);
+        requireFinite(answer, "the answer for point " + std::to_string(i));
+        std::cout << answer.dump() << '\n';
     }
     std::cout.flush();
     if (!std::cout) throw inputError("cannot write to standard output");

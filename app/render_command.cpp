@@ -28,6 +28,7 @@
 #include "app/commands.h"
 #include "engine/embree_scene.h"
 #include "engine/renderer.h"
+#include "engine/scene_validation.h"
 #include "engine/visibility_file.h"
 #include "engine/visibility_store.h"
 
@@ -85,6 +86,8 @@ Camera parseCamera(const std::string& text) {
     if (c.eye == c.target) throw usageError("--camera: the eye and the target are the same point");
     if (!(c.fovYDegrees > 0 && c.fovYDegrees < 180))
         throw usageError("--camera: the field of view must be in (0, 180) degrees");
+    for (const Vec3* p : {&c.eye, &c.target})
+        if (const auto problem = coordinateProblem(*p)) throw usageError("--camera: " + *problem);
     return c;
 }
 
@@ -162,13 +165,18 @@ void runRender(const RenderOptions& o) {
     VisibilityStore store(scene, &bvh, storeOptions);
     size_t loadedTrees = 0;
     const bool exact = settings.method == DirectMethod::Exact;
+    // A file that is there but could not be used (corrupt, stale) is rewritten after the render
+    // even when the render added no tree: leaving it would report it again on every run.
+    bool repair = false;
     if (!o.visibility.empty() && exact) {
         try {
             loadedTrees = readVisibilityFile(o.visibility, store);
         } catch (const VisibilityFileError& e) {
-            if (e.status != VisibilityFileStatus::Missing)
+            if (e.status != VisibilityFileStatus::Missing) {
                 std::cerr << "penumbra: " << e.what() << " (" << toString(e.status)
                           << "); recomputing\n";
+                repair = e.status != VisibilityFileStatus::Unreadable;
+            }
         }
     }
     ProgressiveRenderer renderer(scene, bvh, store);
@@ -192,7 +200,7 @@ void runRender(const RenderOptions& o) {
         if (!exact) {
             std::printf("visibility: %s not used (the %s method needs no history trees)\n",
                         o.visibility.c_str(), toString(settings.method));
-        } else if (store.treeCount() == loadedTrees) {
+        } else if (store.treeCount() == loadedTrees && !repair) {
             std::printf("visibility: %zu trees read from %s, none added\n", loadedTrees,
                         o.visibility.c_str());
         } else {

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "engine/scene_validation.h"
 
 namespace penumbra::cli {
 namespace {
@@ -75,6 +76,9 @@ Camera parseCamera(std::string_view flag, std::string_view text) {
     if (!(c.fovYDegrees > 0 && c.fovYDegrees < 180))
         throw usageError(std::string(flag) + ": field of view " + std::to_string(c.fovYDegrees) +
                          " out of range (0, 180) degrees");
+    for (const Vec3* p : {&c.eye, &c.target})
+        if (const auto problem = coordinateProblem(*p))
+            throw usageError(std::string(flag) + ": " + *problem);
     return c;
 }
 

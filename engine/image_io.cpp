@@ -1,3 +1,4 @@
+#include "engine/finite_output.h"
 #include "engine/image_io.h"
 
 #include <stb_image_write.h>
@@ -39,6 +40,13 @@ void requireFilm(const Film& film, const std::string& path) {
                                  "': the film is empty or inconsistent (" +
                                  std::to_string(film.width) + "x" + std::to_string(film.height) +
                                  ", " + std::to_string(film.sum.size()) + " pixels)");
+    for (size_t i = 0; i < film.sum.size(); ++i) {
+        const Vec3& v = film.sum[i];
+        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+            throw NonFiniteOutput("internal error: cannot write '" + path + "': pixel (" +
+                                  std::to_string(i % film.width) + ", " +
+                                  std::to_string(i / film.width) + ") is not finite");
+    }
 }
 
 }  // namespace

@@ -123,6 +123,7 @@ std::string readAll(const fs::path& path) {
 // ---- PLY header ---------------------------------------------------------------------------------
 
 struct PlyProperty {
+    std::string name;
     bool list = false;
     int countSize = 0;  // bytes of a list's count (binary)
     int size = 0;       // bytes of the scalar, or of one list item
@@ -210,6 +211,11 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file) {
                 header.format = PlyHeader::kBinaryBig;
             else
                 throw fail("unknown format '" + tokens[1] + "'");
+            // The only version there is; OpenMesh's reader loops forever on a version it cannot
+            // parse as a number ("format ascii x"), so nothing else reaches it.
+            if (tokens[2] != "1.0")
+                throw fail("unsupported format version '" + tokens[2] + "' (only 1.0 exists)");
+            if (sawFormat) throw fail("a second format line");
             sawFormat = true;
         } else if (key == "element") {
             if (tokens.size() != 3) throw fail("malformed element line");
@@ -226,6 +232,7 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file) {
             PlyProperty p;
             if (tokens.size() == 5 && tokens[1] == "list") {
                 p.list = true;
+                p.name = tokens[4];
                 p.countSize = plyTypeSize(tokens[2], &p.countSigned);
                 p.size = plyTypeSize(tokens[3]);
                 if (p.countSize == 0 || p.size == 0 || tokens[2] == "float" ||
@@ -233,18 +240,48 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file) {
                     throw fail("property list with bad types '" + tokens[2] + "' '" + tokens[3] +
                                "'");
             } else if (tokens.size() == 3) {
+                p.name = tokens[2];
                 p.size = plyTypeSize(tokens[1]);
                 if (p.size == 0) throw fail("unknown property type '" + tokens[1] + "'");
                 p.isFloat = tokens[1].rfind("float", 0) == 0 || tokens[1] == "double";
             } else {
                 throw fail("malformed property line");
             }
+            for (const PlyProperty& q : header.elements.back().properties)
+                if (q.name == p.name)
+                    throw fail("element '" + header.elements.back().name + "': property '" +
+                               p.name + "' declared twice");
             header.elements.back().properties.push_back(p);
         } else {
             throw fail("unknown keyword '" + key + "'");
         }
     }
     if (!sawFormat) throw makeSceneError(file, 0, "PLY header: no format line");
+    // Declarations a reader can rely on, before any reader sees the file: every item of an
+    // element takes at least one byte (a line, or a property's bytes), so no count may exceed the
+    // bytes after the header (and an element without properties may have no items: a reader
+    // would spin through them reading nothing); vertices have x, y, z; faces a list of indices.
+    const uint64_t body = data.size() - pos;
+    for (size_t i = 0; i < header.elements.size(); ++i) {
+        const PlyElement& e = header.elements[i];
+        const std::string what = "element '" + e.name + "'";
+        for (size_t j = 0; j < i; ++j)
+            if (header.elements[j].name == e.name) throw fail(what + " declared twice");
+        if (e.properties.empty() && e.count > 0)
+            throw fail(what + " has " + std::to_string(e.count) + " items but no properties");
+        if (e.count > body)
+            throw fail(what + ": " + std::to_string(e.count) + " items cannot fit in the " +
+                       std::to_string(body) + " bytes after the header");
+        auto has = [&](const char* name, bool list) {
+            for (const PlyProperty& p : e.properties)
+                if (p.name == name && p.list == list) return true;
+            return false;
+        };
+        if (e.name == "vertex" && !(has("x", false) && has("y", false) && has("z", false)))
+            throw fail("element 'vertex' without scalar properties x, y and z");
+        if (e.name == "face" && !has("vertex_indices", true) && !has("vertex_index", true))
+            throw fail("element 'face' without a list property vertex_indices");
+    }
     header.bodyOffset = pos;
     header.bodyLine = lineNo + 1;
     return header;

@@ -31,13 +31,68 @@ class SceneFileReader {
 
     Scene read(std::string_view text) {
         Json root;
+        // Where the parser is (a JSON path), for the one error nlohmann reports without a
+        // position: a number beyond the double range (1e309).
+        struct Frame {
+            bool array = false;
+            std::string key;
+            size_t count = 0;
+        };
+        std::vector<Frame> frames;
+        auto where = [&] {
+            std::string path;
+            for (const Frame& f : frames)
+                path += f.array ? "[" + std::to_string(f.count) + "]"
+                                : (path.empty() ? "" : ".") + f.key;
+            return path.empty() ? std::string("(root)") : path;
+        };
+        const Json::parser_callback_t track = [&](int, Json::parse_event_t event, Json& parsed) {
+            using E = Json::parse_event_t;
+            auto done = [&] {
+                if (!frames.empty() && frames.back().array) ++frames.back().count;
+            };
+            switch (event) {
+                case E::object_start:
+                case E::array_start:
+                    frames.push_back({event == E::array_start, {}, 0});
+                    break;
+                case E::key:
+                    if (!frames.empty() && parsed.is_string()) frames.back().key = parsed.get<std::string>();
+                    break;
+                case E::object_end:
+                case E::array_end:
+                    if (!frames.empty()) frames.pop_back();
+                    done();
+                    break;
+                case E::value:
+                    done();
+                    break;
+            }
+            return true;
+        };
         try {
-            root = Json::parse(text.begin(), text.end());
+            root = Json::parse(text.begin(), text.end(), track);
         } catch (const Json::parse_error& e) {
             int64_t line = 1;
             for (size_t i = 0; i < std::min<size_t>(e.byte, text.size()); ++i)
                 line += text[i] == '\n';
             throw makeSceneError(file_, line, std::string("JSON syntax error: ") + e.what());
+        } catch (const Json::out_of_range& e) {
+            // "number overflow parsing '1e309'": the line of that token's first occurrence.
+            const std::string message = e.what();
+            const size_t open = message.find('\''), close = message.rfind('\'');
+            const std::string token =
+                open != std::string::npos && close > open ? message.substr(open + 1, close - open - 1)
+                                                          : std::string();
+            int64_t line = 0;
+            if (const size_t at = token.empty() ? std::string_view::npos : text.find(token);
+                at != std::string_view::npos) {
+                line = 1;
+                for (size_t i = 0; i < at; ++i) line += text[i] == '\n';
+            }
+            throw makeSceneError(file_, line,
+                                 where() + ": the number " + token +
+                                     " is beyond the range of a double");
         }
         if (!root.is_object()) fail("(root)", "expected a JSON object");
         allowKeys(root, "(root)",

@@ -283,9 +283,30 @@ std::optional<FaceDefect> checkFace(const vis::PolygonMesh& mesh, uint32_t f,
     return std::nullopt;
 }
 
+std::optional<std::string> coordinateProblem(const Vec3& p) {
+    for (int i = 0; i < 3; ++i) {
+        if (!std::isfinite(p[i])) return "non-finite coordinate";
+        if (std::fabs(p[i]) > kMaxCoordinate)
+            return "coordinate " + fmt(p[i]) +
+                   " beyond the supported magnitude 2^59 = 5.8e17 (README, scene contract)";
+    }
+    return std::nullopt;
+}
+
 void validateSceneStructure(const Scene& scene) {
     const vis::PolygonMesh& mesh = scene.mesh;
     const std::string& file = scene.sourcePath;
+    for (size_t v = 0; v < mesh.vertices.size(); ++v)
+        if (const auto problem = coordinateProblem(mesh.vertices[v]))
+            throw makeSceneError(file, 0, "vertex " + std::to_string(v) + ": " + *problem);
+    for (size_t k = 0; k < scene.pointLights.size(); ++k)
+        if (const auto problem = coordinateProblem(scene.pointLights[k].position))
+            throw makeSceneError(file, 0, "point light " + std::to_string(k) + ": " + *problem);
+    if (scene.camera) {
+        for (const Vec3* p : {&scene.camera->eye, &scene.camera->target})
+            if (const auto problem = coordinateProblem(*p))
+                throw makeSceneError(file, 0, "camera: " + *problem);
+    }
     if (mesh.vertices.size() > kMaxSceneElements) {
         throw makeSceneError(
             file, 0,

@@ -35,6 +35,24 @@ namespace penumbra {
 // The most vertices, and the most faces, a scene may have.
 inline constexpr size_t kMaxSceneElements = size_t{1} << 30;
 
+// The coordinate contract: every coordinate of a scene (vertices, point lights, the camera) is
+// finite with magnitude at most 2^59 (about 5.8e17). Derived, not tried:
+//   - Embree works in floats and takes a ray only when every component of its origin and direction
+//     is at most FLT_LARGE = 1.844e18 (its ray validity check; beyond, it aborts): a direction is
+//     the difference of two scene points, at most 2^60 < 1.844e18 in magnitude under the contract;
+//   - the exact core then stays far inside the double range: an orient3d of such points is below
+//     2^183, a product of two (edge_line.h) below 2^367, so no filter overflows (outside the
+//     expansion arithmetic's [2^-200, 2^200] the predicates take GMP rationals, still exact);
+//   - so do the face checks (cross products and Newell normals are degree 2 and 3).
+// No lower bound: tiny magnitudes are exact in the core (GMP), and Embree's float rounding of them
+// only moves a primary hit, as any rounding does. validateSceneStructure refuses what breaks it,
+// naming the element.
+inline constexpr double kMaxCoordinate = 0x1p59;
+
+// The problem with one point under the coordinate contract ("non-finite coordinate" or "coordinate
+// X beyond the supported magnitude 2^59 = 5.8e17"), or nullopt.
+std::optional<std::string> coordinateProblem(const Vec3& p);
+
 // The planarity tolerance, relative to the face diameter.
 inline constexpr double kPlanarityTolerance = 1e-9;
 

@@ -19,6 +19,7 @@
 #include <utility>
 #include <vector>
 
+#include "engine/finite_output.h"
 #include "engine/hash64.h"
 #include "engine/scene_hash.h"
 
@@ -113,6 +114,7 @@ std::vector<unsigned char> serialize(const VisibilityStore& store, bool withStat
             for (uint64_t v : {s.classifications, s.lpSolves, s.uncertain, s.exactCertificates,
                                s.prunedSplits, s.realLineTests, s.realLineWitness, s.mergedLeaves})
                 w.u64(v);
+            requireFinite(s.seconds, "the build time of a tree written to a visibility file");
             w.f64(s.seconds);
         }
     }
@@ -377,6 +379,8 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
                   &s.prunedSplits, &s.realLineTests, &s.realLineWitness, &s.mergedLeaves})
                 *v = p.u64();
             s.seconds = p.f64();
+            if (!std::isfinite(s.seconds) || s.seconds < 0)
+                throw Corrupt(where + ": build time is not a finite non-negative number");
         }
         validateTree(key, t, store, where);
         vis::prepareForQueries(store.scene().mesh, t);

@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
 #include <vector>
 
+#include "tests/support/read_pfm.h"
 #include "tests/support/run_penumbra.h"
 
 namespace {
@@ -84,6 +86,47 @@ TEST_F(RenderCommand, WritesPngAndPfmAndExplainsItself) {
     std::string sig(8, '\0');
     png.read(sig.data(), 8);
     EXPECT_EQ(sig, std::string("\x89PNG\r\n\x1a\n", 8));
+}
+
+// Two occluders standing on the floor with vertices below it by less than a rounding unit (2^-60,
+// and the residue 0.1 * 3 - 0.3 = 5.55e-17 written out in full): the exact render used to lose
+// such an occluder whole and light its shadow. No pixel of `render --method exact` may be brighter
+// than the converged shadow-ray reference shows it (beyond that reference's noise).
+TEST_F(RenderCommand, ExactRenderKeepsTheShadowsOfHairCrossingOccluders) {
+    std::ofstream(path("hair.obj")) << "mtllib scene.mtl\n"
+                                       "v -2 -2 0\nv 2 -2 0\nv 2 2 0\nv -2 2 0\n"
+                                       "v -0.5 -0.5 2\nv -0.5 0.5 2\nv 0.5 0.5 2\nv 0.5 -0.5 2\n"
+                                       "v -0.9 -0.5 -8.6736173798840355e-19\n"
+                                       "v -0.2 -0.6 1.1\nv -0.5 0.1 0.9\n"
+                                       "v 0.2 -0.3 -5.5511151231257827e-17\n"
+                                       "v 0.9 -0.2 1.2\nv 0.5 0.4 1.0\n"
+                                       "usemtl white\nf 1 2 3 4\n"
+                                       "usemtl lamp\nf 5 6 7 8\n"
+                                       "usemtl white\nf 9 10 11\nf 12 13 14\n";
+    const std::vector<std::string> view = {path("hair.obj"), "--camera", "0.3,-5,3,0,0,0,40",
+                                           "--up", "0,0,1", "--size", "24x18", "--spp", "2",
+                                           "--min-tree-samples", "0"};
+    const ProcessResult exact = run(view, {"--method", "exact", "--out", path("exact.pfm")});
+    ASSERT_EQ(exact.exitCode, 0) << output(exact);
+    const ProcessResult ref = run(view, {"--method", "reference", "--reference-samples", "2048",
+                                         "--out", path("reference.pfm")});
+    ASSERT_EQ(ref.exitCode, 0) << output(ref);
+    int w = 0, h = 0, w2 = 0, h2 = 0;
+    const std::vector<float> e = penumbra::test::readPfm(path("exact.pfm"), w, h);
+    const std::vector<float> r = penumbra::test::readPfm(path("reference.pfm"), w2, h2);
+    ASSERT_EQ(w, w2);
+    ASSERT_EQ(h, h2);
+    float brightest = 0;
+    for (float v : r) brightest = std::max(brightest, v);
+    ASSERT_GT(brightest, 0.f);
+    int shadowed = 0;
+    for (size_t i = 0; i < e.size(); ++i) {
+        // 2048 rays per light and 2 primary samples: the reference's noise is below 2% of the
+        // brightest pixel; an occluder lost whole lights a shadowed pixel by far more.
+        EXPECT_LE(e[i], r[i] + 0.05f * brightest) << "channel " << i % 3 << " of pixel " << i / 3;
+        shadowed += r[i] < 0.5f * brightest && r[i] > 0;
+    }
+    EXPECT_GT(shadowed, 10);  // the occluders do cast shadows in this view
 }
 
 TEST_F(RenderCommand, SampledMethodRuns) {

@@ -9,6 +9,7 @@
 #include "app/commands.h"
 #include "app/viewer/imgui_session.h"
 #include "app/viewer/png_output.h"
+#include "engine/finite_output.h"
 
 namespace penumbra::viewer {
 
@@ -66,6 +67,7 @@ void runHeadless(const HeadlessOptions& o) {
         state["backend"] = gl::toString(o.backend);
         state["renderer"] = context->description();
         if (!precomputeFrames.is_null()) state["precomputeFrames"] = precomputeFrames;
+        requireFinite(state, o.stateOut);
         writeTextFile(o.stateOut, state.dump(2) + "\n");
     }
 }

@@ -13,6 +13,7 @@
 
 #include "app/gl/offscreen_context.h"
 #include "app/viewer/imgui_session.h"
+#include "engine/finite_output.h"
 #include "app/viewer/png_output.h"
 
 namespace penumbra::viewer {
@@ -128,6 +129,7 @@ void runWindow(const WindowOptions& o) {
             if (!o.stateOut.empty() && viewer.frameStats().frames % 10 == 0) {
                 nlohmann::json state = viewer.stateJson();
                 state.erase("frames");  // changes every frame; the rest changes on events
+                requireFinite(state, "the viewer state");
                 const std::string text = state.dump(2) + "\n";
                 if (text != lastState) {
                     writeTextFile(o.stateOut, text);
