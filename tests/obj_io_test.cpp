@@ -581,11 +581,12 @@ TEST_F(ObjFiles, WriteThenReadIsBitIdentical) {
         s.mesh.faces.push_back({base, base + 1, base + 2});
         s.faceMaterial.push_back(t % 3 == 0 ? -1 : t % 3 == 1 ? 0 : 1);
     }
-    // A quad in the plane z = -0.0 with awkward coordinates, and subnormal/huge magnitudes.
+    // A quad in the plane z = -0.0 with awkward coordinates, and subnormal magnitudes and huge
+    // ones (as large as the coordinate contract allows: engine/scene_validation.h).
     const auto base = static_cast<uint32_t>(s.mesh.vertices.size());
     s.mesh.vertices.push_back({0.1, 0.2, -0.0});
-    s.mesh.vertices.push_back({1e300 / 3, 0.2, -0.0});
-    s.mesh.vertices.push_back({1e300 / 3, 1e-310, -0.0});
+    s.mesh.vertices.push_back({0x1p59 / 3, 0.2, -0.0});
+    s.mesh.vertices.push_back({0x1p59 / 3, 1e-310, -0.0});
     s.mesh.vertices.push_back({0.1, 5e-324, -0.0});
     s.mesh.faces.push_back({base, base + 3, base + 2, base + 1});
     s.faceMaterial.push_back(1);

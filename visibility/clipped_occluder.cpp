@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "visibility/edge_line.h"
+#include "visibility/exact_orient.h"
 #include "visibility/history_tree.h"
 
 namespace penumbra::vis {
@@ -36,6 +37,15 @@ void ClippedOccluder::clip(const PolygonMesh& mesh, uint32_t face, const PlaneOr
     // A convex face with no vertex strictly in front of a plane has no part of positive area
     // there.
     if (n < 3 || !front[0] || !front[1]) return;
+    if (!behind[0] && !behind[1]) {
+        // Nothing behind either plane (the common case): the face itself, no clip.
+        empty_ = false;
+        for (uint32_t i = 0; i < n; ++i) {
+            vertices_.push_back(Vertex{Vertex::Kind::Input, 0, i});
+            edges_.push_back(Edge{ids[i], ids[(i + 1) % n]});
+        }
+        return;
+    }
     poly_.clear();
     for (uint32_t i = 0; i < n; ++i)
         poly_.push_back({Vertex{Vertex::Kind::Input, 0, i}, Edge{ids[i], ids[(i + 1) % n]}, i});
@@ -115,10 +125,64 @@ std::optional<Sign> ClippedOccluder::side(const Vertex& v, const PlaneOrient& h)
     return std::nullopt;
 }
 
+std::optional<Sign> ClippedOccluder::lineSide(const Vertex& v, const Vec3& p, bool fromP,
+                                              const EdgeLine& e) const {
+    auto side = [&](const Vec3& q) { return fromP ? sideValue(p, q, e) : sideValue(q, p, e); };
+    switch (v.kind) {
+        case Vertex::Kind::Input:
+            return side(points_[v.index]).sign();
+        case Vertex::Kind::Crossing: {
+            const Vec3& q0 = points_[v.index];
+            const Vec3& q1 = points_[(v.index + 1) % points_.size()];
+            const PlaneOrient& x = planes_[v.plane];
+            const BoundedValue r = differenceOfProducts(x.value(q0), side(q1), x.value(q1), side(q0));
+            Sign s = r.sign();
+            if (!r.certain()) {
+                // Exact zeros are common here: p and c both in B's (or L's) plane, against an edge
+                // line in that plane too (coplanar lines: side 0). Recognised directly; anything
+                // else uncertain goes to rationals, so that the culling still applies.
+                auto inX = [&](const Vec3& q) { return x.sign(q) == Sign::Zero; };
+                const bool lineInX =
+                    e.kind == EdgeLine::Kind::Planes
+                        ? (e.first.a == x.a && e.first.b == x.b && e.first.c == x.c)
+                        : inX(e.p) && inX(e.q);
+                if (lineInX && inX(p)) return Sign::Zero;
+                auto exactSide = [&](const Vec3& q) {
+                    return fromP ? sideExact(p, q, e) : sideExact(q, p, e);
+                };
+                const mpq_class v0 = orientExact(x.a, x.b, x.c, q0) * exactSide(q1) -
+                                     orientExact(x.a, x.b, x.c, q1) * exactSide(q0);
+                s = sgn(v0) > 0 ? Sign::Positive : (sgn(v0) < 0 ? Sign::Negative : Sign::Zero);
+            }
+            return signs_[v.plane][v.index] == Sign::Positive ? s : -s;
+        }
+        case Vertex::Kind::Corner:
+            break;
+    }
+    return std::nullopt;
+}
+
 bool ClippedOccluder::outside(const PlaneOrient& h) const {
     for (const Vertex& v : vertices_) {
-        const std::optional<Sign> s = side(v, h);
-        if (!s || *s == Sign::Positive) return false;
+        Sign s;
+        if (v.kind == Vertex::Kind::Input) {
+            s = h.sign(points_[v.index]);
+        } else if (v.kind == Vertex::Kind::Crossing) {
+            // The filter alone: a culling test may say "not certainly outside" when it cannot
+            // tell (a pyramid plane through x and an edge of L clipped at B's plane is nearly B's
+            // plane, and so nearly through every crossing with it), and rationals would cost more
+            // than the occluder they might skip.
+            const Vec3& q0 = points_[v.index];
+            const Vec3& q1 = points_[(v.index + 1) % points_.size()];
+            const PlaneOrient& x = planes_[v.plane];
+            const BoundedValue r =
+                differenceOfProducts(x.value(q0), h.value(q1), x.value(q1), h.value(q0));
+            if (!r.certain()) return false;
+            s = signs_[v.plane][v.index] == Sign::Positive ? r.sign() : -r.sign();
+        } else {
+            return false;  // a corner: not decided
+        }
+        if (s == Sign::Positive) return false;
     }
     return true;
 }

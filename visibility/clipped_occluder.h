@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "visibility/polygon_mesh.h"
+#include "visibility/edge_line.h"
 #include "visibility/predicates.h"
 
 namespace penumbra::vis {
@@ -56,9 +57,17 @@ class ClippedOccluder {
 
     // The exact side of a vertex against plane h; nullopt for a corner.
     std::optional<Sign> side(const Vertex& v, const PlaneOrient& h) const;
-    // True only if no point of the clipped polygon is strictly on h's positive side (exact; a
-    // corner counts as possibly positive).
+    // True only if no point of the clipped polygon is strictly on h's positive side (certain: an
+    // input vertex's sign is exact; a crossing whose sign the filter cannot certify, and a
+    // corner, count as possibly positive).
     bool outside(const PlaneOrient& h) const;
+    // The sign of the side of line(p, v) (fromP) or line(v, p) against e, for a vertex v of the
+    // clipped polygon: exact for an input vertex; for a crossing c of q0 -> q1 with plane X,
+    // from side(c) = (piX(q0) side(q1) - piX(q1) side(q0)) / (piX(q0) - piX(q1)) (the side is
+    // affine in c) with the filter of differenceOfProducts; nullopt where that filter cannot
+    // certify it, and for a corner. For culling, where "unknown" only costs work.
+    std::optional<Sign> lineSide(const Vertex& v, const Vec3& p, bool fromP,
+                                 const EdgeLine& e) const;
 
   private:
     struct Entry {

@@ -111,21 +111,50 @@ bool sameLine(const EdgeLine& a, const EdgeLine& b, std::span<const Vec3> probes
 }
 
 PencilPlane::PencilPlane(const Vec3& x, const PlaneOrient& first, const PlaneOrient& second)
-    : x_(x), first_(first), second_(second), alpha_(first.value(x)), beta_(second.value(x)) {}
+    : x_(x), first_(first), second_(second), alpha_(first.value(x)), beta_(second.value(x)) {
+    prepareFilter();
+}
+
+void PencilPlane::prepareFilter() {
+    // N_i = alpha n2_i - beta n1_i. Each PlaneOrient normal component is within 4u perm_i of the
+    // exact one (two rounded differences, two products, their difference; 8u claimed). So
+    // |N_i - n_i| <= (|a|+ea) 8u perm2_i + ea |n2_i| + (|b|+eb) 8u perm1_i + eb |n1_i|
+    //               + 3u (|a n2_i| + |b n1_i|)                  (the two products, the difference).
+    // Per vertex y, with d = fl(y - x) (|d_i - exact| <= u |d_i|), the dot product adds at most
+    // u |n_i d_i| per difference and 3u sum |n_i d_i| for its products and sums: so the error of
+    // n . d is at most sum |d_i| k_i with k_i = (E_i (1 + u) + 4u |n_i|), padded by (1 + 8u) for
+    // the evaluation of the bound itself.
+    constexpr double u = DBL_EPSILON / 2;
+    const double a = alpha_.value, ea = alpha_.error, b = beta_.value, eb = beta_.error;
+    for (int i = 0; i < 3; ++i) {
+        const double n2 = second_.n[i], n1 = first_.n[i];
+        n_[i] = a * n2 - b * n1;
+        const double e = (std::fabs(a) + ea) * 8 * u * second_.perm[i] + ea * std::fabs(n2) +
+                         (std::fabs(b) + eb) * 8 * u * first_.perm[i] + eb * std::fabs(n1) +
+                         3 * u * (std::fabs(a * n2) + std::fabs(b * n1));
+        k_[i] = (e * (1 + u) + 4 * u * std::fabs(n_[i])) * (1 + 8 * u);
+    }
+}
+
+PencilPlane::PencilPlane(const Vec3& x, const PlaneOrient& first, const BoundedValue& alpha,
+                         const PlaneOrient& second)
+    : x_(x), first_(first), second_(second), alpha_(alpha), beta_(second.value(x)) {
+    prepareFilter();
+}
 
 bool PencilPlane::filtered(const Vec3& y, BoundedValue& out) const {
-    // PlaneOrient::filtered leaves a rigorous bound even where it cannot certify the sign.
-    BoundedValue p1, p2;
-    first_.filtered(y, p1);
-    second_.filtered(y, p2);
-    out = differenceOfProducts(alpha_, p2, beta_, p1);
-    return out.certain();
+    const double dx = y.x - x_.x, dy = y.y - x_.y, dz = y.z - x_.z;
+    const double v = n_[0] * dx + n_[1] * dy + n_[2] * dz;
+    const double err =
+        std::fabs(dx) * k_[0] + std::fabs(dy) * k_[1] + std::fabs(dz) * k_[2] + 0x1p-1060;
+    out = {v, err};
+    return std::fabs(v) > err;
 }
 
 BoundedValue PencilPlane::value(const Vec3& y) const {
     BoundedValue out;
     if (filtered(y, out)) return out;
-    // The planes' own exact stages first (tighter bounds), then rationals.
+    // The two planes' values at y (their own exact stages where needed), then rationals.
     out = differenceOfProducts(alpha_, second_.value(y), beta_, first_.value(y));
     if (out.certain()) return out;
     return roundedExact(pencilExact(first_, second_, x_, y));

@@ -82,6 +82,10 @@ class PencilPlane {
   public:
     PencilPlane() = default;
     PencilPlane(const Vec3& x, const PlaneOrient& first, const PlaneOrient& second);
+    // With alpha = first.value(x) already known (FPQuery evaluates B's and L's planes at x once
+    // per query, not once per node).
+    PencilPlane(const Vec3& x, const PlaneOrient& first, const BoundedValue& alpha,
+                const PlaneOrient& second);
     bool filtered(const Vec3& y, BoundedValue& out) const;
     BoundedValue value(const Vec3& y) const;
     Sign sign(const Vec3& y) const { return value(y).sign(); }
@@ -90,9 +94,15 @@ class PencilPlane {
                                      beta_.value == 0; }
 
   private:
+    void prepareFilter();
+
     Vec3 x_;
     PlaneOrient first_, second_;
     BoundedValue alpha_, beta_;
+    // value(y) vanishes at x, so it is N . (y - x) with N = alpha n2 - beta n1: the filter is one
+    // dot product, N rounded (n) with a per-component error weight (k) that bounds every rounding
+    // (prepareFilter).
+    double n_[3] = {0, 0, 0}, k_[3] = {0, 0, 0};
 };
 
 // The plane through x and any EdgeLine: a PlaneOrient (x, p, q) for an input edge, a PencilPlane

@@ -60,10 +60,9 @@ void FromPointQuery::visit(uint32_t node, std::span<const Vec3> poly, size_t dep
             const auto& f = mesh_->faces[face];
             const PlaneOrient occluderPlane(mesh_->vertices[f[0]], mesh_->vertices[f[1]],
                                             mesh_->vertices[f[2]]);
-            outcome = splitBy(poly,
-                              PencilPlane(x_, n.v1 == kReceiverPlaneEdge ? frontB_.orient
-                                                                         : frontL_.orient,
-                                          occluderPlane),
+            const bool onB = n.v1 == kReceiverPlaneEdge;
+            const PlaneOrient& clip = onB ? frontB_.orient : frontL_.orient;
+            outcome = splitBy(poly, PencilPlane(x_, clip, clipPlaneAt(onB ? 0 : 1), occluderPlane),
                               parts, keep);
         }
         switch (outcome) {
@@ -135,36 +134,46 @@ void FromPointQuery::reachVisible(std::span<const Vec3> poly, size_t from, size_
         // Entirely outside one of its edge planes: it blocks none of this polygon. Checked for
         // every edge before any split, so that an occluder beside the polygon cuts nothing (a
         // split by the first edge would leave two visible pieces where one was).
+        // Its input edges' planes, then its chords' (the order of the edges changes no answer).
+        auto forEachPlane = [&](auto&& f) {
+            for (uint32_t e = 0; e < o.planeCount; ++e)
+                if (!f(activePlanes_[o.firstPlane + e])) return;
+            for (uint32_t e = 0; e < o.pencilCount; ++e)
+                if (!f(activePencils_[o.firstPencil + e])) return;
+        };
         bool outside = false;
-        for (uint32_t e = 0; e < o.planeCount && !outside; ++e) {
-            if (!spend()) return;
-            SplitOutcome side = sideOfConstructed(poly, activePlanes_[o.firstPlane + e], light_);
+        forEachPlane([&](const auto& plane) {
+            if (!spend()) return false;
+            SplitOutcome side = sideOfConstructed(poly, plane, light_);
             if (side == SplitOutcome::OnPlane) side = SplitOutcome::Positive;  // as visit()
             outside = side == unblocked;
-        }
+            return !outside;
+        });
+        if (limitReached_) return;
         if (outside) continue;
         std::span<const Vec3> current = poly;
         size_t d = depth;
         bool split = false;
         bool untouched = false;
-        for (uint32_t e = 0; e < o.planeCount; ++e) {
-            if (!spend()) return;
+        forEachPlane([&](const auto& plane) {
+            if (!spend()) return false;
             SplitParts& parts = partsAt(d);
-            SplitOutcome outcome = splitConstructed(current, activePlanes_[o.firstPlane + e],
-                                                    light_, parts, KeepParts::Both);
+            SplitOutcome outcome = splitConstructed(current, plane, light_, parts, KeepParts::Both);
             if (outcome == SplitOutcome::OnPlane) outcome = SplitOutcome::Positive;  // as visit()
             if (outcome == unblocked) {
                 untouched = true;
-                break;
+                return false;
             }
-            if (outcome != SplitOutcome::Split) continue;  // wholly on the blocked side of it
+            if (outcome != SplitOutcome::Split) return true;  // wholly on the blocked side of it
             const std::span<const Vec3> freePart =
                 o.blocked == Sign::Positive ? parts.negative() : parts.positive();
             current = o.blocked == Sign::Positive ? parts.positive() : parts.negative();
             split = true;
             reachVisible(freePart, j + 1, d + 1);
             ++d;  // `current` lives in parts_[d - 1] now
-        }
+            return !limitReached_;
+        });
+        if (limitReached_) return;
         if (untouched && !split) continue;  // this occluder blocks none of it
         ++deferredClips_;
         if (untouched) {
@@ -187,7 +196,9 @@ void FromPointQuery::activateFace(const PolygonMesh& mesh, uint32_t face) {
     // x on the occluder's plane: every segment from x meets that plane at x only, so the
     // occluder blocks none (the contact rule: a segment that touches an occluder only at its end
     // point x is not blocked).
-    const Sign side = facePlane(mesh, face).side(x_);
+    const auto& ids = mesh.faces[face];
+    const PlaneOrient plane(mesh.vertices[ids[0]], mesh.vertices[ids[1]], mesh.vertices[ids[2]]);
+    const Sign side = plane.sign(x_);
     if (side == Sign::Zero) return;
     // Clipped to the region in front of B's and L's planes, as the builder clips its occluders,
     // exactly (clipped_occluder.h): a line from x to L meets the clipped part between them (and
@@ -203,16 +214,26 @@ void FromPointQuery::activateFace(const PolygonMesh& mesh, uint32_t face) {
     // orient3d(x, p, a, b) = -orient3d(p, a, b, x) for p inside it.
     ActiveOccluder a;
     a.firstPlane = static_cast<uint32_t>(activePlanes_.size());
-    a.planeCount = static_cast<uint32_t>(clipped_.edges().size());
+    a.firstPencil = static_cast<uint32_t>(activePencils_.size());
     a.blocked = side == Sign::Positive ? Sign::Negative : Sign::Positive;
-    for (const auto& [v0, v1] : clipped_.edges())
-        activePlanes_.emplace_back(x_, edgeLine(mesh, preparedReceiver_, preparedLight_, v0, v1));
+    for (const auto& [v0, v1] : clipped_.edges()) {
+        if (!isClipEdge(v0)) {
+            activePlanes_.emplace_back(x_, mesh.vertices[v0], mesh.vertices[v1]);
+        } else {
+            const bool onB = v1 == kReceiverPlaneEdge;
+            activePencils_.emplace_back(x_, onB ? frontB_.orient : frontL_.orient,
+                                        clipPlaneAt(onB ? 0 : 1), plane);
+        }
+    }
+    a.planeCount = static_cast<uint32_t>(activePlanes_.size()) - a.firstPlane;
+    a.pencilCount = static_cast<uint32_t>(activePencils_.size()) - a.firstPencil;
     active_.push_back(a);
 }
 
 void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree& tree) {
     active_.clear();
     activePlanes_.clear();
+    activePencils_.clear();
     deferredClips_ = 0;
     if (!tree.partial()) return;
     preparePyramid();
@@ -236,13 +257,23 @@ bool FromPointQuery::findCandidates(const BoxTree& index) {
     return true;
 }
 
+const BoundedValue& FromPointQuery::clipPlaneAt(int which) {
+    if (!clipValueKnown_[which]) {
+        clipValue_[which] = (which == 0 ? frontB_ : frontL_).orient.value(x_);
+        clipValueKnown_[which] = true;
+    }
+    return clipValue_[which];
+}
+
 void FromPointQuery::startRun() {
+    clipValueKnown_[0] = clipValueKnown_[1] = false;
     fragments_.clear();
     nodesVisited_ = 0;
     work_ = 0;
     limitReached_ = false;
     active_.clear();
     activePlanes_.clear();
+    activePencils_.clear();
     deferredClips_ = 0;
     path_ = nullptr;
     region_ = nullptr;
@@ -322,14 +353,16 @@ const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTr
     startRun();
     contactAnswer_ = false;
     if (tree.kind == PairKind::BackFacing) return fragments_;
-    if (tree.kind == PairKind::FullyHidden && tree.contactPlanes.empty()) return fragments_;
+    // (A fully hidden pair is answered without touching the pair's setup unless x is on contact.)
+    const bool contact = onContact(tree, x);
+    if (tree.kind == PairKind::FullyHidden && !contact) return fragments_;
     if (!startPair(mesh, tree.receiver, tree.light, x)) return fragments_;
     if (tree.kind == PairKind::FullyVisible) {
         fragments_.add(lightClipped_);
         return fragments_;
     }
     x_ = x;
-    if (onContact(tree, x)) {
+    if (contact) {
         // x lies in the plane of an occluder that reaches B's plane: it may stand on that
         // occluder's contact with B, where the tree's cells (closed sets of lines) give the limit
         // of the neighbouring points and the contract asks for more (a segment touching an

@@ -111,6 +111,8 @@ class FromPointQuery {
     void clipCandidates(const PolygonMesh& mesh);
     // Whether x lies exactly in one of tree.contactPlanes.
     bool onContact(const HistoryTree& tree, const Vec3& x) const;
+    // B's (0) or L's (1) plane evaluated at x_, once per run (the pencil planes of chords).
+    const BoundedValue& clipPlaneAt(int which);
     // A node's split with the predicates of mode_ (input edges) or the filtered ones (chords).
     template <class Plane>
     SplitOutcome splitBy(std::span<const Vec3> poly, const Plane& plane, SplitParts& parts,
@@ -164,17 +166,21 @@ class FromPointQuery {
     // Per run of a partial tree: the deferred occluders that may block a line from x to L, each
     // with the planes through x and its edges and the side of them its blocked lines are on.
     struct ActiveOccluder {
-        uint32_t firstPlane = 0, planeCount = 0;
+        uint32_t firstPlane = 0, planeCount = 0;    // of its input edges, in activePlanes_
+        uint32_t firstPencil = 0, pencilCount = 0;  // of its chords, in activePencils_
         Sign blocked = Sign::Zero;
     };
     std::vector<ActiveOccluder> active_;
-    std::vector<EdgePlane> activePlanes_;
+    std::vector<PlaneOrient> activePlanes_;
+    std::vector<PencilPlane> activePencils_;
     std::vector<PlaneOrient> pyramid_;  // the planes through x and L's edges, interior positive
     ClippedOccluder clipped_;           // activateFace's scratch
     std::vector<uint32_t> candidates_;
     uint32_t deferredClips_ = 0;
     bool deferredPrepared_ = true;  // active_ is ready for this run
     bool contactAnswer_ = false;
+    BoundedValue clipValue_[2];
+    bool clipValueKnown_[2] = {false, false};
 };
 
 struct FromPointResult {

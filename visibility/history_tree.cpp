@@ -49,9 +49,16 @@ void prepareForQueries(const PolygonMesh& mesh, HistoryTree& tree) {
     tree.contactPlanes.clear();
     if (tree.kind == PairKind::BackFacing) return;
     const PlaneOrient receiverPlane = planeOf(mesh, tree.receiver);
+    const auto& receiverIds = mesh.faces[tree.receiver];
     for (uint32_t f : tree.occluders) {
         bool reaches = false;
-        for (uint32_t v : mesh.faces[f]) reaches |= receiverPlane.sign(mesh.vertices[v]) != Sign::Positive;
+        for (uint32_t v : mesh.faces[f]) {
+            // A vertex of B itself is on its plane (the common case of adjacent faces, where the
+            // filter cannot tell a zero and the exact stage would be needed).
+            reaches = std::find(receiverIds.begin(), receiverIds.end(), v) != receiverIds.end() ||
+                      receiverPlane.sign(mesh.vertices[v]) != Sign::Positive;
+            if (reaches) break;
+        }
         if (reaches) tree.contactPlanes.push_back(planeOf(mesh, f));
     }
 }

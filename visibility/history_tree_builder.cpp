@@ -3,6 +3,7 @@
 #include <chrono>
 #include <deque>
 
+#include "visibility/clipped_occluder.h"
 #include "visibility/line_polytope.h"
 #include "visibility/pair_occluders.h"
 
@@ -29,7 +30,9 @@ class Builder {
           receiverPoints_(receiver.begin(), receiver.end()),
           lightPoints_(polygon(mesh, light)),
           receiverFace_(receiverFace),
-          light_(light) {}
+          light_(light),
+          receiverPlane_(facePlane(mesh, receiverFace).orient()),
+          lightPlane_(facePlane(mesh, light).orient()) {}
 
     void insert(const Occluder& o) {
         edgeRows_.clear();
@@ -40,10 +43,9 @@ class Builder {
             edges_.push_back({a, b});
         }
         occluder_ = &o;
-        // The whole face, not its clipped part: the lines from B to the face (or from the face
-        // to L) contain those through the clipped part, so a side certain for them is certain
-        // for the occluder too (occluderSideOf), with no constructed point.
-        occluderPoints_ = polygon(mesh_, o.face);
+        // Its exact clip again (the gathering kept only the edges): the symbolic vertices of
+        // occluderSideOf's cone culling.
+        clip_.clip(mesh_, o.face, receiverPlane_, lightPlane_);
         walk(Slot{}, space_.allWitnesses());
         ++stats_.occludersInserted;
     }
@@ -115,20 +117,24 @@ class Builder {
     // to L, lie on that closed side of edge (v0, v1)'s hyperplane (they span cones that contain
     // every line stabbing B, the occluder and L); Zero when neither is certain. Exact signs.
     Sign occluderSideOf(const EdgeLine& edge) const {
-        auto coneSide = [&](std::span<const Vec3> from, std::span<const Vec3> to) {
+        // Over the clipped occluder's symbolic vertices (clipped_occluder.h lineSide): a side the
+        // filter cannot certify gives up the culling for this edge (Zero), which only costs work.
+        const ClippedOccluder& clip = clip_;
+        auto coneSide = [&](std::span<const Vec3> points, bool fromPoints) {
             bool pos = true, neg = true;
-            for (const Vec3& p : from)
-                for (const Vec3& q : to) {
-                    const Sign s = sideSign(p, q, edge);
-                    pos &= s != Sign::Negative;
-                    neg &= s != Sign::Positive;
+            for (const Vec3& p : points)
+                for (const ClippedOccluder::Vertex& v : clip.vertices()) {
+                    const std::optional<Sign> s = clip.lineSide(v, p, fromPoints, edge);
+                    if (!s) return Sign::Zero;
+                    pos &= *s != Sign::Negative;
+                    neg &= *s != Sign::Positive;
                     if (!pos && !neg) return Sign::Zero;
                 }
             return pos ? Sign::Positive : (neg ? Sign::Negative : Sign::Zero);
         };
-        const Sign fromB = coneSide(receiverPoints_, occluderPoints_);
+        const Sign fromB = coneSide(receiverPoints_, true);
         if (fromB != Sign::Zero) return fromB;
-        return coneSide(occluderPoints_, lightPoints_);
+        return coneSide(lightPoints_, false);
     }
 
     void mergeIfSameLeaves(Slot s) {
@@ -273,8 +279,10 @@ class Builder {
     const BuildOptions& options_;
     BuildStats& stats_;
     LinePolytopeSpace space_;
-    std::vector<Vec3> receiverPoints_, lightPoints_, occluderPoints_;
+    std::vector<Vec3> receiverPoints_, lightPoints_;
     uint32_t receiverFace_, light_;
+    PlaneOrient receiverPlane_, lightPlane_;
+    ClippedOccluder clip_;  // of the occluder being inserted
     PolytopeStats polyStats_;
     RelaxationPoints relaxation_;  // what the last classification left for the real-line tests
 

@@ -3,6 +3,7 @@
 #include <gmpxx.h>
 
 #include <algorithm>
+#include <array>
 #include <cfloat>
 #include <cmath>
 #include <optional>
@@ -134,9 +135,29 @@ HyperplaneRow LinePolytopeSpace::row(const EdgeLine& edge) const {
     r.value.resize(n);
     r.error.resize(n);
     double maxAbs = 0;
+    // A chord's side at generator (b_i, l_j) is pi1(b_i) pi2(l_j) - pi1(l_j) pi2(b_i): the
+    // planes are evaluated once per vertex, not once per generator.
+    const bool chord = edge.kind == EdgeLine::Kind::Planes;
+    std::array<std::vector<BoundedValue>, 4> at;  // pi1 and pi2 at B's, then at L's vertices
+    if (chord) {
+        for (const Vec3& p : b_) {
+            at[0].push_back(edge.first.value(p));
+            at[1].push_back(edge.second.value(p));
+        }
+        for (const Vec3& p : l_) {
+            at[2].push_back(edge.first.value(p));
+            at[3].push_back(edge.second.value(p));
+        }
+    }
     for (size_t i = 0; i < b_.size(); ++i)
         for (size_t j = 0; j < l_.size(); ++j) {
-            const BoundedValue v = sideValue(b_[i], l_[j], edge);
+            BoundedValue v;
+            if (chord) {
+                v = differenceOfProducts(at[0][i], at[3][j], at[2][j], at[1][i]);
+                if (!v.certain()) v = roundedExact(sideExact(b_[i], l_[j], edge));
+            } else {
+                v = sideValue(b_[i], l_[j], edge);
+            }
             const size_t g = i * l_.size() + j;
             r.value[g] = v.value;
             r.error[g] = v.error;
@@ -214,9 +235,26 @@ bool LinePolytopeSpace::certifyExactly(std::span<const Constraint> path, const H
         auto it = exact_->rows.find(&r);
         if (it != exact_->rows.end()) return it->second;
         std::vector<mpq_class> v(n);
-        for (size_t i = 0; i < b_.size(); ++i)
-            for (size_t j = 0; j < l_.size(); ++j)
-                v[i * l_.size() + j] = sideExact(b_[i], l_[j], r.edge);
+        if (r.edge.kind == EdgeLine::Kind::Planes) {
+            // pi1(b_i) pi2(l_j) - pi1(l_j) pi2(b_i): each plane exactly once per vertex.
+            const PlaneOrient &p1 = r.edge.first, &p2 = r.edge.second;
+            std::vector<mpq_class> b1, b2, l1, l2;
+            for (const Vec3& p : b_) {
+                b1.push_back(orientExact(p1.a, p1.b, p1.c, p));
+                b2.push_back(orientExact(p2.a, p2.b, p2.c, p));
+            }
+            for (const Vec3& p : l_) {
+                l1.push_back(orientExact(p1.a, p1.b, p1.c, p));
+                l2.push_back(orientExact(p2.a, p2.b, p2.c, p));
+            }
+            for (size_t i = 0; i < b_.size(); ++i)
+                for (size_t j = 0; j < l_.size(); ++j)
+                    v[i * l_.size() + j] = b1[i] * l2[j] - l1[j] * b2[i];
+        } else {
+            for (size_t i = 0; i < b_.size(); ++i)
+                for (size_t j = 0; j < l_.size(); ++j)
+                    v[i * l_.size() + j] = sideExact(b_[i], l_[j], r.edge);
+        }
         return exact_->rows.emplace(&r, std::move(v)).first->second;
     };
     // Exact rows, as scaled in the LP: the multipliers are then comparable to mu.
@@ -406,7 +444,10 @@ bool LinePolytopeSpace::findRealLine(std::span<const Constraint> path, const Wit
         // plane through x, a, c (orient3d(x, y, a, c) == orient3d(x, a, c, y)).
         poly.assign(l_.begin(), l_.end());
         auto keep = [&](const HyperplaneRow& row, int s) {
-            clipConvexInto(poly, EdgePlane(x, row.edge), positive, negative);
+            if (row.edge.kind == EdgeLine::Kind::Points)
+                clipConvexInto(poly, OrientedPlane{x, row.edge.p, row.edge.q}, positive, negative);
+            else
+                clipConvexInto(poly, EdgePlane(x, row.edge), positive, negative);
             std::swap(poly, s > 0 ? positive : negative);
             return poly.size() >= 3;
         };

@@ -115,23 +115,24 @@ inline bool PlaneOrient::filtered(const Vec3& d, BoundedValue& out) const {
 inline bool PlaneOrient::boxNegative(const Vec3& lo, const Vec3& hi) const {
     // Rigorous: an upper bound, in doubles, on the maximum over the box of the exact value
     // (y - a) . N (N the exact normal (b - a) x (c - a)); the box is strictly negative if that
-    // bound is. Per component the maximum of (y_i - a_i) N_i over [lo_i, hi_i] is at an end.
-    // The error terms cover the rounded normal (|N_i - n_i| <= 4u perm_i: two rounded
-    // differences, two products and their difference; 8u claimed), the rounded differences
-    // lo_i - a_i and hi_i - a_i (u each), the products and the sum (4u of each term), the bound's
-    // own evaluation (the factor 1 + 8u) and underflow (the absolute term). No scale-dependent
-    // margin: the same certainty near the origin and at 1e15.
+    // bound is. Per component the maximum of (y_i - a_i) N_i over [lo_i, hi_i] is at the end the
+    // sign of n_i picks (hi_i - a_i >= lo_i - a_i after rounding too: rounding is monotone).
+    // Error, with r_i = max(|lo_i - a_i|, |hi_i - a_i|): the rounded normal (|N_i - n_i| <= 4u
+    // perm_i: two rounded differences, two products, their difference; 8u claimed), the rounded
+    // differences (u r_i |n_i|), the products and the sum (3u |term|), with |n_i| <= (1 + u)
+    // perm_i: at most 16.0001u sum r_i perm_i; 17u covers the bound's own rounding. The absolute
+    // term covers underflow. No scale-dependent margin: the same certainty near the origin and at
+    // 1e15. (Ternaries, not std::fmax: this is the box hierarchy's inner loop.)
     constexpr double u = DBL_EPSILON / 2;
+    double sum = 0, reachPerm = 0;
     const double lo3[3] = {lo.x - a.x, lo.y - a.y, lo.z - a.z};
     const double hi3[3] = {hi.x - a.x, hi.y - a.y, hi.z - a.z};
-    double sum = 0, err = 0;
     for (int i = 0; i < 3; ++i) {
-        const double best = std::fmax(lo3[i] * n[i], hi3[i] * n[i]);
-        const double reach = std::fmax(std::fabs(lo3[i]), std::fabs(hi3[i]));
-        sum += best;
-        err += reach * (8 * u * perm[i] + 4 * u * std::fabs(n[i])) + 4 * u * std::fabs(best);
+        sum += (n[i] > 0 ? hi3[i] : lo3[i]) * n[i];
+        const double l = std::fabs(lo3[i]), h = std::fabs(hi3[i]);
+        reachPerm += (l > h ? l : h) * perm[i];
     }
-    return sum + err * (1 + 8 * u) + 0x1p-1060 < 0;  // NaN or infinity: false (not certain)
+    return sum + (17 * u * reachPerm + 0x1p-1060) < 0;  // NaN or infinity: false (not certain)
 }
 
 // Exactly: do a, b, c lie on one line (a zero cross product (b-a) x (c-a))?

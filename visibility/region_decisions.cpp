@@ -13,6 +13,14 @@ void RegionDecisions::reset(const PolygonMesh& mesh, const HistoryTree& tree,
     mesh_ = &mesh;
     tree_ = &tree;
     corners_.assign(corners.begin(), corners.end());
+    // B's and L's planes at the corners, for the chords' pencil planes (once per region, not once
+    // per node: corners on B's plane make the filter fail and take the exact stage).
+    for (int k = 0; k < 2; ++k) {
+        const auto& f = mesh.faces[k == 0 ? tree.receiver : tree.light];
+        clip_[k] = PlaneOrient(mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]);
+        clipAt_[k].clear();
+        for (const Vec3& r : corners_) clipAt_[k].push_back(clip_[k].value(r));
+    }
     light_.clear();
     for (uint32_t v : mesh.faces[tree.light]) light_.push_back(mesh.vertices[v]);
     if (stamp_.size() < tree.nodes.size()) {
@@ -28,18 +36,27 @@ void RegionDecisions::reset(const PolygonMesh& mesh, const HistoryTree& tree,
 
 RegionDecisions::Decision RegionDecisions::compute(uint32_t node) {
     const HistoryNode& n = tree_->nodes[node];
-    const EdgeLine edge = tree_->edgeLine(*mesh_, n);
     bool pos = false, neg = false;
-    for (const Vec3& r : corners_) {
-        // The side of line(r, l) against the edge is the side of l against the plane through r
-        // and the edge's line (exact: edge_line.h).
-        const EdgePlane plane(r, edge);
+    // The side of line(r, l) against the edge is the side of l against the plane through r and
+    // the edge's line (exact: edge_line.h).
+    auto sides = [&](const auto& plane) {
         for (const Vec3& l : light_) {
             const Sign s = plane.sign(l);
             pos |= s == Sign::Positive;
             neg |= s == Sign::Negative;
         }
-        if (pos && neg) break;
+    };
+    if (!isClipEdge(n.v0)) {
+        const Vec3 v0 = mesh_->vertices[n.v0], v1 = mesh_->vertices[n.v1];
+        for (size_t k = 0; k < corners_.size() && !(pos && neg); ++k)
+            sides(PlaneOrient(corners_[k], v0, v1));
+    } else {
+        const int which = n.v1 == kReceiverPlaneEdge ? 0 : 1;
+        const auto& f = mesh_->faces[n.v0 & ~kClipEdge];
+        const PlaneOrient occluder(mesh_->vertices[f[0]], mesh_->vertices[f[1]],
+                                   mesh_->vertices[f[2]]);
+        for (size_t k = 0; k < corners_.size() && !(pos && neg); ++k)
+            sides(PencilPlane(corners_[k], clip_[which], clipAt_[which][k], occluder));
     }
     const Decision d = !neg ? Decision::Positive : (!pos ? Decision::Negative : Decision::Split);
     stamp_[node] = generation_;
