@@ -32,6 +32,8 @@ PACKAGES=(
   xauth
   xdotool
   imagemagick
+  clang
+  libclang-rt-14-dev
 )
 
 is_installed() {

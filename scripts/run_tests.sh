@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# CI entry point: installs the dependencies, then builds and tests three times:
+# CI entry point: installs the dependencies, then builds and tests three times, then fuzzes:
 #   build/       RelWithDebInfo
 #   build-asan/  RelWithDebInfo with -DPENUMBRA_SANITIZE=ON (ASan + UBSan), PENUMBRA_TEST_SCALE=0.25
 #   build-tsan/  RelWithDebInfo with -DPENUMBRA_TSAN=ON (ThreadSanitizer): only penumbra_tests is
 #                built and only the tests that run threads (scheduler, store) run, to stay fast
+#   build-fuzz/  clang, libFuzzer + ASan + UBSan: every harness of tests/fuzz/ for
+#                PENUMBRA_FUZZ_SECONDS (30) each (scripts/fuzz.sh)
 # Runs every configuration even after a failure, prints "N passed, M failed" over all runs as
 # its last line, and exits non-zero if anything (configure, build or a test) failed.
 set -uo pipefail
@@ -71,6 +73,16 @@ UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}" \
 TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1 second_deadlock_stack=1 suppressions=${PWD}/tests/tsan.supp}" \
   SUITE_TARGET=penumbra_concurrency_tests SUITE_TESTS='^(PrecomputeScheduler|VisibilityStore)\.' \
   run_suite tsan build-tsan 0.25 -DPENUMBRA_TSAN=ON
+
+# The libFuzzer harnesses, each for PENUMBRA_FUZZ_SECONDS (30 here; scripts/fuzz.sh runs them
+# longer on demand). A finding fails the run; it counts as one test.
+echo "=== fuzz: ${PENUMBRA_FUZZ_SECONDS:-30} s per harness"
+if bash scripts/fuzz.sh "${PENUMBRA_FUZZ_SECONDS:-30}"; then
+  total_passed=$((total_passed + 1))
+else
+  total_failed=$((total_failed + 1))
+  problems+=("fuzz: a harness found an input that breaks the contract (build-fuzz/findings/)")
+fi
 
 for p in "${problems[@]}"; do
   echo "run_tests: ${p}" >&2

@@ -185,6 +185,20 @@ TEST_F(RenderCommand, VisibilityFileIsReusedExtendedAndRepaired) {
     r = run(base(), {"--visibility", pvis, "--out-pfm", path("again.pfm")});
     ASSERT_EQ(r.exitCode, 0) << output(r);
     EXPECT_NE(output(r).find("none added"), std::string::npos) << output(r);
+
+    // A corrupt file and a render that builds no tree (every pair evaluated directly): the file
+    // is rewritten all the same, so the next run does not report it again.
+    std::ofstream(pvis, std::ios::binary | std::ios::trunc) << "garbage";
+    std::vector<std::string> direct = base();
+    direct.back() = "1000000000";  // --min-tree-samples
+    r = run(direct, {"--visibility", pvis, "--out-pfm", path("direct.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("recomputing"), std::string::npos) << output(r);
+    EXPECT_NE(output(r).find("wrote"), std::string::npos) << output(r);
+    r = run(direct, {"--visibility", pvis, "--out-pfm", path("direct2.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_EQ(output(r).find("recomputing"), std::string::npos) << output(r);
+    EXPECT_EQ(slurp(path("direct2.pfm")), slurp(path("direct.pfm")));
 }
 
 TEST_F(RenderCommand, BadInputGetsAClearErrorAndExitCode) {

@@ -200,6 +200,18 @@ void FromPointQuery::activateFace(const PolygonMesh& mesh, uint32_t face) {
     const PlaneOrient plane(mesh.vertices[ids[0]], mesh.vertices[ids[1]], mesh.vertices[ids[2]]);
     const Sign side = plane.sign(x_);
     if (side == Sign::Zero) return;
+    // Outside the pyramid from x over L as a whole face: its clipped part is too (a subset). The
+    // cheap rejection, before any clip: most candidates of the box hierarchy end here.
+    for (const PlaneOrient& h : pyramid_) {
+        bool inside = false;
+        for (uint32_t v : ids) {
+            BoundedValue b;
+            inside = h.filtered(mesh.vertices[v], b) ? b.value > 0
+                                                     : h.value(mesh.vertices[v]).value > 0;
+            if (inside) break;
+        }
+        if (!inside) return;
+    }
     // Clipped to the region in front of B's and L's planes, as the builder clips its occluders,
     // exactly (clipped_occluder.h): a line from x to L meets the clipped part between them (and
     // the line beyond x or beyond L, which the sign test would also see, lies outside that
@@ -314,8 +326,11 @@ const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t 
 }
 
 bool FromPointQuery::onContact(const HistoryTree& tree, const Vec3& x) const {
-    for (const PlaneOrient& plane : tree.contactPlanes)
-        if (plane.sign(x) == Sign::Zero) return true;
+    for (const PlaneOrient& plane : tree.contactPlanes) {
+        BoundedValue v;
+        if (plane.filtered(x, v)) continue;  // certainly off the plane (the inline filter)
+        if (plane.value(x).sign() == Sign::Zero) return true;
+    }
     return false;
 }
 

@@ -117,10 +117,17 @@ PairOccluders gatherOccluders(const PolygonMesh& mesh, uint32_t receiver, uint32
 
     const OrientedPlane clipB{pb.a, pb.b, pb.c}, clipL{pl.a, pl.b, pl.c};
     ClippedOccluder clipped;
+    std::vector<Vec3> facePoints;
+    auto outsideHull = [&](std::span<const Vec3> poly) { return outsideOnePlane(hull, poly); };
     auto consider = [&](uint32_t f) {
         if (f == receiver || f == light) return;
         // Closed boxes, touching counts: conservative.
         if (!mesh.faceBounds(f).overlaps(shaft)) return;
+        // Outside the hull as a whole face: its clipped part is too (exact; before any clip).
+        std::vector<Vec3>& face = facePoints;
+        face.clear();
+        for (uint32_t v : mesh.faces[f]) face.push_back(mesh.vertices[v]);
+        if (outsideHull(face)) return;
         clipped.clip(mesh, f, clipB.orient, clipL.orient);
         if (clipped.empty()) return;
         // Outside the hull of B and L (or touching it only): blocks no segment of positive

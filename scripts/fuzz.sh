@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer harnesses (tests/fuzz/: one per scene format, one for the visibility file)
+# with clang, AddressSanitizer and UndefinedBehaviorSanitizer in build-fuzz/, and runs each for
+# SECONDS (default 60; CI uses PENUMBRA_FUZZ_SECONDS). The corpus of each harness starts from its
+# seeds (tests/fuzz/seeds/FORMAT/, the committed assets, a generated visibility file) and grows in
+# build-fuzz/corpus/ from run to run. A crash, a sanitizer report, an input slower than 10 s or one
+# using more than 2 GB is a finding: its input is left in build-fuzz/findings/ and the script
+# exits 1. Turn each finding into a regression input under tests/fuzz/regressions/FORMAT/ (the
+# FuzzRegressions test loads every file there) once it is fixed.
+# Usage: bash scripts/fuzz.sh [SECONDS] [HARNESS...]
+set -uo pipefail
+cd "$(dirname "$0")/.." || exit 1
+
+seconds="${1:-${PENUMBRA_FUZZ_SECONDS:-60}}"
+shift || true
+bash scripts/install_deps.sh || { echo "fuzz: installing dependencies failed" >&2; exit 1; }
+
+dir=build-fuzz
+generator=()
+[[ -f "${dir}/CMakeCache.txt" ]] || generator=(-G Ninja)
+CXX=clang++ CC=clang cmake -S . -B "${dir}" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DPENUMBRA_FUZZ=ON -DPENUMBRA_TESTS=OFF >/dev/null || { echo "fuzz: configure failed" >&2; exit 1; }
+cmake --build "${dir}" || { echo "fuzz: build failed" >&2; exit 1; }
+
+harnesses=("$@")
+if ((${#harnesses[@]} == 0)); then
+  harnesses=(fuzz_scene_obj fuzz_scene_ply fuzz_scene_off fuzz_scene_stl fuzz_scene_gltf
+             fuzz_scene_glb fuzz_scene_json fuzz_visibility_file)
+fi
+
+mkdir -p "${dir}/findings" "${dir}/seeds/visibility_file" "${dir}/seeds/obj" "${dir}/seeds/json"
+"${dir}/tests/fuzz/penumbra_fuzz_seed" "${dir}/seeds/visibility_file/grids.pvis" ||
+  { echo "fuzz: writing the visibility-file seed failed" >&2; exit 1; }
+cp assets/*.obj "${dir}/seeds/obj/"
+cp assets/scenes/*.json "${dir}/seeds/json/"
+
+# Leak checking stays on (a leak is a finding); one job per harness, one after the other.
+status=0
+printf '%-22s %10s %12s %8s %8s %8s\n' harness seconds executions exec/s cov ft
+for h in "${harnesses[@]}"; do
+  name=${h#fuzz_scene_}
+  name=${name#fuzz_}
+  corpus="${dir}/corpus/${h}"
+  mkdir -p "${corpus}"
+  seeds=()
+  [[ -d "tests/fuzz/seeds/${name}" ]] && seeds+=("tests/fuzz/seeds/${name}")
+  [[ -d "${dir}/seeds/${name}" ]] && seeds+=("${dir}/seeds/${name}")
+  [[ -d "tests/fuzz/regressions/${name}" ]] && seeds+=("tests/fuzz/regressions/${name}")
+  log="${dir}/findings/${h}.log"
+  timeout $((seconds + 120)) "${dir}/tests/fuzz/${h}" -max_total_time="${seconds}" -timeout=10 \
+    -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
+    -artifact_prefix="${dir}/findings/${h}-" "${corpus}" "${seeds[@]}" >"${log}" 2>&1
+  rc=$?
+  execs=$(grep -Eo 'stat::number_of_executed_units: [0-9]+' "${log}" | awk '{print $2}' | tail -n 1)
+  rate=$(grep -Eo 'stat::average_exec_per_sec: [0-9]+' "${log}" | awk '{print $2}' | tail -n 1)
+  cov=$(grep -Eo 'cov: [0-9]+' "${log}" | awk '{print $2}' | tail -n 1)
+  ft=$(grep -Eo 'ft: [0-9]+' "${log}" | awk '{print $2}' | tail -n 1)
+  printf '%-22s %10s %12s %8s %8s %8s\n' "${h}" "${seconds}" "${execs:-?}" "${rate:-?}" \
+    "${cov:-?}" "${ft:-?}"
+  if ((rc != 0)) || compgen -G "${dir}/findings/${h}-*" >/dev/null; then
+    echo "fuzz: ${h} found something (exit ${rc}); its log: ${log}" >&2
+    grep -E 'ERROR|finding:|SUMMARY|Test unit written' "${log}" | head -n 20 >&2
+    status=1
+  fi
+done
+exit "${status}"
