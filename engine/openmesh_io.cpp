@@ -508,6 +508,23 @@ CleanOff cleanAsciiOff(const std::string& data, const std::string& file) {
         const std::optional<int64_t> n = parseInteger(tokens[0]);
         if (!n || *n < 0 || static_cast<uint64_t>(*n) > tokens.size() - 1)
             throw makeSceneError(file, lines.line(), where + "bad vertex count or too few indices");
+        // OpenMesh's reader spins, allocating without end, on a face of no vertices followed by
+        // junk (found by scripts/fuzz.sh): a face has 3 or more vertices, and what may follow its
+        // indices is a colour of at most 4 numbers.
+        if (*n < 3)
+            throw makeSceneError(file, lines.line(),
+                                 where + "a face needs at least 3 vertices, not " +
+                                     std::to_string(*n));
+        const size_t extra = tokens.size() - 1 - static_cast<size_t>(*n);
+        if (extra > 4)
+            throw makeSceneError(file, lines.line(),
+                                 where + std::to_string(extra) +
+                                     " values after the indices (a colour has at most 4)");
+        for (size_t k = static_cast<size_t>(*n) + 1; k < tokens.size(); ++k)
+            if (!parseFinite(tokens[k]))
+                throw makeSceneError(file, lines.line(),
+                                     where + "colour value '" + std::string(tokens[k]) +
+                                         "' is not a number");
         for (int64_t k = 1; k <= *n; ++k) {
             const std::optional<int64_t> i = parseInteger(tokens[static_cast<size_t>(k)]);
             if (!i || *i < 0 || static_cast<uint64_t>(*i) >= out.vertices) {

@@ -51,15 +51,15 @@ for h in "${harnesses[@]}"; do
     -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
     -artifact_prefix="${dir}/findings/${h}-" "${corpus}" "${seeds[@]}" >"${log}" 2>&1
   rc=$?
-  execs=$(grep -Eo 'stat::number_of_executed_units: [0-9]+' "${log}" | awk '{print $2}' | tail -n 1)
-  rate=$(grep -Eo 'stat::average_exec_per_sec: [0-9]+' "${log}" | awk '{print $2}' | tail -n 1)
-  cov=$(grep -Eo 'cov: [0-9]+' "${log}" | awk '{print $2}' | tail -n 1)
-  ft=$(grep -Eo 'ft: [0-9]+' "${log}" | awk '{print $2}' | tail -n 1)
+  execs=$(grep -aEo 'stat::number_of_executed_units:[[:space:]]+[0-9]+' "${log}" | awk '{print $2}' | tail -n 1)
+  rate=$(grep -aEo 'stat::average_exec_per_sec:[[:space:]]+[0-9]+' "${log}" | awk '{print $2}' | tail -n 1)
+  cov=$(grep -aEo 'cov: [0-9]+' "${log}" | awk '{print $2}' | tail -n 1)
+  ft=$(grep -aEo 'ft: [0-9]+' "${log}" | awk '{print $2}' | tail -n 1)
   printf '%-22s %10s %12s %8s %8s %8s\n' "${h}" "${seconds}" "${execs:-?}" "${rate:-?}" \
     "${cov:-?}" "${ft:-?}"
   if ((rc != 0)) || compgen -G "${dir}/findings/${h}-*" >/dev/null; then
     echo "fuzz: ${h} found something (exit ${rc}); its log: ${log}" >&2
-    grep -E 'ERROR|finding:|SUMMARY|Test unit written' "${log}" | head -n 20 >&2
+    grep -aE 'ERROR|finding:|SUMMARY|Test unit written' "${log}" | head -n 20 >&2
     status=1
   fi
 done
