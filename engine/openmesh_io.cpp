@@ -386,6 +386,15 @@ std::optional<double> parseFinite(std::string_view t) {
     return v;
 }
 
+// A number beyond the coordinate contract (engine/scene_validation.h), refused before OpenMesh
+// reads it: its ASCII readers take numbers into floats and loop forever on one they cannot hold
+// (a vertex at 1e155 hung the PLY reader).
+std::optional<std::string> beyondContract(double v, std::string_view token) {
+    if (std::fabs(v) <= kMaxCoordinate) return std::nullopt;
+    return "number " + std::string(token) +
+           " beyond the supported magnitude 2^59 = 5.8e17 (README, scene contract)";
+}
+
 std::optional<int64_t> parseInteger(std::string_view t) {
     if (!t.empty() && t.front() == '+') t.remove_prefix(1);
     int64_t v = 0;
@@ -414,9 +423,12 @@ void checkAsciiPlyBody(const std::string& data, const PlyHeader& header, const s
             for (const PlyProperty& p : e.properties) {
                 if (t >= tokens.size()) throw bad("too few values");
                 if (!p.list) {
-                    const bool ok = p.isFloat ? parseFinite(tokens[t]).has_value()
-                                              : parseInteger(tokens[t]).has_value();
-                    if (!ok) throw bad("bad or non-finite number '" + std::string(tokens[t]) + "'");
+                    const std::optional<double> v =
+                        p.isFloat ? parseFinite(tokens[t])
+                                  : (parseInteger(tokens[t]) ? std::optional<double>(0.0)
+                                                             : std::nullopt);
+                    if (!v) throw bad("bad or non-finite number '" + std::string(tokens[t]) + "'");
+                    if (const auto problem = beyondContract(*v, tokens[t])) throw bad(*problem);
                     ++t;
                     continue;
                 }
@@ -488,12 +500,16 @@ CleanOff cleanAsciiOff(const std::string& data, const std::string& file) {
             throw makeSceneError(file, lines.line(),
                                  "OFF: vertex " + std::to_string(v) + ": too few values");
         for (size_t k = 0; k < tokens.size(); ++k) {
-            if (!parseFinite(tokens[k])) {
+            const std::optional<double> x = parseFinite(tokens[k]);
+            if (!x) {
                 throw makeSceneError(file, lines.line(),
                                      "OFF: vertex " + std::to_string(v) +
                                          ": bad or non-finite number '" + std::string(tokens[k]) +
                                          "'");
             }
+            if (const auto problem = beyondContract(*x, tokens[k]))
+                throw makeSceneError(file, lines.line(),
+                                     "OFF: vertex " + std::to_string(v) + ": " + *problem);
         }
         appendLine();
     }

@@ -172,15 +172,13 @@ TEST(Renderer, ExactDiffuseIsIndependentOfTheLightSeed) {
     EXPECT_NE(c.sum, d.sum);
 }
 
-// Both exact paths: history trees for every pair (minTreeSamples 0), and no tree at all (every
-// pair below minTreeSamples: each point evaluated directly). Same image up to rounding.
-TEST(Renderer, ExactDiffuseAgreesWithConvergedShadowRays) {
-    Rig rig(penumbraScene(Material{}));
-    const Camera camera = penumbraCamera();
-    RenderSettings s;
-    s.width = s.height = 32;
-    s.spp = 2;
-    s.seed = 7;
+// The exact image of `s` (trees for every pair: minTreeSamples 0) as channel sums, checked against
+// the same render with no tree at all (every pair below minTreeSamples: each point evaluated
+// directly, from a fresh store): the same image up to rounding. Then checks it against converged
+// shadow rays (24 replicates of lightSamples 64, scaled).
+void expectExactPathsAgreeWithShadowRays(const Scene& scene, const Camera& camera,
+                                         RenderSettings s) {
+    Rig rig(scene);
     s.minTreeSamples = 0;
     const Film exact = rig.renderer.render(camera, s);
     // The image has a penumbra: some receiver patches are partly blocked.
@@ -190,7 +188,7 @@ TEST(Renderer, ExactDiffuseAgreesWithConvergedShadowRays) {
     std::vector<double> e(exact.sum.size());
     for (size_t i = 0; i < e.size(); ++i) e[i] = channelSum(exact.sum[i] / exact.passes);
     {
-        Rig fresh(penumbraScene(Material{}));
+        Rig fresh(scene);
         RenderSettings d = s;
         d.minTreeSamples = 1u << 30;
         const Film direct = fresh.renderer.render(camera, d);
@@ -204,6 +202,16 @@ TEST(Renderer, ExactDiffuseAgreesWithConvergedShadowRays) {
     s.lightSamples = test::scaled(64);
     const Replicates sampled = replicate(rig, camera, s, 24);
     expectAgreement(e, std::vector<double>(e.size(), 0.0), sampled, "exact vs sampled");
+}
+
+// Both exact paths: history trees for every pair (minTreeSamples 0), and no tree at all (every
+// pair below minTreeSamples: each point evaluated directly). Same image up to rounding.
+TEST(Renderer, ExactDiffuseAgreesWithConvergedShadowRays) {
+    RenderSettings s;
+    s.width = s.height = 32;
+    s.spp = 2;
+    s.seed = 7;
+    expectExactPathsAgreeWithShadowRays(penumbraScene(Material{}), penumbraCamera(), s);
 }
 
 // Occluders standing on the floor with a vertex a hair below it (2^-60, the decimal residue
@@ -227,30 +235,11 @@ TEST(Renderer, HairCrossingOccludersKeepTheirShadows) {
         s.collectLights();
         return s;
     };
-    Rig rig(scene());
-    const Camera camera = penumbraCamera();
     RenderSettings s;
     s.width = s.height = 32;
     s.spp = 2;
     s.seed = 3;
-    s.minTreeSamples = 0;
-    const Film exact = rig.renderer.render(camera, s);
-    EXPECT_GT(rig.renderer.effects().pairsPenumbra, 0u);
-    std::vector<double> e(exact.sum.size());
-    for (size_t i = 0; i < e.size(); ++i) e[i] = channelSum(exact.sum[i] / exact.passes);
-    {
-        Rig fresh(scene());
-        RenderSettings d = s;
-        d.minTreeSamples = 1u << 30;
-        const Film direct = fresh.renderer.render(camera, d);
-        for (size_t i = 0; i < e.size(); ++i)
-            EXPECT_NEAR(channelSum(direct.sum[i] / direct.passes), e[i], 1e-9 * (1 + e[i]))
-                << "pixel " << i;
-    }
-    s.method = DirectMethod::Sampled;
-    s.lightSamples = test::scaled(64);
-    const Replicates sampled = replicate(rig, camera, s, 24);
-    expectAgreement(e, std::vector<double>(e.size(), 0.0), sampled, "exact vs sampled");
+    expectExactPathsAgreeWithShadowRays(scene(), penumbraCamera(), s);
 }
 
 // A point whose exact query needs more plane tests than RenderSettings::exactWorkLimit is shaded

@@ -198,15 +198,19 @@ SplitOutcome sideOfConstructed(std::span<const Vec3> polygon, const Plane& plane
     return SplitOutcome::Negative;
 }
 
-#define PENUMBRA_SPLIT_FOR(Plane)                                                              \
-    template SplitOutcome splitConstructed<Plane>(std::span<const Vec3>, const Plane&,          \
-                                                  std::span<const Vec3>, SplitParts&, KeepParts); \
-    template SplitOutcome sideOfConstructed<Plane>(std::span<const Vec3>, const Plane&,         \
+// The plane types FPQuery splits by (edge_line.h).
+template SplitOutcome splitConstructed<PlaneOrient>(std::span<const Vec3>, const PlaneOrient&,
+                                                    std::span<const Vec3>, SplitParts&, KeepParts);
+template SplitOutcome splitConstructed<PencilPlane>(std::span<const Vec3>, const PencilPlane&,
+                                                    std::span<const Vec3>, SplitParts&, KeepParts);
+template SplitOutcome splitConstructed<EdgePlane>(std::span<const Vec3>, const EdgePlane&,
+                                                  std::span<const Vec3>, SplitParts&, KeepParts);
+template SplitOutcome sideOfConstructed<PlaneOrient>(std::span<const Vec3>, const PlaneOrient&,
+                                                     std::span<const Vec3>);
+template SplitOutcome sideOfConstructed<PencilPlane>(std::span<const Vec3>, const PencilPlane&,
+                                                     std::span<const Vec3>);
+template SplitOutcome sideOfConstructed<EdgePlane>(std::span<const Vec3>, const EdgePlane&,
                                                    std::span<const Vec3>);
-PENUMBRA_SPLIT_FOR(PlaneOrient)
-PENUMBRA_SPLIT_FOR(PencilPlane)
-PENUMBRA_SPLIT_FOR(EdgePlane)
-#undef PENUMBRA_SPLIT_FOR
 
 SplitOutcome splitExact(std::span<const Vec3> polygon, const PlaneOrient& plane,
                         SplitParts& parts) {
