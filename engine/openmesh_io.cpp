@@ -9,6 +9,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <optional>
@@ -446,8 +447,11 @@ void checkAsciiPlyBody(const std::string& data, const PlyHeader& header, const s
     }
 }
 
-// An ASCII OFF file checked token by token and rewritten without comments and blank lines (which
-// OpenMesh's OFF reader does not accept everywhere) for OpenMesh to read.
+// An ASCII OFF file checked token by token and rewritten in the plainest form for OpenMesh to read:
+// keyword "OFF", the counts, each vertex as its three coordinates (printed back exactly, %.17g),
+// each face as its count and indices. Comments, blank lines, '+' signs, colours, normals and
+// texture coordinates go (the importer ignores them anyway): OpenMesh's reader misreads or loops
+// on several of these (fuzz findings kept in tests/fuzz/regressions/off/).
 struct CleanOff {
     uint64_t vertices = 0, faces = 0;
     std::string text;
@@ -466,7 +470,7 @@ CleanOff cleanAsciiOff(const std::string& data, const std::string& file) {
     if (tokens.size() > 1 && tokens[1] == "BINARY")
         throw makeSceneError(file, lines.line(), "OFF: binary OFF is not supported");
     CleanOff out;
-    out.text = keyword + "\n";
+    out.text = "OFF\n";
     // The counts may follow the keyword on its line.
     std::vector<std::string_view> counts(tokens.begin() + 1, tokens.end());
     if (counts.empty()) {
@@ -482,13 +486,6 @@ CleanOff cleanAsciiOff(const std::string& data, const std::string& file) {
     out.vertices = static_cast<uint64_t>(*nv);
     out.faces = static_cast<uint64_t>(*nf);
     out.text += std::to_string(out.vertices) + " " + std::to_string(out.faces) + " 0\n";
-    const auto appendLine = [&] {
-        for (size_t i = 0; i < tokens.size(); ++i) {
-            if (i) out.text += ' ';
-            out.text += tokens[i];
-        }
-        out.text += '\n';
-    };
     for (uint64_t v = 0; v < out.vertices; ++v) {
         if (!lines.next(tokens)) {
             throw makeSceneError(file, 0,
@@ -511,7 +508,10 @@ CleanOff cleanAsciiOff(const std::string& data, const std::string& file) {
                 throw makeSceneError(file, lines.line(),
                                      "OFF: vertex " + std::to_string(v) + ": " + *problem);
         }
-        appendLine();
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%.17g %.17g %.17g\n", *parseFinite(tokens[0]),
+                      *parseFinite(tokens[1]), *parseFinite(tokens[2]));
+        out.text += buf;
     }
     for (uint64_t f = 0; f < out.faces; ++f) {
         if (!lines.next(tokens)) {
@@ -551,7 +551,10 @@ CleanOff cleanAsciiOff(const std::string& data, const std::string& file) {
                                          std::to_string(out.vertices) + " vertices)");
             }
         }
-        appendLine();
+        out.text += std::to_string(*n);
+        for (int64_t k = 1; k <= *n; ++k)
+            out.text += " " + std::to_string(*parseInteger(tokens[static_cast<size_t>(k)]));
+        out.text += '\n';
     }
     return out;
 }
