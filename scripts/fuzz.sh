@@ -7,6 +7,8 @@
 # using more than 2 GB is a finding: its input is left in build-fuzz/findings/ and the script
 # exits 1. Turn each finding into a regression input under tests/fuzz/regressions/FORMAT/ (the
 # FuzzRegressions test loads every file there) once it is fixed.
+# PENUMBRA_FUZZ_SEED fixes libFuzzer's random seed (0, the default: a new one each run; CI uses 1
+# so that a run repeats the same mutations).
 # Usage: bash scripts/fuzz.sh [SECONDS] [HARNESS...]
 set -uo pipefail
 cd "$(dirname "$0")/.." || exit 1
@@ -48,6 +50,7 @@ for h in "${harnesses[@]}"; do
   [[ -d "tests/fuzz/regressions/${name}" ]] && seeds+=("tests/fuzz/regressions/${name}")
   log="${dir}/findings/${h}.log"
   timeout $((seconds + 120)) "${dir}/tests/fuzz/${h}" -max_total_time="${seconds}" -timeout=10 \
+    -seed="${PENUMBRA_FUZZ_SEED:-0}" \
     -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
     -artifact_prefix="${dir}/findings/${h}-" "${corpus}" "${seeds[@]}" >"${log}" 2>&1
   rc=$?

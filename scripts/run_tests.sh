@@ -77,7 +77,7 @@ TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1 second_deadlock_stack=1 suppressio
 # The libFuzzer harnesses, each for PENUMBRA_FUZZ_SECONDS (30 here; scripts/fuzz.sh runs them
 # longer on demand). A finding fails the run; it counts as one test.
 echo "=== fuzz: ${PENUMBRA_FUZZ_SECONDS:-30} s per harness"
-if bash scripts/fuzz.sh "${PENUMBRA_FUZZ_SECONDS:-30}"; then
+if PENUMBRA_FUZZ_SEED="${PENUMBRA_FUZZ_SEED:-1}" bash scripts/fuzz.sh "${PENUMBRA_FUZZ_SECONDS:-30}"; then
   total_passed=$((total_passed + 1))
 else
   total_failed=$((total_failed + 1))
