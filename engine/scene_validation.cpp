@@ -280,6 +280,11 @@ std::optional<FaceDefect> checkFace(const vis::PolygonMesh& mesh, uint32_t f,
         return invalid("non-convex: self-intersecting (the boundary winds " +
                        std::to_string(revolutions) + " times around)");
     }
+    // Convex and not collinear, but so thin that its area rounds to zero in doubles (a sliver of
+    // 1e-80 on a unit scene, found by fuzzing): a light's visible fraction divides by its area, so
+    // such a face counts as degenerate too.
+    if (!(mesh.faceArea(f) > 0))
+        return degenerate("degenerate: its area rounds to zero (a sliver below double precision)");
     return std::nullopt;
 }
 

@@ -43,7 +43,7 @@ const char* kMtl = "newmtl white\nKd 0.8 0.8 0.8\nnewmtl lamp\nKe 10 10 10\n";
 
 std::string objWithVertex(const std::string& coordinate) {
     return "mtllib s.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv " + coordinate +
-           " 0 0\nv 0 0 1\nv 1 0 1\nusemtl white\nf 1 2 3\nf 4 5 6\n";
+           " 0 0\nv 0 0 1\nv 0 1 1\nusemtl white\nf 1 2 3\nf 4 5 6\n";
 }
 
 TEST_F(HostileInput, CoordinatesBeyondTheContractAreRefusedInEveryFormat) {

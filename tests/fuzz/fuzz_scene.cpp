@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -60,8 +61,12 @@ void checkAnswer(const Scene& scene) {
     for (size_t i = 0; i < fragments.size(); ++i) area += vis::polygonArea(fragments[i]);
     const double lightArea = scene.mesh.faceArea(light);
     if (!std::isfinite(area) || area < 0 || area > lightArea * (1 + 1e-6) + 1e-300)
-        finding("visible area " + std::to_string(area) + " of a light of area " +
-                std::to_string(lightArea));
+    {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "visible area %.17g of a light of area %.17g", area,
+                      lightArea);
+        finding(buf);
+    }
 }
 
 }  // namespace
