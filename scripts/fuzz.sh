@@ -49,6 +49,8 @@ for h in "${harnesses[@]}"; do
   [[ -d "${dir}/seeds/${name}" ]] && seeds+=("${dir}/seeds/${name}")
   [[ -d "tests/fuzz/regressions/${name}" ]] && seeds+=("tests/fuzz/regressions/${name}")
   log="${dir}/findings/${h}.log"
+  # Artifacts of earlier runs stay (nothing is deleted); only new ones count as this run's.
+  before=$(compgen -G "${dir}/findings/${h}-*" | sort)
   timeout $((seconds + 120)) "${dir}/tests/fuzz/${h}" -max_total_time="${seconds}" -timeout=10 \
     -seed="${PENUMBRA_FUZZ_SEED:-0}" \
     -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
@@ -60,7 +62,8 @@ for h in "${harnesses[@]}"; do
   ft=$(grep -aEo 'ft: [0-9]+' "${log}" | awk '{print $2}' | tail -n 1)
   printf '%-22s %10s %12s %8s %8s %8s\n' "${h}" "${seconds}" "${execs:-?}" "${rate:-?}" \
     "${cov:-?}" "${ft:-?}"
-  if ((rc != 0)) || compgen -G "${dir}/findings/${h}-*" >/dev/null; then
+  after=$(compgen -G "${dir}/findings/${h}-*" | sort)
+  if ((rc != 0)) || [[ "${after}" != "${before}" ]]; then
     echo "fuzz: ${h} found something (exit ${rc}); its log: ${log}" >&2
     grep -aE 'ERROR|finding:|SUMMARY|Test unit written' "${log}" | head -n 20 >&2
     status=1
