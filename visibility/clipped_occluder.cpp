@@ -32,8 +32,6 @@ void ClippedOccluder::clip(const PolygonMesh& mesh, uint32_t face, const PlaneOr
             behind[k] |= s == Sign::Negative;
         }
     }
-    reachesB_ = false;
-    for (Sign s : signs_[0]) reachesB_ |= s != Sign::Positive;
     // A convex face with no vertex strictly in front of a plane has no part of positive area
     // there.
     if (n < 3 || !front[0] || !front[1]) return;

@@ -50,7 +50,6 @@ class ClippedOccluder {
 
     bool empty() const { return empty_; }        // zero area (exact)
     bool clipped() const { return clipped_; }    // some vertex was behind B's or L's plane
-    bool reachesReceiverPlane() const { return reachesB_; }  // some face vertex on or behind it
     std::span<const Edge> edges() const { return edges_; }
     std::span<const Vertex> vertices() const { return vertices_; }
     std::span<const Vec3> facePoints() const { return points_; }
@@ -88,7 +87,7 @@ class ClippedOccluder {
     std::vector<Sign> polySigns_;
     std::vector<Vertex> vertices_;
     std::vector<Edge> edges_;
-    bool empty_ = true, clipped_ = false, reachesB_ = false;
+    bool empty_ = true, clipped_ = false;
 };
 
 }  // namespace penumbra::vis

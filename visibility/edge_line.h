@@ -89,9 +89,6 @@ class PencilPlane {
     bool filtered(const Vec3& y, BoundedValue& out) const;
     BoundedValue value(const Vec3& y) const;
     Sign sign(const Vec3& y) const { return value(y).sign(); }
-    // x lies on the line itself (both planes through x, exactly): every y gives 0.
-    bool degenerate() const { return alpha_.error == 0 && alpha_.value == 0 && beta_.error == 0 &&
-                                     beta_.value == 0; }
 
   private:
     void prepareFilter();

@@ -279,6 +279,7 @@ const BoundedValue& FromPointQuery::clipPlaneAt(int which) {
 
 void FromPointQuery::startRun() {
     clipValueKnown_[0] = clipValueKnown_[1] = false;
+    contactAnswer_ = false;
     fragments_.clear();
     nodesVisited_ = 0;
     work_ = 0;
@@ -366,7 +367,6 @@ const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTr
     if (region != nullptr && region->tree() != &tree)
         throw std::invalid_argument("FromPointQuery::run: region decisions of another tree");
     startRun();
-    contactAnswer_ = false;
     if (tree.kind == PairKind::BackFacing) return fragments_;
     // (A fully hidden pair is answered without touching the pair's setup unless x is on contact.)
     const bool contact = onContact(tree, x);

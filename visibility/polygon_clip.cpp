@@ -203,14 +203,10 @@ template SplitOutcome splitConstructed<PlaneOrient>(std::span<const Vec3>, const
                                                     std::span<const Vec3>, SplitParts&, KeepParts);
 template SplitOutcome splitConstructed<PencilPlane>(std::span<const Vec3>, const PencilPlane&,
                                                     std::span<const Vec3>, SplitParts&, KeepParts);
-template SplitOutcome splitConstructed<EdgePlane>(std::span<const Vec3>, const EdgePlane&,
-                                                  std::span<const Vec3>, SplitParts&, KeepParts);
 template SplitOutcome sideOfConstructed<PlaneOrient>(std::span<const Vec3>, const PlaneOrient&,
                                                      std::span<const Vec3>);
 template SplitOutcome sideOfConstructed<PencilPlane>(std::span<const Vec3>, const PencilPlane&,
                                                      std::span<const Vec3>);
-template SplitOutcome sideOfConstructed<EdgePlane>(std::span<const Vec3>, const EdgePlane&,
-                                                   std::span<const Vec3>);
 
 SplitOutcome splitExact(std::span<const Vec3> polygon, const PlaneOrient& plane,
                         SplitParts& parts) {

@@ -63,8 +63,8 @@ struct SplitParts {
 // v1); a snap moves at most that width times the fragment's diameter of area, and never decides a
 // label. `parts` is written only for SplitOutcome::Split.
 // `keep` names the parts written for Split (the other count is 0).
-// Plane: PlaneOrient (the plane through x and an input edge), PencilPlane (through x and a chord)
-// or EdgePlane (either), each with filtered() and an exact-sign value() (edge_line.h).
+// Plane: PlaneOrient (the plane through x and an input edge) or PencilPlane (through x and a
+// chord), each with filtered() and an exact-sign value() (edge_line.h).
 template <class Plane>
 SplitOutcome splitConstructed(std::span<const Vec3> polygon, const Plane& plane,
                               std::span<const Vec3> inputVertices, SplitParts& parts,
