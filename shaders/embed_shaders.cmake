@@ -4,7 +4,7 @@
 file(GLOB SOURCES ${SHADER_DIR}/*.vert ${SHADER_DIR}/*.frag)
 list(SORT SOURCES)
 set(body "// Generated from shaders/ by shaders/embed_shaders.cmake: do not edit.\n")
-string(APPEND body "#include \"app/viewer/shader_sources.h\"\n\n#include <stdexcept>\n#include <string>\n\n")
+string(APPEND body "#include \"app/viewer/gl/shader_sources.h\"\n\n#include <stdexcept>\n#include <string>\n\n")
 string(APPEND body "namespace penumbra::viewer {\n\nstd::string_view shaderSource(std::string_view name) {\n")
 foreach(path IN LISTS SOURCES)
   get_filename_component(name ${path} NAME)

@@ -1,11 +1,11 @@
-// Writes the procedural scenes (engine/procedural_scenes.h) as OBJ + MTL into a directory:
+// Writes the procedural scenes (engine/scene/procedural_scenes.h) as OBJ + MTL into a directory:
 // the committed files under assets/ are produced by `penumbra_make_assets assets`.
 #include <cstdio>
 #include <exception>
 #include <filesystem>
 
-#include "engine/obj_io.h"
-#include "engine/procedural_scenes.h"
+#include "engine/io/obj_io.h"
+#include "engine/scene/procedural_scenes.h"
 
 int main(int argc, char** argv) {
     if (argc != 2) {

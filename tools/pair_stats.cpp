@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "engine/embree_scene.h"
-#include "engine/scene_loader.h"
-#include "engine/visibility_store.h"
+#include "engine/io/scene_loader.h"
+#include "engine/precompute/visibility_store.h"
+#include "engine/render/embree_scene.h"
 
 namespace {
 

@@ -1,11 +1,11 @@
-// penumbra_scene_info SCENE...: loads each scene with engine/scene_loader.h and prints its size
+// penumbra_scene_info SCENE...: loads each scene with engine/io/scene_loader.h and prints its size
 // (vertices, faces, triangles, lights, materials), bounds and load time (wall clock, one run), and
 // its warnings. Used to check the scene files in assets/scenes/ and to measure loaders.
 #include <chrono>
 #include <cstdio>
 #include <exception>
 
-#include "engine/scene_loader.h"
+#include "engine/io/scene_loader.h"
 
 int main(int argc, char** argv) {
     if (argc < 2) {

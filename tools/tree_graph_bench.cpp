@@ -13,8 +13,9 @@
 #include <optional>
 #include <vector>
 
-#include "app/tree_graph_panel.h"
-#include "tests/support/random_history_tree.h"
+#include "app/viewer/panels/tree_graph_panel.h"
+#include "tools/devkit/headless_imgui.h"
+#include "tools/devkit/random_history_tree.h"
 
 namespace {
 
@@ -121,17 +122,8 @@ void benchTree(const char* name, const vis::HistoryTree& tree) {
 
 int main(int argc, char** argv) {
     const uint32_t n = argc > 1 ? uint32_t(std::strtoul(argv[1], nullptr, 10)) : 50000;
-    ImGui::CreateContext();
-    ImGuiIO& io = ImGui::GetIO();
-    io.DisplaySize = ImVec2(1280, 800);
-    io.DeltaTime = 1.0f / 60.0f;
-    io.IniFilename = nullptr;
-    io.BackendFlags |= ImGuiBackendFlags_RendererHasVtxOffset;
-    unsigned char* pixels = nullptr;
-    int w = 0, h = 0;
-    io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
-    benchTree("random", test::randomHistoryTree(n, 1));
-    benchTree("chain (straight)", test::chainHistoryTree(n, false));
-    benchTree("chain (zigzag)", test::chainHistoryTree(n, true));
-    ImGui::DestroyContext();
+    devkit::HeadlessImGui imgui;
+    benchTree("random", devkit::randomHistoryTree(n, 1));
+    benchTree("chain (straight)", devkit::chainHistoryTree(n, false));
+    benchTree("chain (zigzag)", devkit::chainHistoryTree(n, true));
 }

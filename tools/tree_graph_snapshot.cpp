@@ -7,7 +7,6 @@
 // writes OUTDIR/tree_graph_{stairs_fit,stairs_zoom,stairs_collapsed,random50k_fit,
 // random50k_boxes}.png
 #include <imgui.h>
-#include <stb/stb_image_write.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,9 +16,12 @@
 #include <string>
 #include <vector>
 
-#include "app/tree_graph_panel.h"
-#include "engine/procedural_scenes.h"
-#include "tests/support/random_history_tree.h"
+#include "app/viewer/panels/tree_graph_panel.h"
+#include "engine/io/atomic_file.h"
+#include "engine/io/image_io.h"
+#include "engine/scene/procedural_scenes.h"
+#include "tools/devkit/headless_imgui.h"
+#include "tools/devkit/random_history_tree.h"
 #include "visibility/fp_query.h"
 #include "visibility/history_tree_builder.h"
 
@@ -96,46 +98,30 @@ void rasterize(const ImDrawData* data, const unsigned char* atlas, int atlasW, i
 class Snapshots {
   public:
     explicit Snapshots(std::filesystem::path dir) : dir_(std::move(dir)) {
-        ImGui::CreateContext();
-        ImGuiIO& io = ImGui::GetIO();
-        io.DisplaySize = ImVec2(1280, 800);
-        io.DeltaTime = 1.0f / 60.0f;
-        io.IniFilename = nullptr;
-        io.BackendFlags |= ImGuiBackendFlags_RendererHasVtxOffset;
-        io.Fonts->GetTexDataAsRGBA32(&atlas_, &atlasW_, &atlasH_);
         ImGui::StyleColorsDark();
     }
-    ~Snapshots() { ImGui::DestroyContext(); }
 
     void frame(ui::TreeGraphPanel& panel) {
-        ImGui::NewFrame();
-        ImGui::SetNextWindowPos(ImVec2(0, 0));
-        ImGui::SetNextWindowSize(ImGui::GetIO().DisplaySize);
-        panel.draw("History tree");
-        ImGui::Render();
+        imgui_.frame([&] { panel.draw("History tree"); });
     }
     void save(ui::TreeGraphPanel& panel, const std::string& name) {
         frame(panel);
         frame(panel);
         Image img(1280, 800);
-        rasterize(ImGui::GetDrawData(), atlas_, atlasW_, atlasH_, img);
+        rasterize(ImGui::GetDrawData(), imgui_.atlasPixels(), imgui_.atlasWidth(),
+                  imgui_.atlasHeight(), img);
         std::vector<unsigned char> bytes(img.rgb.size());
         for (size_t i = 0; i < bytes.size(); ++i)
             bytes[i] = (unsigned char)std::lround(std::clamp(img.rgb[i], 0.0f, 1.0f) * 255);
-        // Written to a temporary name, then renamed: never a half-written picture.
         const std::filesystem::path path = dir_ / ("tree_graph_" + name + ".png");
-        const std::filesystem::path tmp = path.string() + ".tmp";
-        if (!stbi_write_png(tmp.c_str(), img.width, img.height, 3, bytes.data(), img.width * 3))
-            throw std::runtime_error("cannot write " + tmp.string());
-        std::filesystem::rename(tmp, path);
+        writeFileAtomically(path, encodePng(img.width, img.height, 3, bytes.data()));
         std::printf("%s\n", path.c_str());
     }
     void hover(ImVec2 p) { ImGui::GetIO().MousePos = p; }
 
   private:
+    devkit::HeadlessImGui imgui_;  // first: the context outlives nothing that uses it
     std::filesystem::path dir_;
-    unsigned char* atlas_ = nullptr;
-    int atlasW_ = 0, atlasH_ = 0;
 };
 
 }  // namespace
@@ -173,7 +159,7 @@ int main(int argc, char** argv) try {
     panel.fit();
     shots.save(panel, "stairs_collapsed");
 
-    const vis::HistoryTree big = test::randomHistoryTree(50000, 1);
+    const vis::HistoryTree big = devkit::randomHistoryTree(50000, 1);
     ui::TreeGraphPanel bigPanel;
     bigPanel.setTree(&big, {});
     shots.save(bigPanel, "random50k_fit");

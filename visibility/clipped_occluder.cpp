@@ -133,7 +133,8 @@ std::optional<Sign> ClippedOccluder::lineSide(const Vertex& v, const Vec3& p, bo
             const Vec3& q0 = points_[v.index];
             const Vec3& q1 = points_[(v.index + 1) % points_.size()];
             const PlaneOrient& x = planes_[v.plane];
-            const BoundedValue r = differenceOfProducts(x.value(q0), side(q1), x.value(q1), side(q0));
+            const BoundedValue r =
+                differenceOfProducts(x.value(q0), side(q1), x.value(q1), side(q0));
             Sign s = r.sign();
             if (!r.certain()) {
                 // Exact zeros are common here: p and c both in B's (or L's) plane, against an edge

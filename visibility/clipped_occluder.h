@@ -27,8 +27,8 @@
 #include <utility>
 #include <vector>
 
-#include "visibility/polygon_mesh.h"
 #include "visibility/edge_line.h"
+#include "visibility/polygon_mesh.h"
 #include "visibility/predicates.h"
 
 namespace penumbra::vis {
@@ -48,8 +48,8 @@ class ClippedOccluder {
     void clip(const PolygonMesh& mesh, uint32_t face, const PlaneOrient& receiverPlane,
               const PlaneOrient& lightPlane);
 
-    bool empty() const { return empty_; }        // zero area (exact)
-    bool clipped() const { return clipped_; }    // some vertex was behind B's or L's plane
+    bool empty() const { return empty_; }      // zero area (exact)
+    bool clipped() const { return clipped_; }  // some vertex was behind B's or L's plane
     std::span<const Edge> edges() const { return edges_; }
     std::span<const Vertex> vertices() const { return vertices_; }
     std::span<const Vec3> facePoints() const { return points_; }

@@ -28,9 +28,11 @@ BoundedValue differenceOfProducts(const BoundedValue& a, const BoundedValue& b,
     // that underflow (each loses at most 2^-1075).
     double propagated = 0;
     if (!zeroAB)
-        propagated += std::fabs(a.value) * b.error + std::fabs(b.value) * a.error + a.error * b.error;
+        propagated +=
+            std::fabs(a.value) * b.error + std::fabs(b.value) * a.error + a.error * b.error;
     if (!zeroCD)
-        propagated += std::fabs(c.value) * d.error + std::fabs(d.value) * c.error + c.error * d.error;
+        propagated +=
+            std::fabs(c.value) * d.error + std::fabs(d.value) * c.error + c.error * d.error;
     const double err =
         propagated * (1 + 8 * kU) + 3 * kU * (std::fabs(ab) + std::fabs(cd)) + 0x1p-1066;
     return {v, err};  // an infinite or NaN bound is never certain: callers go exact
@@ -48,8 +50,7 @@ BoundedValue sideValue(const Vec3& y, const Vec3& z, const EdgeLine& e) {
     return pencilValue(e.first, e.second, y, z);
 }
 
-mpq_class pencilExact(const PlaneOrient& p1, const PlaneOrient& p2, const Vec3& y,
-                      const Vec3& z) {
+mpq_class pencilExact(const PlaneOrient& p1, const PlaneOrient& p2, const Vec3& y, const Vec3& z) {
     return orientExact(p1.a, p1.b, p1.c, y) * orientExact(p2.a, p2.b, p2.c, z) -
            orientExact(p1.a, p1.b, p1.c, z) * orientExact(p2.a, p2.b, p2.c, y);
 }

@@ -27,8 +27,8 @@ namespace penumbra::vis {
 struct EdgeLine {
     enum class Kind : uint8_t { Points, Planes };
     Kind kind = Kind::Points;
-    Vec3 p, q;                    // Points: the line through p, directed towards q
-    PlaneOrient first, second;    // Planes: where they meet, directed n_first x n_second
+    Vec3 p, q;                  // Points: the line through p, directed towards q
+    PlaneOrient first, second;  // Planes: where they meet, directed n_first x n_second
 
     static EdgeLine through(const Vec3& p, const Vec3& q) {
         EdgeLine e;
@@ -70,8 +70,7 @@ std::optional<Sign> sideSignFiltered(const Vec3& y, const Vec3& z, const EdgeLin
 // coplanar occluders, are decided; other pairs answer false (a conservative "not known": the
 // caller then decides by its general means). `probes`: input points, one of them off the chords'
 // occluder plane (the receiver's and light's vertices), to compare two chords' directions.
-bool sameLine(const EdgeLine& a, const EdgeLine& b, std::span<const Vec3> probes,
-              int& orientation);
+bool sameLine(const EdgeLine& a, const EdgeLine& b, std::span<const Vec3> probes, int& orientation);
 
 // The plane through a point x and a Planes line, as the affine function of y it is:
 //   value(y) = side of line(x, y) against the line = alpha pi2(y) - beta pi1(y),

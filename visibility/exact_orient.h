@@ -13,8 +13,7 @@ namespace penumbra::vis {
 mpq_class orientExact(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
 // pi1(y) pi2(z) - pi1(z) pi2(y) (edge_line.h), exactly.
-mpq_class pencilExact(const PlaneOrient& p1, const PlaneOrient& p2, const Vec3& y,
-                      const Vec3& z);
+mpq_class pencilExact(const PlaneOrient& p1, const PlaneOrient& p2, const Vec3& y, const Vec3& z);
 
 // The side of line(y, z) against the edge's line, exactly.
 mpq_class sideExact(const Vec3& y, const Vec3& z, const EdgeLine& e);

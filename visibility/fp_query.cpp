@@ -51,8 +51,8 @@ void FromPointQuery::visit(uint32_t node, std::span<const Vec3> poly, size_t dep
         SplitParts& parts = partsAt(depth);
         SplitOutcome outcome;
         if (!isClipEdge(n.v0)) {
-            outcome = splitBy(
-                poly, PlaneOrient(x_, mesh_->vertices[n.v0], mesh_->vertices[n.v1]), parts, keep);
+            outcome = splitBy(poly, PlaneOrient(x_, mesh_->vertices[n.v0], mesh_->vertices[n.v1]),
+                              parts, keep);
         } else {
             // A chord of a clip: the plane through x and the meet of B's (or L's) plane with the
             // occluder's, as the pencil of the two (edge_line.h); exact for L's vertices too.
@@ -206,8 +206,8 @@ void FromPointQuery::activateFace(const PolygonMesh& mesh, uint32_t face) {
         bool inside = false;
         for (uint32_t v : ids) {
             BoundedValue b;
-            inside = h.filtered(mesh.vertices[v], b) ? b.value > 0
-                                                     : h.value(mesh.vertices[v]).value > 0;
+            inside =
+                h.filtered(mesh.vertices[v], b) ? b.value > 0 : h.value(mesh.vertices[v]).value > 0;
             if (inside) break;
         }
         if (!inside) return;

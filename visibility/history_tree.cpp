@@ -86,7 +86,8 @@ std::pair<Vec3, Vec3> edgeSegment(const PolygonMesh& mesh, uint32_t receiver, ui
         const Vec3 p = mesh.vertices[ids[i]], q = mesh.vertices[ids[(i + 1) % ids.size()]];
         const double dp = clip.value(p).value, dq = clip.value(q).value;
         if (dp == 0) hits.push_back(p);
-        if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0)) hits.push_back(p + (q - p) * (dp / (dp - dq)));
+        if ((dp < 0 && dq > 0) || (dp > 0 && dq < 0))
+            hits.push_back(p + (q - p) * (dp / (dp - dq)));
     }
     if (hits.size() < 2) return {hits.empty() ? Vec3{} : hits[0], hits.empty() ? Vec3{} : hits[0]};
     Vec3 a = hits.front(), b = hits.back();

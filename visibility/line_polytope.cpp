@@ -168,7 +168,8 @@ HyperplaneRow LinePolytopeSpace::row(const EdgeLine& edge) const {
             }
         }
     for (size_t s = 0; s < samples_.size(); ++s) {
-        const std::optional<Sign> sg = sideSignFiltered(samples_[s].first, samples_[s].second, edge);
+        const std::optional<Sign> sg =
+            sideSignFiltered(samples_[s].first, samples_[s].second, edge);
         if (!sg) continue;
         if (*sg == Sign::Positive) r.certainNonNegative.set(kGeneratorWitnesses + s);
         if (*sg == Sign::Negative) r.certainNonPositive.set(kGeneratorWitnesses + s);

@@ -141,7 +141,7 @@ class LinePolytopeSpace {
     std::unique_ptr<ExactCache> exact_;  // exact row values, computed on demand
 
     std::vector<Vec3> b_, l_;
-    std::vector<Vec3> probes_;  // B's and L's vertices (sameLine's probes)
+    std::vector<Vec3> probes_;                    // B's and L's vertices (sameLine's probes)
     std::vector<std::pair<Vec3, Vec3>> samples_;  // sample lines (point on B, point on L)
 
     // Storage of the linear programs, reused from one to the next (no allocation per program).

@@ -25,7 +25,9 @@ struct PluckerLine {
 };
 
 // Approximate permuted inner product.
-inline double side(const PluckerLine& a, const PluckerLine& b) { return dot(a.d, b.m) + dot(b.d, a.m); }
+inline double side(const PluckerLine& a, const PluckerLine& b) {
+    return dot(a.d, b.m) + dot(b.d, a.m);
+}
 
 // Exact sign of side(pi(p,q), pi(a,b)).
 inline Sign sideSign(const Vec3& p, const Vec3& q, const Vec3& a, const Vec3& b) {

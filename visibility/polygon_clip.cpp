@@ -140,8 +140,8 @@ void splitIntoVectors(std::span<const Vec3> polygon, ValueOf valueOf, std::vecto
 
 // The filter could not decide: exact for an input vertex, on the plane for a constructed one.
 template <class Plane>
-[[gnu::noinline]] double uncertainValue(const Plane& plane,
-                                        std::span<const Vec3> inputVertices, const Vec3& y) {
+[[gnu::noinline]] double uncertainValue(const Plane& plane, std::span<const Vec3> inputVertices,
+                                        const Vec3& y) {
     for (const Vec3& input : inputVertices)
         if (input.x == y.x && input.y == y.y && input.z == y.z) return plane.value(y).value;
     return 0.0;

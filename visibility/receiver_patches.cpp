@@ -60,7 +60,8 @@ uint32_t ReceiverPatches::find(const Vec3& x) const {
 ReceiverPatches subdivideReceiver(std::span<const Vec3> face, double maxDiameter) {
     ReceiverPatches out;
     Vec3 n{};
-    for (size_t i = 1; i + 1 < face.size(); ++i) n += cross(face[i] - face[0], face[i + 1] - face[0]);
+    for (size_t i = 1; i + 1 < face.size(); ++i)
+        n += cross(face[i] - face[0], face[i + 1] - face[0]);
     const double ax = std::fabs(n.x), ay = std::fabs(n.y), az = std::fabs(n.z);
     out.dropAxis = ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
     out.face.assign(face.begin(), face.end());

@@ -23,9 +23,9 @@ struct ReceiverPatches {
     // from x's barycentric coordinates; the nearest one when x is outside the face.
     uint32_t find(const Vec3& x) const;
 
-    std::vector<Vec3> face;      // the face's vertices (fan triangles (0, t, t+1))
-    int cellsPerSide = 1;        // k: each fan triangle is a k x k triangular grid
-    int dropAxis = 2;            // coordinate dropped to work in 2D (the normal's dominant axis)
+    std::vector<Vec3> face;  // the face's vertices (fan triangles (0, t, t+1))
+    int cellsPerSide = 1;    // k: each fan triangle is a k x k triangular grid
+    int dropAxis = 2;        // coordinate dropped to work in 2D (the normal's dominant axis)
 };
 
 // Subdivides until every patch has a diameter <= maxDiameter (a face already that small is one

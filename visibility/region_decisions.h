@@ -57,9 +57,9 @@ class RegionDecisions {
     const PolygonMesh* mesh_ = nullptr;
     const HistoryTree* tree_ = nullptr;
     std::vector<Vec3> corners_, light_;
-    PlaneOrient clip_[2];                   // B's and L's planes
-    std::vector<BoundedValue> clipAt_[2];   // ... at each corner
-    std::vector<uint32_t> stamp_;  // per node: generation_ when decision_ is current
+    PlaneOrient clip_[2];                  // B's and L's planes
+    std::vector<BoundedValue> clipAt_[2];  // ... at each corner
+    std::vector<uint32_t> stamp_;          // per node: generation_ when decision_ is current
     std::vector<Decision> decision_;
     uint32_t generation_ = 0;
     uint32_t decided_ = 0, splits_ = 0;

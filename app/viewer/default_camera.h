@@ -10,7 +10,7 @@
 #pragma once
 
 #include "app/viewer/loaded_scene.h"
-#include "engine/camera.h"
+#include "engine/scene/camera.h"
 
 namespace penumbra::viewer {
 

@@ -1,6 +1,6 @@
 #include "app/viewer/loaded_scene.h"
 
-#include "app/commands.h"
+#include "app/cli/commands.h"
 
 namespace penumbra::viewer {
 

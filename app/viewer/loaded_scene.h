@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <memory>
 
-#include "engine/embree_scene.h"
-#include "engine/scene.h"
-#include "engine/visibility_store.h"
+#include "engine/precompute/visibility_store.h"
+#include "engine/render/embree_scene.h"
+#include "engine/scene/scene.h"
 
 namespace penumbra::viewer {
 
@@ -21,7 +21,7 @@ struct LoadedScene {
     std::unique_ptr<VisibilityStore> store;
 };
 
-// Loads the file (app/commands.h loadSceneFile: errors as CommandError / SceneError) and builds
+// Loads the file (app/cli/commands.h loadSceneFile: errors as CommandError / SceneError) and builds
 // the BVH and an empty store.
 std::shared_ptr<LoadedScene> loadScene(const std::filesystem::path& path);
 

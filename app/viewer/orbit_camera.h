@@ -3,7 +3,7 @@
 // direction), plus fit-to-scene.
 #pragma once
 
-#include "engine/camera.h"
+#include "engine/scene/camera.h"
 #include "visibility/bounds3.h"
 
 namespace penumbra::viewer {

@@ -5,9 +5,9 @@
 
 #include <optional>
 
-#include "app/viewer/scene_renderer.h"
-#include "engine/embree_scene.h"
-#include "engine/scene.h"
+#include "app/viewer/gl/scene_renderer.h"
+#include "engine/render/embree_scene.h"
+#include "engine/scene/scene.h"
 
 namespace penumbra::viewer {
 

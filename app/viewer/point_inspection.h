@@ -1,15 +1,15 @@
 // PointInspection: everything the debugger shows about one surface point: per light the exact
-// answer of the from-point query (engine/point_query.h: fragments, fraction, form factors), the
-// time it took, and the history-tree path it walked with, per visited node, the occluder edge, the
-// occluder face and which side(s) of the node's plane the light polygon went to.
+// answer of the from-point query (engine/precompute/point_query.h: fragments, fraction, form
+// factors), the time it took, and the history-tree path it walked with, per visited node, the
+// occluder edge, the occluder face and which side(s) of the node's plane the light polygon went to.
 #pragma once
 
 #include <cstdint>
 #include <limits>
 #include <vector>
 
-#include "engine/point_query.h"
-#include "engine/visibility_store.h"
+#include "engine/precompute/point_query.h"
+#include "engine/precompute/visibility_store.h"
 
 namespace penumbra::viewer {
 

@@ -4,7 +4,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "engine/renderer.h"
+#include "engine/render/renderer.h"
 
 namespace penumbra::viewer {
 

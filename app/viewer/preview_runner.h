@@ -1,7 +1,7 @@
-// PreviewRunner: the progressive preview of the CPU renderer (engine/renderer.h) in the viewer.
-// Passes run as oneTBB tasks; the UI thread only polls (takeUpdate: a short mutex to swap the
-// newest image). A restart (camera, scene or settings changed) never waits: it raises the running
-// job's cancel flag and starts a new job at once; the old job's images are dropped.
+// PreviewRunner: the progressive preview of the CPU renderer (engine/render/renderer.h) in the
+// viewer. Passes run as oneTBB tasks; the UI thread only polls (takeUpdate: a short mutex to swap
+// the newest image). A restart (camera, scene or settings changed) never waits: it raises the
+// running job's cancel flag and starts a new job at once; the old job's images are dropped.
 //
 // Modes: Exact (FPQuery fragments, analytic form factors), Sampled (N shadow rays per light per
 // shading point), SideBySide (exact left, sampled right) and Difference (heat map of
@@ -21,8 +21,8 @@
 #include <vector>
 
 #include "app/viewer/loaded_scene.h"
-#include "engine/camera.h"
-#include "engine/effects_summary.h"
+#include "engine/render/effects_summary.h"
+#include "engine/scene/camera.h"
 
 namespace penumbra::viewer {
 

@@ -8,11 +8,11 @@
 #include <system_error>
 
 #include "app/viewer/default_camera.h"
+#include "app/viewer/panels/tree_panel.h"
 #include "app/viewer/picking.h"
-#include "app/viewer/tree_panel.h"
-#include "engine/point_query.h"
-#include "engine/precompute_scheduler.h"
-#include "engine/scene_loader.h"
+#include "engine/io/scene_loader.h"
+#include "engine/precompute/point_query.h"
+#include "engine/precompute/precompute_scheduler.h"
 
 namespace penumbra::viewer {
 

@@ -1,7 +1,7 @@
 // Viewer: the viewer and visibility debugger, independent of where it draws. The window
 // (window_host.cpp: GLFW) and the offscreen backends (headless_host.cpp: OSMesa, EGL) create a GL
-// context, make its function table current (app/gl/gl_api.h), set up Dear ImGui's platform side,
-// and call frame() once per frame: the same UI code runs in all three.
+// context, make its function table current (app/viewer/gl/gl_api.h), set up Dear ImGui's platform
+// side, and call frame() once per frame: the same UI code runs in all three.
 //
 // Threads: the UI thread never waits on background work. Point inspections (which may build
 // history trees), preview passes and the precompute run as oneTBB tasks; each frame polls atomics
@@ -23,12 +23,12 @@
 #include <string>
 #include <vector>
 
-#include "app/accuracy_panel.h"
+#include "app/viewer/gl/scene_renderer.h"
 #include "app/viewer/loaded_scene.h"
 #include "app/viewer/orbit_camera.h"
+#include "app/viewer/panels/accuracy_panel.h"
 #include "app/viewer/point_inspection.h"
 #include "app/viewer/preview_runner.h"
-#include "app/viewer/scene_renderer.h"
 
 namespace penumbra {
 class PrecomputeScheduler;
@@ -55,7 +55,7 @@ struct Layout {
 };
 Layout computeLayout(int width, int height);
 
-// The scene list of the Scene panel: every file loadScene reads (engine/scene_loader.h, any case
+// The scene list of the Scene panel: every file loadScene reads (engine/io/scene_loader.h, any case
 // of the extension) directly in `assets`, then in `assets`/scenes (the JSON scenes), each
 // directory's files sorted. Missing directories list nothing.
 std::vector<std::filesystem::path> listSceneFiles(const std::filesystem::path& assets);
@@ -90,13 +90,14 @@ class Viewer {
     bool selectPoint(const Vec3& x, std::optional<uint32_t> face = std::nullopt);
     void clearSelection();
 
-    // Precompute (engine/precompute_scheduler.h): every pair of the scene, in the background.
+    // Precompute (engine/precompute/precompute_scheduler.h): every pair of the scene, in the
+    // background.
     bool precomputeAvailable() const;
     void startPrecompute();
     void cancelPrecompute();
     bool precomputeRunning() const;
 
-    // The "Accuracy vs time" study of the current view (engine/accuracy_study.h), in the
+    // The "Accuracy vs time" study of the current view (engine/studies/accuracy_study.h), in the
     // background: opens its panels and starts it (the A key and the panel's button do the same).
     void openAccuracyStudy();
     bool accuracyStudyRunning() const;
@@ -170,8 +171,8 @@ class Viewer {
     std::shared_ptr<PrecomputeScheduler> precompute_;
     std::chrono::steady_clock::time_point precomputeStart_;
 
-    // "Accuracy vs time" (A): the study of engine/accuracy_study.h for the current scene and view,
-    // measured on a background task; the window shows its progress, then the curves.
+    // "Accuracy vs time" (A): the study of engine/studies/accuracy_study.h for the current scene
+    // and view, measured on a background task; the window shows its progress, then the curves.
     struct AccuracyJob;
     std::shared_ptr<AccuracyJob> accuracyJob_;
     std::unique_ptr<ui::AccuracyPanel> accuracyPanel_;

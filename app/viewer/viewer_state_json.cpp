@@ -3,10 +3,10 @@
 #include <cmath>
 
 #include "app/viewer/palette.h"
-#include "app/viewer/tree_panel.h"
+#include "app/viewer/panels/tree_panel.h"
 #include "app/viewer/viewer.h"
-#include "engine/accuracy_study.h"
-#include "engine/precompute_scheduler.h"
+#include "engine/precompute/precompute_scheduler.h"
+#include "engine/studies/accuracy_study.h"
 
 namespace penumbra::viewer {
 namespace {

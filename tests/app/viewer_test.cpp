@@ -17,9 +17,9 @@
 #include <vector>
 
 #include "app/viewer/point_inspection.h"
-#include "engine/embree_scene.h"
-#include "engine/obj_io.h"
-#include "viewer_test_support.h"
+#include "engine/io/obj_io.h"
+#include "engine/render/embree_scene.h"
+#include "tests/app/viewer_test_support.h"
 
 namespace penumbra {
 namespace {
@@ -238,8 +238,8 @@ TEST(ViewerScreenshot, AccuracyPanelPlotsTheStudyOfThisView) {
     EXPECT_LT(exactRmse, sampled.back()["rmse"].get<double>());
     EXPECT_EQ(st["pointsDrawn"], 12);  // 11 sampled + the exact point
 
-    // The curve's colour (app/accuracy_panel.cpp kSampled) across the panel, not only in its
-    // legend: the points span three decades of time on the plot's log axis.
+    // The curve's colour (app/viewer/panels/accuracy_panel.cpp kSampled) across the panel, not only
+    // in its legend: the points span three decades of time on the plot's log axis.
     ASSERT_TRUE(state["panelRects"].contains("Accuracy vs time"));
     const json& rect = state["panelRects"]["Accuracy vs time"];
     const int x0 = rect[0], y0 = rect[1], w = rect[2], h = rect[3];

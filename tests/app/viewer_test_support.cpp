@@ -1,4 +1,4 @@
-#include "viewer_test_support.h"
+#include "tests/app/viewer_test_support.h"
 
 #include <stb_image.h>
 #include <sys/wait.h>
@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "app/viewer/palette.h"
-#include "engine/embree_scene.h"
-#include "engine/obj_io.h"
+#include "engine/io/obj_io.h"
+#include "engine/render/embree_scene.h"
 #include "visibility/polygon_clip.h"
 
 #ifndef PENUMBRA_EXE

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "engine/camera.h"
-#include "engine/point_query.h"
+#include "engine/precompute/point_query.h"
+#include "engine/scene/camera.h"
 #include "tests/support/run_penumbra.h"
 
 namespace penumbra::test {

@@ -12,8 +12,8 @@
 #include <string>
 
 #include "app/viewer/viewer.h"
-#include "engine/obj_io.h"
-#include "viewer_test_support.h"
+#include "engine/io/obj_io.h"
+#include "tests/app/viewer_test_support.h"
 
 namespace penumbra {
 namespace {

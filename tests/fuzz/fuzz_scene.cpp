@@ -10,15 +10,15 @@
 #include <unistd.h>
 
 #include <cmath>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
-#include "engine/scene_loader.h"
-#include "engine/scene_validation.h"
+#include "engine/io/scene_loader.h"
+#include "engine/scene/scene_validation.h"
 #include "visibility/form_factor.h"
 #include "visibility/fp_query.h"
 #include "visibility/history_tree_builder.h"
@@ -60,8 +60,7 @@ void checkAnswer(const Scene& scene) {
     double area = 0;
     for (size_t i = 0; i < fragments.size(); ++i) area += vis::polygonArea(fragments[i]);
     const double lightArea = scene.mesh.faceArea(light);
-    if (!std::isfinite(area) || area < 0 || area > lightArea * (1 + 1e-6) + 1e-300)
-    {
+    if (!std::isfinite(area) || area < 0 || area > lightArea * (1 + 1e-6) + 1e-300) {
         char buf[160];
         std::snprintf(buf, sizeof buf, "visible area %.17g of a light of area %.17g", area,
                       lightArea);
@@ -80,7 +79,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         const Scene scene = loadScene(inputPath());
         checkAnswer(scene);
     } catch (const SceneError& e) {
-        if (e.file != inputPath().string()) finding(std::string("error about another file: ") + e.what());
+        if (e.file != inputPath().string())
+            finding(std::string("error about another file: ") + e.what());
     } catch (const std::exception& e) {
         finding(std::string("not a SceneError: ") + e.what());
     }

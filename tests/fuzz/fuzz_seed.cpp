@@ -2,9 +2,9 @@
 // scene) with complete and partial trees, built with the harness's build budget.
 #include <cstdio>
 
-#include "engine/procedural_scenes.h"
-#include "engine/visibility_file.h"
-#include "engine/visibility_store.h"
+#include "engine/io/visibility_file.h"
+#include "engine/precompute/visibility_store.h"
+#include "engine/scene/procedural_scenes.h"
 
 int main(int argc, char** argv) {
     using namespace penumbra;

@@ -1,4 +1,4 @@
-// libFuzzer harness for the visibility file (engine/visibility_file.h) of a fixed small scene
+// libFuzzer harness for the visibility file (engine/io/visibility_file.h) of a fixed small scene
 // (the grids: chords, partial trees and deferred occluders all occur). Each input is written as
 // the file and read into a fresh store. The contract: a read succeeds or throws
 // VisibilityFileError; a file that passes validation cannot make FPQuery misbehave, so every tree
@@ -11,9 +11,9 @@
 #include <fstream>
 #include <string>
 
-#include "engine/procedural_scenes.h"
-#include "engine/visibility_file.h"
-#include "engine/visibility_store.h"
+#include "engine/io/visibility_file.h"
+#include "engine/precompute/visibility_store.h"
+#include "engine/scene/procedural_scenes.h"
 #include "visibility/form_factor.h"
 #include "visibility/fp_query.h"
 
@@ -27,8 +27,9 @@ const Scene& scene() {
 }
 
 const std::filesystem::path& inputPath() {
-    static const std::filesystem::path p = std::filesystem::temp_directory_path() /
-                                           ("penumbra_fuzz_" + std::to_string(::getpid()) + ".pvis");
+    static const std::filesystem::path p =
+        std::filesystem::temp_directory_path() /
+        ("penumbra_fuzz_" + std::to_string(::getpid()) + ".pvis");
     return p;
 }
 

@@ -12,7 +12,7 @@
 #include <numbers>
 #include <vector>
 
-#include "engine/random.h"
+#include "engine/render/random.h"
 
 namespace penumbra::test {
 
@@ -41,7 +41,8 @@ double nearestDouble(const FT& x) {
     };
     if (!pinned(iv)) iv = CGAL::to_interval(CGAL::exact(x));  // tighten through the exact value
     if (iv.first == iv.second) return iv.first;
-    if (!pinned(iv)) return 0.5 * (iv.first + iv.second);  // not expected: exact intervals are tight
+    if (!pinned(iv))
+        return 0.5 * (iv.first + iv.second);  // not expected: exact intervals are tight
     // two candidates: compare x against their midpoint exactly
     const FT mid = (FT(iv.first) + FT(iv.second)) / 2;
     const CGAL::Comparison_result c = CGAL::compare(x, mid);
@@ -128,8 +129,8 @@ struct Box {
 struct Frame {
     Point3 x;
     Point3 l0;
-    Vector3 nL;  // front normal of L: (l1 - l0) x (l2 - l0)
-    int drop = 2;  // dominant axis of nL, dropped for 2D
+    Vector3 nL;        // front normal of L: (l1 - l0) x (l2 - l0)
+    int drop = 2;      // dominant axis of nL, dropped for 2D
     int u = 0, v = 1;  // the kept axes, cyclic after `drop`
     int orient2d = 1;  // +1 if L's 3D orientation appears counter-clockwise in 2D
 
@@ -199,9 +200,9 @@ Loop3 lift(const Polygon2& poly, const Frame& f) {
 double formFactor(const std::vector<PolygonWithHoles2>& region, const Frame& f, const Vec3& x,
                   const Vec3& nB) {
     const std::array<long double, 3> xl{x.x, x.y, x.z};
-    const long double nlen = std::sqrt(static_cast<long double>(nB.x) * nB.x +
-                                       static_cast<long double>(nB.y) * nB.y +
-                                       static_cast<long double>(nB.z) * nB.z);
+    const long double nlen =
+        std::sqrt(static_cast<long double>(nB.x) * nB.x + static_cast<long double>(nB.y) * nB.y +
+                  static_cast<long double>(nB.z) * nB.z);
     if (nlen == 0) return 0;
     const std::array<long double, 3> n{nB.x / nlen, nB.y / nlen, nB.z / nlen};
     long double sum = 0;
@@ -373,7 +374,7 @@ ReferenceResult exactReference(const vis::PolygonMesh& mesh, uint32_t receiver, 
 
 namespace {
 
-using Rng = SplitMix64;  // engine/random.h
+using Rng = SplitMix64;  // engine/render/random.h
 
 struct Occluder {
     std::vector<Vec3> v;

@@ -12,7 +12,7 @@
 #include <random>
 #include <string>
 
-#include "engine/scene_error.h"
+#include "engine/scene/scene_error.h"
 
 namespace penumbra::test {
 

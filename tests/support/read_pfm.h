@@ -1,4 +1,4 @@
-// An independent PFM reader for the tests (the renderer's writer is engine/image_io.h): header
+// An independent PFM reader for the tests (the renderer's writer is engine/io/image_io.h): header
 // tokens, then little-endian floats (negative scale), rows from the bottom. Returns the pixels top
 // row first, 3 floats each; gtest failures for anything off.
 #pragma once

@@ -8,7 +8,7 @@
 #include <span>
 #include <string>
 
-#include "engine/visibility_store.h"
+#include "engine/precompute/visibility_store.h"
 #include "visibility/history_tree_builder.h"
 
 namespace penumbra::test {

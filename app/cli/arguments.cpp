@@ -1,0 +1,85 @@
+#include "app/cli/arguments.h"
+
+#include <charconv>
+#include <cmath>
+#include <optional>
+#include <string>
+
+#include "app/cli/commands.h"
+#include "engine/scene/scene_validation.h"
+
+namespace penumbra::cli {
+namespace {
+
+std::string quoted(std::string_view s) {
+    std::string out = "'";
+    for (char c : s.substr(0, 80)) {
+        const auto u = static_cast<unsigned char>(c);
+        out += u >= 0x20 && u < 0x7f ? c : '?';
+    }
+    return out + (s.size() > 80 ? "...'" : "'");
+}
+
+// Up to maxCount numbers; nullopt-free on success.
+std::optional<std::vector<double>> numbers(std::string_view text, size_t maxCount) {
+    std::vector<double> out;
+    std::string_view rest = text;
+    while (true) {
+        const size_t comma = rest.find(',');
+        const std::optional<double> v = parseNumber(rest.substr(0, comma));
+        if (!v || out.size() == maxCount) return std::nullopt;
+        out.push_back(*v);
+        if (comma == std::string_view::npos) return out;
+        rest.remove_prefix(comma + 1);
+    }
+}
+
+}  // namespace
+
+std::vector<double> parseNumberList(std::string_view flag, std::string_view text, size_t count) {
+    const auto v = numbers(text, count);
+    if (!v || v->size() != count)
+        throw usageError(std::string(flag) + ": expected " + std::to_string(count) +
+                         " finite numbers separated by commas, got " + quoted(text));
+    return *v;
+}
+
+std::array<int, 2> parseSize(std::string_view flag, std::string_view text) {
+    const size_t x = text.find('x');
+    int w = 0, h = 0;
+    const auto whole = [](std::string_view s, int& v) {
+        const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+        return !s.empty() && r.ec == std::errc{} && r.ptr == s.data() + s.size();
+    };
+    if (x == std::string_view::npos || !whole(text.substr(0, x), w) ||
+        !whole(text.substr(x + 1), h))
+        throw usageError(std::string(flag) + ": expected WxH (e.g. 1280x800), got " + quoted(text));
+    if (w < 16 || h < 16 || w > 8192 || h > 8192)
+        throw usageError(std::string(flag) + ": " + quoted(text) +
+                         " out of range (16..8192 pixels a side)");
+    return {w, h};
+}
+
+Camera parseCamera(std::string_view flag, std::string_view text) {
+    const auto v = numbers(text, 7);
+    if (!v || (v->size() != 6 && v->size() != 7))
+        throw usageError(std::string(flag) +
+                         ": expected EX,EY,EZ,TX,TY,TZ[,FOV] (eye, target, vertical field of "
+                         "view in degrees), got " +
+                         quoted(text));
+    Camera c;
+    c.eye = {(*v)[0], (*v)[1], (*v)[2]};
+    c.target = {(*v)[3], (*v)[4], (*v)[5]};
+    if (v->size() == 7) c.fovYDegrees = (*v)[6];
+    if (c.eye == c.target)
+        throw usageError(std::string(flag) + ": the eye and the target are the same point");
+    if (!(c.fovYDegrees > 0 && c.fovYDegrees < 180))
+        throw usageError(std::string(flag) + ": field of view " + std::to_string(c.fovYDegrees) +
+                         " out of range (0, 180) degrees");
+    for (const Vec3* p : {&c.eye, &c.target})
+        if (const auto problem = coordinateProblem(*p))
+            throw usageError(std::string(flag) + ": " + *problem);
+    return c;
+}
+
+}  // namespace penumbra::cli

@@ -1,0 +1,919 @@
+// penumbra bench [SCENES] --out DIR: what accuracy costs in time (issue 5), every comparison
+// measured in one run on one machine, written as DIR/bench.json, DIR/report.md and (through
+// scripts/plot_bench.py) PNG plots.
+//   table1     the paper's Table 1: 128-ray sampled rendering against the exact renderer (its
+//              precompute of the trees the image needs, and all pairs for small scenes), the
+//              visibility file's size, the speed-up; wall and CPU times (the machine is shared).
+//   accuracy   error against time: sampled with 1..1024 rays against the exact image, the exact
+//              image against a converged reference, the equal-error time
+//              (engine/studies/accuracy_study.h).
+//   predicates FPQuery with filtered, always-exact and naive double predicates on the hard cases.
+//   options    quadric pruning and leaf merging on and off.
+//   scaling    precompute time and size against the triangle count (the dragon's resolutions).
+//   per point  the from-point query plus the exact form factor against 16 and 128 shadow rays.
+#include <sys/resource.h>
+#include <tbb/global_control.h>
+#include <tbb/info.h>
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <sstream>
+#include <thread>
+
+#include "app/cli/commands.h"
+#include "engine/io/atomic_file.h"
+#include "engine/io/finite_output.h"
+#include "engine/io/visibility_file.h"
+#include "engine/precompute/precompute_scheduler.h"
+#include "engine/precompute/visibility_store.h"
+#include "engine/render/embree_scene.h"
+#include "engine/render/renderer.h"
+#include "engine/studies/accuracy_study.h"
+#include "engine/studies/predicate_study.h"
+#include "visibility/form_factor.h"
+#include "visibility/fp_query.h"
+
+#ifndef PENUMBRA_BUILD_TYPE
+#define PENUMBRA_BUILD_TYPE "unknown"
+#endif
+
+namespace penumbra::cli {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+struct BenchOptions {
+    std::vector<std::string> scenes;
+    std::string out;
+    std::string size = "512x512";
+    std::string largeSize = "256x256";
+    int spp = 16;
+    std::string accuracyScene = "assets/scenes/cornell_box.json";
+    std::string accuracySize = "128x128";
+    int accuracySpp = 4;
+    int maxRays = 1024;
+    int referenceRays = 2048;
+    int points = 2000;
+    double limit = 180;  // seconds per precompute before it is cancelled
+    bool quick = false;
+    bool skipLarge = false;
+    bool noPlots = false;
+};
+
+double seconds(Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+}
+
+double cpuNow() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+           1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+void parseSize(const std::string& flag, const std::string& text, int& w, int& h) {
+    if (std::sscanf(text.c_str(), "%dx%d", &w, &h) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384)
+        throw usageError(flag + ": expected WxH (e.g. 512x512), got '" + text + "'");
+}
+
+Camera cameraFor(const Scene& scene) {
+    return scene.camera ? *scene.camera : Camera::fitting(scene.mesh.bounds());
+}
+
+json kindsJson(const VisibilityStore& store) {
+    const std::array<size_t, vis::kPairKindCount> k = store.kindCounts();
+    return {{"backFacing", k[0]},
+            {"fullyVisible", k[1]},
+            {"fullyHidden", k[2]},
+            {"penumbra", k[3]},
+            {"partial", store.partialCount()}};
+}
+
+size_t treeNodes(const VisibilityStore& store) {
+    size_t n = 0;
+    store.forEach([&](const PairKey&, const PairRecord& r) { n += r.tree.nodes.size(); });
+    return n;
+}
+
+// Runs `work` on oneTBB while this thread watches the clock; raises `cancel` after `limit` s.
+// Returns true when the work finished before the limit. Every timed run of the bench goes through
+// here, so that all of them run on the same workers (runBench lets TBB have one per core, since
+// this thread only polls).
+template <class F>
+bool runWithLimit(double limit, std::atomic<bool>& cancel, F&& work) {
+    // An arena with a worker slot per core and none kept for this thread (it only polls).
+    tbb::task_arena arena(std::max(1, tbb::info::default_concurrency()), 0);
+    std::atomic<bool> done{false};
+    tbb::task_group group;
+    arena.execute([&] {
+        group.run([&] {
+            work();
+            done = true;
+        });
+    });
+    const auto t0 = Clock::now();
+    while (!done.load()) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        if (!cancel.load() && seconds(t0, Clock::now()) > limit) cancel = true;
+    }
+    arena.execute([&] { group.wait(); });
+    return !cancel.load();
+}
+
+size_t fileSize(const VisibilityStore& store, const fs::path& dir, const std::string& stem) {
+    const fs::path p = dir / (stem + ".pvis");
+    const size_t n = writeVisibilityFile(p, store);
+    std::error_code ec;
+    fs::remove(p, ec);
+    return n;
+}
+
+// The scheduler builds `keys` (or every pair when empty); stops at the limit.
+json precomputePairs(VisibilityStore& store, const std::vector<PairKey>* keys, double limit) {
+    const double c0 = cpuNow();
+    const auto t0 = Clock::now();
+    PrecomputeScheduler scheduler(store);
+    if (keys)
+        scheduler.request(*keys);
+    else
+        scheduler.requestAll();
+    bool over = false;
+    for (;;) {
+        const PrecomputeProgress p = scheduler.progress();
+        if (p.state != PrecomputeProgress::State::Running && p.done >= p.total) break;
+        if (p.state == PrecomputeProgress::State::Failed)
+            throw inputError("precompute failed: " + p.error);
+        if (p.state != PrecomputeProgress::State::Running &&
+            p.state != PrecomputeProgress::State::Idle)
+            break;
+        if (seconds(t0, Clock::now()) > limit) {
+            scheduler.cancel();
+            over = true;
+            break;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    scheduler.wait();
+    const PrecomputeProgress p = scheduler.progress();
+    return {{"seconds", seconds(t0, Clock::now())},
+            {"cpu", cpuNow() - c0},
+            {"pairs", p.total},
+            {"done", p.done},
+            {"complete", !over && p.done >= p.total},
+            {"trees", store.treeCount()},
+            {"nodes", treeNodes(store)},
+            {"bytes", store.bytes()},
+            {"kinds", kindsJson(store)}};
+}
+
+// ---- Table 1 -------------------------------------------------------------------------------
+
+// Every (patch, light) pair of a scene above this many faces is not a precompute anyone would run
+// (the image's pairs are the Table 1 figure there): the all-pairs column is skipped.
+constexpr uint32_t kAllPairsMaxFaces = 10000;
+
+json table1Row(const std::string& path, const BenchOptions& o, const fs::path& dir, bool large) {
+    const Scene scene = loadSceneFile(path);
+    int w = 0, h = 0;
+    parseSize(large ? "--large-size" : "--size", large ? o.largeSize : o.size, w, h);
+    const Camera camera = cameraFor(scene);
+    const EmbreeScene bvh(scene.mesh);
+    json row = {{"scene", path},
+                {"faces", scene.faceCount()},
+                {"areaLights", scene.lights.size()},
+                {"width", w},
+                {"height", h},
+                {"spp", o.spp}};
+    std::printf("table1 %s: %u faces, %dx%d, %d spp\n", path.c_str(), scene.faceCount(), w, h,
+                o.spp);
+    std::fflush(stdout);
+    RenderSettings s;
+    s.width = w;
+    s.height = h;
+    s.spp = o.spp;
+    {
+        VisibilityStore unused(scene, &bvh);
+        ProgressiveRenderer r(scene, bvh, unused);
+        s.method = DirectMethod::Sampled;
+        s.lightSamples = 128;
+        RenderTimes t;
+        std::atomic<bool> never{false};
+        runWithLimit(INFINITY, never, [&] { r.render(camera, s, &t); });
+        row["sampled128"] = {{"wall", t.total}, {"cpu", t.totalCpu}};
+        std::printf("  sampled 128: %.2f s wall, %.2f s cpu\n", t.total, t.totalCpu);
+    }
+    {
+        VisibilityStore store(scene, &bvh);
+        ProgressiveRenderer r(scene, bvh, store);
+        s.method = DirectMethod::Exact;
+        std::atomic<bool> cancel{false};
+        double prepWall = 0, prepCpu = 0;
+        const double c0 = cpuNow();
+        const bool ok =
+            runWithLimit(o.limit, cancel, [&] { prepWall = r.prepare(camera, s, &cancel); });
+        prepCpu = cpuNow() - c0;
+        json e = {{"precomputeWall", prepWall}, {"precomputeCpu", prepCpu},
+                  {"precomputeComplete", ok},   {"trees", store.treeCount()},
+                  {"nodes", treeNodes(store)},  {"bytes", store.bytes()},
+                  {"kinds", kindsJson(store)}};
+        if (ok) {
+            RenderTimes t;
+            r.resetEffects();
+            std::atomic<bool> never{false};
+            // The trees are in the store: its prepare finds them.
+            runWithLimit(INFINITY, never, [&] { r.render(camera, s, &t); });
+            const EffectsSummary fx = r.effects();
+            e["renderWall"] = t.total;
+            e["renderCpu"] = t.totalCpu;
+            e["wall"] = prepWall + t.total;
+            e["cpu"] = prepCpu + t.totalCpu;
+            e["pairsWithoutTree"] = fx.pairsDirect;
+            e["evaluations"] = fx.exactEvaluations;
+            e["sampledEvaluations"] = fx.sampledEvaluations;
+            e["exactWorkLimit"] = s.exactWorkLimit;
+            e["minTreeSamples"] = s.minTreeSamples;
+            row["speedupWall"] = row["sampled128"]["wall"].get<double>() / (prepWall + t.total);
+            row["speedupCpu"] = row["sampled128"]["cpu"].get<double>() / (prepCpu + t.totalCpu);
+            row["speedupRenderOnlyCpu"] = row["sampled128"]["cpu"].get<double>() / t.totalCpu;
+            row["speedupRenderOnlyWall"] = row["sampled128"]["wall"].get<double>() / t.total;
+            std::printf(
+                "  exact: precompute %.2f s wall %.2f s cpu, render %.2f s wall %.2f s cpu, %zu "
+                "trees (%zu partial), %zu pairs without a tree, %.2f%% of evaluations sampled\n",
+                prepWall, prepCpu, t.total, t.totalCpu, store.treeCount(), store.partialCount(),
+                fx.pairsDirect, fx.sampledPercent());
+            // Every point exact (no work limit), for the scenes whose hybrid sampled some points:
+            // what the last part of exactness costs. Same trees, render only, cut at the limit.
+            if (fx.sampledEvaluations > 0 && !large && !o.quick &&
+                scene.faceCount() <= kAllPairsMaxFaces) {
+                RenderSettings all = s;
+                all.exactWorkLimit = 0;
+                RenderTimes ta;
+                std::atomic<bool> stop{false};
+                const bool done =
+                    runWithLimit(o.limit, stop, [&] { r.render(camera, all, &ta, &stop); });
+                e["everyPointExact"] = {{"complete", done},
+                                        {"renderWall", done ? ta.total : o.limit},
+                                        {"renderCpu", ta.totalCpu}};
+                std::printf("  every point exact: render %s%.2f s wall\n", done ? "" : "over ",
+                            done ? ta.total : o.limit);
+            }
+        } else {
+            std::printf("  exact: precompute over the %.0f s limit (%zu trees so far)\n", o.limit,
+                        store.treeCount());
+        }
+        e["fileBytes"] = fileSize(store, dir, "table1");
+        row["exact"] = e;
+    }
+    if (!large && !o.quick && scene.faceCount() > kAllPairsMaxFaces) {
+        std::printf("  all pairs: skipped (%u faces, above %u)\n", scene.faceCount(),
+                    kAllPairsMaxFaces);
+    } else if (!large && !o.quick) {
+        VisibilityStore store(scene, &bvh);
+        json all = precomputePairs(store, nullptr, o.limit);
+        all["fileBytes"] = fileSize(store, dir, "all");
+        std::printf("  all pairs: %.2f s wall, %.2f s cpu, %zu trees\n",
+                    all["seconds"].get<double>(), all["cpu"].get<double>(), store.treeCount());
+        row["allPairs"] = all;
+    }
+    std::fflush(stdout);
+    return row;
+}
+
+// ---- Accuracy ------------------------------------------------------------------------------
+
+json pointJson(const AccuracyPoint& p) {
+    return {{"method", p.method},
+            {"rays", p.rays},
+            {"seconds", p.seconds},
+            {"cpu", p.cpuSeconds},
+            {"precompute", p.precomputeSeconds},
+            {"rmse", p.rmse},
+            {"maxError", p.maxError}};
+}
+
+json accuracy(const BenchOptions& o) {
+    const Scene scene = loadSceneFile(o.accuracyScene);
+    const EmbreeScene bvh(scene.mesh);
+    VisibilityStore store(scene, &bvh);
+    AccuracyStudyOptions a;
+    parseSize("--accuracy-size", o.accuracySize, a.width, a.height);
+    a.spp = o.accuracySpp;
+    a.rayCounts.clear();
+    for (int n = 1; n <= o.maxRays; n *= 2) a.rayCounts.push_back(n);
+    a.referenceRays = o.referenceRays;
+    std::printf("accuracy %s: %dx%d, %d spp, 1..%d rays, reference 2 x %d rays\n",
+                o.accuracyScene.c_str(), a.width, a.height, a.spp, o.maxRays, a.referenceRays);
+    std::fflush(stdout);
+    AccuracyStudy st;
+    std::atomic<bool> never{false};
+    runWithLimit(INFINITY, never,
+                 [&] { st = runAccuracyStudy(scene, bvh, store, cameraFor(scene), a); });
+    json j = {{"scene", o.accuracyScene},
+              {"width", a.width},
+              {"height", a.height},
+              {"spp", a.spp},
+              {"referenceRays", a.referenceRays},
+              {"referenceNoise", st.referenceNoise},
+              {"referenceSeconds", st.referenceSeconds},
+              {"meanRadiance", st.meanRadiance},
+              {"exact", pointJson(st.exact)},
+              {"equalErrorExtrapolated", st.equalErrorExtrapolated},
+              {"partial", store.partialCount()}};
+    j["equalErrorSeconds"] =
+        std::isfinite(st.equalErrorSeconds) ? json(st.equalErrorSeconds) : json();
+    j["equalErrorRays"] = std::isfinite(st.equalErrorRays) ? json(st.equalErrorRays) : json();
+    json pts = json::array();
+    for (const AccuracyPoint& p : st.sampled) {
+        pts.push_back(pointJson(p));
+        std::printf("  %4d rays: %.3f s, rmse %.4g, max %.4g\n", p.rays, p.seconds, p.rmse,
+                    p.maxError);
+    }
+    j["sampled"] = pts;
+    std::printf(
+        "  exact: %.3f s (precompute %.3f s), rmse vs reference %.4g (reference noise "
+        "%.4g); equal error at %.3f s (%.0f rays)%s\n",
+        st.exact.seconds, st.exact.precomputeSeconds, st.exact.rmse, st.referenceNoise,
+        st.equalErrorSeconds, st.equalErrorRays,
+        st.equalErrorExtrapolated ? " (extrapolated)" : "");
+    std::fflush(stdout);
+    return j;
+}
+
+// ---- Predicates ----------------------------------------------------------------------------
+
+json predicates(const BenchOptions& o) {
+    const PredicateStudy st = runPredicateStudy(o.quick ? 20 : 200, o.quick ? 1 : 5);
+    json modes = json::array(), cases = json::array();
+    std::printf("predicates: %zu hard cases, %zu queries (x%d timed)\n", st.cases.size(),
+                st.queries, st.repeats);
+    for (const PredicateModeResult& m : st.modes) {
+        modes.push_back({{"mode", m.mode},
+                         {"usPerQuery", m.usPerQuery},
+                         {"cpuUsPerQuery", m.cpuUsPerQuery},
+                         {"wrong", m.wrong},
+                         {"otherCount", m.otherCount}});
+        std::printf("  %-12s %.3f us per query, %zu wrong, %zu other fragment count\n",
+                    m.mode.c_str(), m.usPerQuery, m.wrong, m.otherCount);
+    }
+    for (const PredicateCaseResult& c : st.cases)
+        cases.push_back({{"case", c.name},
+                         {"queries", c.queries},
+                         {"filteredWrong", c.wrong[0]},
+                         {"alwaysExactWrong", c.wrong[1]},
+                         {"naiveWrong", c.wrong[2]},
+                         {"naiveOtherCount", c.otherCount[2]},
+                         {"filteredOtherCount", c.otherCount[0]}});
+    std::fflush(stdout);
+    std::printf("  naive vs filtered: %zu answers with another fragment count\n",
+                st.naiveOtherThanFiltered);
+    return {{"cases", st.cases.size()},
+            {"queries", st.queries},
+            {"modes", modes},
+            {"naiveOtherThanFiltered", st.naiveOtherThanFiltered},
+            {"perCase", cases}};
+}
+
+// ---- Build options -------------------------------------------------------------------------
+
+// Query time per point on random points of the receivers (faces chosen by area), light 0.
+double queryMicros(const Scene& scene, const VisibilityStore& store, int points) {
+    const vis::PolygonMesh& mesh = scene.mesh;
+    std::mt19937_64 rng(1);
+    std::vector<double> area(scene.faceCount());
+    for (uint32_t f = 0; f < scene.faceCount(); ++f) area[f] = mesh.faceArea(f);
+    std::discrete_distribution<uint32_t> pick(area.begin(), area.end());
+    std::uniform_real_distribution<double> u(0.02, 1.0);
+    const uint32_t l = scene.lights[0];
+    std::vector<std::pair<const PairRecord*, Vec3>> xs;
+    for (int tries = 0; xs.size() < static_cast<size_t>(points) && tries < 100 * points; ++tries) {
+        const uint32_t f = pick(rng);
+        if (f == l) continue;
+        Vec3 x{};
+        double w = 0;
+        for (uint32_t v : mesh.faces[f]) {
+            const double a = u(rng);
+            x += mesh.vertices[v] * a;
+            w += a;
+        }
+        x = x / w;
+        const PairRecord* r = store.find(store.keyAt(f, x, l));
+        if (r) xs.push_back({r, x});
+    }
+    if (xs.empty()) return 0;
+    vis::FromPointQuery q;
+    double sink = 0;
+    const auto t0 = Clock::now();
+    for (const auto& [r, x] : xs) sink += q.run(mesh, r->tree, x).size();
+    const double t = seconds(t0, Clock::now());
+    if (sink < 0) std::printf("?");
+    return t / xs.size() * 1e6;
+}
+
+json buildOptions(const std::vector<std::string>& scenes, const BenchOptions& o) {
+    json rows = json::array();
+    for (const std::string& path : scenes) {
+        const Scene scene = loadSceneFile(path);
+        const EmbreeScene bvh(scene.mesh);
+        for (int merge = 1; merge >= 0; --merge)
+            for (int quadric = 1; quadric >= 0; --quadric) {
+                VisibilityStore::Options so;
+                so.build.mergeLeaves = merge;
+                so.build.quadricPruning = quadric;
+                VisibilityStore store(scene, &bvh, so);
+                json r = precomputePairs(store, nullptr, o.limit);
+                r["scene"] = path;
+                r["mergeLeaves"] = static_cast<bool>(merge);
+                r["quadricPruning"] = static_cast<bool>(quadric);
+                r["queryUs"] = queryMicros(scene, store, o.points);
+                std::printf(
+                    "options %s merge=%d quadric=%d: %zu nodes, %zu bytes, %.2f s, "
+                    "%.3f us/query\n",
+                    path.c_str(), merge, quadric, r["nodes"].get<size_t>(),
+                    r["bytes"].get<size_t>(), r["seconds"].get<double>(),
+                    r["queryUs"].get<double>());
+                std::fflush(stdout);
+                rows.push_back(r);
+            }
+    }
+    return rows;
+}
+
+// ---- Scaling -------------------------------------------------------------------------------
+
+// A fixed set of receiver patches: every patch of the non-mesh faces (the floor) and 32 faces of
+// the model drawn by a fixed seed, against every light.
+json scaling(const std::vector<std::string>& scenes, const BenchOptions& o) {
+    json rows = json::array();
+    for (const std::string& path : scenes) {
+        if (!fs::exists(path)) {
+            std::printf("scaling: %s missing (scripts/fetch_meshes.sh), skipped\n", path.c_str());
+            continue;
+        }
+        const auto l0 = Clock::now();
+        const Scene scene = loadSceneFile(path);
+        const EmbreeScene bvh(scene.mesh);
+        const double loadSeconds = seconds(l0, Clock::now());
+        VisibilityStore store(scene, &bvh);
+        // The floor: the largest face.
+        uint32_t floor = 0;
+        for (uint32_t f = 1; f < scene.faceCount(); ++f)
+            if (scene.mesh.faceArea(f) > scene.mesh.faceArea(floor)) floor = f;
+        std::vector<PairKey> keys;
+        for (uint32_t l : scene.lights) {
+            for (uint32_t p = 0; p < store.patches(floor).patches.size(); ++p)
+                keys.push_back({floor, p, l});
+            std::mt19937_64 rng(3);
+            std::uniform_int_distribution<uint32_t> pick(0, scene.faceCount() - 1);
+            for (int i = 0; i < 32; ++i) {
+                const uint32_t f = pick(rng);
+                if (f == l || f == floor) continue;
+                for (uint32_t p = 0; p < store.patches(f).patches.size(); ++p)
+                    keys.push_back({f, p, l});
+            }
+        }
+        json r = precomputePairs(store, &keys, o.limit);
+        r["scene"] = path;
+        r["faces"] = scene.faceCount();
+        r["loadSeconds"] = loadSeconds;
+        std::printf(
+            "scaling %s: %u faces, %zu pairs, %.2f s wall, %.2f s cpu, %zu nodes, %zu "
+            "bytes, %zu partial%s\n",
+            path.c_str(), scene.faceCount(), keys.size(), r["seconds"].get<double>(),
+            r["cpu"].get<double>(), r["nodes"].get<size_t>(), r["bytes"].get<size_t>(),
+            store.partialCount(), r["complete"].get<bool>() ? "" : " (over the limit)");
+        std::fflush(stdout);
+        rows.push_back(r);
+    }
+    return rows;
+}
+
+// ---- Per point -----------------------------------------------------------------------------
+
+json perPoint(const std::string& path, const BenchOptions& o) {
+    const Scene scene = loadSceneFile(path);
+    const vis::PolygonMesh& mesh = scene.mesh;
+    const EmbreeScene embree(mesh);
+    VisibilityStore store(scene, &embree);
+    std::mt19937_64 rng(1);
+    std::vector<double> area(scene.faceCount());
+    for (uint32_t f = 0; f < scene.faceCount(); ++f) area[f] = mesh.faceArea(f);
+    std::discrete_distribution<uint32_t> pickFace(area.begin(), area.end());
+    std::uniform_real_distribution<double> u(0.02, 1.0);
+    struct Sample {
+        uint32_t face;
+        Vec3 x;
+        const PairRecord* rec;
+    };
+    const uint32_t l = scene.lights[0];
+    std::vector<Sample> samples;
+    while (samples.size() < static_cast<size_t>(o.points)) {
+        const uint32_t f = pickFace(rng);
+        if (f == l) continue;
+        Vec3 p{};
+        double w = 0;
+        for (uint32_t v : mesh.faces[f]) {
+            const double a = u(rng);
+            p += mesh.vertices[v] * a;
+            w += a;
+        }
+        samples.push_back({f, p / w, nullptr});
+    }
+    for (Sample& s : samples) s.rec = &store.getOrBuild(store.keyAt(s.face, s.x, l));
+    double sink = 0;
+    size_t visited = 0, fragments = 0;
+    vis::FromPointQuery query;
+    const auto q0 = Clock::now();
+    for (const Sample& s : samples) {
+        const Vec3 n = vis::normalize(mesh.faceAreaNormal(s.face));
+        const vis::FragmentList& r = query.run(mesh, s.rec->tree, s.x);
+        for (size_t i = 0; i < r.size(); ++i) sink += vis::formFactor(s.x, n, r[i]);
+        visited += query.nodesVisited();
+        fragments += r.size();
+    }
+    const double exactUs = seconds(q0, Clock::now()) / samples.size() * 1e6;
+    auto timeRays = [&](int n) {
+        const auto a = Clock::now();
+        for (const Sample& s : samples) sink += embree.sampledFraction(s.face, l, s.x, n, 7);
+        return seconds(a, Clock::now()) / samples.size() * 1e6;
+    };
+    const double rays16 = timeRays(16), rays128 = timeRays(128);
+    std::printf(
+        "per point %s: exact query + form factor %.2f us (%.1f nodes, %.2f fragments); "
+        "16 rays %.2f us; 128 rays %.2f us (checksum %.3g)\n",
+        path.c_str(), exactUs, static_cast<double>(visited) / samples.size(),
+        static_cast<double>(fragments) / samples.size(), rays16, rays128, sink);
+    std::fflush(stdout);
+    return {{"scene", path},
+            {"points", samples.size()},
+            {"exactUs", exactUs},
+            {"rays16Us", rays16},
+            {"rays128Us", rays128},
+            {"nodesPerQuery", static_cast<double>(visited) / samples.size()},
+            {"fragmentsPerQuery", static_cast<double>(fragments) / samples.size()}};
+}
+
+// ---- Machine and report --------------------------------------------------------------------
+
+json machine() {
+    std::string cpu = "unknown";
+    std::ifstream in("/proc/cpuinfo");
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind("model name", 0) == 0) {
+            cpu = line.substr(line.find(':') + 2);
+            break;
+        }
+    std::string load;
+    std::ifstream la("/proc/loadavg");
+    std::getline(la, load);
+    char date[64];
+    const std::time_t now = std::time(nullptr);
+    std::strftime(date, sizeof date, "%Y-%m-%d %H:%M:%S UTC", std::gmtime(&now));
+    return {{"cpu", cpu},
+            {"cores", std::thread::hardware_concurrency()},
+            {"loadavg", load},
+            {"date", date},
+            {"buildType", PENUMBRA_BUILD_TYPE}};
+}
+
+std::string fmt(const char* f, double v) {
+    char b[64];
+    std::snprintf(b, sizeof b, f, v);
+    return b;
+}
+
+std::string num(const json& j, const char* f = "%.2f") {
+    return j.is_number() ? fmt(f, j.get<double>()) : std::string("-");
+}
+
+void writeAtomically(const fs::path& path, const std::string& text) {
+    try {
+        writeFileAtomically(path, text);
+    } catch (const AtomicWriteError& e) {
+        throw inputError(e.what());
+    }
+}
+
+std::string report(const json& b, bool plots, const std::string& plotNote) {
+    std::ostringstream r;
+    const json& m = b["machine"];
+    r << "# Penumbra: what accuracy costs in time\n\n"
+      << "Measured by `" << b["command"].get<std::string>() << "` on "
+      << m["date"].get<std::string>() << ".\n\nMachine: " << m["cpu"].get<std::string>() << ", "
+      << m["cores"].get<unsigned>() << " logical cores, load average at the start `"
+      << m["loadavg"].get<std::string>() << "` (shared machine: compare CPU times), build type "
+      << m["buildType"].get<std::string>() << ".\n\n";
+    if (b.contains("table1")) {
+        r << "## Table 1 re-measured\n\n"
+          << "Sampled: 128 shadow rays per light per shading point. Exact: the trees the image "
+             "needs (`ProgressiveRenderer::prepare`) then the render, with the product's "
+             "defaults: a build budget of `BuildOptions::maxLpSolves` linear programs per tree "
+             "(a tree that reaches it is *partial*: its other occluders are clipped by each "
+             "point's query, still exact), no tree for a pair the image samples fewer than "
+             "`RenderSettings::minTreeSamples` times (its points are evaluated directly, exact), "
+             "and a work limit of `RenderSettings::exactWorkLimit` plane tests per query: a "
+             "point whose exact answer needs more is sampled with 128 rays (the *sampled "
+             "points* column; not exact). *Every point exact*: the same render with no work "
+             "limit. All pairs: every (receiver patch, light) pair on the `PrecomputeScheduler` "
+             "(skipped above "
+          << kAllPairsMaxFaces
+          << " faces). Times in seconds, wall / CPU (all threads). Speed-up = sampled time / "
+             "(exact precompute + render), wall; in parentheses the render alone.\n\n"
+          << "| scene | faces | image | sampled 128 | exact precompute | exact render | speed-up "
+             "| trees (partial) | pairs without a tree | sampled points | every point exact | "
+             "file (image) | all pairs: time | all pairs: file |\n"
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+        for (const json& row : b["table1"]) {
+            const json& e = row["exact"];
+            r << "| " << fs::path(row["scene"].get<std::string>()).filename().string() << " | "
+              << row["faces"] << " | " << row["width"] << "x" << row["height"] << ", " << row["spp"]
+              << " spp | " << num(row["sampled128"]["wall"]) << " / "
+              << num(row["sampled128"]["cpu"]) << " | " << num(e["precomputeWall"]) << " / "
+              << num(e["precomputeCpu"])
+              << (e["precomputeComplete"].get<bool>() ? "" : " (over the limit)") << " | "
+              << (e.contains("renderWall") ? num(e["renderWall"]) + " / " + num(e["renderCpu"])
+                                           : std::string("-"))
+              << " | "
+              << (row.contains("speedupWall")
+                      ? num(row["speedupWall"]) + "x (" + num(row["speedupRenderOnlyWall"]) + "x)"
+                      : std::string("-"))
+              << " | " << e["trees"] << " (" << e["kinds"]["partial"] << ") | "
+              << (e.contains("pairsWithoutTree") ? e["pairsWithoutTree"].dump() : "-") << " | ";
+            if (e.contains("evaluations"))
+                r << num(100.0 * e["sampledEvaluations"].get<double>() /
+                             std::max(1.0, e["evaluations"].get<double>()),
+                         "%.1f")
+                  << "% | ";
+            else
+                r << "- | ";
+            if (e.contains("everyPointExact")) {
+                const json& a = e["everyPointExact"];
+                r << (a["complete"].get<bool>() ? "" : "over ") << num(a["renderWall"]) << " | ";
+            } else {
+                r << (e.contains("sampledEvaluations") &&
+                              e["sampledEvaluations"].get<uint64_t>() == 0
+                          ? "(the same) | "
+                          : "- | ");
+            }
+            r << num(e["fileBytes"].get<double>() / 1024.0, "%.1f") << " KB | ";
+            if (row.contains("allPairs")) {
+                const json& a = row["allPairs"];
+                r << num(a["seconds"]) << " / " << num(a["cpu"])
+                  << (a["complete"].get<bool>() ? "" : " (over the limit)") << " | "
+                  << num(a["fileBytes"].get<double>() / 1024.0, "%.1f") << " KB |\n";
+            } else {
+                r << (row["faces"].get<uint32_t>() > kAllPairsMaxFaces ? "skipped | - |\n"
+                                                                       : "- | - |\n");
+            }
+        }
+        r << "\n";
+        if (plots) r << "![Table 1](table1.png)\n\n";
+    }
+    if (b.contains("accuracy")) {
+        const json& a = b["accuracy"];
+        r << "## Error against time\n\n"
+          << "Scene " << a["scene"].get<std::string>() << ", " << a["width"] << "x" << a["height"]
+          << ", " << a["spp"]
+          << " primary samples per pixel, the same for every image (so the sampled images differ "
+             "from the exact one only by their shadow-ray noise). RMSE and max error over all "
+             "pixels and RGB channels of linear radiance (mean radiance of the exact image "
+          << num(a["meanRadiance"], "%.4g") << ").\n\n"
+          << "| method | rays | wall s | CPU s | RMSE | max error |\n|---|---|---|---|---|---|\n";
+        for (const json& p : a["sampled"])
+            r << "| sampled vs exact | " << p["rays"] << " | " << num(p["seconds"], "%.3f") << " | "
+              << num(p["cpu"], "%.3f") << " | " << num(p["rmse"], "%.4g") << " | "
+              << num(p["maxError"], "%.4g") << " |\n";
+        const json& e = a["exact"];
+        r << "| exact vs reference | - | " << num(e["seconds"], "%.3f") << " | "
+          << num(e["cpu"], "%.3f") << " | " << num(e["rmse"], "%.4g") << " | "
+          << num(e["maxError"], "%.4g") << " |\n\n"
+          << "Reference: the mean of two sampled images of " << a["referenceRays"]
+          << " rays each (different light seeds); its own noise (standard error, RMS) is "
+          << num(a["referenceNoise"], "%.4g") << ", against the exact image's RMSE of "
+          << num(e["rmse"], "%.4g")
+          << ": the exact image agrees with the converged reference when these are close. The "
+             "exact time includes its precompute ("
+          << num(e["precompute"], "%.3f") << " s wall).\n\n";
+        if (a["equalErrorSeconds"].is_number())
+            r << "**Equal error:** the sampled method reaches the exact image's error level ("
+              << num(e["rmse"], "%.4g") << ", an upper bound on the exact image's error) at about "
+              << num(a["equalErrorRays"], "%.0f") << " rays per light and "
+              << num(a["equalErrorSeconds"], "%.3f") << " s wall, against "
+              << num(e["seconds"], "%.3f") << " s for the exact method: "
+              << num(a["equalErrorSeconds"].get<double>() / e["seconds"].get<double>()) << "x"
+              << (a["equalErrorExtrapolated"].get<bool>() ? " (extrapolated beyond the "
+                                                            "measured curve)"
+                                                          : "")
+              << ". Interpolated linearly on the log-log curve.\n\n";
+        if (plots) r << "![error against time](accuracy.png)\n\n";
+    }
+    if (b.contains("predicates")) {
+        const json& p = b["predicates"];
+        r << "## What exactness costs: predicates\n\n"
+          << "FPQuery on the " << p["cases"] << " hard cases (`makeHardCases()`), " << p["queries"]
+          << " queries (patch vertices, edge midpoints and random points of every penumbra pair). "
+             "Wrong: the visible fraction differs from the AlwaysExact answer by more than 1e-9 "
+             "of L's area, or the fragments overlap or leave L. (The test suite checks Filtered "
+             "against an exact CGAL reference.)\n\n"
+          << "| predicates | us per query (wall) | us per query (CPU) | wrong | other fragment "
+             "count than AlwaysExact |\n|---|---|---|---|---|\n";
+        for (const json& mm : p["modes"])
+            r << "| " << mm["mode"].get<std::string>() << " | " << num(mm["usPerQuery"], "%.3f")
+              << " | " << num(mm["cpuUsPerQuery"], "%.3f") << " | " << mm["wrong"] << " | "
+              << mm["otherCount"] << " |\n";
+        r << "\nNaive answers with another fragment count than Filtered: "
+          << p["naiveOtherThanFiltered"]
+          << ". A different fragment count is a sliver more or less (the topology of the answer); "
+             "Filtered decides rounded constructed vertices by its filter and so may drop slivers "
+             "that AlwaysExact's exact sign of the rounded vertex keeps.\n\nPer case (naive wrong "
+             "/ naive other count / filtered other count): ";
+        for (const json& c : p["perCase"])
+            r << c["case"].get<std::string>() << " " << c["naiveWrong"] << "/"
+              << c["naiveOtherCount"] << "/" << c["filteredOtherCount"] << "; ";
+        r << "\n\n";
+    }
+    if (b.contains("buildOptions") && !b["buildOptions"].empty()) {
+        r << "## Quadric pruning and leaf merging\n\nAll pairs of each scene.\n\n"
+          << "| scene | merge leaves | quadric pruning | nodes | bytes | precompute wall / CPU s "
+             "| us per query |\n|---|---|---|---|---|---|---|\n";
+        for (const json& o : b["buildOptions"])
+            r << "| " << fs::path(o["scene"].get<std::string>()).filename().string() << " | "
+              << (o["mergeLeaves"].get<bool>() ? "on" : "off") << " | "
+              << (o["quadricPruning"].get<bool>() ? "on" : "off") << " | " << o["nodes"] << " | "
+              << o["bytes"] << " | " << num(o["seconds"]) << " / " << num(o["cpu"])
+              << (o["complete"].get<bool>() ? std::string()
+                                            : " (over the limit: " + o["done"].dump() + "/" +
+                                                  o["pairs"].dump() + " pairs)")
+              << " | " << num(o["queryUs"], "%.3f") << " |\n";
+        r << "\n";
+    }
+    if (b.contains("scaling") && !b["scaling"].empty()) {
+        r << "## Precompute against triangle count\n\n"
+          << "A fixed set of receiver patches: every patch of the floor and 32 faces of the model "
+             "drawn with a fixed seed, against the light; built on the `PrecomputeScheduler` ("
+          << num(b["options"]["limit"], "%.0f") << " s limit per scene).\n\n"
+          << "| scene | faces | pairs | done | wall s | CPU s | nodes | bytes | penumbra | "
+             "partial |\n|---|---|---|---|---|---|---|---|---|---|\n";
+        for (const json& s : b["scaling"])
+            r << "| " << fs::path(s["scene"].get<std::string>()).filename().string() << " | "
+              << s["faces"] << " | " << s["pairs"] << " | " << s["done"] << " | "
+              << num(s["seconds"]) << " | " << num(s["cpu"]) << " | " << s["nodes"] << " | "
+              << s["bytes"] << " | " << s["kinds"]["penumbra"] << " | " << s["kinds"]["partial"]
+              << " |\n";
+        if (plots) r << "\n![scaling](scaling.png)\n";
+        r << "\n";
+    }
+    if (b.contains("perPoint")) {
+        r << "## Per point: exact query against shadow rays\n\nLight 0, one thread.\n\n"
+          << "| scene | points | exact query + form factor us | nodes | 16 rays us | 128 rays us "
+             "|\n|---|---|---|---|---|---|\n";
+        for (const json& p : b["perPoint"])
+            r << "| " << fs::path(p["scene"].get<std::string>()).filename().string() << " | "
+              << p["points"] << " | " << num(p["exactUs"]) << " | "
+              << num(p["nodesPerQuery"], "%.1f") << " | " << num(p["rays16Us"]) << " | "
+              << num(p["rays128Us"]) << " |\n";
+        r << "\n";
+    }
+    if (!plots) r << "Plots skipped: " << plotNote << "\n";
+    return r.str();
+}
+
+void runBench(const BenchOptions& o, const std::string& commandLine) {
+    if (o.out.empty()) throw usageError("--out DIR is required");
+    // TBB keeps one core for the thread that waits by default; the bench's main thread only
+    // polls (runWithLimit), so every core gets a worker.
+    const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
+                                          std::max(1, tbb::info::default_concurrency()) + 1);
+    std::error_code ec;
+    fs::create_directories(o.out, ec);
+    if (ec) throw inputError("cannot create " + o.out + ": " + ec.message());
+    const fs::path dir = o.out;
+    json b;
+    b["machine"] = machine();
+    b["command"] = commandLine;
+    b["options"] = {{"size", o.size},   {"largeSize", o.largeSize}, {"spp", o.spp},
+                    {"quick", o.quick}, {"skipLarge", o.skipLarge}, {"limit", o.limit}};
+    std::vector<std::string> small = o.scenes, large;
+    if (small.empty()) {
+        small = {"assets/scenes/stairs.json", "assets/scenes/table.json",
+                 "assets/scenes/grids.json", "assets/scenes/cornell_box.json"};
+        if (!o.quick) small.push_back("assets/scenes/bunny_in_box.json");
+        if (!o.skipLarge && !o.quick) large = {"assets/scenes/motorbike.json"};
+    }
+    for (const std::string& s : small)
+        if (!fs::exists(s)) throw inputError(s + ": no such scene file");
+
+    b["table1"] = json::array();
+    for (const std::string& s : small) b["table1"].push_back(table1Row(s, o, dir, false));
+    for (const std::string& s : large)
+        if (fs::exists(s))
+            b["table1"].push_back(table1Row(s, o, dir, true));
+        else
+            std::printf("%s missing (scripts/fetch_meshes.sh): skipped\n", s.c_str());
+    b["accuracy"] = accuracy(o);
+    b["predicates"] = predicates(o);
+    std::vector<std::string> optionScenes = {"assets/scenes/stairs.json",
+                                             "assets/scenes/cornell_box.json"};
+    if (o.quick) optionScenes = {"assets/scenes/cornell_box.json"};
+    b["buildOptions"] = buildOptions(optionScenes, o);
+    std::vector<std::string> scalingScenes;
+    if (!o.quick)
+        scalingScenes = {"assets/scenes/dragon_res4.json", "assets/scenes/dragon_res3.json"};
+    if (!o.quick && !o.skipLarge) {
+        scalingScenes.push_back("assets/scenes/dragon_res2.json");
+        scalingScenes.push_back("assets/scenes/dragon.json");
+    }
+    b["scaling"] = scaling(scalingScenes, o);
+    b["perPoint"] = json::array();
+    for (const std::string& s : small) b["perPoint"].push_back(perPoint(s, o));
+
+    requireFinite(b, (dir / "bench.json").string());
+    writeAtomically(dir / "bench.json", b.dump(2));
+    std::printf("wrote %s\n", (dir / "bench.json").c_str());
+    bool plots = false;
+    std::string note;
+    if (o.noPlots) {
+        note = "--no-plots";
+    } else if (!fs::exists("/usr/bin/python3") || !fs::exists("scripts/plot_bench.py")) {
+        note = "/usr/bin/python3 or scripts/plot_bench.py not found";
+    } else {
+        const std::string cmd = "/usr/bin/python3 scripts/plot_bench.py '" + o.out + "'";
+        const int rc = std::system(cmd.c_str());
+        plots = rc == 0;
+        if (!plots) note = "`" + cmd + "` failed (matplotlib missing?)";
+    }
+    writeAtomically(dir / "report.md", report(b, plots, note));
+    std::printf("wrote %s\n", (dir / "report.md").c_str());
+}
+
+}  // namespace
+
+void registerBenchCommand(CLI::App& app) {
+    auto o = std::make_shared<BenchOptions>();
+    CLI::App* sub = app.add_subcommand(
+        "bench",
+        "Measure what accuracy costs in time: Table 1, error against time, predicates, "
+        "build options, scaling; writes DIR/bench.json, DIR/report.md and plots");
+    sub->add_option("scenes", o->scenes,
+                    "Scene files for Table 1 and the per-point costs (default: the committed "
+                    "assets, the bunny in the box and the motorbike)");
+    sub->add_option("--out", o->out, "Output directory")->required();
+    sub->add_option("--size", o->size, "Image size of Table 1 (WxH)");
+    sub->add_option("--large-size", o->largeSize, "Image size of Table 1 for the large scene");
+    sub->add_option("--spp", o->spp, "Primary samples per pixel of Table 1")
+        ->check(CLI::PositiveNumber);
+    sub->add_option("--accuracy-scene", o->accuracyScene, "Scene of the error-against-time study");
+    sub->add_option("--accuracy-size", o->accuracySize, "Image size of the study (WxH)");
+    sub->add_option("--accuracy-spp", o->accuracySpp, "Primary samples per pixel of the study")
+        ->check(CLI::PositiveNumber);
+    sub->add_option("--max-rays", o->maxRays, "Largest shadow-ray count of the study")
+        ->check(CLI::PositiveNumber);
+    sub->add_option("--reference-rays", o->referenceRays,
+                    "Rays per reference image (the reference averages two)")
+        ->check(CLI::PositiveNumber);
+    sub->add_option("--points", o->points, "Query points per scene")->check(CLI::PositiveNumber);
+    sub->add_option("--limit", o->limit, "Seconds allowed per precompute before it is cancelled")
+        ->check(CLI::PositiveNumber);
+    sub->add_flag("--quick", o->quick,
+                  "CI-sized run: small scenes, small images, few rays, 20 s precompute limit, no "
+                  "scaling study");
+    sub->add_flag("--skip-large", o->skipLarge, "Skip the scenes above 300k triangles");
+    sub->add_flag("--no-plots", o->noPlots, "Do not run scripts/plot_bench.py");
+    sub->callback([o, sub] {
+        BenchOptions opt = *o;
+        if (opt.quick) {
+            if (sub->count("--size") == 0) opt.size = "64x64";
+            if (sub->count("--spp") == 0) opt.spp = 2;
+            if (sub->count("--accuracy-size") == 0) opt.accuracySize = "32x32";
+            if (sub->count("--accuracy-spp") == 0) opt.accuracySpp = 1;
+            if (sub->count("--max-rays") == 0) opt.maxRays = 64;
+            if (sub->count("--reference-rays") == 0) opt.referenceRays = 256;
+            if (sub->count("--points") == 0) opt.points = 200;
+            if (sub->count("--limit") == 0) opt.limit = 20;
+        }
+        std::string cmd = "penumbra bench";
+        for (const std::string& s : o->scenes) cmd += " " + s;
+        cmd += " --out " + opt.out + " --size " + opt.size + " --spp " + std::to_string(opt.spp);
+        cmd += " --large-size " + opt.largeSize + " --limit " + fmt("%g", opt.limit) +
+               " --accuracy-size " + opt.accuracySize + " --accuracy-spp " +
+               std::to_string(opt.accuracySpp) + " --max-rays " + std::to_string(opt.maxRays) +
+               " --reference-rays " + std::to_string(opt.referenceRays);
+        if (opt.quick) cmd += " --quick";
+        if (opt.skipLarge) cmd += " --skip-large";
+        runBench(opt, cmd);
+    });
+}
+
+}  // namespace penumbra::cli

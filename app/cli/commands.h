@@ -1,0 +1,68 @@
+// The subcommands of the `penumbra` executable and what they share.
+//
+// Each subcommand lives in its own file app/<name>_command.cpp and exposes one
+// register<Name>Command(CLI::App&) that adds the subcommand to the app with its options and a
+// callback that runs it. A callback reports failure by throwing CommandError (or SceneError, an
+// input error); main() turns every exception into "penumbra: error: ..." on stderr and an exit
+// code (ExitCode). Commands write their results to stdout only.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include "engine/scene/scene.h"
+
+namespace CLI {
+class App;
+}  // namespace CLI
+
+namespace penumbra::cli {
+
+enum ExitCode : int {
+    kExitOk = 0,
+    kExitInputError = 1,  // a file that cannot be read or is malformed, a value out of range
+    kExitUsageError = 2,  // bad command line: unknown flag, missing or malformed value
+};
+
+// A failure of a command, with the exit code it calls for. what() is the message without the
+// "penumbra: error: " prefix.
+struct CommandError : std::runtime_error {
+    CommandError(int exitCode_, const std::string& message)
+        : std::runtime_error(message), exitCode(exitCode_) {}
+    int exitCode;
+};
+
+inline CommandError usageError(const std::string& message) {
+    return CommandError(kExitUsageError, message);
+}
+inline CommandError inputError(const std::string& message) {
+    return CommandError(kExitInputError, message);
+}
+
+// A finite decimal number, the whole of s but for surrounding blanks (locale-independent; a leading
+// '+' is allowed); nullopt otherwise. Every command parses its numeric values with it.
+std::optional<double> parseNumber(std::string_view s);
+
+// Loads a scene file with engine/io/scene_loader.h, choosing the reader by extension
+// (case-insensitive): .obj (with its MTL libraries), .ply, .off, .stl, .gltf, .glb, .json. Prints
+// the scene's warnings to stderr ("penumbra: warning: ..."). Throws CommandError (input error) for
+// a missing file or an unknown extension, and SceneError for a malformed scene.
+Scene loadSceneFile(const std::filesystem::path& path);
+
+// `penumbra query`: exact light visibility at points (app/cli/query_command.cpp).
+void registerQueryCommand(CLI::App& app);
+void registerBenchCommand(CLI::App& app);
+// `penumbra view` (app/cli/view_command.cpp) and `penumbra screenshot`
+// (app/cli/screenshot_command.cpp): the viewer in a window, and its UI rendered offscreen.
+void registerViewCommand(CLI::App& app);
+void registerScreenshotCommand(CLI::App& app);
+// `penumbra render`: an image with exact soft shadows (app/cli/render_command.cpp).
+void registerRenderCommand(CLI::App& app);
+// `penumbra precompute`: every pair's history tree into a visibility file
+// (app/cli/precompute_command.cpp).
+void registerPrecomputeCommand(CLI::App& app);
+
+}  // namespace penumbra::cli

@@ -1,0 +1,70 @@
+// penumbra: the command-line front end. Each subcommand is registered from its own file
+// (app/cli/commands.h); this file builds the app and turns every exception into a message and an
+// exit code.
+#include <CLI/CLI.hpp>
+#include <exception>
+#include <iostream>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "app/cli/commands.h"
+#include "engine/scene/scene_error.h"
+
+namespace {
+
+constexpr const char* kVersion = "penumbra 0.1.0";
+
+int fail(int code, const std::string& message) {
+    std::cerr << "penumbra: error: " << message << '\n';
+    return code;
+}
+
+int run(int argc, char** argv) {
+    CLI::App app{
+        "penumbra: exact soft shadows from polygonal area lights (history trees of line space, "
+        "Mora & Aveneau 2005).",
+        "penumbra"};
+    app.set_version_flag("--version", kVersion, "Print the version and exit");
+    app.require_subcommand(1);
+    penumbra::cli::registerQueryCommand(app);
+    penumbra::cli::registerBenchCommand(app);
+    penumbra::cli::registerViewCommand(app);
+    penumbra::cli::registerScreenshotCommand(app);
+    penumbra::cli::registerRenderCommand(app);
+    penumbra::cli::registerPrecomputeCommand(app);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::Success& e) {  // --help, --version
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        // An unknown subcommand is left over as an extra argument; name it rather than report
+        // the missing subcommand.
+        const std::vector<std::string> extras = app.remaining();
+        if (app.get_subcommands().empty() && !extras.empty() && !extras.front().starts_with('-'))
+            return fail(
+                penumbra::cli::kExitUsageError,
+                "unknown subcommand '" + extras.front() + "' (run 'penumbra --help' for the list)");
+        return fail(penumbra::cli::kExitUsageError,
+                    std::string(e.what()) + " (run 'penumbra --help' for usage)");
+    }
+    return penumbra::cli::kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    try {
+        return run(argc, argv);
+    } catch (const penumbra::cli::CommandError& e) {
+        return fail(e.exitCode, e.what());
+    } catch (const penumbra::SceneError& e) {
+        return fail(penumbra::cli::kExitInputError, e.what());
+    } catch (const std::bad_alloc&) {
+        return fail(penumbra::cli::kExitInputError, "out of memory");
+    } catch (const std::exception& e) {
+        return fail(penumbra::cli::kExitInputError, std::string("internal error: ") + e.what());
+    } catch (...) {
+        return fail(penumbra::cli::kExitInputError, "internal error: unknown exception");
+    }
+}

@@ -1,0 +1,288 @@
+// `penumbra query SCENE (--point X,Y,Z | --points FILE) [--face F] [--light K]`
+//
+// For each point: the face it lies on (given, or found with findFaceContaining), then for every
+// light (or only light K) the exactly visible fragments of the light and the quantities derived
+// from them (engine/precompute/point_query.h). One JSON object per point, one line each, on stdout:
+//   {"point":[x,y,z],"face":F,"lights":[{"light":K,"light_face":LF,"light_area":A,
+//    "visible_area":a,"fraction":a/A,"form_factor":f,"unoccluded_form_factor":u,
+//    "fragments":[[[x,y,z],...],...],"nodes_visited":n,"path":[node ids],
+//    "pair":"penumbra|fully-visible|fully-hidden|back-facing"}]}
+// A pair with a partial tree (its build stopped at the budget, --max-lp-solves) adds
+// "deferred_occluders" (how many the tree left to the query) and "deferred_clipped" (how many of
+// them this point's query clipped against): its answer is exact all the same.
+// Doubles are printed in their shortest round-trip form.
+//
+// The points file holds one point a line, "x y z [face]"; blank lines and '#' comments are
+// skipped. A face on the line wins over --face; without either the face is found. Every point is
+// read and located before anything is printed, so an error leaves stdout empty.
+#include <CLI/CLI.hpp>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "app/cli/commands.h"
+#include "engine/io/finite_output.h"
+#include "engine/precompute/point_query.h"
+
+namespace penumbra::cli {
+namespace {
+
+struct QueryOptions {
+    std::string scene;
+    std::string point;
+    std::string pointsFile;
+    std::string face;
+    std::string light;
+    uint64_t maxLpSolves = vis::BuildOptions{}.maxLpSolves;
+};
+
+// One point to query, and where it came from ("--point" or "FILE:LINE") for messages.
+struct QueryPoint {
+    Vec3 x;
+    std::optional<uint32_t> face;
+    std::string where;
+};
+
+std::string_view trim(std::string_view s) {
+    const auto blank = [](char c) {
+        return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
+    };
+    while (!s.empty() && blank(s.front())) s.remove_prefix(1);
+    while (!s.empty() && blank(s.back())) s.remove_suffix(1);
+    return s;
+}
+
+// A non-negative decimal integer that fits in 32 bits, the whole of s.
+std::optional<uint32_t> parseIndex(std::string_view s) {
+    s = trim(s);
+    uint32_t v = 0;
+    if (s.empty() || s.front() < '0' || s.front() > '9') return std::nullopt;
+    const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (r.ec != std::errc{} || r.ptr != s.data() + s.size()) return std::nullopt;
+    return v;
+}
+
+std::string quote(std::string_view s) {
+    std::string out = "'";
+    for (char c : s.substr(0, 60)) {
+        const auto u = static_cast<unsigned char>(c);
+        out += u >= 0x20 && u < 0x7f ? c : '?';
+    }
+    if (s.size() > 60) out += "...";
+    return out + "'";
+}
+
+Vec3 parsePointFlag(std::string_view s) {
+    double xyz[3] = {0, 0, 0};
+    size_t count = 0;
+    bool ok = true;
+    std::string_view rest = s;
+    while (ok) {
+        const size_t comma = rest.find(',');
+        const std::string_view part = rest.substr(0, comma);
+        const std::optional<double> v = parseNumber(part);
+        if (!v || count == 3) {
+            ok = false;
+            break;
+        }
+        xyz[count++] = *v;
+        if (comma == std::string_view::npos) break;
+        rest.remove_prefix(comma + 1);
+    }
+    if (!ok || count != 3)
+        throw usageError(
+            "--point: expected X,Y,Z (three finite numbers separated by commas), got " + quote(s));
+    return {xyz[0], xyz[1], xyz[2]};
+}
+
+std::optional<uint32_t> parseIndexFlag(const CLI::App& sub, const char* flag,
+                                       const std::string& value) {
+    if (sub.count(flag) == 0) return std::nullopt;
+    const std::optional<uint32_t> v = parseIndex(value);
+    if (!v)
+        throw usageError(std::string(flag) + ": expected a non-negative integer, got " +
+                         quote(value));
+    return v;
+}
+
+std::vector<QueryPoint> readPointsFile(const std::string& file) {
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw inputError("cannot open points file '" + file + "'");
+    std::vector<QueryPoint> points;
+    std::string line;
+    for (int64_t lineNumber = 1; std::getline(in, line); ++lineNumber) {
+        const std::string where = file + ":" + std::to_string(lineNumber);
+        std::string_view text = line;
+        text = trim(text.substr(0, text.find('#')));
+        if (text.empty()) continue;
+        std::vector<std::string_view> tokens;
+        while (!text.empty()) {
+            size_t end = 0;
+            while (end < text.size() && text[end] != ' ' && text[end] != '\t') ++end;
+            tokens.push_back(text.substr(0, end));
+            text = trim(text.substr(end));
+        }
+        const auto fail = [&](const std::string& why) {
+            return inputError(where + ": " + why + " (expected 'x y z [face]'), got " +
+                              quote(trim(line)));
+        };
+        if (tokens.size() < 3 || tokens.size() > 4)
+            throw fail(std::to_string(tokens.size()) + " fields");
+        QueryPoint p;
+        double xyz[3];
+        for (int i = 0; i < 3; ++i) {
+            const std::optional<double> v = parseNumber(tokens[static_cast<size_t>(i)]);
+            if (!v)
+                throw fail("coordinate " + quote(tokens[static_cast<size_t>(i)]) +
+                           " is not a finite number");
+            xyz[i] = *v;
+        }
+        p.x = {xyz[0], xyz[1], xyz[2]};
+        if (tokens.size() == 4) {
+            p.face = parseIndex(tokens[3]);
+            if (!p.face) throw fail("face " + quote(tokens[3]) + " is not a non-negative integer");
+        }
+        p.where = where;
+        points.push_back(std::move(p));
+    }
+    if (in.bad()) throw inputError("cannot read points file '" + file + "'");
+    return points;
+}
+
+nlohmann::ordered_json toJson(const Vec3& v) {
+    return nlohmann::ordered_json::array({v.x, v.y, v.z});
+}
+
+nlohmann::ordered_json toJson(const QueryPoint& p, uint32_t face,
+                              const std::vector<LightAtPoint>& lights) {
+    nlohmann::ordered_json out;
+    out["point"] = toJson(p.x);
+    out["face"] = face;
+    nlohmann::ordered_json lightsJson = nlohmann::ordered_json::array();
+    for (const LightAtPoint& l : lights) {
+        nlohmann::ordered_json j;
+        j["light"] = l.light;
+        j["light_face"] = l.lightFace;
+        j["light_area"] = l.lightArea;
+        j["visible_area"] = l.visibleArea;
+        j["fraction"] = l.fraction;
+        j["form_factor"] = l.formFactor;
+        j["unoccluded_form_factor"] = l.unoccludedFormFactor;
+        nlohmann::ordered_json fragments = nlohmann::ordered_json::array();
+        for (const vis::Polygon3& fragment : l.fragments) {
+            nlohmann::ordered_json polygon = nlohmann::ordered_json::array();
+            for (const Vec3& v : fragment) polygon.push_back(toJson(v));
+            fragments.push_back(std::move(polygon));
+        }
+        j["fragments"] = std::move(fragments);
+        j["nodes_visited"] = l.nodesVisited;
+        j["path"] = l.path;
+        j["pair"] = std::string(vis::toString(l.kind));
+        if (l.deferredOccluders > 0) {
+            // A partial tree: the budget stopped the build; the query clipped the rest from x.
+            j["deferred_occluders"] = l.deferredOccluders;
+            j["deferred_clipped"] = l.deferredActive;
+        }
+        lightsJson.push_back(std::move(j));
+    }
+    out["lights"] = std::move(lightsJson);
+    return out;
+}
+
+void runQuery(const CLI::App& sub, const QueryOptions& options) {
+    // Command-line problems first (exit 2), before any file is read.
+    const bool hasPoint = sub.count("--point") > 0, hasPoints = sub.count("--points") > 0;
+    if (hasPoint == hasPoints) throw usageError("query: give exactly one of --point or --points");
+    const std::optional<uint32_t> faceFlag = parseIndexFlag(sub, "--face", options.face);
+    const std::optional<uint32_t> lightFlag = parseIndexFlag(sub, "--light", options.light);
+    std::vector<QueryPoint> points;
+    if (hasPoint) points.push_back({parsePointFlag(options.point), faceFlag, "--point"});
+
+    const Scene scene = loadSceneFile(options.scene);
+    if (hasPoints) {
+        points = readPointsFile(options.pointsFile);
+        for (QueryPoint& p : points)
+            if (!p.face) p.face = faceFlag;
+    }
+    if (faceFlag && *faceFlag >= scene.faceCount())
+        throw inputError("--face " + std::to_string(*faceFlag) + " out of range: " + options.scene +
+                         " has " + std::to_string(scene.faceCount()) + " faces");
+    if (lightFlag && *lightFlag >= scene.lights.size())
+        throw inputError("--light " + std::to_string(*lightFlag) + " out of range: " +
+                         options.scene + " has " + std::to_string(scene.lights.size()) +
+                         (scene.lights.size() == 1 ? " light" : " lights"));
+
+    // Locate every point before printing anything.
+    std::vector<uint32_t> faces;
+    faces.reserve(points.size());
+    for (const QueryPoint& p : points) {
+        if (p.face) {
+            if (*p.face >= scene.faceCount())
+                throw inputError(p.where + ": face " + std::to_string(*p.face) +
+                                 " out of range: " + options.scene + " has " +
+                                 std::to_string(scene.faceCount()) + " faces");
+            faces.push_back(*p.face);
+            continue;
+        }
+        const FaceLookup lookup = findFaceContaining(scene, p.x);
+        if (!lookup.ok()) throw inputError(p.where + ": " + lookup.error);
+        faces.push_back(*lookup.face);
+    }
+
+    VisibilityStore::Options storeOptions;
+    storeOptions.build.maxLpSolves = options.maxLpSolves;
+    VisibilityStore store(scene, nullptr, storeOptions);
+    for (size_t i = 0; i < points.size(); ++i) {
+        const std::vector<LightAtPoint> lights =
+            queryPoint(store, faces[i], points[i].x, lightFlag);
+        const nlohmann::json answer = toJson(points[i], faces[i], lights);
+        requireFinite(answer, "the answer for point " + std::to_string(i));
+        std::cout << answer.dump() << '\n';
+    }
+    std::cout.flush();
+    if (!std::cout) throw inputError("cannot write to standard output");
+}
+
+}  // namespace
+
+void registerQueryCommand(CLI::App& app) {
+    auto options = std::make_shared<QueryOptions>();
+    CLI::App* sub = app.add_subcommand(
+        "query",
+        "Exact light visibility at points: for each light, the visible fragments of the light, "
+        "the visible fraction of its area and the form factor. One JSON object per point on "
+        "stdout.");
+    sub->add_option("scene", options->scene,
+                    "Scene file: .obj (with its .mtl), .ply, .off, .stl, .gltf, .glb or .json")
+        ->required()
+        ->type_name("SCENE");
+    CLI::Option* point =
+        sub->add_option("--point", options->point, "The point, on a face of the scene")
+            ->type_name("X,Y,Z");
+    CLI::Option* points =
+        sub->add_option("--points", options->pointsFile,
+                        "File of points, one 'x y z [face]' a line ('#' comments)")
+            ->type_name("FILE");
+    point->excludes(points);
+    sub->add_option("--face", options->face,
+                    "Receiver face of the point(s) (default: the face the point lies on)")
+        ->type_name("F");
+    sub->add_option("--light", options->light, "Only light K (default: every light)")
+        ->type_name("K");
+    sub->add_option("--max-lp-solves", options->maxLpSolves,
+                    "Build budget of one history tree in linear programs; a pair beyond it gets a "
+                    "partial tree whose remaining occluders each query clips itself (0 = no "
+                    "limit)")
+        ->capture_default_str()
+        ->type_name("N");
+    sub->callback([sub, options] { runQuery(*sub, *options); });
+}
+
+}  // namespace penumbra::cli

@@ -1,0 +1,121 @@
+// `penumbra screenshot SCENE [--point X,Y,Z | --pixel X,Y] [--camera ...] [--size WxH]
+//  --out FILE.png [--state-out FILE.json] [--preview-out FILE.png] [--backend osmesa|egl]
+//  [--precompute] [--accuracy] ...`
+//
+// Renders the complete viewer UI offscreen (app/viewer/gl/headless_host.h): the same Viewer code as
+// the window, with the inspected point's fragments, path and tree panels open.
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <string>
+
+#include "app/cli/arguments.h"
+#include "app/cli/commands.h"
+#include "app/viewer/gl/headless_host.h"
+
+namespace penumbra::cli {
+namespace {
+
+struct ScreenshotOptions {
+    std::string scene, point, pixel, camera, size = "1280x800", out, stateOut, previewOut;
+    std::string backend = "osmesa", previewMode = "exact";
+    int lightSamples = 16, passes = 8;
+    bool noPreview = false, precompute = false, accuracy = false;
+};
+
+viewer::PreviewMode parsePreviewMode(const std::string& s) {
+    if (s == "exact") return viewer::PreviewMode::Exact;
+    if (s == "sampled") return viewer::PreviewMode::Sampled;
+    if (s == "side") return viewer::PreviewMode::SideBySide;
+    if (s == "diff") return viewer::PreviewMode::Difference;
+    throw usageError("--preview-mode: expected exact, sampled, side or diff, got '" + s + "'");
+}
+
+void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
+    viewer::HeadlessOptions h;
+    h.scene = o.scene;
+    if (sub.count("--point") > 0 && sub.count("--pixel") > 0)
+        throw usageError("screenshot: give at most one of --point and --pixel");
+    if (sub.count("--point") > 0) {
+        const auto v = parseNumberList("--point", o.point, 3);
+        h.point = Vec3{v[0], v[1], v[2]};
+    }
+    if (sub.count("--pixel") > 0) {
+        const auto v = parseNumberList("--pixel", o.pixel, 2);
+        h.pixel = std::array<double, 2>{v[0], v[1]};
+    }
+    if (sub.count("--camera") > 0) h.camera = parseCamera("--camera", o.camera);
+    const auto size = parseSize("--size", o.size);
+    h.width = size[0];
+    h.height = size[1];
+    if (h.pixel && ((*h.pixel)[0] < 0 || (*h.pixel)[1] < 0 || (*h.pixel)[0] >= h.width ||
+                    (*h.pixel)[1] >= h.height))
+        throw usageError("--pixel: outside the " + o.size + " image");
+    if (o.backend == "osmesa")
+        h.backend = gl::OffscreenBackend::OsMesa;
+    else if (o.backend == "egl")
+        h.backend = gl::OffscreenBackend::Egl;
+    else
+        throw usageError("--backend: expected osmesa or egl, got '" + o.backend + "'");
+    if (o.lightSamples < 1 || o.lightSamples > 65536)
+        throw usageError("--light-samples: " + std::to_string(o.lightSamples) +
+                         " out of range (1..65536)");
+    if (o.passes < 1 || o.passes > 4096)
+        throw usageError("--passes: " + std::to_string(o.passes) + " out of range (1..4096)");
+    h.viewer.previewSettings.mode = parsePreviewMode(o.previewMode);
+    h.viewer.previewSettings.lightSamples = o.lightSamples;
+    h.viewer.previewSettings.passes = o.passes;
+    h.viewer.preview = !o.noPreview;
+    h.viewer.showHelp = true;
+    h.out = o.out;
+    h.stateOut = o.stateOut;
+    h.previewOut = o.previewOut;
+    h.precompute = o.precompute;
+    h.accuracy = o.accuracy;
+    try {
+        viewer::runHeadless(h);
+    } catch (const CommandError&) {
+        throw;
+    } catch (const std::runtime_error& e) {
+        throw inputError(std::string("screenshot: ") + e.what());
+    }
+}
+
+}  // namespace
+
+void registerScreenshotCommand(CLI::App& app) {
+    auto o = std::make_shared<ScreenshotOptions>();
+    CLI::App* sub = app.add_subcommand(
+        "screenshot",
+        "Render the viewer's complete UI offscreen (OSMesa, or EGL surfaceless) into a PNG, with "
+        "the inspected point's fragments, path and history-tree panels open.");
+    sub->add_option("scene", o->scene, "Scene file (.obj with its .mtl)")
+        ->required()
+        ->type_name("SCENE");
+    sub->add_option("--point", o->point, "Inspect this point (on a face of the scene)")
+        ->type_name("X,Y,Z");
+    sub->add_option("--pixel", o->pixel, "Inspect the surface point under this pixel")
+        ->type_name("X,Y");
+    sub->add_option("--camera", o->camera, "Camera: eye, target, vertical field of view")
+        ->type_name("EX,EY,EZ,TX,TY,TZ[,FOV]");
+    sub->add_option("--size", o->size, "Image size (default 1280x800)")->type_name("WxH");
+    sub->add_option("--out", o->out, "The screenshot (PNG)")->required()->type_name("FILE.png");
+    sub->add_option("--state-out", o->stateOut, "The UI state as JSON")->type_name("FILE.json");
+    sub->add_option("--preview-out", o->previewOut, "The preview image alone (PNG)")
+        ->type_name("FILE.png");
+    sub->add_option("--backend", o->backend, "osmesa (default) or egl")->type_name("NAME");
+    sub->add_option("--preview-mode", o->previewMode, "exact (default), sampled, side or diff")
+        ->type_name("MODE");
+    sub->add_option("--light-samples", o->lightSamples, "Shadow rays per light (sampled)")
+        ->type_name("N");
+    sub->add_option("--passes", o->passes, "Preview passes (default 8)")->type_name("N");
+    sub->add_flag("--no-preview", o->noPreview, "Do not run the progressive preview");
+    sub->add_flag("--precompute", o->precompute,
+                  "Precompute every pair in the background while drawing frames; the state "
+                  "JSON records the frame times");
+    sub->add_flag("--accuracy", o->accuracy,
+                  "Run the view's accuracy-vs-time study (64x64, 2 spp: exact against 1..1024 "
+                  "shadow rays) in the background while drawing frames, and show its panel");
+    sub->callback([sub, o] { runScreenshot(*sub, *o); });
+}
+
+}  // namespace penumbra::cli

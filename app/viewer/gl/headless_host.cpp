@@ -1,0 +1,75 @@
+#include "app/viewer/gl/headless_host.h"
+
+#include <imgui.h>
+
+#include <cfloat>
+#include <chrono>
+#include <iostream>
+
+#include "app/cli/commands.h"
+#include "app/viewer/gl/imgui_session.h"
+#include "app/viewer/gl/png_output.h"
+#include "engine/io/finite_output.h"
+
+namespace penumbra::viewer {
+
+void runHeadless(const HeadlessOptions& o) {
+    const std::unique_ptr<gl::OffscreenContext> context =
+        gl::createOffscreenContext(o.backend, o.width, o.height);
+    const gl::ScopedGlApi scope(context->api());
+    const ImGuiSession imgui;
+    ImGui::GetIO().BackendPlatformName = "penumbra-headless";
+    // The mouse is nowhere: no hover effects in the screenshot.
+    ImGui::GetIO().MousePos = ImVec2(-FLT_MAX, -FLT_MAX);
+
+    Viewer viewer(o.viewer);
+    if (!viewer.openScene(o.scene)) throw cli::inputError(viewer.status());
+    if (o.camera) viewer.setCamera(*o.camera);
+    const double dt = 1.0 / 60;
+    viewer.frame(o.width, o.height, dt);  // lays out the panels, builds the font atlas
+    if (o.point && !viewer.selectPoint(*o.point))
+        throw cli::inputError("--point: " + viewer.status());
+    if (o.pixel && !viewer.pickPixel((*o.pixel)[0], (*o.pixel)[1], o.width, o.height))
+        throw cli::inputError("--pixel: " + viewer.status());
+
+    nlohmann::json precomputeFrames;
+    if (o.precompute) {
+        if (!viewer.precomputeAvailable())
+            throw cli::inputError("--precompute: the precompute scheduler is not built in");
+        viewer.frame(o.width, o.height, dt);
+        viewer.resetFrameStats();
+        const auto start = std::chrono::steady_clock::now();
+        viewer.startPrecompute();
+        while (viewer.precomputeRunning()) viewer.frame(o.width, o.height, dt);
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const FrameStats stats = viewer.frameStats();
+        precomputeFrames = {{"frames", stats.frames},
+                            {"maxSeconds", stats.maxSeconds},
+                            {"meanSeconds", stats.frames ? stats.sumSeconds / stats.frames : 0.0},
+                            {"precomputeSeconds", seconds}};
+    }
+    if (o.accuracy) {
+        // As in the window: the study runs on the viewer's tasks while frames are drawn.
+        viewer.openAccuracyStudy();
+        while (viewer.accuracyStudyRunning()) viewer.frame(o.width, o.height, dt);
+    }
+    viewer.waitForBackground();
+    // A few frames: auto-sized windows settle in two.
+    for (int i = 0; i < 3; ++i) viewer.frame(o.width, o.height, dt);
+    const std::vector<uint8_t> pixels = context->readRgba();
+    if (!o.out.empty()) writeRgbaPng(o.out, o.width, o.height, pixels);
+    const PreviewImage& preview = viewer.previewImage();
+    if (!o.previewOut.empty() && preview.width > 0)
+        writeRgbaPng(o.previewOut, preview.width, preview.height, preview.rgba);
+    if (!o.stateOut.empty()) {
+        nlohmann::json state = viewer.stateJson();
+        state["backend"] = gl::toString(o.backend);
+        state["renderer"] = context->description();
+        if (!precomputeFrames.is_null()) state["precomputeFrames"] = precomputeFrames;
+        requireFinite(state, o.stateOut);
+        writeTextFile(o.stateOut, state.dump(2) + "\n");
+    }
+}
+
+}  // namespace penumbra::viewer

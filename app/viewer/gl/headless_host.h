@@ -1,0 +1,37 @@
+// HeadlessHost: runs the Viewer in an offscreen GL context (OSMesa or EGL surfaceless) and writes
+// the complete UI as a PNG: `penumbra screenshot`, and `penumbra view` when there is no display.
+#pragma once
+
+#include <array>
+#include <filesystem>
+#include <optional>
+
+#include "app/viewer/gl/offscreen_context.h"
+#include "app/viewer/viewer.h"
+
+namespace penumbra::viewer {
+
+struct HeadlessOptions {
+    std::filesystem::path scene;
+    gl::OffscreenBackend backend = gl::OffscreenBackend::OsMesa;
+    int width = 1280, height = 800;
+    std::optional<Vec3> point;                   // inspect this point (on the face containing it)
+    std::optional<std::array<double, 2>> pixel;  // or the point under this pixel
+    std::optional<Camera> camera;                // else the scene's, else fitted
+    std::filesystem::path out;                   // the screenshot (PNG)
+    std::filesystem::path stateOut;              // optional: the UI state (JSON)
+    std::filesystem::path previewOut;            // optional: the preview image alone (PNG)
+    // Start the precompute of every pair and draw frames until it ends, recording the frame
+    // times (state JSON "precomputeFrames").
+    bool precompute = false;
+    // Run the "Accuracy vs time" study of the view and draw frames until it ends: the panel is
+    // in the screenshot and the study in the state JSON ("accuracy").
+    bool accuracy = false;
+    ViewerOptions viewer;
+};
+
+// Throws cli::CommandError for bad input (scene, point, pixel) and std::runtime_error when the
+// GL backend cannot start (its message says why).
+void runHeadless(const HeadlessOptions& options);
+
+}  // namespace penumbra::viewer

@@ -1,0 +1,121 @@
+#include "app/viewer/gl/scene_renderer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat4x4.hpp>
+#include <numbers>
+
+namespace penumbra::viewer {
+
+std::array<float, 16> viewProjection(const Camera& camera, int width, int height,
+                                     double nearDistance, double farDistance) {
+    Vec3 right, trueUp, forward;
+    camera.frame(right, trueUp, forward);
+    // Built in double: scene coordinates can be large (the Cornell box is ~550 units).
+    const glm::dvec3 eye(camera.eye.x, camera.eye.y, camera.eye.z);
+    const glm::dvec3 f(forward.x, forward.y, forward.z);
+    const glm::dvec3 u(trueUp.x, trueUp.y, trueUp.z);
+    const glm::dmat4 view = glm::lookAt(eye, eye + f, u);
+    const glm::dmat4 projection = glm::perspective(camera.fovYDegrees * std::numbers::pi / 180.0,
+                                                   static_cast<double>(width) / std::max(height, 1),
+                                                   nearDistance, farDistance);
+    const glm::mat4 m(projection * view);
+    std::array<float, 16> out{};
+    std::copy(glm::value_ptr(m), glm::value_ptr(m) + 16, out.begin());
+    return out;
+}
+
+SceneRenderer::SceneRenderer()
+    : meshProgram_("mesh.vert", "mesh.frag"),
+      overlayProgram_("overlay.vert", "overlay.frag"),
+      mesh_({3, 3, 3, 1}),
+      fragments_({3, 4}),
+      lines_({3, 4}),
+      linesOnTop_({3, 4}) {}
+
+void SceneRenderer::setScene(const Scene& scene) {
+    std::vector<float> data;
+    const vis::PolygonMesh& mesh = scene.mesh;
+    for (uint32_t f = 0; f < scene.faceCount(); ++f) {
+        const auto face = mesh.face(f);
+        if (face.size() < 3) continue;
+        const Material& m = scene.material(f);
+        const Vec3 n = normalize(mesh.faceAreaNormal(f));
+        Vec3 colour = m.kd;
+        float emissive = 0;
+        if (m.isEmissive()) {
+            // The light's colour, normalised so that its brightest channel is 1.
+            const double top = std::max({m.ke.x, m.ke.y, m.ke.z});
+            colour = m.ke / top;
+            emissive = 1;
+        }
+        for (size_t j = 1; j + 1 < face.size(); ++j) {
+            for (const uint32_t v : {face[0], face[j], face[j + 1]}) {
+                const Vec3 p = mesh.vertices[v];
+                data.insert(data.end(), {static_cast<float>(p.x), static_cast<float>(p.y),
+                                         static_cast<float>(p.z), static_cast<float>(n.x),
+                                         static_cast<float>(n.y), static_cast<float>(n.z),
+                                         static_cast<float>(colour.x), static_cast<float>(colour.y),
+                                         static_cast<float>(colour.z), emissive});
+            }
+        }
+    }
+    mesh_.upload(data);
+    setOverlay({});
+}
+
+void SceneRenderer::setOverlay(const OverlayGeometry& overlay) {
+    fragments_.upload(overlay.fragmentTriangles);
+    lines_.upload(overlay.lines);
+    linesOnTop_.upload(overlay.linesOnTop);
+}
+
+void SceneRenderer::draw(const OrbitCamera& orbit, const vis::Bounds3& sceneBox, const Viewport& vp,
+                         int framebufferHeight) const {
+    const int glY = framebufferHeight - (vp.y + vp.height);
+    glViewport(vp.x, glY, vp.width, vp.height);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(vp.x, glY, vp.width, vp.height);
+    glClearColor(kBackground.r / 255.0f, kBackground.g / 255.0f, kBackground.b / 255.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glDisable(GL_SCISSOR_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LEQUAL);
+    glDepthMask(GL_TRUE);
+
+    double nearDistance = 0, farDistance = 1;
+    orbit.clipRange(sceneBox, nearDistance, farDistance);
+    const Camera& camera = orbit.camera();
+    const std::array<float, 16> m =
+        viewProjection(camera, vp.width, vp.height, nearDistance, farDistance);
+
+    meshProgram_.use();
+    meshProgram_.setMatrix("uViewProjection", m.data());
+    meshProgram_.setVec3("uEye", static_cast<float>(camera.eye.x), static_cast<float>(camera.eye.y),
+                         static_cast<float>(camera.eye.z));
+    mesh_.draw(GL_TRIANGLES);
+
+    overlayProgram_.use();
+    overlayProgram_.setMatrix("uViewProjection", m.data());
+    // The fragments lie in the light's plane: pulled forward a little to win the depth test, and
+    // drawn only from the light's emitting side (they are counter-clockwise seen from there), so
+    // that they never show through a ceiling seen from above.
+    glEnable(GL_POLYGON_OFFSET_FILL);
+    glPolygonOffset(-1.0f, -2.0f);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
+    fragments_.draw(GL_TRIANGLES);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_POLYGON_OFFSET_FILL);
+    lines_.draw(GL_LINES);
+    glDisable(GL_DEPTH_TEST);
+    linesOnTop_.draw(GL_LINES);
+    glUseProgram(0);
+}
+
+}  // namespace penumbra::viewer

@@ -1,0 +1,395 @@
+#include "engine/io/gltf_io.h"
+
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "engine/scene/affine3.h"
+#include "engine/scene/scene_validation.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Images are not needed: accept them undecoded.
+bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
+               const unsigned char*, int, void*) {
+    return true;
+}
+
+// Where a face came from, for messages.
+struct PrimitiveRange {
+    uint32_t firstFace;
+    int node, mesh, primitive;
+};
+
+class GltfReader {
+  public:
+    GltfReader(const tinygltf::Model& model, std::string file, Scene& scene)
+        : model_(model), file_(std::move(file)), scene_(scene) {}
+
+    void read() {
+        readMaterials();
+        std::vector<int> roots;
+        if (!model_.scenes.empty()) {
+            const int s = model_.defaultScene >= 0 ? model_.defaultScene : 0;
+            if (s >= static_cast<int>(model_.scenes.size()))
+                fail("scene " + std::to_string(s) + " does not exist");
+            roots = model_.scenes[static_cast<size_t>(s)].nodes;
+        } else {
+            std::vector<bool> isChild(model_.nodes.size(), false);
+            for (const tinygltf::Node& n : model_.nodes)
+                for (int c : n.children)
+                    if (c >= 0 && static_cast<size_t>(c) < isChild.size())
+                        isChild[static_cast<size_t>(c)] = true;
+            for (size_t i = 0; i < model_.nodes.size(); ++i)
+                if (!isChild[i]) roots.push_back(static_cast<int>(i));
+        }
+        visited_.assign(model_.nodes.size(), false);
+        for (int r : roots) visit(r, Affine3{}, "scene root");
+    }
+
+    const std::vector<PrimitiveRange>& ranges() const { return ranges_; }
+
+  private:
+    [[noreturn]] void fail(const std::string& why) const { throw makeSceneError(file_, 0, why); }
+
+    static double number(const std::vector<double>& v, size_t i, double fallback) {
+        return i < v.size() ? v[i] : fallback;
+    }
+
+    void readMaterials() {
+        for (size_t i = 0; i < model_.materials.size(); ++i) {
+            const tinygltf::Material& g = model_.materials[i];
+            const std::string where = "material " + std::to_string(i);
+            const tinygltf::PbrMetallicRoughness& pbr = g.pbrMetallicRoughness;
+            const Vec3 base{number(pbr.baseColorFactor, 0, 1), number(pbr.baseColorFactor, 1, 1),
+                            number(pbr.baseColorFactor, 2, 1)};
+            const double metallic = pbr.metallicFactor;
+            const double roughness = std::max(pbr.roughnessFactor, 0.01);
+            double strength = 1;
+            const auto ext = g.extensions.find("KHR_materials_emissive_strength");
+            if (ext != g.extensions.end() && ext->second.Has("emissiveStrength")) {
+                const tinygltf::Value& v = ext->second.Get("emissiveStrength");
+                if (!v.IsNumber()) fail(where + ": emissiveStrength is not a number");
+                strength = v.GetNumberAsDouble();
+            }
+            const Vec3 emissive{number(g.emissiveFactor, 0, 0), number(g.emissiveFactor, 1, 0),
+                                number(g.emissiveFactor, 2, 0)};
+            Material m;
+            m.name = g.name.empty() ? "gltf_material_" + std::to_string(i) : g.name;
+            m.kd = base * (1 - metallic);
+            m.ks = Vec3{0.04, 0.04, 0.04} * (1 - metallic) + base * metallic;
+            m.ns = 2 / std::pow(roughness, 4) - 2;
+            m.ke = emissive * strength;
+            for (const Vec3& c : {base, emissive, m.kd, m.ks, m.ke}) {
+                if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) || c.x < 0 ||
+                    c.y < 0 || c.z < 0) {
+                    fail(where + ": colour factors must be finite and non-negative");
+                }
+            }
+            if (!(metallic >= 0 && metallic <= 1) ||
+                !(pbr.roughnessFactor >= 0 && pbr.roughnessFactor <= 1) || !(strength >= 0) ||
+                !std::isfinite(strength)) {
+                fail(where + ": metallic and roughness must lie in [0, 1], emissiveStrength >= 0");
+            }
+            scene_.materials.push_back(m);
+        }
+    }
+
+    Affine3 localTransform(const tinygltf::Node& n, const std::string& where) const {
+        Affine3 a;
+        if (!n.matrix.empty()) {
+            if (n.matrix.size() != 16) fail(where + ": matrix must have 16 numbers");
+            // Column-major 4x4.
+            for (int r = 0; r < 3; ++r)
+                for (int c = 0; c < 4; ++c) a.m[r][c] = n.matrix[static_cast<size_t>(c * 4 + r)];
+            if (n.matrix[3] != 0 || n.matrix[7] != 0 || n.matrix[11] != 0 || n.matrix[15] != 1)
+                fail(where + ": matrix is not affine (its last row must be 0 0 0 1)");
+        } else {
+            if (!n.translation.empty() && n.translation.size() != 3)
+                fail(where + ": translation must have 3 numbers");
+            if (!n.rotation.empty() && n.rotation.size() != 4)
+                fail(where + ": rotation must have 4 numbers");
+            if (!n.scale.empty() && n.scale.size() != 3)
+                fail(where + ": scale must have 3 numbers");
+            Affine3 t, r, s;
+            if (!n.translation.empty())
+                t = Affine3::translation({n.translation[0], n.translation[1], n.translation[2]});
+            if (!n.rotation.empty()) {
+                const double len =
+                    std::sqrt(n.rotation[0] * n.rotation[0] + n.rotation[1] * n.rotation[1] +
+                              n.rotation[2] * n.rotation[2] + n.rotation[3] * n.rotation[3]);
+                if (!(len > 0) || !std::isfinite(len))
+                    fail(where + ": rotation is not a nonzero finite quaternion");
+                r = Affine3::quaternion(n.rotation[0], n.rotation[1], n.rotation[2], n.rotation[3]);
+            }
+            if (!n.scale.empty()) s = Affine3::scaling({n.scale[0], n.scale[1], n.scale[2]});
+            a = t * r * s;
+        }
+        if (!a.isFinite()) fail(where + ": non-finite transform");
+        return a;
+    }
+
+    void visit(int index, const Affine3& parent, const std::string& from) {
+        if (index < 0 || static_cast<size_t>(index) >= model_.nodes.size())
+            fail(from + ": node " + std::to_string(index) + " does not exist");
+        if (visited_[static_cast<size_t>(index)]) {
+            fail("node " + std::to_string(index) +
+                 " is reached twice (the node hierarchy must be a tree)");
+        }
+        visited_[static_cast<size_t>(index)] = true;
+        const tinygltf::Node& node = model_.nodes[static_cast<size_t>(index)];
+        const std::string where = "node " + std::to_string(index);
+        const Affine3 world = parent * localTransform(node, where);
+        const double det = world.determinant();
+        if (node.mesh >= 0) {
+            if (static_cast<size_t>(node.mesh) >= model_.meshes.size())
+                fail(where + ": mesh " + std::to_string(node.mesh) + " does not exist");
+            if (!(det != 0)) fail(where + ": singular transform (determinant 0)");
+            const tinygltf::Mesh& mesh = model_.meshes[static_cast<size_t>(node.mesh)];
+            for (size_t p = 0; p < mesh.primitives.size(); ++p)
+                readPrimitive(index, node.mesh, static_cast<int>(p), world, det < 0);
+        } else if (node.mesh < -1) {
+            fail(where + ": mesh " + std::to_string(node.mesh) + " does not exist");
+        }
+        if (node.camera >= 0 && !scene_.camera) readCamera(node, world, where);
+        for (int c : node.children) visit(c, world, where);
+    }
+
+    void readCamera(const tinygltf::Node& node, const Affine3& world, const std::string& where) {
+        if (static_cast<size_t>(node.camera) >= model_.cameras.size())
+            fail(where + ": camera " + std::to_string(node.camera) + " does not exist");
+        const tinygltf::Camera& c = model_.cameras[static_cast<size_t>(node.camera)];
+        if (c.type != "perspective") {
+            scene_.warnings.push_back(file_ + ": " + where + ": " + c.type +
+                                      " camera ignored (only perspective cameras are used)");
+            return;
+        }
+        const double fov = c.perspective.yfov * 180 / kPi;
+        if (!(fov > 0 && fov < 180)) fail(where + ": camera yfov must lie in (0, pi)");
+        Camera cam;
+        cam.eye = world.point({0, 0, 0});
+        const Vec3 forward = vis::normalize(world.vector({0, 0, -1}));
+        const Vec3 up = vis::normalize(world.vector({0, 1, 0}));
+        if (forward == Vec3{} || up == Vec3{}) fail(where + ": degenerate camera transform");
+        cam.target = cam.eye + forward;
+        cam.up = up;
+        cam.fovYDegrees = fov;
+        scene_.camera = cam;
+    }
+
+    // The bytes of accessor `a`: element i starts at base + i * stride and has elementSize bytes.
+    struct View {
+        const unsigned char* base = nullptr;
+        size_t stride = 0;
+        size_t count = 0;
+    };
+
+    View accessorView(int a, int componentType, int type, size_t elementSize,
+                      const std::string& where) const {
+        if (a < 0 || static_cast<size_t>(a) >= model_.accessors.size())
+            fail(where + ": accessor " + std::to_string(a) + " does not exist");
+        const tinygltf::Accessor& acc = model_.accessors[static_cast<size_t>(a)];
+        const std::string what = where + " (accessor " + std::to_string(a) + ")";
+        if (acc.sparse.isSparse) fail(what + ": sparse accessors are not supported");
+        if (acc.componentType != componentType || acc.type != type)
+            fail(what + ": unexpected component type or element type");
+        if (acc.bufferView < 0 || static_cast<size_t>(acc.bufferView) >= model_.bufferViews.size())
+            fail(what + ": buffer view " + std::to_string(acc.bufferView) + " does not exist");
+        const tinygltf::BufferView& bv = model_.bufferViews[static_cast<size_t>(acc.bufferView)];
+        if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= model_.buffers.size())
+            fail(what + ": buffer " + std::to_string(bv.buffer) + " does not exist");
+        const tinygltf::Buffer& buffer = model_.buffers[static_cast<size_t>(bv.buffer)];
+        if (bv.byteOffset > buffer.data.size() ||
+            bv.byteLength > buffer.data.size() - bv.byteOffset)
+            fail(what + ": buffer view reaches past the end of its buffer (" +
+                 std::to_string(buffer.data.size()) + " bytes)");
+        const size_t stride = bv.byteStride == 0 ? elementSize : bv.byteStride;
+        if (stride < elementSize) fail(what + ": byteStride smaller than an element");
+        View view;
+        view.count = acc.count;
+        view.stride = stride;
+        if (acc.count > 0) {
+            // Needs byteOffset + (count - 1) * stride + elementSize <= byteLength, without
+            // overflow.
+            const size_t avail =
+                acc.byteOffset <= bv.byteLength ? bv.byteLength - acc.byteOffset : 0;
+            if (avail < elementSize || (acc.count - 1) > (avail - elementSize) / stride) {
+                fail(what + ": " + std::to_string(acc.count) +
+                     " elements reach past the end of the buffer view (" +
+                     std::to_string(bv.byteLength) + " bytes)");
+            }
+        }
+        view.base = buffer.data.data() + bv.byteOffset + acc.byteOffset;
+        return view;
+    }
+
+    void readPrimitive(int nodeIndex, int meshIndex, int p, const Affine3& world, bool flip) {
+        const tinygltf::Primitive& prim =
+            model_.meshes[static_cast<size_t>(meshIndex)].primitives[static_cast<size_t>(p)];
+        const std::string where = "node " + std::to_string(nodeIndex) + " mesh " +
+                                  std::to_string(meshIndex) + " primitive " + std::to_string(p);
+        const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+        if (mode < TINYGLTF_MODE_TRIANGLES || mode > TINYGLTF_MODE_TRIANGLE_FAN) {
+            if (mode >= 0 && mode < TINYGLTF_MODE_TRIANGLES) {
+                scene_.warnings.push_back(file_ + ": " + where +
+                                          ": point/line primitive skipped (no faces)");
+                return;
+            }
+            fail(where + ": unknown mode " + std::to_string(mode));
+        }
+        const auto pos = prim.attributes.find("POSITION");
+        if (pos == prim.attributes.end()) fail(where + ": no POSITION attribute");
+        const View positions = accessorView(pos->second, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                            TINYGLTF_TYPE_VEC3, 12, where + " POSITION");
+        if (prim.material < -1 || prim.material >= static_cast<int>(scene_.materials.size()))
+            fail(where + ": material " + std::to_string(prim.material) + " does not exist");
+
+        std::vector<uint32_t> indices;
+        if (prim.indices >= 0) {
+            const std::string iw = where + " indices";
+            if (static_cast<size_t>(prim.indices) >= model_.accessors.size())
+                fail(iw + ": accessor " + std::to_string(prim.indices) + " does not exist");
+            const int ct = model_.accessors[static_cast<size_t>(prim.indices)].componentType;
+            const size_t size = ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
+                                : ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
+                                : ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT   ? 4
+                                                                               : 0;
+            if (size == 0)
+                fail(iw + ": indices must be UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
+            const View view = accessorView(prim.indices, ct, TINYGLTF_TYPE_SCALAR, size, iw);
+            indices.resize(view.count);
+            for (size_t i = 0; i < view.count; ++i) {
+                const unsigned char* e = view.base + i * view.stride;
+                uint32_t v = 0;
+                if (size == 1) {
+                    v = e[0];
+                } else if (size == 2) {
+                    uint16_t s;
+                    std::memcpy(&s, e, 2);
+                    v = s;
+                } else {
+                    std::memcpy(&v, e, 4);
+                }
+                if (v >= positions.count) {
+                    fail(iw + ": index " + std::to_string(i) + " is " + std::to_string(v) +
+                         ", out of range (POSITION has " + std::to_string(positions.count) +
+                         " elements)");
+                }
+                indices[i] = v;
+            }
+        } else {
+            if (positions.count > kMaxSceneElements) fail(where + ": too many vertices");
+            indices.resize(positions.count);
+            for (size_t i = 0; i < positions.count; ++i) indices[i] = static_cast<uint32_t>(i);
+        }
+
+        const size_t offset = scene_.mesh.vertices.size();
+        if (offset + positions.count > kMaxSceneElements) fail(where + ": too many vertices");
+        for (size_t i = 0; i < positions.count; ++i) {
+            float f[3];
+            std::memcpy(f, positions.base + i * positions.stride, sizeof f);
+            if (!std::isfinite(f[0]) || !std::isfinite(f[1]) || !std::isfinite(f[2]))
+                fail(where + ": POSITION " + std::to_string(i) + ": non-finite coordinate");
+            scene_.mesh.vertices.push_back(world.point({f[0], f[1], f[2]}));
+        }
+
+        ranges_.push_back(
+            {static_cast<uint32_t>(scene_.mesh.faces.size()), nodeIndex, meshIndex, p});
+        const auto add = [&](uint32_t a, uint32_t b, uint32_t c) {
+            const auto o = static_cast<uint32_t>(offset);
+            if (flip) std::swap(b, c);
+            scene_.mesh.faces.push_back({a + o, b + o, c + o});
+            scene_.faceMaterial.push_back(prim.material);
+        };
+        const size_t n = indices.size();
+        if (mode == TINYGLTF_MODE_TRIANGLES) {
+            if (n % 3 != 0) {
+                fail(where + ": " + std::to_string(n) +
+                     " vertices, not a multiple of 3 (TRIANGLES)");
+            }
+            for (size_t i = 0; i + 2 < n; i += 3) add(indices[i], indices[i + 1], indices[i + 2]);
+        } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+            // Every other triangle of a strip is reversed so that all keep the first's winding.
+            for (size_t i = 0; i + 2 < n; ++i) {
+                if (i % 2 == 0)
+                    add(indices[i], indices[i + 1], indices[i + 2]);
+                else
+                    add(indices[i + 1], indices[i], indices[i + 2]);
+            }
+        } else {
+            for (size_t i = 1; i + 1 < n; ++i) add(indices[0], indices[i], indices[i + 1]);
+        }
+        if (scene_.mesh.faces.size() > kMaxSceneElements) fail(where + ": too many faces");
+    }
+
+    const tinygltf::Model& model_;
+    std::string file_;
+    Scene& scene_;
+    std::vector<bool> visited_;
+    std::vector<PrimitiveRange> ranges_;
+};
+
+}  // namespace
+
+Scene loadGltf(const fs::path& path, DegenerateFaces degenerate) {
+    const std::string file = path.string();
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw makeSceneError(file, 0, "cannot open file");
+    const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) throw makeSceneError(file, 0, "cannot read file");
+    if (data.empty()) throw makeSceneError(file, 0, "empty file");
+    if (data.size() > 0x7fffffffu) throw makeSceneError(file, 0, "file too large for tinygltf");
+
+    tinygltf::TinyGLTF loader;
+    loader.SetImageLoader(skipImage, nullptr);
+    tinygltf::Model model;
+    std::string err, warn;
+    const std::string baseDir = path.parent_path().string();
+    const bool binary = data.compare(0, 4, "glTF") == 0;
+    const bool ok =
+        binary ? loader.LoadBinaryFromMemory(&model, &err, &warn,
+                                             reinterpret_cast<const unsigned char*>(data.data()),
+                                             static_cast<unsigned int>(data.size()), baseDir)
+               : loader.LoadASCIIFromString(&model, &err, &warn, data.data(),
+                                            static_cast<unsigned int>(data.size()), baseDir);
+    if (!ok) {
+        while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
+        throw makeSceneError(file, 0,
+                             std::string(binary ? "GLB" : "glTF") + ": " +
+                                 (err.empty() ? "tinygltf could not parse the file" : err));
+    }
+
+    Scene scene;
+    scene.sourcePath = file;
+    GltfReader reader(model, file, scene);
+    reader.read();
+    if (scene.mesh.faces.empty())
+        throw makeSceneError(file, 0, "no faces (no triangle primitives)");
+    const std::vector<PrimitiveRange> ranges = reader.ranges();
+    const FaceNamer namer = [ranges](uint32_t f) {
+        const auto it = std::upper_bound(
+            ranges.begin(), ranges.end(), f,
+            [](uint32_t face, const PrimitiveRange& r) { return face < r.firstFace; });
+        const PrimitiveRange& r = *(it - 1);
+        return "node " + std::to_string(r.node) + " mesh " + std::to_string(r.mesh) +
+               " primitive " + std::to_string(r.primitive) + " triangle " +
+               std::to_string(f - r.firstFace);
+    };
+    while (!warn.empty() && (warn.back() == '\n' || warn.back() == ' ')) warn.pop_back();
+    if (!warn.empty()) scene.warnings.push_back(file + ": tinygltf: " + warn);
+    checkLoadedFaces(scene, degenerate, namer);
+    return scene;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,42 @@
+// glTF 2.0 scenes (.gltf with embedded or external buffers, .glb), parsed by tinygltf.
+//
+// What is read:
+//   - the default scene (`scene`, else scene 0; a file without scenes uses every root node), its
+//     node hierarchy walked from the roots; a node's transform is its `matrix` (must be affine) or
+//     translation * rotation * scale, composed with its parents'. A node reached twice (a cycle
+//     or a shared child) is an error;
+//   - every mesh primitive of mode TRIANGLES (4, also the default), TRIANGLE_STRIP (5) or
+//     TRIANGLE_FAN (6), indexed (UNSIGNED_BYTE/SHORT/INT indices) or not, from its POSITION
+//     accessor (FLOAT VEC3). Point and line primitives are skipped with a warning. Every triangle
+//     becomes one face; each primitive instance gets its own vertices. A node whose world
+//     transform has a negative determinant has its triangles' vertex order reversed, so they stay
+//     counter-clockwise seen from the front (glTF's rule);
+//   - materials, all of them in file order (primitive material -1 is Scene's default material):
+//     kd = base (1 - metallic), ks = mix(0.04, base, metallic), ns = 2 / roughness^4 - 2 (roughness
+//     clamped to at least 0.01), base = baseColorFactor.rgb; ke = emissiveFactor times
+//     KHR_materials_emissive_strength.emissiveStrength (default 1). A nonzero ke makes every
+//     triangle with that material an area light. Textures are ignored (images are not decoded);
+//   - the first node (in traversal order) that holds a perspective camera becomes Scene::camera:
+//     eye at the node's origin, looking down its -Z axis, up its +Y axis, fov_y = yfov. An
+//     orthographic camera is ignored with a warning.
+// Errors are SceneErrors naming the file and the element: tinygltf's own parse errors, an
+// accessor that is sparse, of the wrong type or reaches past its buffer view or buffer, an index
+// out of range of the POSITION accessor, a non-finite position ("node 2 mesh 0 primitive 1:
+// POSITION 7: non-finite coordinate"), a triangle count not divisible by 3. Faces are checked
+// by checkLoadedFaces (engine/scene/face_check.h) and named "node N mesh M primitive P triangle T".
+#pragma once
+
+#include <filesystem>
+
+#include "engine/scene/face_check.h"
+#include "engine/scene/scene.h"
+#include "engine/scene/scene_error.h"
+
+namespace penumbra {
+
+// Reads a .gltf or .glb file (binary when it starts with the GLB magic "glTF"); external buffers
+// are resolved relative to the file's directory.
+Scene loadGltf(const std::filesystem::path& path,
+               DegenerateFaces degenerate = DegenerateFaces::kReject);
+
+}  // namespace penumbra

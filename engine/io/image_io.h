@@ -1,0 +1,22 @@
+// Image output of the renderer: tone mapping and file writing (writePfm / writePng are declared in
+// renderer.h next to Film, and implemented in image_io.cpp).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "engine/render/renderer.h"
+
+namespace penumbra {
+
+// The film's mean radiance times `exposure`, clamped to [0, 1] and encoded with the sRGB transfer
+// curve, 8 bits per channel, RGB, rows from the top. Non-finite values become 0.
+std::vector<uint8_t> toSrgb8(const Film& film, double exposure = 1.0);
+
+// A PNG file's bytes: `pixels` holds width * height * channels bytes (1 to 4 channels), rows from
+// the top. Throws std::runtime_error when the image cannot be encoded.
+std::string encodePng(int width, int height, int channels, const uint8_t* pixels);
+
+}  // namespace penumbra

@@ -1,0 +1,716 @@
+#include "engine/io/obj_io.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <random>
+#include <string>
+#include <system_error>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "engine/io/atomic_file.h"
+#include "engine/scene/face_check.h"
+#include "engine/scene/scene_validation.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---- text helpers -------------------------------------------------------------------------------
+
+bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
+
+std::string_view trim(std::string_view s) {
+    while (!s.empty() && isBlank(s.front())) s.remove_prefix(1);
+    while (!s.empty() && isBlank(s.back())) s.remove_suffix(1);
+    return s;
+}
+
+std::string_view stripComment(std::string_view s) {
+    const size_t hash = s.find('#');
+    return hash == std::string_view::npos ? s : s.substr(0, hash);
+}
+
+bool equalsIgnoreCase(std::string_view a, std::string_view b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i) {
+        const auto lower = [](char c) { return c >= 'A' && c <= 'Z' ? char(c - 'A' + 'a') : c; };
+        if (lower(a[i]) != lower(b[i])) return false;
+    }
+    return true;
+}
+
+// The token as it should appear in a message: quoted, at most 40 characters, bytes outside
+// printable ASCII as \xNN.
+std::string quoteForMessage(std::string_view s) {
+    std::string out = "'";
+    const size_t limit = 40;
+    for (size_t i = 0; i < s.size() && i < limit; ++i) {
+        const auto c = static_cast<unsigned char>(s[i]);
+        if (c >= 0x20 && c < 0x7f) {
+            out += static_cast<char>(c);
+        } else {
+            char buf[8];
+            std::snprintf(buf, sizeof buf, "\\x%02x", c);
+            out += buf;
+        }
+    }
+    if (s.size() > limit) out += "...";
+    out += '\'';
+    return out;
+}
+
+// Whitespace-separated tokens of one line.
+class Tokens {
+  public:
+    explicit Tokens(std::string_view s) : rest_(s) {}
+    bool next(std::string_view& token) {
+        rest_ = trim(rest_);
+        if (rest_.empty()) return false;
+        size_t end = 0;
+        while (end < rest_.size() && !isBlank(rest_[end])) ++end;
+        token = rest_.substr(0, end);
+        rest_.remove_prefix(end);
+        return true;
+    }
+    std::string_view rest() const { return trim(rest_); }
+
+  private:
+    std::string_view rest_;
+};
+
+// A place in a file, to throw from.
+struct Where {
+    const std::string& file;
+    int64_t line;
+    [[noreturn]] void fail(std::string_view message) const {
+        throw makeSceneError(file, line, message);
+    }
+};
+
+// ---- lines --------------------------------------------------------------------------------------
+
+// Splits text into logical lines: LF, CRLF and CR end a line; a line ending in a backslash (and
+// without a comment) continues on the next one. Rejects control bytes other than tab, VT and FF
+// (binary data).
+class LineReader {
+  public:
+    // Rejects binary data up front, so that a binary file is reported as such rather than by
+    // whatever its first bytes happen to look like.
+    LineReader(std::string_view text, const std::string& file) : text_(text) {
+        if (text_.substr(0, 3) == "\xEF\xBB\xBF") text_.remove_prefix(3);
+        int64_t line = 1;
+        size_t lineStart = 0;
+        for (size_t i = 0; i < text_.size(); ++i) {
+            const auto c = static_cast<unsigned char>(text_[i]);
+            if (c == '\n' || c == '\r') {
+                if (c == '\r' && i + 1 < text_.size() && text_[i + 1] == '\n') ++i;
+                ++line;
+                lineStart = i + 1;
+            } else if ((c < 0x20 && c != '\t' && c != '\v' && c != '\f') || c == 0x7f) {
+                char buf[80];
+                std::snprintf(buf, sizeof buf,
+                              "binary data (byte 0x%02x at column %zu); not a text file", c,
+                              i - lineStart + 1);
+                throw makeSceneError(file, line, buf);
+            }
+        }
+    }
+
+    // Advances to the next logical line; false at the end of the text.
+    bool next() {
+        if (pos_ >= text_.size()) return false;
+        lineNumber_ = physicalLine_ + 1;
+        joined_.clear();
+        bool continued = false;
+        while (true) {
+            std::string_view physical = readPhysical();
+            // A backslash inside a comment ("# C:\\dir\\") continues nothing.
+            const bool hasComment = physical.find('#') != std::string_view::npos;
+            if (!hasComment && !physical.empty() && physical.back() == '\\') {
+                joined_.append(physical.substr(0, physical.size() - 1));
+                joined_ += ' ';
+                continued = true;
+                if (pos_ < text_.size()) continue;
+                current_ = joined_;
+                return true;
+            }
+            if (continued) {
+                joined_.append(physical);
+                current_ = joined_;
+            } else {
+                current_ = physical;
+            }
+            return true;
+        }
+    }
+
+    std::string_view line() const { return current_; }
+    int64_t lineNumber() const { return lineNumber_; }
+
+  private:
+    std::string_view readPhysical() {
+        ++physicalLine_;
+        const size_t start = pos_;
+        size_t end = start;
+        while (end < text_.size() && text_[end] != '\n' && text_[end] != '\r') ++end;
+        pos_ = end;
+        if (pos_ < text_.size()) {
+            if (text_[pos_] == '\r' && pos_ + 1 < text_.size() && text_[pos_ + 1] == '\n') ++pos_;
+            ++pos_;
+        }
+        return text_.substr(start, end - start);
+    }
+
+    std::string_view text_;
+    size_t pos_ = 0;
+    int64_t physicalLine_ = 0;
+    int64_t lineNumber_ = 0;
+    std::string_view current_;
+    std::string joined_;
+};
+
+// ---- numbers ------------------------------------------------------------------------------------
+
+// A leading '+' is accepted (from_chars does not take one).
+std::string_view withoutPlus(std::string_view s) {
+    if (s.size() > 1 && s[0] == '+' && s[1] != '+' && s[1] != '-') s.remove_prefix(1);
+    return s;
+}
+
+// The whole token as a finite double.
+double parseNumber(std::string_view token, const Where& where, std::string_view what) {
+    const std::string_view s = withoutPlus(token);
+    double value = 0;
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+    if (ec == std::errc::result_out_of_range) {
+        where.fail(std::string(what) + ": number " + quoteForMessage(token) +
+                   " out of range for a double");
+    }
+    if (ec != std::errc() || end != s.data() + s.size()) {
+        where.fail(std::string(what) + ": malformed number " + quoteForMessage(token));
+    }
+    if (!std::isfinite(value)) {
+        where.fail(std::string(what) + ": non-finite number " + quoteForMessage(token) +
+                   " (NaN and infinity are not allowed)");
+    }
+    return value;
+}
+
+// The whole token as an integer; nullopt when it is not one (or too large for int64).
+std::optional<int64_t> parseInteger(std::string_view token) {
+    const std::string_view s = withoutPlus(token);
+    int64_t value = 0;
+    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+    if (ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
+    return value;
+}
+
+std::string fmt17(double x) {
+    // Same digits as printf("%.17g"), but independent of the C locale.
+    char buf[40];
+    const auto [end, ec] = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::general, 17);
+    return ec == std::errc() ? std::string(buf, end) : std::string("nan");
+}
+
+// ---- files --------------------------------------------------------------------------------------
+
+struct FileCloser {
+    void operator()(std::FILE* f) const { std::fclose(f); }
+};
+using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
+
+std::string errnoMessage(int err) {
+    return std::error_code(err, std::generic_category()).message();
+}
+
+// Reads a whole file; on failure returns nullopt and says why.
+std::optional<std::string> readFile(const fs::path& path, std::string& why) {
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) {
+        why = "is a directory";
+        return std::nullopt;
+    }
+    FilePtr file(std::fopen(path.c_str(), "rb"));
+    if (!file) {
+        why = errnoMessage(errno);
+        return std::nullopt;
+    }
+    std::string text;
+    char buf[1 << 16];
+    size_t n = 0;
+    while ((n = std::fread(buf, 1, sizeof buf, file.get())) > 0) text.append(buf, n);
+    if (std::ferror(file.get())) {
+        why = "read error: " + errnoMessage(errno);
+        return std::nullopt;
+    }
+    return text;
+}
+
+// ---- MTL ----------------------------------------------------------------------------------------
+
+struct MaterialTable {
+    std::vector<Material> materials;
+    std::unordered_map<std::string, int32_t> byName;
+};
+
+Vec3 parseColor(Tokens& tokens, const Where& where, std::string_view key) {
+    std::vector<std::string_view> parts;
+    std::string_view token;
+    while (tokens.next(token)) parts.push_back(token);
+    if (!parts.empty() &&
+        (equalsIgnoreCase(parts[0], "spectral") || equalsIgnoreCase(parts[0], "xyz"))) {
+        where.fail(std::string(key) + ": " + std::string(parts[0]) +
+                   " colours are not supported (give r g b)");
+    }
+    if (parts.size() != 1 && parts.size() != 3) {
+        where.fail(std::string(key) + ": expected 1 or 3 numbers, got " +
+                   std::to_string(parts.size()));
+    }
+    double c[3];
+    for (size_t i = 0; i < 3; ++i) {
+        const std::string_view part = parts[parts.size() == 1 ? 0 : i];
+        c[i] = parseNumber(part, where, key);
+        if (c[i] < 0) where.fail(std::string(key) + ": negative value " + quoteForMessage(part));
+    }
+    return {c[0], c[1], c[2]};
+}
+
+void parseMtl(std::string_view text, const std::string& file, MaterialTable& table) {
+    LineReader lines(text, file);
+    int32_t current = -1;
+    while (lines.next()) {
+        const Where where{file, lines.lineNumber()};
+        const std::string_view content = stripComment(lines.line());
+        Tokens tokens(content);
+        std::string_view key;
+        if (!tokens.next(key)) continue;
+        if (equalsIgnoreCase(key, "newmtl")) {
+            const std::string name(tokens.rest());
+            if (name.empty()) where.fail("newmtl without a material name");
+            if (table.byName.count(name))
+                where.fail("material " + quoteForMessage(name) + " defined twice");
+            if (table.materials.size() >= kMaxSceneElements) where.fail("too many materials");
+            current = static_cast<int32_t>(table.materials.size());
+            table.byName.emplace(name, current);
+            Material m;
+            m.name = name;
+            table.materials.push_back(std::move(m));
+            continue;
+        }
+        const bool isKd = equalsIgnoreCase(key, "Kd"), isKs = equalsIgnoreCase(key, "Ks"),
+                   isKe = equalsIgnoreCase(key, "Ke"), isNs = equalsIgnoreCase(key, "Ns");
+        if (!isKd && !isKs && !isKe && !isNs) continue;  // Ka, Ni, d, Tr, illum, map_*, ...
+        if (current < 0) where.fail(quoteForMessage(key) + " before any newmtl");
+        Material& m = table.materials[static_cast<size_t>(current)];
+        if (isNs) {
+            std::string_view value;
+            if (!tokens.next(value)) where.fail("Ns: missing value");
+            m.ns = parseNumber(value, where, "Ns");
+            if (m.ns < 0) where.fail("Ns: negative value " + quoteForMessage(value));
+            std::string_view extra;
+            if (tokens.next(extra)) where.fail("Ns: unexpected " + quoteForMessage(extra));
+        } else {
+            (isKd ? m.kd : isKs ? m.ks : m.ke) = parseColor(tokens, where, key);
+        }
+    }
+}
+
+// ---- OBJ ----------------------------------------------------------------------------------------
+
+bool isIgnoredStatement(std::string_view k) {
+    static constexpr std::string_view kIgnored[] = {
+        "vt",       "vn",     "vp",     "o",          "g",         "s",
+        "l",        "p",      "mg",     "lod",        "bevel",     "c_interp",
+        "d_interp", "usemap", "maplib", "shadow_obj", "trace_obj", "csh"};
+    return std::find(std::begin(kIgnored), std::end(kIgnored), k) != std::end(kIgnored);
+}
+
+bool isFreeFormStatement(std::string_view k) {
+    static constexpr std::string_view kFreeForm[] = {
+        "cstype", "deg",  "bmat", "step", "curv", "curv2", "surf",  "parm",
+        "trim",   "hole", "scrv", "sp",   "end",  "con",   "ctech", "stech"};
+    return std::find(std::begin(kFreeForm), std::end(kFreeForm), k) != std::end(kFreeForm);
+}
+
+// Where MTL libraries come from: files next to the OBJ, or one text for all of them.
+struct MtlSource {
+    std::optional<std::string_view> text;  // set: every mtllib reads this text
+    fs::path directory;                    // the OBJ's directory (names resolve against it)
+};
+
+class ObjParser {
+  public:
+    ObjParser(const std::string& file, MtlSource mtl, DegenerateFaces degenerate)
+        : file_(file), mtl_(std::move(mtl)), degenerate_(degenerate) {}
+
+    Scene parse(std::string_view text) {
+        LineReader lines(text, file_);
+        while (lines.next()) statement(lines.line(), lines.lineNumber());
+        return finish();
+    }
+
+  private:
+    struct UseMtl {
+        std::string name;
+        int64_t line;
+    };
+
+    void statement(std::string_view raw, int64_t line) {
+        const Where where{file_, line};
+        const std::string_view content = stripComment(raw);
+        Tokens tokens(content);
+        std::string_view keyword;
+        if (!tokens.next(keyword)) return;
+        if (keyword == "v") {
+            vertex(tokens, where);
+        } else if (keyword == "f") {
+            face(tokens, where);
+        } else if (keyword == "usemtl") {
+            std::string name(tokens.rest());
+            if (name.empty()) where.fail("usemtl without a material name");
+            currentUseMtl_ = static_cast<int32_t>(useMtl_.size());
+            useMtl_.push_back({std::move(name), line});
+        } else if (keyword == "mtllib") {
+            mtllib(tokens, where);
+        } else if (isIgnoredStatement(keyword)) {
+            return;
+        } else if (isFreeFormStatement(keyword)) {
+            where.fail("free-form geometry (" + quoteForMessage(keyword) +
+                       ") is not supported; export polygons");
+        } else if (keyword == "call") {
+            where.fail("'call' is not supported; merge the files");
+        } else {
+            where.fail("unknown statement " + quoteForMessage(keyword));
+        }
+    }
+
+    [[noreturn]] static void failFace(const Where& where, size_t face, std::string_view message) {
+        where.fail("face " + std::to_string(face) + ": " + std::string(message));
+    }
+
+    void vertex(Tokens& tokens, const Where& where) {
+        if (scene_.mesh.vertices.size() >= kMaxSceneElements) {
+            where.fail("too many vertices (the limit is 2^30)");
+        }
+        double c[3] = {0, 0, 0};
+        size_t count = 0;
+        std::string_view token;
+        while (tokens.next(token)) {
+            if (count >= 7) where.fail("vertex: too many numbers (at most x y z w r g b)");
+            static constexpr std::string_view kWhat[] = {
+                "vertex coordinate 1", "vertex coordinate 2", "vertex coordinate 3", "vertex w",
+                "vertex colour 1",     "vertex colour 2",     "vertex colour 3"};
+            const double value = parseNumber(token, where, kWhat[count]);
+            if (count < 3) c[count] = value;
+            ++count;
+        }
+        if (count < 3) {
+            where.fail("vertex: too few coordinates (need 3, got " + std::to_string(count) + ")");
+        }
+        scene_.mesh.vertices.push_back({c[0], c[1], c[2]});
+    }
+
+    // One `v`, `v/vt`, `v//vn` or `v/vt/vn` reference; returns the 0-based vertex index, which for
+    // a positive index may still be out of range (checked at the end, against the whole file).
+    uint32_t faceVertex(std::string_view token, const Where& where, size_t faceIndex) {
+        const auto fail = [&](std::string_view message) { failFace(where, faceIndex, message); };
+        const auto malformed = [&] {
+            fail("malformed vertex reference " + quoteForMessage(token) +
+                 " (expected v, v/vt, v//vn or v/vt/vn)");
+        };
+        std::string_view parts[3];
+        size_t count = 0;
+        for (std::string_view rest = token;;) {
+            if (count == 3) malformed();
+            const size_t slash = rest.find('/');
+            parts[count++] = rest.substr(0, slash);
+            if (slash == std::string_view::npos) break;
+            rest.remove_prefix(slash + 1);
+        }
+        // v: parts[0]; v/vt: vt nonempty; v//vn and v/vt/vn: vn nonempty, vt may be empty.
+        if (parts[0].empty()) malformed();
+        if (count == 2 && parts[1].empty()) malformed();
+        if (count == 3 && parts[2].empty()) malformed();
+        for (size_t i = 1; i < count; ++i) {
+            if (parts[i].empty()) continue;
+            const std::optional<int64_t> other = parseInteger(parts[i]);
+            if (!other) malformed();
+            if (*other == 0) {
+                fail(std::string(i == 1 ? "texture" : "normal") +
+                     " index 0 is invalid (OBJ indices start at 1)");
+            }
+        }
+        const std::optional<int64_t> index = parseInteger(parts[0]);
+        if (!index) {
+            if (parts[0].find_first_not_of("+-0123456789") == std::string_view::npos &&
+                parts[0].find_first_of("0123456789") != std::string_view::npos &&
+                parts[0].find_first_of("+-", 1) == std::string_view::npos) {
+                fail("vertex index " + quoteForMessage(parts[0]) + " out of range");
+            }
+            malformed();
+        }
+        const int64_t i = *index;
+        const auto defined = static_cast<int64_t>(scene_.mesh.vertices.size());
+        if (i == 0) fail("vertex index 0 is invalid (OBJ indices start at 1)");
+        if (i < 0) {
+            if (i < -defined) {
+                fail("vertex index " + std::to_string(i) + " out of range (only " +
+                     std::to_string(defined) + " vertices defined before this line)");
+            }
+            return static_cast<uint32_t>(defined + i);
+        }
+        if (i > static_cast<int64_t>(kMaxSceneElements)) {
+            fail("vertex index " + std::to_string(i) +
+                 " out of range (more than the 2^30 vertex limit)");
+        }
+        return static_cast<uint32_t>(i - 1);
+    }
+
+    void face(Tokens& tokens, const Where& where) {
+        const size_t faceIndex = scene_.mesh.faces.size();
+        if (faceIndex >= kMaxSceneElements) where.fail("too many faces (the limit is 2^30)");
+        std::vector<uint32_t> indices;
+        std::string_view token;
+        while (tokens.next(token)) indices.push_back(faceVertex(token, where, faceIndex));
+        if (indices.size() < 3) {
+            failFace(where, faceIndex,
+                     "too few vertices (" + std::to_string(indices.size()) +
+                         "; a face needs at least 3)");
+        }
+        std::vector<uint32_t>& sorted = sortedScratch_;
+        sorted.assign(indices.begin(), indices.end());
+        std::sort(sorted.begin(), sorted.end());
+        const auto dup = std::adjacent_find(sorted.begin(), sorted.end());
+        // Under kDrop a repeated vertex is a degenerate face for checkLoadedFaces to drop.
+        if (dup != sorted.end() && degenerate_ == DegenerateFaces::kReject) {
+            failFace(where, faceIndex,
+                     "vertex " + std::to_string(*dup + 1ull) + " repeated (degenerate face)");
+        }
+        scene_.mesh.faces.push_back(std::move(indices));
+        scene_.faceSourceLine.push_back(
+            static_cast<int32_t>(std::min<int64_t>(where.line, INT32_MAX)));
+        faceUseMtl_.push_back(currentUseMtl_);
+    }
+
+    void mtllib(Tokens& tokens, const Where& where) {
+        const std::string_view whole = tokens.rest();
+        if (whole.empty()) where.fail("mtllib without a file name");
+        if (mtl_.text) {
+            // Every library is the one given text, read once.
+            if (!mtlTextRead_) {
+                mtlTextRead_ = true;
+                const std::string name = (mtl_.directory / fs::path(std::string(whole))).string();
+                parseMtl(*mtl_.text, name, table_);
+            }
+            return;
+        }
+        // The whole rest of the line when it names a file (names with spaces), else each name.
+        std::vector<std::string> names;
+        std::error_code ec;
+        if (fs::is_regular_file(mtl_.directory / fs::path(std::string(whole)), ec)) {
+            names.emplace_back(whole);
+        } else {
+            std::string_view name;
+            while (tokens.next(name)) names.emplace_back(name);
+        }
+        for (const std::string& name : names) {
+            const fs::path path = mtl_.directory / fs::path(name);
+            const std::string key = path.lexically_normal().string();
+            if (!mtlFilesRead_.insert(key).second) continue;
+            std::string why;
+            const std::optional<std::string> text = readFile(path, why);
+            if (!text) {
+                where.fail("mtllib: cannot read material library " + quoteForMessage(name) + " (" +
+                           path.string() + "): " + why);
+            }
+            parseMtl(*text, path.string(), table_);
+        }
+    }
+
+    Scene finish() {
+        // Deferred checks: positive indices against the whole file, usemtl names against all
+        // libraries. The earliest line wins.
+        int64_t errorLine = INT64_MAX;
+        std::string error;
+        const size_t nv = scene_.mesh.vertices.size();
+        for (size_t f = 0; f < scene_.mesh.faces.size(); ++f) {
+            for (uint32_t i : scene_.mesh.faces[f]) {
+                if (i >= nv) {
+                    errorLine = scene_.faceSourceLine[f];
+                    error = "face " + std::to_string(f) + ": vertex index " +
+                            std::to_string(i + 1ull) + " out of range (file has " +
+                            std::to_string(nv) + " vertices)";
+                    break;
+                }
+            }
+            if (errorLine != INT64_MAX) break;
+        }
+        std::vector<int32_t> useMtlMaterial(useMtl_.size(), -1);
+        for (size_t u = 0; u < useMtl_.size(); ++u) {
+            const auto it = table_.byName.find(useMtl_[u].name);
+            if (it != table_.byName.end()) {
+                useMtlMaterial[u] = it->second;
+            } else if (useMtl_[u].line < errorLine) {
+                errorLine = useMtl_[u].line;
+                error = "usemtl: unknown material " + quoteForMessage(useMtl_[u].name) + " (" +
+                        std::to_string(table_.materials.size()) + " materials defined" +
+                        (mtlFilesRead_.empty() && !mtlTextRead_ ? ", no mtllib" : "") + ")";
+            }
+        }
+        if (errorLine != INT64_MAX) throw makeSceneError(file_, errorLine, error);
+        if (scene_.mesh.faces.empty()) throw makeSceneError(file_, 0, "no faces");
+
+        scene_.sourcePath = file_;
+        scene_.materials = std::move(table_.materials);
+        scene_.faceMaterial.reserve(faceUseMtl_.size());
+        for (int32_t u : faceUseMtl_) {
+            scene_.faceMaterial.push_back(u < 0 ? -1 : useMtlMaterial[static_cast<size_t>(u)]);
+        }
+        checkLoadedFaces(scene_, degenerate_);
+        return std::move(scene_);
+    }
+
+    const std::string& file_;
+    MtlSource mtl_;
+    DegenerateFaces degenerate_;
+    Scene scene_;
+    MaterialTable table_;
+    std::vector<UseMtl> useMtl_;
+    std::vector<int32_t> faceUseMtl_;  // per face, index into useMtl_ or -1
+    int32_t currentUseMtl_ = -1;
+    std::unordered_set<std::string> mtlFilesRead_;
+    bool mtlTextRead_ = false;
+    std::vector<uint32_t> sortedScratch_;
+};
+
+// ---- writing ------------------------------------------------------------------------------------
+
+bool writableName(std::string_view name) {
+    if (name.empty() || name != trim(name)) return false;
+    for (char ch : name) {
+        const auto c = static_cast<unsigned char>(ch);
+        if (c < 0x20 || c == 0x7f || c == '#' || c == '\\') return false;
+    }
+    return true;
+}
+
+// Writes `text` to `target` atomically (engine/io/atomic_file.h); a failure is a SceneError
+// naming the file.
+void writeAtomically(const fs::path& target, const std::string& text) {
+    try {
+        writeFileAtomically(target, text);
+    } catch (const AtomicWriteError& e) {
+        throw makeSceneError(target.string(), 0, e.what());
+    }
+}
+
+}  // namespace
+
+Scene loadObj(const std::filesystem::path& objPath, DegenerateFaces degenerate) {
+    const std::string file = objPath.string();
+    std::string why;
+    const std::optional<std::string> text = readFile(objPath, why);
+    if (!text) throw makeSceneError(file, 0, "cannot read file: " + why);
+    ObjParser parser(file, MtlSource{std::nullopt, objPath.parent_path()}, degenerate);
+    return parser.parse(*text);
+}
+
+Scene loadObjFromString(std::string_view objText, std::string_view mtlText, std::string sourceName,
+                        DegenerateFaces degenerate) {
+    ObjParser parser(sourceName, MtlSource{mtlText, fs::path(sourceName).parent_path()},
+                     degenerate);
+    return parser.parse(objText);
+}
+
+void writeObj(const Scene& scene, const std::filesystem::path& objPath) {
+    const std::string objFile = objPath.string();
+    if (!objPath.has_filename()) throw makeSceneError(objFile, 0, "cannot write: not a file name");
+    fs::path mtlPath = objPath;
+    mtlPath.replace_extension(".mtl");
+    if (mtlPath == objPath) {
+        throw makeSceneError(objFile, 0, "cannot write: the OBJ file must not be named *.mtl");
+    }
+    const std::string mtlName = mtlPath.filename().string();
+    if (!writableName(mtlName)) {
+        throw makeSceneError(objFile, 0,
+                             "cannot write: material library name " + quoteForMessage(mtlName) +
+                                 " cannot be written in an OBJ file");
+    }
+    validateScene(scene);
+
+    // Material names: writable and unique; a name for the default material when one is needed.
+    std::unordered_set<std::string> names;
+    for (size_t m = 0; m < scene.materials.size(); ++m) {
+        const std::string& name = scene.materials[m].name;
+        if (!writableName(name) || !names.insert(name).second) {
+            throw makeSceneError(objFile, 0,
+                                 "cannot write: material " + std::to_string(m) + " name " +
+                                     quoteForMessage(name) +
+                                     " is empty, repeated or not writable in MTL");
+        }
+    }
+    bool needDefault = false;
+    for (size_t f = 0, seenMaterial = 0; f < scene.faceMaterial.size(); ++f) {
+        if (scene.faceMaterial[f] >= 0) seenMaterial = 1;
+        if (scene.faceMaterial[f] < 0 && seenMaterial) needDefault = true;
+    }
+    std::string defaultName = "penumbra_default";
+    for (int n = 1; names.count(defaultName); ++n)
+        defaultName = "penumbra_default_" + std::to_string(n);
+
+    std::string mtl = "# penumbra scene v1\n";
+    const auto writeMaterial = [&mtl](const Material& m) {
+        const auto color = [](const Vec3& c) {
+            return fmt17(c.x) + " " + fmt17(c.y) + " " + fmt17(c.z);
+        };
+        mtl += "\nnewmtl " + m.name + "\n";
+        mtl += "Kd " + color(m.kd) + "\n";
+        mtl += "Ks " + color(m.ks) + "\n";
+        mtl += "Ke " + color(m.ke) + "\n";
+        mtl += "Ns " + fmt17(m.ns) + "\n";
+    };
+    for (const Material& m : scene.materials) writeMaterial(m);
+    if (needDefault) {
+        Material m;
+        m.name = defaultName;
+        writeMaterial(m);
+    }
+
+    const vis::PolygonMesh& mesh = scene.mesh;
+    std::string obj = "# penumbra scene v1\n";
+    obj += "# " + std::to_string(mesh.vertices.size()) + " vertices, " +
+           std::to_string(mesh.faces.size()) + " faces, " + std::to_string(scene.lights.size()) +
+           " lights\n";
+    obj += "mtllib " + mtlName + "\n";
+    for (const Vec3& v : mesh.vertices) {
+        obj += "v " + fmt17(v.x) + " " + fmt17(v.y) + " " + fmt17(v.z) + "\n";
+    }
+    int32_t current = -1;
+    for (size_t f = 0; f < mesh.faces.size(); ++f) {
+        const int32_t m = f < scene.faceMaterial.size() ? scene.faceMaterial[f] : -1;
+        if (m != current) {
+            obj += "usemtl " +
+                   (m >= 0 ? scene.materials[static_cast<size_t>(m)].name : defaultName) + "\n";
+            current = m;
+        }
+        obj += "f";
+        for (uint32_t i : mesh.faces[f]) obj += " " + std::to_string(i + 1ull);
+        obj += "\n";
+    }
+
+    writeAtomically(mtlPath, mtl);
+    writeAtomically(objPath, obj);
+}
+
+}  // namespace penumbra

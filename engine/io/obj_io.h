@@ -1,0 +1,60 @@
+// Wavefront OBJ + MTL reading and writing for penumbra::Scene (our own reader; no third-party
+// loader).
+//
+// What is read:
+//   v x y z [w | r g b | w r g b]  positions (only x y z used; all numbers must be finite)
+//   f a b c ...      faces; each vertex `v`, `v/vt`, `v//vn` or `v/vt/vn`, indices 1-based or
+//                    negative (relative: -1 is the last vertex so far); only v is used, vt and vn
+//                    must be nonzero integers
+//   usemtl NAME      material of the faces that follow (an unknown name is an error)
+//   mtllib FILE...   MTL libraries, relative to the OBJ's directory (the whole rest of the line
+//                    if that names a file, else whitespace-separated names)
+//   ignored: vt vn vp o g s l p mg lod bevel c_interp d_interp usemap maplib shadow_obj trace_obj
+//   csh, comments (`#` to the end of the line), blank lines
+//   errors: free-form geometry (cstype, curv, surf, ...), `call`, any unknown statement, binary
+//   data (control bytes other than tab/VT/FF)
+// Lines end in LF, CRLF or CR; a UTF-8 byte-order mark is skipped; a line ending in `\` (and
+// without a `#` comment) continues on the next one, the backslash read as a space.
+// MTL: newmtl NAME, Kd, Ks, Ke (1 or 3 non-negative numbers), Ns (one non-negative number); key
+// case is ignored; every other key is ignored. A material defined twice is an error.
+//
+// The scene: faces numbered from 0 in file order, faceSourceLine the 1-based OBJ line of each face,
+// faceMaterial the index into `materials` (MTL definition order) or -1 before any usemtl, lights
+// the faces whose material has a nonzero Ke (Scene::collectLights). The result is validated
+// (checkLoadedFaces, engine/scene/face_check.h): faces must be planar, strictly convex and
+// non-degenerate; with DegenerateFaces::kDrop zero-area faces are dropped with a warning instead.
+//
+// Every problem is a SceneError "file:line: message"; a face problem says "face N: ...". An empty
+// file, or one without faces, is the error "no faces".
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "engine/scene/face_check.h"
+#include "engine/scene/scene.h"
+#include "engine/scene/scene_error.h"
+
+namespace penumbra {
+
+// Reads the OBJ file and its MTL libraries, validates the scene, sets sourcePath to objPath.
+Scene loadObj(const std::filesystem::path& objPath,
+              DegenerateFaces degenerate = DegenerateFaces::kReject);
+
+// The same from memory: `mtlText` is the text of every MTL library the OBJ names (read once, even
+// if several mtllib names appear). sourceName is the OBJ name used in errors and sourcePath; MTL
+// errors name the library as the OBJ names it, relative to sourceName's directory.
+Scene loadObjFromString(std::string_view objText, std::string_view mtlText, std::string sourceName,
+                        DegenerateFaces degenerate = DegenerateFaces::kReject);
+
+// Writes the scene (validated first) as objPath and a sibling MTL file with the same stem and the
+// extension .mtl; both start with the comment "# penumbra scene v1". Positions are printed with 17
+// significant digits (%.17g, locale-independent) so that reading them back gives the same doubles.
+// Faces keep their order; a face without a material (-1) that follows faces with one is written
+// with an extra material named "penumbra_default" (made unique) holding Material's defaults.
+// Each file is written atomically: to a temporary file in the same directory, then renamed over
+// the target. On failure the temporary is removed and a SceneError thrown.
+void writeObj(const Scene& scene, const std::filesystem::path& objPath);
+
+}  // namespace penumbra

@@ -1,0 +1,770 @@
+#include "engine/io/openmesh_io.h"
+
+#include <OpenMesh/Core/IO/IOManager.hh>
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <algorithm>
+#include <bit>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "engine/scene/scene_validation.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+namespace OMIO = OpenMesh::IO;
+
+// Records what an OpenMesh reader produces, in call order, with no connectivity of its own.
+class PolygonImporter final : public OMIO::BaseImporter {
+  public:
+    explicit PolygonImporter(vis::PolygonMesh& mesh) : mesh_(mesh) {}
+
+    OpenMesh::VertexHandle add_vertex(const OpenMesh::Vec3f& p) override {
+        return add_vertex(OpenMesh::Vec3d(p[0], p[1], p[2]));
+    }
+    OpenMesh::VertexHandle add_vertex(const OpenMesh::Vec3d& p) override {
+        mesh_.vertices.push_back({p[0], p[1], p[2]});
+        return OpenMesh::VertexHandle(static_cast<int>(mesh_.vertices.size() - 1));
+    }
+    OpenMesh::VertexHandle add_vertex() override { return add_vertex(OpenMesh::Vec3d(0, 0, 0)); }
+    OpenMesh::HalfedgeHandle add_edge(OpenMesh::VertexHandle, OpenMesh::VertexHandle) override {
+        return OpenMesh::HalfedgeHandle();
+    }
+    OpenMesh::FaceHandle add_face(const VHandles& indices) override {
+        std::vector<uint32_t> face;
+        face.reserve(indices.size());
+        // A negative index becomes a huge one that validation reports as out of range.
+        for (const OpenMesh::VertexHandle& v : indices)
+            face.push_back(static_cast<uint32_t>(v.idx()));
+        mesh_.faces.push_back(std::move(face));
+        return OpenMesh::FaceHandle(static_cast<int>(mesh_.faces.size() - 1));
+    }
+    OpenMesh::FaceHandle add_face(OpenMesh::HalfedgeHandle) override {
+        return OpenMesh::FaceHandle();
+    }
+    void set_point(OpenMesh::VertexHandle v, const OpenMesh::Vec3f& p) override {
+        if (v.idx() >= 0 && static_cast<size_t>(v.idx()) < mesh_.vertices.size())
+            mesh_.vertices[static_cast<size_t>(v.idx())] = {p[0], p[1], p[2]};
+    }
+
+    // Everything else a reader may hand over is ignored.
+    void add_face_texcoords(OpenMesh::FaceHandle, OpenMesh::VertexHandle,
+                            const std::vector<OpenMesh::Vec2f>&) override {}
+    void add_face_texcoords(OpenMesh::FaceHandle, OpenMesh::VertexHandle,
+                            const std::vector<OpenMesh::Vec3f>&) override {}
+    void set_face_texindex(OpenMesh::FaceHandle, int) override {}
+    void set_halfedge(OpenMesh::VertexHandle, OpenMesh::HalfedgeHandle) override {}
+    void set_normal(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
+    void set_normal(OpenMesh::VertexHandle, const OpenMesh::Vec3d&) override {}
+    void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec3uc&) override {}
+    void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec4uc&) override {}
+    void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
+    void set_color(OpenMesh::VertexHandle, const OpenMesh::Vec4f&) override {}
+    void set_texcoord(OpenMesh::VertexHandle, const OpenMesh::Vec2f&) override {}
+    void set_status(OpenMesh::VertexHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+    void set_next(OpenMesh::HalfedgeHandle, OpenMesh::HalfedgeHandle) override {}
+    void set_face(OpenMesh::HalfedgeHandle, OpenMesh::FaceHandle) override {}
+    void request_face_texcoords2D() override {}
+    void set_texcoord(OpenMesh::HalfedgeHandle, const OpenMesh::Vec2f&) override {}
+    void set_texcoord(OpenMesh::VertexHandle, const OpenMesh::Vec3f&) override {}
+    void set_texcoord(OpenMesh::HalfedgeHandle, const OpenMesh::Vec3f&) override {}
+    void set_status(OpenMesh::HalfedgeHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+    void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec3uc&) override {}
+    void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec4uc&) override {}
+    void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec3f&) override {}
+    void set_color(OpenMesh::EdgeHandle, const OpenMesh::Vec4f&) override {}
+    void set_status(OpenMesh::EdgeHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+    void set_normal(OpenMesh::FaceHandle, const OpenMesh::Vec3f&) override {}
+    void set_normal(OpenMesh::FaceHandle, const OpenMesh::Vec3d&) override {}
+    void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec3uc&) override {}
+    void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec4uc&) override {}
+    void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec3f&) override {}
+    void set_color(OpenMesh::FaceHandle, const OpenMesh::Vec4f&) override {}
+    void set_status(OpenMesh::FaceHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+    void add_texture_information(int, std::string) override {}
+
+    size_t n_vertices() const override { return mesh_.vertices.size(); }
+    size_t n_faces() const override { return mesh_.faces.size(); }
+    size_t n_edges() const override { return 0; }
+    void reserve(unsigned int nv, unsigned int, unsigned int nf) override {
+        // Header counts are untrusted: cap what is reserved up front.
+        mesh_.vertices.reserve(std::min(nv, 1u << 24));
+        mesh_.faces.reserve(std::min(nf, 1u << 24));
+    }
+
+  private:
+    vis::PolygonMesh& mesh_;
+};
+
+std::string lower(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+std::string readAll(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw makeSceneError(path.string(), 0, "cannot open file");
+    std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (in.bad()) throw makeSceneError(path.string(), 0, "cannot read file");
+    return data;
+}
+
+// ---- PLY header ---------------------------------------------------------------------------------
+
+struct PlyProperty {
+    std::string name;
+    bool list = false;
+    int countSize = 0;  // bytes of a list's count (binary)
+    int size = 0;       // bytes of the scalar, or of one list item
+    bool countSigned = false;
+    bool isFloat = false;  // a float or double scalar
+};
+
+struct PlyElement {
+    std::string name;
+    uint64_t count = 0;
+    std::vector<PlyProperty> properties;
+};
+
+struct PlyHeader {
+    enum Format { kAscii, kBinaryLittle, kBinaryBig } format = kAscii;
+    std::vector<PlyElement> elements;
+    size_t bodyOffset = 0;  // first byte after "end_header\n"
+    int bodyLine = 0;       // 1-based line number of the first body line
+    uint64_t count(std::string_view element) const {
+        for (const PlyElement& e : elements)
+            if (e.name == element) return e.count;
+        return 0;
+    }
+};
+
+int plyTypeSize(const std::string& t, bool* isSigned = nullptr) {
+    static constexpr struct {
+        const char* name;
+        int size;
+        bool isSigned;
+    } kTypes[] = {
+        {"char", 1, true},  {"int8", 1, true},    {"uchar", 1, false},  {"uint8", 1, false},
+        {"short", 2, true}, {"int16", 2, true},   {"ushort", 2, false}, {"uint16", 2, false},
+        {"int", 4, true},   {"int32", 4, true},   {"uint", 4, false},   {"uint32", 4, false},
+        {"float", 4, true}, {"float32", 4, true}, {"double", 8, true},  {"float64", 8, true}};
+    for (const auto& type : kTypes) {
+        if (t == type.name) {
+            if (isSigned) *isSigned = type.isSigned;
+            return type.size;
+        }
+    }
+    return 0;
+}
+
+PlyHeader parsePlyHeader(const std::string& data, const std::string& file) {
+    PlyHeader header;
+    size_t pos = 0;
+    int lineNo = 0;
+    bool sawFormat = false;
+    const auto fail = [&](const std::string& why) -> SceneError {
+        return makeSceneError(file, lineNo, "PLY header: " + why);
+    };
+    while (true) {
+        if (pos >= data.size() || lineNo > 100000) throw fail("no end_header (truncated header)");
+        size_t end = data.find('\n', pos);
+        if (end == std::string::npos) throw fail("no end_header (truncated header)");
+        std::string line = data.substr(pos, end - pos);
+        pos = end + 1;
+        ++lineNo;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        std::vector<std::string> tokens;
+        for (size_t i = 0; i < line.size();) {
+            while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
+            size_t j = i;
+            while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
+            if (j > i) tokens.push_back(line.substr(i, j - i));
+            i = j;
+        }
+        if (lineNo == 1) {
+            if (tokens.size() != 1 || tokens[0] != "ply")
+                throw fail("the file does not start with 'ply'");
+            continue;
+        }
+        if (tokens.empty()) continue;
+        const std::string& key = tokens[0];
+        if (key == "comment" || key == "obj_info") continue;
+        if (key == "end_header") break;
+        if (key == "format") {
+            if (tokens.size() != 3) throw fail("malformed format line");
+            if (tokens[1] == "ascii")
+                header.format = PlyHeader::kAscii;
+            else if (tokens[1] == "binary_little_endian")
+                header.format = PlyHeader::kBinaryLittle;
+            else if (tokens[1] == "binary_big_endian")
+                header.format = PlyHeader::kBinaryBig;
+            else
+                throw fail("unknown format '" + tokens[1] + "'");
+            // The only version there is; OpenMesh's reader loops forever on a version it cannot
+            // parse as a number ("format ascii x"), so nothing else reaches it.
+            if (tokens[2] != "1.0")
+                throw fail("unsupported format version '" + tokens[2] + "' (only 1.0 exists)");
+            if (sawFormat) throw fail("a second format line");
+            sawFormat = true;
+        } else if (key == "element") {
+            if (tokens.size() != 3) throw fail("malformed element line");
+            PlyElement e;
+            e.name = tokens[1];
+            const std::string& n = tokens[2];
+            if (n.empty() || n.size() > 18 ||
+                !std::all_of(n.begin(), n.end(), [](char c) { return c >= '0' && c <= '9'; }))
+                throw fail("element '" + e.name + "': bad count '" + n + "'");
+            e.count = std::stoull(n);
+            header.elements.push_back(std::move(e));
+        } else if (key == "property") {
+            if (header.elements.empty()) throw fail("property before any element");
+            PlyProperty p;
+            if (tokens.size() == 5 && tokens[1] == "list") {
+                p.list = true;
+                p.name = tokens[4];
+                p.countSize = plyTypeSize(tokens[2], &p.countSigned);
+                p.size = plyTypeSize(tokens[3]);
+                if (p.countSize == 0 || p.size == 0 || tokens[2] == "float" ||
+                    tokens[2] == "float32" || tokens[2] == "double" || tokens[2] == "float64")
+                    throw fail("property list with bad types '" + tokens[2] + "' '" + tokens[3] +
+                               "'");
+            } else if (tokens.size() == 3) {
+                p.name = tokens[2];
+                p.size = plyTypeSize(tokens[1]);
+                if (p.size == 0) throw fail("unknown property type '" + tokens[1] + "'");
+                p.isFloat = tokens[1].rfind("float", 0) == 0 || tokens[1] == "double";
+            } else {
+                throw fail("malformed property line");
+            }
+            for (const PlyProperty& q : header.elements.back().properties)
+                if (q.name == p.name)
+                    throw fail("element '" + header.elements.back().name + "': property '" +
+                               p.name + "' declared twice");
+            header.elements.back().properties.push_back(p);
+        } else {
+            throw fail("unknown keyword '" + key + "'");
+        }
+    }
+    if (!sawFormat) throw makeSceneError(file, 0, "PLY header: no format line");
+    // Declarations a reader can rely on, before any reader sees the file: every item of an
+    // element takes at least one byte (a line, or a property's bytes), so no count may exceed the
+    // bytes after the header (and an element without properties may have no items: a reader
+    // would spin through them reading nothing); vertices have x, y, z; faces a list of indices.
+    const uint64_t body = data.size() - pos;
+    for (size_t i = 0; i < header.elements.size(); ++i) {
+        const PlyElement& e = header.elements[i];
+        const std::string what = "element '" + e.name + "'";
+        for (size_t j = 0; j < i; ++j)
+            if (header.elements[j].name == e.name) throw fail(what + " declared twice");
+        if (e.properties.empty() && e.count > 0)
+            throw fail(what + " has " + std::to_string(e.count) + " items but no properties");
+        if (e.count > body)
+            throw fail(what + ": " + std::to_string(e.count) + " items cannot fit in the " +
+                       std::to_string(body) + " bytes after the header");
+        auto has = [&](const char* name, bool list) {
+            for (const PlyProperty& p : e.properties)
+                if (p.name == name && p.list == list) return true;
+            return false;
+        };
+        if (e.name == "vertex" && !(has("x", false) && has("y", false) && has("z", false)))
+            throw fail("element 'vertex' without scalar properties x, y and z");
+        if (e.name == "face" && !has("vertex_indices", true) && !has("vertex_index", true))
+            throw fail("element 'face' without a list property vertex_indices");
+    }
+    header.bodyOffset = pos;
+    header.bodyLine = lineNo + 1;
+    return header;
+}
+
+uint64_t readUnsigned(const std::string& data, size_t at, int size, bool isSigned, bool bigEndian,
+                      bool& negative) {
+    uint64_t v = 0;
+    for (int i = 0; i < size; ++i) {
+        const auto byte = static_cast<unsigned char>(
+            data[at + static_cast<size_t>(bigEndian ? i : size - 1 - i)]);
+        v = (v << 8) | byte;
+    }
+    negative = isSigned && (v >> (8 * size - 1)) != 0;
+    return v;
+}
+
+// Walks a binary PLY body: throws when an element ends past the end of the file. Returns the
+// number of bytes after the last element.
+size_t checkBinaryPlyBody(const std::string& data, const PlyHeader& header,
+                          const std::string& file) {
+    size_t pos = header.bodyOffset;
+    const bool big = header.format == PlyHeader::kBinaryBig;
+    for (const PlyElement& e : header.elements) {
+        for (uint64_t item = 0; item < e.count; ++item) {
+            for (const PlyProperty& p : e.properties) {
+                const auto truncated = [&] {
+                    return makeSceneError(
+                        file, 0,
+                        "truncated binary PLY: " + e.name + " " + std::to_string(item) + " of " +
+                            std::to_string(e.count) + " ends past the end of the file (" +
+                            std::to_string(data.size()) + " bytes)");
+                };
+                if (!p.list) {
+                    if (data.size() - pos < static_cast<size_t>(p.size)) throw truncated();
+                    pos += static_cast<size_t>(p.size);
+                    continue;
+                }
+                if (data.size() - pos < static_cast<size_t>(p.countSize)) throw truncated();
+                bool negative = false;
+                const uint64_t n =
+                    readUnsigned(data, pos, p.countSize, p.countSigned, big, negative);
+                if (negative) {
+                    throw makeSceneError(file, 0,
+                                         "binary PLY: " + e.name + " " + std::to_string(item) +
+                                             ": negative list length");
+                }
+                pos += static_cast<size_t>(p.countSize);
+                if (n > (data.size() - pos) / static_cast<size_t>(p.size)) throw truncated();
+                pos += n * static_cast<size_t>(p.size);
+            }
+        }
+    }
+    return data.size() - pos;
+}
+
+// ---- ASCII bodies -------------------------------------------------------------------------------
+
+// Non-blank lines of a text from an offset, split into whitespace-separated tokens; `#` starts a
+// comment when `comments` is set.
+class TextLines {
+  public:
+    TextLines(const std::string& data, size_t offset, int firstLine, bool comments)
+        : data_(data), pos_(offset), nextLine_(firstLine), comments_(comments) {}
+
+    // The next line with at least one token; false at the end of the text.
+    bool next(std::vector<std::string_view>& tokens) {
+        tokens.clear();
+        while (tokens.empty() && pos_ < data_.size()) {
+            size_t end = data_.find('\n', pos_);
+            if (end == std::string::npos) end = data_.size();
+            std::string_view text = std::string_view(data_).substr(pos_, end - pos_);
+            line_ = nextLine_++;
+            pos_ = end + 1;
+            if (comments_) text = text.substr(0, text.find('#'));
+            for (size_t i = 0; i < text.size();) {
+                while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i]))) ++i;
+                size_t j = i;
+                while (j < text.size() && !std::isspace(static_cast<unsigned char>(text[j]))) ++j;
+                if (j > i) tokens.push_back(text.substr(i, j - i));
+                i = j;
+            }
+        }
+        return !tokens.empty();
+    }
+    int line() const { return line_; }
+
+  private:
+    const std::string& data_;
+    size_t pos_;
+    int nextLine_;
+    int line_ = 0;
+    bool comments_;
+};
+
+std::optional<double> parseFinite(std::string_view t) {
+    if (!t.empty() && t.front() == '+') t.remove_prefix(1);
+    double v = 0;
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (t.empty() || r.ec != std::errc{} || r.ptr != t.data() + t.size() || !std::isfinite(v))
+        return std::nullopt;
+    return v;
+}
+
+// A number beyond the coordinate contract (engine/scene/scene_validation.h), refused before
+// OpenMesh reads it: its ASCII readers take numbers into floats and loop forever on one they cannot
+// hold (a vertex at 1e155 hung the PLY reader).
+std::optional<std::string> beyondContract(double v, std::string_view token) {
+    if (std::fabs(v) <= kMaxCoordinate) return std::nullopt;
+    return "number " + std::string(token) +
+           " beyond the supported magnitude 2^59 = 5.8e17 (README, scene contract)";
+}
+
+std::optional<int64_t> parseInteger(std::string_view t) {
+    if (!t.empty() && t.front() == '+') t.remove_prefix(1);
+    int64_t v = 0;
+    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
+    if (t.empty() || r.ec != std::errc{} || r.ptr != t.data() + t.size()) return std::nullopt;
+    return v;
+}
+
+// Checks an ASCII PLY body against its header: one line per element item with exactly the
+// properties' tokens, numbers where numbers belong. OpenMesh misreads anything else silently.
+void checkAsciiPlyBody(const std::string& data, const PlyHeader& header, const std::string& file) {
+    TextLines lines(data, header.bodyOffset, header.bodyLine, false);
+    std::vector<std::string_view> tokens;
+    for (const PlyElement& e : header.elements) {
+        for (uint64_t item = 0; item < e.count; ++item) {
+            const std::string where = e.name + " " + std::to_string(item);
+            if (!lines.next(tokens)) {
+                throw makeSceneError(file, 0,
+                                     "truncated ASCII PLY: the file ends before " + where +
+                                         " (the header declares " + std::to_string(e.count) + ")");
+            }
+            size_t t = 0;
+            const auto bad = [&](const std::string& why) {
+                return makeSceneError(file, lines.line(), "ASCII PLY: " + where + ": " + why);
+            };
+            for (const PlyProperty& p : e.properties) {
+                if (t >= tokens.size()) throw bad("too few values");
+                if (!p.list) {
+                    const std::optional<double> v =
+                        p.isFloat
+                            ? parseFinite(tokens[t])
+                            : (parseInteger(tokens[t]) ? std::optional<double>(0.0) : std::nullopt);
+                    if (!v) throw bad("bad or non-finite number '" + std::string(tokens[t]) + "'");
+                    if (const auto problem = beyondContract(*v, tokens[t])) throw bad(*problem);
+                    ++t;
+                    continue;
+                }
+                const std::optional<int64_t> n = parseInteger(tokens[t]);
+                if (!n || *n < 0) throw bad("bad list length '" + std::string(tokens[t]) + "'");
+                ++t;
+                if (static_cast<uint64_t>(*n) > tokens.size() - t) throw bad("too few values");
+                for (int64_t k = 0; k < *n; ++k, ++t) {
+                    if (!parseInteger(tokens[t]))
+                        throw bad("bad integer '" + std::string(tokens[t]) + "'");
+                }
+            }
+            if (t != tokens.size()) throw bad("too many values");
+        }
+    }
+}
+
+// An ASCII OFF file checked token by token and rewritten in the plainest form for OpenMesh to read:
+// keyword "OFF", the counts, each vertex as its three coordinates (printed back exactly, %.17g),
+// each face as its count and indices. Comments, blank lines, '+' signs, colours, normals and
+// texture coordinates go (the importer ignores them anyway): OpenMesh's reader misreads or loops
+// on several of these (fuzz findings kept in tests/fuzz/regressions/off/).
+struct CleanOff {
+    uint64_t vertices = 0, faces = 0;
+    std::string text;
+};
+
+CleanOff cleanAsciiOff(const std::string& data, const std::string& file) {
+    TextLines lines(data, 0, 1, true);
+    std::vector<std::string_view> tokens;
+    if (!lines.next(tokens)) throw makeSceneError(file, 0, "OFF: empty file");
+    const std::string keyword(tokens[0]);
+    const bool isOff = keyword.size() >= 3 && keyword.compare(keyword.size() - 3, 3, "OFF") == 0 &&
+                       keyword.find_first_not_of("STCN") == keyword.size() - 3;
+    if (!isOff)
+        throw makeSceneError(file, lines.line(),
+                             "OFF: the file does not start with an OFF keyword");
+    if (tokens.size() > 1 && tokens[1] == "BINARY")
+        throw makeSceneError(file, lines.line(), "OFF: binary OFF is not supported");
+    CleanOff out;
+    out.text = "OFF\n";
+    // The counts may follow the keyword on its line.
+    std::vector<std::string_view> counts(tokens.begin() + 1, tokens.end());
+    if (counts.empty()) {
+        if (!lines.next(tokens)) throw makeSceneError(file, 0, "OFF: no counts line");
+        counts = tokens;
+    }
+    if (counts.size() < 2 || counts.size() > 3)
+        throw makeSceneError(file, lines.line(), "OFF: expected the counts 'vertices faces edges'");
+    const std::optional<int64_t> nv = parseInteger(counts[0]), nf = parseInteger(counts[1]);
+    if (!nv || !nf || *nv < 0 || *nf < 0 || static_cast<uint64_t>(*nv) > kMaxSceneElements ||
+        static_cast<uint64_t>(*nf) > kMaxSceneElements)
+        throw makeSceneError(file, lines.line(), "OFF: bad vertex or face count");
+    out.vertices = static_cast<uint64_t>(*nv);
+    out.faces = static_cast<uint64_t>(*nf);
+    out.text += std::to_string(out.vertices) + " " + std::to_string(out.faces) + " 0\n";
+    for (uint64_t v = 0; v < out.vertices; ++v) {
+        if (!lines.next(tokens)) {
+            throw makeSceneError(file, 0,
+                                 "truncated OFF: the file ends before vertex " + std::to_string(v) +
+                                     " (the header declares " + std::to_string(out.vertices) +
+                                     " vertices)");
+        }
+        if (tokens.size() < 3)
+            throw makeSceneError(file, lines.line(),
+                                 "OFF: vertex " + std::to_string(v) + ": too few values");
+        for (size_t k = 0; k < tokens.size(); ++k) {
+            const std::optional<double> x = parseFinite(tokens[k]);
+            if (!x) {
+                throw makeSceneError(file, lines.line(),
+                                     "OFF: vertex " + std::to_string(v) +
+                                         ": bad or non-finite number '" + std::string(tokens[k]) +
+                                         "'");
+            }
+            if (const auto problem = beyondContract(*x, tokens[k]))
+                throw makeSceneError(file, lines.line(),
+                                     "OFF: vertex " + std::to_string(v) + ": " + *problem);
+        }
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%.17g %.17g %.17g\n", *parseFinite(tokens[0]),
+                      *parseFinite(tokens[1]), *parseFinite(tokens[2]));
+        out.text += buf;
+    }
+    for (uint64_t f = 0; f < out.faces; ++f) {
+        if (!lines.next(tokens)) {
+            throw makeSceneError(file, 0,
+                                 "truncated OFF: the file ends before face " + std::to_string(f) +
+                                     " (the header declares " + std::to_string(out.faces) +
+                                     " faces)");
+        }
+        const std::string where = "OFF: face " + std::to_string(f) + ": ";
+        const std::optional<int64_t> n = parseInteger(tokens[0]);
+        if (!n || *n < 0 || static_cast<uint64_t>(*n) > tokens.size() - 1)
+            throw makeSceneError(file, lines.line(), where + "bad vertex count or too few indices");
+        // OpenMesh's reader spins, allocating without end, on a face of no vertices followed by
+        // junk (found by scripts/fuzz.sh): a face has 3 or more vertices, and what may follow its
+        // indices is a colour of at most 4 numbers.
+        if (*n < 3)
+            throw makeSceneError(
+                file, lines.line(),
+                where + "a face needs at least 3 vertices, not " + std::to_string(*n));
+        const size_t extra = tokens.size() - 1 - static_cast<size_t>(*n);
+        if (extra > 4)
+            throw makeSceneError(file, lines.line(),
+                                 where + std::to_string(extra) +
+                                     " values after the indices (a colour has at most 4)");
+        for (size_t k = static_cast<size_t>(*n) + 1; k < tokens.size(); ++k)
+            if (!parseFinite(tokens[k]))
+                throw makeSceneError(
+                    file, lines.line(),
+                    where + "colour value '" + std::string(tokens[k]) + "' is not a number");
+        for (int64_t k = 1; k <= *n; ++k) {
+            const std::optional<int64_t> i = parseInteger(tokens[static_cast<size_t>(k)]);
+            if (!i || *i < 0 || static_cast<uint64_t>(*i) >= out.vertices) {
+                throw makeSceneError(file, lines.line(),
+                                     where + "vertex index '" +
+                                         std::string(tokens[static_cast<size_t>(k)]) +
+                                         "' out of range (the file has " +
+                                         std::to_string(out.vertices) + " vertices)");
+            }
+        }
+        out.text += std::to_string(*n);
+        for (int64_t k = 1; k <= *n; ++k)
+            out.text += " " + std::to_string(*parseInteger(tokens[static_cast<size_t>(k)]));
+        out.text += '\n';
+    }
+    return out;
+}
+
+// ---- STL ----------------------------------------------------------------------------------------
+
+struct StlFacts {
+    bool binary = false;
+    uint64_t facets = 0;
+    std::vector<uint64_t> coincident;  // facets whose corners coincide (skipped by OpenMesh)
+};
+
+bool sameCorner(const float* a, const float* b) {
+    return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
+}
+
+StlFacts inspectStl(const std::string& data, const std::string& file) {
+    StlFacts facts;
+    if (data.size() >= 84) {
+        uint32_t n = 0;
+        std::memcpy(&n, data.data() + 80, 4);
+        if constexpr (std::endian::native == std::endian::big) n = __builtin_bswap32(n);
+        if (84 + 50 * uint64_t{n} == data.size()) {
+            facts.binary = true;
+            facts.facets = n;
+            for (uint64_t f = 0; f < n; ++f) {
+                float c[12];
+                std::memcpy(c, data.data() + 84 + 50 * f, sizeof c);
+                for (float x : c) {
+                    if (!std::isfinite(x)) {
+                        throw makeSceneError(
+                            file, 0,
+                            "facet " + std::to_string(f) + ": non-finite number in binary STL");
+                    }
+                }
+                if (sameCorner(c + 3, c + 6) || sameCorner(c + 3, c + 9) ||
+                    sameCorner(c + 6, c + 9))
+                    facts.coincident.push_back(f);
+            }
+            return facts;
+        }
+    }
+    size_t start = 0;
+    while (start < data.size() && std::isspace(static_cast<unsigned char>(data[start]))) ++start;
+    if (lower(data.substr(start, 5)) != "solid") {
+        std::string why = "malformed or truncated binary STL: ";
+        if (data.size() < 84) {
+            why += "only " + std::to_string(data.size()) + " bytes (the header alone has 84)";
+        } else {
+            uint32_t n = 0;
+            std::memcpy(&n, data.data() + 80, 4);
+            why += "the header declares " + std::to_string(n) + " triangles, which take " +
+                   std::to_string(84 + 50 * uint64_t{n}) + " bytes, but the file has " +
+                   std::to_string(data.size());
+        }
+        throw makeSceneError(file, 0, why);
+    }
+    // ASCII: count facets, check corners are finite, find facets with coinciding corners.
+    bool endSolid = false;
+    std::vector<float> corners;
+    size_t pos = start;
+    int line = 1;
+    for (size_t i = 0; i < start; ++i) line += data[i] == '\n';
+    const auto next = [&](std::string_view& token) {
+        while (pos < data.size() && std::isspace(static_cast<unsigned char>(data[pos]))) {
+            line += data[pos] == '\n';
+            ++pos;
+        }
+        const size_t b = pos;
+        while (pos < data.size() && !std::isspace(static_cast<unsigned char>(data[pos]))) ++pos;
+        token = std::string_view(data).substr(b, pos - b);
+        return !token.empty();
+    };
+    std::string_view token;
+    next(token);  // "solid"
+    // The solid's name: the rest of the first line.
+    while (pos < data.size() && data[pos] != '\n') ++pos;
+    while (next(token)) {
+        const std::string t = lower(std::string(token));
+        if (t == "vertex") {
+            for (int k = 0; k < 3; ++k) {
+                std::string_view num;
+                if (!next(num)) throw makeSceneError(file, line, "ASCII STL: truncated vertex");
+                const std::string s(num);
+                char* endPtr = nullptr;
+                const float v = std::strtof(s.c_str(), &endPtr);
+                if (endPtr != s.c_str() + s.size() || !std::isfinite(v)) {
+                    throw makeSceneError(file, line,
+                                         "ASCII STL: facet " + std::to_string(facts.facets) +
+                                             ": bad vertex coordinate '" + s + "'");
+                }
+                corners.push_back(v);
+            }
+        } else if (t == "endfacet") {
+            if (corners.size() != 9) {
+                throw makeSceneError(file, line,
+                                     "ASCII STL: facet " + std::to_string(facts.facets) + " has " +
+                                         std::to_string(corners.size() / 3) +
+                                         " vertices (expected 3)");
+            }
+            const float* c = corners.data();
+            if (sameCorner(c, c + 3) || sameCorner(c, c + 6) || sameCorner(c + 3, c + 6))
+                facts.coincident.push_back(facts.facets);
+            corners.clear();
+            ++facts.facets;
+        } else if (t == "endsolid") {
+            endSolid = true;
+            break;
+        }
+    }
+    if (!endSolid) throw makeSceneError(file, 0, "ASCII STL: no endsolid (truncated file)");
+    return facts;
+}
+
+}  // namespace
+
+Scene loadOpenMeshFile(const fs::path& path, DegenerateFaces degenerate) {
+    const std::string file = path.string();
+    const std::string extension = lower(path.extension().string());
+    if (extension != ".ply" && extension != ".off" && extension != ".stl") {
+        throw makeSceneError(file, 0, "not a PLY, OFF or STL file name");
+    }
+    const std::string data = readAll(path);
+    if (data.empty()) throw makeSceneError(file, 0, "empty file");
+
+    Scene scene;
+    scene.sourcePath = file;
+    uint64_t expectedVertices = 0, expectedFaces = 0;
+    bool checkVertexCount = true;
+    StlFacts stl;
+    CleanOff off;
+    std::string trailingWarning;
+    if (extension == ".ply") {
+        const PlyHeader header = parsePlyHeader(data, file);
+        expectedVertices = header.count("vertex");
+        expectedFaces = header.count("face");
+        if (header.format == PlyHeader::kAscii) {
+            checkAsciiPlyBody(data, header, file);
+        } else {
+            const size_t extra = checkBinaryPlyBody(data, header, file);
+            if (extra > 0) {
+                trailingWarning = file + ": " + std::to_string(extra) +
+                                  " bytes after the last PLY element ignored";
+            }
+        }
+    } else if (extension == ".off") {
+        off = cleanAsciiOff(data, file);
+        expectedVertices = off.vertices;
+        expectedFaces = off.faces;
+    } else {
+        stl = inspectStl(data, file);
+        expectedFaces = stl.facets - stl.coincident.size();
+        checkVertexCount = false;  // merged corners
+        if (!stl.coincident.empty() && degenerate == DegenerateFaces::kReject) {
+            throw makeSceneError(file, 0,
+                                 "face " + std::to_string(stl.coincident.front()) +
+                                     ": degenerate (zero area): two corners coincide (" +
+                                     std::to_string(stl.coincident.size()) + " such facets)");
+        }
+    }
+    if (expectedVertices >= kMaxSceneElements || expectedFaces >= kMaxSceneElements) {
+        throw makeSceneError(file, 0, "too many elements in the header");
+    }
+
+    PolygonImporter importer(scene.mesh);
+    OMIO::Options options = OMIO::Options::Default;
+    bool read = false;
+    if (extension == ".off") {
+        std::istringstream in(off.text);
+        read = OMIO::IOManager().read(in, "off", importer, options);
+    } else {
+        read = OMIO::IOManager().read(file, importer, options);
+    }
+    if (!read) {
+        throw makeSceneError(file, 0, "OpenMesh could not read the file (malformed or truncated)");
+    }
+    if ((checkVertexCount && scene.mesh.vertices.size() != expectedVertices) ||
+        scene.mesh.faces.size() != expectedFaces) {
+        throw makeSceneError(
+            file, 0,
+            "malformed or truncated: expected " +
+                (checkVertexCount ? std::to_string(expectedVertices) + " vertices and " : "") +
+                std::to_string(expectedFaces) + " faces, OpenMesh read " +
+                std::to_string(scene.mesh.vertices.size()) + " and " +
+                std::to_string(scene.mesh.faces.size()));
+    }
+    for (size_t v = 0; v < scene.mesh.vertices.size(); ++v) {
+        const Vec3& p = scene.mesh.vertices[v];
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            throw makeSceneError(file, 0,
+                                 "vertex " + std::to_string(v) + ": non-finite coordinate");
+    }
+    if (!trailingWarning.empty()) scene.warnings.push_back(trailingWarning);
+
+    FaceNamer namer;
+    if (!stl.coincident.empty()) {
+        // Faces read skip the facets with coinciding corners: name faces by facet index.
+        const std::vector<uint64_t> skipped = stl.coincident;
+        namer = [skipped](uint32_t f) {
+            uint64_t facet = f;
+            for (uint64_t s : skipped) facet += s <= facet;
+            return "face " + std::to_string(facet);
+        };
+        scene.warnings.push_back(file + ": dropped " + std::to_string(skipped.size()) +
+                                 " degenerate STL facets whose corners coincide (first: face " +
+                                 std::to_string(skipped.front()) + ")");
+    }
+    scene.faceMaterial.assign(scene.mesh.faces.size(), -1);
+    checkLoadedFaces(scene, degenerate, namer);
+    return scene;
+}
+
+}  // namespace penumbra

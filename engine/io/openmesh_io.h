@@ -1,0 +1,41 @@
+// PLY, OFF and STL scenes, parsed by OpenMesh 9's readers (OpenMeshCore).
+//
+// OpenMesh hands every vertex and face to our own importer (a BaseImporter that records them in
+// file order into a PolygonMesh), so no half-edge mesh is built: non-manifold input is kept as it
+// is, faces keep their file order and numbering, and a face with a repeated or out-of-range vertex
+// index reaches validation (OpenMesh's own mesh importer would silently skip it).
+//
+// What is read: vertex positions (as doubles where the file has them, otherwise as floats) and
+// face vertex lists; colours, normals, texture coordinates and other properties are ignored. Every
+// face gets the default material (Scene::faceMaterial -1), so these scenes have no area lights;
+// give them materials and lights in a JSON scene file (engine/io/scene_file.h).
+//
+// OpenMesh prints some problems to stderr and returns partial data, so the result is checked
+// against the file itself:
+//   - PLY: the header is parsed here (format, element counts, property types); the vertex and face
+//     counts read must equal the header's; a binary body must have exactly the size the header
+//     implies (face lists walked here), an ASCII body at least one line per element;
+//   - OFF: the counts read must equal the "nv nf ne" line's;
+//   - STL: a file whose size is 84 + 50 n for the triangle count n in its header is binary, else
+//     one starting with "solid" is ASCII (it must contain "endsolid" and n "endfacet"), else it is
+//     a truncated or malformed binary file. OpenMesh merges equal float corners and skips facets
+//     whose corners coincide: those are degenerate faces (an error, or dropped with a warning).
+// Vertex coordinates must be finite ("vertex N: non-finite coordinate"). Faces are then checked
+// by checkLoadedFaces (engine/scene/face_check.h): errors read "file: face N: <reason>" with N the
+// 0-based face index in the file (for STL the index of the facet).
+#pragma once
+
+#include <filesystem>
+
+#include "engine/scene/face_check.h"
+#include "engine/scene/scene.h"
+#include "engine/scene/scene_error.h"
+
+namespace penumbra {
+
+// Reads a .ply, .off or .stl file (by extension, case-insensitive). Throws SceneError naming the
+// file.
+Scene loadOpenMeshFile(const std::filesystem::path& path,
+                       DegenerateFaces degenerate = DegenerateFaces::kReject);
+
+}  // namespace penumbra

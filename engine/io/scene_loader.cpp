@@ -1,0 +1,54 @@
+#include "engine/io/scene_loader.h"
+
+#include <array>
+#include <cctype>
+
+#include "engine/io/gltf_io.h"
+#include "engine/io/obj_io.h"
+#include "engine/io/openmesh_io.h"
+#include "engine/io/scene_file.h"
+
+namespace penumbra {
+namespace {
+
+constexpr std::array<std::string_view, 7> kExtensions = {".obj",  ".ply", ".off", ".stl",
+                                                         ".gltf", ".glb", ".json"};
+
+std::string lower(std::string_view s) {
+    std::string out(s);
+    for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return out;
+}
+
+}  // namespace
+
+std::string supportedSceneExtensions() {
+    std::string list;
+    for (std::string_view e : kExtensions) {
+        if (e.empty()) continue;
+        if (!list.empty()) list += ", ";
+        list += e;
+    }
+    return list;
+}
+
+bool isSupportedSceneExtension(std::string_view extension) {
+    const std::string e = lower(extension);
+    for (std::string_view k : kExtensions)
+        if (!k.empty() && e == k) return true;
+    return false;
+}
+
+Scene loadScene(const std::filesystem::path& path, DegenerateFaces degenerate) {
+    const std::string e = lower(path.extension().string());
+    if (e == ".obj") return loadObj(path, degenerate);
+    if (e == ".ply" || e == ".off" || e == ".stl") return loadOpenMeshFile(path, degenerate);
+    if (e == ".gltf" || e == ".glb") return loadGltf(path, degenerate);
+    if (e == ".json") return loadJsonScene(path);
+    throw makeSceneError(path.string(), 0,
+                         "unknown scene format '" +
+                             (e.empty() ? std::string("(no extension)") : e) +
+                             "' (supported: " + supportedSceneExtensions() + ")");
+}
+
+}  // namespace penumbra

@@ -1,0 +1,34 @@
+// loadScene: reads a scene file of any supported format, chosen by extension (case-insensitive):
+//   .obj          engine/io/obj_io.h      (own reader: MTL materials, Ke area lights, usemtl per
+//   face) .ply .off .stl engine/io/openmesh_io.h (OpenMesh; geometry only, default material) .gltf
+//   .glb    engine/io/gltf_io.h     (tinygltf; PBR materials, emissive lights, node
+//                                       transforms, camera)
+//   .json         engine/io/scene_file.h  (composition of the above, with lights and a camera)
+// Every face is validated (engine/scene/scene_validation.h via engine/scene/face_check.h); problems
+// are SceneErrors naming the file and the element. Warnings (e.g. dropped degenerate faces) are in
+// Scene::warnings.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "engine/scene/face_check.h"
+#include "engine/scene/scene.h"
+#include "engine/scene/scene_error.h"
+
+namespace penumbra {
+
+// The supported extensions, lower case with the dot, separated by ", ": for messages.
+std::string supportedSceneExtensions();
+
+// True when loadScene can read files with this extension ("." included, any case).
+bool isSupportedSceneExtension(std::string_view extension);
+
+// Reads the file. `degenerate` applies to mesh formats; a JSON file decides per mesh entry
+// ("drop_degenerate_faces"). Throws SceneError; an unknown extension is the SceneError
+// "unknown scene format '.xyz' (supported: ...)".
+Scene loadScene(const std::filesystem::path& path,
+                DegenerateFaces degenerate = DegenerateFaces::kReject);
+
+}  // namespace penumbra

@@ -1,0 +1,432 @@
+#include "engine/io/visibility_file.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <random>
+#include <set>
+#include <span>
+#include <string_view>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include "engine/io/atomic_file.h"
+#include "engine/io/finite_output.h"
+#include "engine/scene/hash64.h"
+#include "engine/scene/scene_hash.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::array<unsigned char, 8> kMagic = {'P', 'E', 'N', 'U', 'M', 'V', 'I', 'S'};
+constexpr size_t kHeaderBytes = 48;
+constexpr size_t kTrailerBytes = 8;
+// Fixed part of a tree record: 5 u32 + u8 + u8 + u16 + 4 u32.
+constexpr size_t kRecordFixedBytes = 5 * 4 + 1 + 1 + 2 + 5 * 4;
+constexpr size_t kNodeBytes = 16;
+constexpr size_t kStatsBytes = 3 * 4 + 8 * 8 + 8;
+constexpr size_t kMaxReasonBytes = 1024;
+
+std::string hex(uint64_t v) {
+    char buf[24];
+    std::snprintf(buf, sizeof buf, "0x%016llx", static_cast<unsigned long long>(v));
+    return buf;
+}
+
+// --- writing ---------------------------------------------------------------------------------
+
+class ByteWriter {
+  public:
+    void u8(uint8_t v) { bytes_.push_back(v); }
+    void u16(uint16_t v) { put(v, 2); }
+    void u32(uint32_t v) { put(v, 4); }
+    void u64(uint64_t v) { put(v, 8); }
+    void f64(double v) { put(std::bit_cast<uint64_t>(v), 8); }
+    void text(std::string_view s) { bytes_.insert(bytes_.end(), s.begin(), s.end()); }
+    void raw(std::span<const unsigned char> s) { bytes_.insert(bytes_.end(), s.begin(), s.end()); }
+    void patchU64(size_t at, uint64_t v) {
+        for (int k = 0; k < 8; ++k) bytes_[at + k] = static_cast<unsigned char>(v >> (8 * k));
+    }
+    std::vector<unsigned char>& bytes() { return bytes_; }
+
+  private:
+    void put(uint64_t v, int n) {
+        for (int k = 0; k < n; ++k) bytes_.push_back(static_cast<unsigned char>(v >> (8 * k)));
+    }
+    std::vector<unsigned char> bytes_;
+};
+
+std::vector<unsigned char> serialize(const VisibilityStore& store, bool withStats) {
+    std::vector<std::pair<PairKey, const PairRecord*>> trees;
+    store.forEach([&](const PairKey& k, const PairRecord& r) { trees.emplace_back(k, &r); });
+    std::sort(trees.begin(), trees.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+
+    ByteWriter w;
+    w.raw(kMagic);
+    w.u32(kVisibilityFileVersion);
+    w.u32(kHeaderBytes);
+    w.u64(sceneHash(store.scene(), store.options()));
+    w.u64(trees.size());
+    const size_t payloadSizeAt = w.bytes().size();
+    w.u64(0);  // payload size, patched below
+    w.u64(0);  // flags
+    for (const auto& [key, record] : trees) {
+        const vis::HistoryTree& t = record->tree;
+        w.u32(key.receiver);
+        w.u32(key.patch);
+        w.u32(key.lightFace);
+        w.u32(t.receiver);
+        w.u32(t.light);
+        w.u8(static_cast<uint8_t>(t.kind));
+        w.u8(withStats ? 1 : 0);
+        w.u16(static_cast<uint16_t>(std::min(t.why.size(), kMaxReasonBytes)));
+        w.u32(t.meshVertexCount);
+        w.u32(static_cast<uint32_t>(t.nodes.size()));
+        w.u32(static_cast<uint32_t>(t.occluders.size()));
+        w.u32(static_cast<uint32_t>(t.nodeOccluder.size()));
+        w.u32(static_cast<uint32_t>(t.deferred.size()));
+        w.text(t.why.substr(0, kMaxReasonBytes));
+        for (const vis::HistoryNode& n : t.nodes) {
+            w.u32(n.v0);
+            w.u32(n.v1);
+            w.u32(n.child[0]);
+            w.u32(n.child[1]);
+        }
+        for (uint32_t f : t.occluders) w.u32(f);
+        for (uint32_t f : t.nodeOccluder) w.u32(f);
+        for (const vis::DeferredOccluder& d : t.deferred) w.u32(d.face);
+        if (withStats) {
+            const vis::BuildStats& s = record->stats;
+            w.u32(s.occludersInShaft);
+            w.u32(s.occludersInserted);
+            w.u32(s.occludersDeferred);
+            for (uint64_t v : {s.classifications, s.lpSolves, s.uncertain, s.exactCertificates,
+                               s.prunedSplits, s.realLineTests, s.realLineWitness, s.mergedLeaves})
+                w.u64(v);
+            requireFinite(s.seconds, "the build time of a tree written to a visibility file");
+            w.f64(s.seconds);
+        }
+    }
+    w.patchU64(payloadSizeAt, w.bytes().size() - kHeaderBytes);
+    Hash64 h;
+    h.addBytes(w.bytes());
+    w.u64(h.value());
+    return std::move(w.bytes());
+}
+
+std::string errnoText(int err) { return std::generic_category().message(err); }
+
+// --- reading ---------------------------------------------------------------------------------
+
+// Thrown while parsing; becomes VisibilityFileError(Corrupt) with the file name in front.
+struct Corrupt : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+class ByteReader {
+  public:
+    ByteReader(std::span<const unsigned char> bytes, size_t offset) : b_(bytes), at_(offset) {}
+    size_t offset() const { return at_; }
+    size_t left() const { return b_.size() - at_; }
+    void need(size_t n, const char* what) const {
+        if (n > left())
+            throw Corrupt(std::string("truncated: ") + what + " at byte " + std::to_string(at_) +
+                          " needs " + std::to_string(n) + " bytes, " + std::to_string(left()) +
+                          " left");
+    }
+    uint8_t u8() { return static_cast<uint8_t>(get(1)); }
+    uint16_t u16() { return static_cast<uint16_t>(get(2)); }
+    uint32_t u32() { return static_cast<uint32_t>(get(4)); }
+    uint64_t u64() { return get(8); }
+    double f64() { return std::bit_cast<double>(get(8)); }
+    std::string_view text(size_t n) {
+        need(n, "text");
+        std::string_view s(reinterpret_cast<const char*>(b_.data() + at_), n);
+        at_ += n;
+        return s;
+    }
+
+  private:
+    uint64_t get(int n) {
+        need(static_cast<size_t>(n), "a field");
+        uint64_t v = 0;
+        for (int k = 0; k < n; ++k) v |= static_cast<uint64_t>(b_[at_ + k]) << (8 * k);
+        at_ += static_cast<size_t>(n);
+        return v;
+    }
+    std::span<const unsigned char> b_;
+    size_t at_;
+};
+
+std::string_view canonicalReason(std::string_view text) {
+    for (std::string_view known : vis::knownReasons())
+        if (known == text) return known;
+    return {};
+}
+
+// Structural checks of one tree against the scene (see the header for the list).
+void validateTree(const PairKey& key, const vis::HistoryTree& t, const VisibilityStore& store,
+                  const std::string& where) {
+    const Scene& scene = store.scene();
+    const uint32_t faces = scene.faceCount();
+    auto fail = [&](const std::string& what) { throw Corrupt(where + ": " + what); };
+    if (key.receiver >= faces || key.lightFace >= faces)
+        fail("face out of range (" + std::to_string(faces) + " faces)");
+    if (key.receiver == key.lightFace) fail("receiver and light are the same face");
+    if (t.receiver != key.receiver || t.light != key.lightFace)
+        fail("tree faces (" + std::to_string(t.receiver) + ", " + std::to_string(t.light) +
+             ") differ from its key");
+    const size_t patches = std::max<size_t>(store.patches(key.receiver).patches.size(), 1);
+    if (key.patch >= patches)
+        fail("patch out of range (the receiver has " + std::to_string(patches) + ")");
+    if (t.meshVertexCount != scene.mesh.vertices.size())
+        fail("mesh vertex count " + std::to_string(t.meshVertexCount) + " (the scene has " +
+             std::to_string(scene.mesh.vertices.size()) + ")");
+    const bool penumbra = t.kind == vis::PairKind::Penumbra;
+    if (penumbra && t.nodes.empty() && t.deferred.empty())
+        fail("a penumbra tree without nodes or deferred occluders");
+    if (!penumbra && (!t.nodes.empty() || !t.deferred.empty()))
+        fail(std::string(vis::toString(t.kind)) + " pair with nodes or deferred occluders");
+    if (t.kind == vis::PairKind::BackFacing && !t.occluders.empty())
+        fail("back-facing pair with occluders");
+    if (!t.nodeOccluder.empty() && t.nodeOccluder.size() != t.nodes.size())
+        fail("node occluder count " + std::to_string(t.nodeOccluder.size()) + " for " +
+             std::to_string(t.nodes.size()) + " nodes");
+    for (uint32_t f : t.nodeOccluder)
+        if (f >= faces) fail("node occluder face " + std::to_string(f) + " out of range");
+    for (size_t i = 0; i < t.occluders.size(); ++i) {
+        const uint32_t f = t.occluders[i];
+        const std::string what = "occluder " + std::to_string(i);
+        if (f >= faces) fail(what + ": face " + std::to_string(f) + " out of range");
+        if (f == key.receiver || f == key.lightFace)
+            fail(what + ": the receiver or the light itself");
+    }
+    for (size_t i = 0; i < t.deferred.size(); ++i) {
+        const vis::DeferredOccluder& d = t.deferred[i];
+        const std::string what = "deferred occluder " + std::to_string(i);
+        if (d.face >= faces) fail(what + ": face " + std::to_string(d.face) + " out of range");
+        if (d.face == key.receiver || d.face == key.lightFace)
+            fail(what + ": the receiver or the light itself");
+    }
+    const auto n = static_cast<uint32_t>(t.nodes.size());
+    std::vector<uint32_t> parents(n, 0), depth(n, 1);
+    for (uint32_t i = 0; i < n; ++i) {
+        const vis::HistoryNode& node = t.nodes[i];
+        if (vis::isClipEdge(node.v0)) {
+            if ((node.v0 & ~vis::kClipEdge) >= faces ||
+                (node.v1 != vis::kReceiverPlaneEdge && node.v1 != vis::kLightPlaneEdge))
+                fail("node " + std::to_string(i) + " has a chord of an unknown face or plane");
+        } else if (node.v0 >= t.meshVertexCount || node.v1 >= t.meshVertexCount) {
+            fail("node " + std::to_string(i) + " uses a vertex id out of range");
+        }
+        for (uint32_t c : node.child) {
+            if (vis::isLeaf(c)) continue;
+            // Nodes are stored parent first: a child index is always larger than its parent's.
+            if (c <= i || c >= n)
+                fail("node " + std::to_string(i) + " has child " + std::to_string(c) +
+                     " (must be a leaf or a later node of " + std::to_string(n) + ")");
+            if (++parents[c] > 1) fail("node " + std::to_string(c) + " has two parents");
+            depth[c] = depth[i] + 1;
+            if (depth[c] > kMaxTreeDepth)
+                fail("deeper than " + std::to_string(kMaxTreeDepth) + " levels");
+        }
+    }
+    for (uint32_t i = 1; i < n; ++i)
+        if (parents[i] == 0) fail("node " + std::to_string(i) + " is unreachable");
+}
+
+struct ParsedTree {
+    PairKey key;
+    PairRecord record;
+};
+
+std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const VisibilityStore& store) {
+    if (bytes.size() < kHeaderBytes + kTrailerBytes)
+        throw Corrupt("truncated: " + std::to_string(bytes.size()) + " bytes, not even a header");
+    if (!std::equal(kMagic.begin(), kMagic.end(), bytes.begin()))
+        throw Corrupt("not a penumbra visibility file (bad magic)");
+    ByteReader r(bytes, kMagic.size());
+    const uint32_t version = r.u32();
+    if (version != kVisibilityFileVersion)
+        throw Corrupt("format version " + std::to_string(version) + " (this program reads " +
+                      std::to_string(kVisibilityFileVersion) + ")");
+    const uint32_t headerBytes = r.u32();
+    if (headerBytes != kHeaderBytes)
+        throw Corrupt("header size " + std::to_string(headerBytes) + " (expected " +
+                      std::to_string(kHeaderBytes) + ")");
+    const uint64_t fileScene = r.u64();
+    const uint64_t treeCount = r.u64();
+    const uint64_t payloadBytes = r.u64();
+    const uint64_t flags = r.u64();
+    const uint64_t expectedSize = bytes.size() - kHeaderBytes - kTrailerBytes;
+    if (payloadBytes != expectedSize)
+        throw Corrupt((payloadBytes > expectedSize ? "truncated: " : "size mismatch: ") +
+                      std::string("header says ") + std::to_string(payloadBytes) +
+                      " payload bytes, the file holds " + std::to_string(expectedSize));
+    const size_t end = kHeaderBytes + payloadBytes;
+    Hash64 h;
+    h.addBytes(bytes.first(end));
+    const uint64_t stored = ByteReader(bytes, end).u64();
+    if (h.value() != stored)
+        throw Corrupt("checksum mismatch (expected " + hex(stored) + ", found " + hex(h.value()) +
+                      ")");
+    if (flags != 0) throw Corrupt("unknown flags " + hex(flags));
+    const uint64_t current = sceneHash(store.scene(), store.options());
+    if (fileScene != current)
+        throw VisibilityFileError(VisibilityFileStatus::Stale,
+                                  "made for another scene or other build settings (scene hash " +
+                                      hex(fileScene) + " in the file, " + hex(current) + " now)");
+    if (treeCount > payloadBytes / kRecordFixedBytes)
+        throw Corrupt("tree count " + std::to_string(treeCount) + " does not fit in " +
+                      std::to_string(payloadBytes) + " payload bytes");
+
+    ByteReader p(bytes.first(end), kHeaderBytes);
+    std::vector<ParsedTree> out;
+    out.reserve(static_cast<size_t>(treeCount));
+    std::set<PairKey> seen;
+    for (uint64_t i = 0; i < treeCount; ++i) {
+        const std::string where =
+            "tree " + std::to_string(i) + " (byte " + std::to_string(p.offset()) + ")";
+        p.need(kRecordFixedBytes, "a tree record");
+        ParsedTree pt;
+        PairKey& key = pt.key;
+        vis::HistoryTree& t = pt.record.tree;
+        key.receiver = p.u32();
+        key.patch = p.u32();
+        key.lightFace = p.u32();
+        t.receiver = p.u32();
+        t.light = p.u32();
+        const uint8_t kind = p.u8();
+        const uint8_t hasStats = p.u8();
+        const uint16_t reasonBytes = p.u16();
+        t.meshVertexCount = p.u32();
+        const uint32_t nodes = p.u32(), inserted = p.u32(), occluders = p.u32(), deferred = p.u32();
+        if (kind >= vis::kPairKindCount)
+            throw Corrupt(where + ": unknown pair kind " + std::to_string(kind));
+        t.kind = static_cast<vis::PairKind>(kind);
+        if (hasStats > 1) throw Corrupt(where + ": bad stats flag " + std::to_string(hasStats));
+        if (reasonBytes > kMaxReasonBytes) throw Corrupt(where + ": reason text too long");
+        // Every count against the bytes left before anything is allocated.
+        const uint64_t need = uint64_t{reasonBytes} + uint64_t{nodes} * kNodeBytes +
+                              uint64_t{inserted} * 4 + uint64_t{occluders} * 4 +
+                              uint64_t{deferred} * 4 + (hasStats ? kStatsBytes : 0);
+        if (need > p.left())
+            throw Corrupt(where + ": truncated or bad counts (" + std::to_string(nodes) +
+                          " nodes, " + std::to_string(inserted) + " occluders, " +
+                          std::to_string(occluders) + " node occluders need " +
+                          std::to_string(need) + " bytes, " + std::to_string(p.left()) + " left)");
+        const std::string_view reason = p.text(reasonBytes);
+        t.why = canonicalReason(reason);
+        if (t.why.empty())
+            throw Corrupt(where + ": unknown reason \"" + std::string(reason.substr(0, 80)) + "\"");
+        t.nodes.resize(nodes);
+        for (vis::HistoryNode& n : t.nodes) {
+            n.v0 = p.u32();
+            n.v1 = p.u32();
+            n.child[0] = p.u32();
+            n.child[1] = p.u32();
+        }
+        t.occluders.resize(inserted);
+        for (uint32_t& f : t.occluders) f = p.u32();
+        t.nodeOccluder.resize(occluders);
+        for (uint32_t& f : t.nodeOccluder) f = p.u32();
+        t.deferred.resize(deferred);
+        for (vis::DeferredOccluder& d : t.deferred) d.face = p.u32();
+        if (hasStats) {
+            vis::BuildStats& s = pt.record.stats;
+            s.occludersInShaft = p.u32();
+            s.occludersInserted = p.u32();
+            s.occludersDeferred = p.u32();
+            for (uint64_t* v :
+                 {&s.classifications, &s.lpSolves, &s.uncertain, &s.exactCertificates,
+                  &s.prunedSplits, &s.realLineTests, &s.realLineWitness, &s.mergedLeaves})
+                *v = p.u64();
+            s.seconds = p.f64();
+            if (!std::isfinite(s.seconds) || s.seconds < 0)
+                throw Corrupt(where + ": build time is not a finite non-negative number");
+        }
+        validateTree(key, t, store, where);
+        vis::prepareForQueries(store.scene().mesh, t);
+        if (!seen.insert(key).second) throw Corrupt(where + ": a second tree for the same pair");
+        out.push_back(std::move(pt));
+    }
+    if (p.left() != 0)
+        throw Corrupt(std::to_string(p.left()) + " bytes left over after the last tree");
+    return out;
+}
+
+}  // namespace
+
+const char* toString(VisibilityFileStatus status) {
+    switch (status) {
+        case VisibilityFileStatus::Missing:
+            return "missing";
+        case VisibilityFileStatus::Unreadable:
+            return "unreadable";
+        case VisibilityFileStatus::Corrupt:
+            return "corrupt";
+        case VisibilityFileStatus::Stale:
+            return "stale";
+        case VisibilityFileStatus::WriteFailed:
+            return "write failed";
+    }
+    return "?";
+}
+
+size_t writeVisibilityFile(const fs::path& path, const VisibilityStore& store,
+                           const VisibilityFileWriteOptions& options) {
+    const std::string name = path.string();
+    const std::vector<unsigned char> bytes = serialize(store, options.stats);
+    try {
+        writeFileAtomically(
+            path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
+            AtomicWriteOptions{options.failAfterBytes});
+    } catch (const AtomicWriteError& e) {
+        throw VisibilityFileError(VisibilityFileStatus::WriteFailed, e.what());
+    }
+    return bytes.size();
+}
+
+size_t readVisibilityFile(const fs::path& path, VisibilityStore& store) {
+    const std::string name = path.string();
+    std::error_code ec;
+    const fs::file_status status = fs::status(path, ec);
+    if (!fs::exists(status))
+        throw VisibilityFileError(VisibilityFileStatus::Missing, name + ": no such file");
+    if (fs::is_directory(status))
+        throw VisibilityFileError(VisibilityFileStatus::Unreadable, name + ": is a directory");
+    std::vector<unsigned char> bytes;
+    {
+        std::ifstream in(path, std::ios::binary);
+        if (!in)
+            throw VisibilityFileError(VisibilityFileStatus::Unreadable,
+                                      name + ": cannot open: " + errnoText(errno));
+        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        if (in.bad())
+            throw VisibilityFileError(VisibilityFileStatus::Unreadable, name + ": read error");
+    }
+    std::vector<ParsedTree> trees;
+    try {
+        trees = parse(bytes, store);
+    } catch (const Corrupt& e) {
+        throw VisibilityFileError(VisibilityFileStatus::Corrupt, name + ": " + e.what());
+    } catch (const VisibilityFileError& e) {
+        throw VisibilityFileError(e.status, name + ": " + e.what());
+    }
+    for (ParsedTree& t : trees) store.insert(t.key, std::move(t.record));
+    return trees.size();
+}
+
+}  // namespace penumbra

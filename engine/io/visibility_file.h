@@ -1,0 +1,80 @@
+// The visibility file (.pvis): the history trees of a VisibilityStore on disk, so that a scene's
+// precompute is paid once.
+//
+// Format, version 3 (version 1 had no deferred occluders, version 2 stored constructed vertices
+// where nodes now name exact chords), every integer little-endian, doubles as their IEEE-754 bit
+// patterns:
+//   header (48 bytes)  magic "PENUMVIS", u32 version, u32 header size (48), u64 scene hash
+//                      (engine/scene/scene_hash.h), u64 tree count, u64 payload size, u64 flags (0)
+//   payload            one record per tree, in increasing PairKey order:
+//                        u32 receiver, patch, light face            (PairKey)
+//                        u32 tree.receiver, tree.light               (equal to the key's)
+//                        u8 kind, u8 has-stats, u16 reason length, u32 meshVertexCount,
+//                        u32 node count, u32 occluder count, u32 node-occluder count,
+//                        u32 deferred-occluder count, the reason text (HistoryTree::why), nodes
+//                        (4 x u32 each: v0, v1, children; history_tree.h), occluders (u32 face
+//                        each: HistoryTree::occluders), node occluders (u32 each), deferred
+//                        occluders (u32 face each), and with has-stats the
+//                        BuildStats (3 x u32, 8 x u64, f64)
+//   trailer (8 bytes)  u64 checksum (engine/scene/hash64.h) of header and payload
+//
+// Writing is atomic: a temporary file in the same directory, fsync, rename over the target (then
+// an fsync of the directory). A failure at any point leaves the old file as it was and removes the
+// temporary file.
+//
+// Reading validates everything before it touches the store (all or nothing): magic, version,
+// sizes, checksum, then the scene hash (a mismatch is Stale, not Corrupt: the file is intact but
+// made for another scene or other settings), then every record: counts bounded by the bytes left,
+// kinds and reasons known, keys in range (faces, patches), node children either leaves or later
+// nodes each referenced once (a tree, no cycles), depth at most kMaxTreeDepth (FPQuery recurses
+// per level), vertex ids and chords' faces in range, occluder faces in range, no duplicate keys,
+// no bytes left over. A file that passes cannot make FPQuery read out of bounds or loop.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+
+#include "engine/precompute/visibility_store.h"
+
+namespace penumbra {
+
+inline constexpr uint32_t kVisibilityFileVersion = 3;
+inline constexpr uint32_t kMaxTreeDepth = 20000;
+
+enum class VisibilityFileStatus {
+    Missing,      // no such file
+    Unreadable,   // exists but cannot be read (permissions, I/O error, a directory)
+    Corrupt,      // not a visibility file, another version, truncated, checksum or content error
+    Stale,        // intact, but made for another scene or other build settings
+    WriteFailed,  // writing failed (the previous file, if any, is untouched)
+};
+const char* toString(VisibilityFileStatus status);
+
+// what(): "<file>: <problem>", e.g. "scene.pvis: checksum mismatch (expected 0x..., found 0x...)".
+struct VisibilityFileError : std::runtime_error {
+    VisibilityFileError(VisibilityFileStatus s, const std::string& message)
+        : std::runtime_error(message), status(s) {}
+    VisibilityFileStatus status;
+};
+
+struct VisibilityFileWriteOptions {
+    bool stats = true;  // store each tree's BuildStats
+    // Test hook: the write fails (throws) after this many bytes reached the temporary file,
+    // standing in for a full disk or an I/O error in the middle of the write.
+    size_t failAfterBytes = SIZE_MAX;
+};
+
+// Writes every published tree of `store` (a snapshot) tied to sceneHash(store.scene(),
+// store.options()). Returns the file's size in bytes. Throws VisibilityFileError (WriteFailed).
+size_t writeVisibilityFile(const std::filesystem::path& path, const VisibilityStore& store,
+                           const VisibilityFileWriteOptions& options = {});
+
+// Reads `path`, checks it against store.scene() and store.options(), and adds its trees to the
+// store (keys already present keep their tree). Returns the number of trees in the file. Throws
+// VisibilityFileError (Missing, Unreadable, Corrupt or Stale); the store is unchanged then.
+size_t readVisibilityFile(const std::filesystem::path& path, VisibilityStore& store);
+
+}  // namespace penumbra

@@ -1,0 +1,78 @@
+// Point queries: which face a point lies on, and what each light looks like from a point on a face
+// (the exactly visible fragments of the light, their area and form factor), through the history
+// tree of each (receiver, light) pair (visibility/fp_query.h).
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "engine/precompute/visibility_store.h"
+#include "engine/scene/scene.h"
+#include "visibility/fp_query.h"
+#include "visibility/history_tree.h"
+#include "visibility/history_tree_builder.h"
+
+namespace penumbra {
+
+// The result of findFaceContaining: the face, or why there is none.
+struct FaceLookup {
+    std::optional<uint32_t> face;      // set on success
+    std::vector<uint32_t> candidates;  // every face the point is on (several when ambiguous)
+    std::string error;                 // set on failure: "point (x, y, z) lies on no face", ...
+    bool ok() const { return face.has_value(); }
+};
+
+// The tolerance findFaceContaining measures distances with, for a point x of the scene:
+//   tol = 1e-9 * (diagonal of the scene's bounding box) + 1e-12 * |x|
+// The first term absorbs the rounding of points computed from scene coordinates (e.g. a point
+// written with 17 digits, or interpolated on a face); the second the rounding of x itself far from
+// the origin.
+double pointTolerance(const Scene& scene, const Vec3& x);
+
+// The face x lies on. x is on face f when
+//   - its distance to f's plane (through f's first vertex, with f's unit Newell normal) is <= tol,
+//   - and, projected onto the coordinate plane that drops the dominant axis of f's normal, it is
+//     inside f's polygon or within tol of its boundary (the 2D distance to each edge's line).
+// Faces whose bounding box, grown by tol, misses x are rejected first (brute force otherwise).
+// No face: an error. Several faces: when they all lie in one plane with the same orientation (every
+// vertex of each within tol of the lowest-numbered one's plane, normals pointing the same way;
+// e.g. a quad split into two triangles, x on the diagonal) the lowest index is chosen; otherwise
+// (x on an edge where two walls meet, or on a double-sided surface) the lookup is ambiguous and
+// the error lists the candidate faces.
+FaceLookup findFaceContaining(const Scene& scene, const Vec3& x);
+
+// One light as seen from a point x on a receiver face.
+struct LightAtPoint {
+    uint32_t light = 0;      // light number (index into Scene::lights)
+    uint32_t lightFace = 0;  // its face
+    double lightArea = 0;    // area of the whole light polygon
+    double visibleArea = 0;  // sum of the fragments' areas
+    double fraction = 0;     // visibleArea / lightArea
+    // Point-to-polygon form factor of the visible fragments, for the receiver's unit normal.
+    double formFactor = 0;
+    // The same without occluders: the light clipped to the receiver's front hemisphere; 0 when x
+    // is not strictly in front of the light's plane.
+    double unoccludedFormFactor = 0;
+    std::vector<vis::Polygon3> fragments;            // disjoint convex visible parts of the light
+    uint32_t nodesVisited = 0;                       // history-tree nodes the query visited
+    std::vector<uint32_t> path;                      // their ids, depth-first
+    vis::PairKind kind = vis::PairKind::BackFacing;  // what the (receiver, light) pair is
+    // A partial tree (vis::HistoryTree::deferred): its deferred occluders, those the query clipped
+    // against from x, and the clips that changed a fragment.
+    uint32_t deferredOccluders = 0, deferredActive = 0, deferredClips = 0;
+};
+
+// Every light (or only light `onlyLight`) of the store's scene as seen from x on face `face` (x is
+// not projected onto the face). A point behind a light's plane gets fraction 0 and form factors 0;
+// so does the light's own face (kind BackFacing, no tree built). Missing trees are built on the
+// calling thread (VisibilityStore::getOrBuild). Throws std::out_of_range for a face or light
+// number out of range.
+std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, const Vec3& x,
+                                     std::optional<uint32_t> onlyLight);
+
+}  // namespace penumbra

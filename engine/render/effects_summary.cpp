@@ -1,0 +1,96 @@
+#include "engine/render/effects_summary.h"
+
+#include <cstdio>
+#include <string>
+
+namespace penumbra {
+namespace {
+
+std::string plural(size_t n, const char* one, const char* many) {
+    return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+}  // namespace
+
+std::string EffectsSummary::text() const {
+    std::string s;
+    auto line = [&s](const std::string& l) { s += l + "\n"; };
+    const bool exact = method == "exact";
+    if (method.empty()) {
+        line("nothing rendered yet");
+    } else if (materialsAnalytic + materialsSampled == 0) {
+        line("method: " + method +
+             " - but no face was seen from its front (a face seen from "
+             "behind is black): move the camera");
+    } else if (exact) {
+        line(
+            "method: exact - the visible fragments of every area light from every shading point "
+            "(history trees), no shadow rays");
+    } else {
+        line("method: " + method + " - " + std::to_string(lightSamples) +
+             " stratified shadow rays per area light per shading point");
+    }
+    if (areaLights == 0)
+        line("area lights: none - no soft shadows to compute, no history trees");
+    else if (exact)
+        line("area lights: " + std::to_string(areaLights) +
+             " - one-sided Lambertian emitters, seen through their exactly visible fragments");
+    else if (!method.empty())
+        line("area lights: " + std::to_string(areaLights) +
+             " - one-sided Lambertian emitters, visibility estimated by shadow rays");
+    if (pointLights == 0)
+        line("point lights: none");
+    else
+        line("point lights: " + std::to_string(pointLights) +
+             " - one shadow ray each (a point light casts hard shadows: no tree needed)");
+    if (exact && areaLights > 0) {
+        line("pairs with a tree walked per point (penumbra): " + std::to_string(pairsPenumbra) +
+             " - partly blocked, the tree decides per point");
+        line("pairs fully visible: " + std::to_string(pairsFullyVisible) +
+             " - nothing in the shaft, the whole light (clipped to the horizon), no walk");
+        line("pairs fully hidden: " + std::to_string(pairsFullyHidden) +
+             " - every line blocked: skipped, no light arrives");
+        line("pairs back-facing: " + std::to_string(pairsBackFacing) +
+             " - light and receiver face away from each other: skipped");
+        if (pairsPartial > 0)
+            line("  of them with a partial tree: " + std::to_string(pairsPartial) +
+                 " - the build budget stopped the tree, its other " +
+                 plural(deferredOccluders, "occluder is", "occluders are") +
+                 " clipped from each point (still exact)");
+        if (pairsDirect > 0)
+            line("pairs without a tree: " + std::to_string(pairsDirect) + " - seen by fewer than " +
+                 std::to_string(minTreeSamples) +
+                 " samples: each point clips the faces in its pyramid to the light directly (" +
+                 std::to_string(directEvaluations) + " evaluations, exact, no precompute)");
+        line("pairs never seen: " + std::to_string(pairsNeverSeen) +
+             " - receivers (patches) no primary ray hit: not computed");
+        if (sampledEvaluations > 0) {
+            char share[32];
+            std::snprintf(share, sizeof share, "%.2f%%", sampledPercent());
+            line("points sampled: " + std::to_string(sampledEvaluations) + " of " +
+                 std::to_string(exactEvaluations) + " (" + share +
+                 ") point-light evaluations - their exact answer needed more than " +
+                 std::to_string(exactWorkLimit) + " plane tests: " + std::to_string(lightSamples) +
+                 " shadow rays each instead (not exact; --exact-work-limit 0 makes every point "
+                 "exact)");
+        }
+    }
+    if (!method.empty()) {
+        if (materialsAnalytic > 0)
+            line("materials analytic: " + plural(materialsAnalytic, "material", "materials") +
+                 " - diffuse: kd ke F from the form factor of the exact fragments, no samples, "
+                 "no noise");
+        if (materialsSampled > 0) {
+            if (exact)
+                line("materials sampled: " + plural(materialsSampled, "material", "materials") +
+                     " - glossy (Phong lobe): " + std::to_string(glossySamples) +
+                     " samples per light inside the visible fragments only, diffuse part exact");
+            else
+                line("materials sampled: " + plural(materialsSampled, "material", "materials") +
+                     " - the whole BRDF at each shadow-ray sample");
+        }
+    }
+    return s;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,500 @@
+#include "engine/render/renderer.h"
+
+#include <sys/resource.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <optional>
+#include <stdexcept>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "engine/render/embree_scene.h"
+#include "engine/render/random.h"
+#include "engine/render/shading.h"
+
+namespace penumbra {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr int kTileSize = 16;
+// The exact method shades a tile in cells of kRegionCell x kRegionCell pixels: the points of one
+// receiver patch in one cell share the region decisions of the from-point query.
+constexpr int kRegionCell = 8;
+static_assert(kTileSize % kRegionCell == 0 &&
+              (kTileSize / kRegionCell) * (kTileSize / kRegionCell) <= 256);
+
+// The distinct corners of a box (1, 2, 4 or 8 of them: a flat box has fewer).
+void boxCorners(const vis::Bounds3& box, std::vector<Vec3>& out) {
+    out.clear();
+    const double xs[2] = {box.lo.x, box.hi.x}, ys[2] = {box.lo.y, box.hi.y},
+                 zs[2] = {box.lo.z, box.hi.z};
+    const int nx = box.lo.x == box.hi.x ? 1 : 2, ny = box.lo.y == box.hi.y ? 1 : 2,
+              nz = box.lo.z == box.hi.z ? 1 : 2;
+    for (int i = 0; i < nx; ++i)
+        for (int j = 0; j < ny; ++j)
+            for (int k = 0; k < nz; ++k) out.push_back({xs[i], ys[j], zs[k]});
+}
+// Tags that keep the light streams apart from the pixel streams when the two seeds are equal.
+constexpr uint64_t kPixelStream = 0x50495845ull, kLightStream = 0x4C494748ull;
+
+double seconds(Clock::time_point a, Clock::time_point b) {
+    return std::chrono::duration<double>(b - a).count();
+}
+
+// User + system CPU seconds of the whole process (every thread).
+double processCpuSeconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+           1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+void validate(const RenderSettings& s) {
+    auto require = [](bool ok, const std::string& what) {
+        if (!ok) throw std::invalid_argument("render settings: " + what);
+    };
+    require(s.width >= 1 && s.height >= 1, "image size " + std::to_string(s.width) + "x" +
+                                               std::to_string(s.height) + " (both must be >= 1)");
+    require(s.width <= 65536 && s.height <= 65536, "image size above 65536 pixels per side");
+    require(s.spp >= 1, "spp " + std::to_string(s.spp) + " (must be >= 1)");
+    require(s.lightSamples >= 1,
+            "light samples " + std::to_string(s.lightSamples) + " (must be >= 1)");
+    require(s.referenceSamples >= 1,
+            "reference samples " + std::to_string(s.referenceSamples) + " (must be >= 1)");
+    require(s.glossySamples >= 1,
+            "glossy samples " + std::to_string(s.glossySamples) + " (must be >= 1)");
+}
+
+struct Tile {
+    int x0, y0, x1, y1;
+};
+
+Tile tileAt(int index, const RenderSettings& s) {
+    const int tilesX = (s.width + kTileSize - 1) / kTileSize;
+    const int tx = index % tilesX, ty = index / tilesX;
+    return {tx * kTileSize, ty * kTileSize, std::min(s.width, (tx + 1) * kTileSize),
+            std::min(s.height, (ty + 1) * kTileSize)};
+}
+
+int tileCount(const RenderSettings& s) {
+    return ((s.width + kTileSize - 1) / kTileSize) * ((s.height + kTileSize - 1) / kTileSize);
+}
+
+// The primary ray of pixel (x, y) in pass `pass`: a uniform jitter inside the pixel drawn from
+// the stream (seed, pass, pixel).
+Ray primaryRay(const CameraRays& rays, const RenderSettings& s, int pass, int x, int y) {
+    SplitMix64 rng = SplitMix64::forIndices(
+        {kPixelStream, s.seed, static_cast<uint64_t>(pass),
+         static_cast<uint64_t>(y) * static_cast<uint64_t>(s.width) + static_cast<uint64_t>(x)});
+    const double u = rng.uniform(), v = rng.uniform();
+    return rays(x + u, y + v);
+}
+
+}  // namespace
+
+const char* toString(DirectMethod m) {
+    switch (m) {
+        case DirectMethod::Exact:
+            return "exact";
+        case DirectMethod::Sampled:
+            return "sampled";
+        case DirectMethod::Reference:
+            return "reference";
+    }
+    return "?";
+}
+
+void Film::reset(int w, int h) {
+    width = w;
+    height = h;
+    passes = 0;
+    sum.assign(static_cast<size_t>(w) * static_cast<size_t>(h), Vec3{});
+}
+
+Vec3 Film::mean(int x, int y) const {
+    if (passes == 0) return {};
+    return sum[static_cast<size_t>(y) * width + x] / passes;
+}
+
+// Thread time spent per phase in one pass, summed over tiles.
+struct ProgressiveRenderer::PassTimes {
+    std::atomic<int64_t> primaryNs{0}, shadingNs{0};
+    double wall = 0;
+};
+
+ProgressiveRenderer::ProgressiveRenderer(const Scene& scene, const EmbreeScene& bvh,
+                                         VisibilityStore& store)
+    : scene_(scene),
+      bvh_(bvh),
+      store_(store),
+      lighting_(std::make_unique<DirectLighting>(scene, bvh, &store)) {
+    faceNormal_.reserve(scene.faceCount());
+    faceOrigin_.reserve(scene.faceCount());
+    for (uint32_t f = 0; f < scene.faceCount(); ++f) {
+        faceNormal_.push_back(normalize(scene.mesh.faceAreaNormal(f)));
+        faceOrigin_.push_back(
+            scene.mesh.faces[f].empty() ? Vec3{} : scene.mesh.vertices[scene.mesh.faces[f][0]]);
+    }
+    faceSeen_.assign(scene.faceCount(), 0);
+}
+
+ProgressiveRenderer::~ProgressiveRenderer() = default;
+
+void ProgressiveRenderer::recordUse(const std::vector<PairKey>& keys,
+                                    const std::vector<uint32_t>& faces,
+                                    const RenderSettings& settings,
+                                    const ExactEvaluations& evaluations,
+                                    const std::vector<PairKey>& directKeys) {
+    std::lock_guard lock(mutex_);
+    evaluations_ += evaluations;
+    minTreeSamples_ = settings.minTreeSamples;
+    directUsed_.insert(directKeys.begin(), directKeys.end());
+    exactWorkLimit_ = settings.exactWorkLimit;
+    usedKeys_.insert(keys.begin(), keys.end());
+    for (uint32_t f : faces) faceSeen_[f] = 1;
+    rendered_ = true;
+    method_ = settings.method;
+    lightSamples_ = settings.method == DirectMethod::Reference ? settings.referenceSamples
+                                                               : settings.lightSamples;
+    glossySamples_ = settings.glossySamples;
+}
+
+void ProgressiveRenderer::resetEffects() {
+    std::lock_guard lock(mutex_);
+    usedKeys_.clear();
+    faceSeen_.assign(scene_.faceCount(), 0);
+    rendered_ = false;
+    evaluations_ = {};
+    directUsed_.clear();
+}
+
+double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& settings,
+                                    const std::atomic<bool>* cancel) {
+    validate(settings);
+    if (settings.method != DirectMethod::Exact) return 0;
+    const auto t0 = Clock::now();
+    auto cancelled = [cancel] {
+        return cancel != nullptr && cancel->load(std::memory_order_relaxed);
+    };
+
+    // The pairs the primary hits of every pass need (each pass jitters its rays: on a finely
+    // tessellated mesh a pixel covers many receivers, and later passes hit others).
+    const CameraRays rays(camera, settings.width, settings.height);
+    // With a tree for every pair (minTreeSamples 0) every pass is traced, so that the passes find
+    // all their trees built; otherwise the first two give the counts.
+    const int passesTraced =
+        settings.minTreeSamples == 0 ? settings.spp : std::min(settings.spp, 2);
+    std::mutex mutex;
+    std::unordered_map<PairKey, uint64_t, PairKeyHash> needed;  // samples per pair
+    std::vector<uint32_t> facesSeen;
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, tileCount(settings), 1),
+        [&](const tbb::blocked_range<int>& range) {
+            std::unordered_map<PairKey, uint64_t, PairKeyHash> local;
+            std::vector<uint32_t> faces;
+            for (int t = range.begin(); t != range.end(); ++t) {
+                if (cancelled()) return;
+                const Tile tile = tileAt(t, settings);
+                for (int pass = 0; pass < passesTraced; ++pass)
+                    for (int y = tile.y0; y < tile.y1; ++y) {
+                        for (int x = tile.x0; x < tile.x1; ++x) {
+                            const Ray ray = primaryRay(rays, settings, pass, x, y);
+                            const auto hit = bvh_.intersect(ray.origin, ray.direction);
+                            if (!hit) continue;
+                            const uint32_t f = hit->face;
+                            const Vec3 n = faceNormal_[f];
+                            if (!(dot(ray.direction, n) < 0)) continue;  // back side
+                            if (faces.empty() || faces.back() != f) faces.push_back(f);
+                            const Vec3 xs = hit->point - n * dot(n, hit->point - faceOrigin_[f]);
+                            for (uint32_t lf : scene_.lights)
+                                if (lf != f) ++local[store_.keyAt(f, xs, lf)];
+                        }
+                    }
+            }
+            std::lock_guard lock(mutex);
+            for (const auto& [key, count] : local) needed[key] += count;
+            facesSeen.insert(facesSeen.end(), faces.begin(), faces.end());
+        });
+    if (cancelled()) return seconds(t0, Clock::now());
+    // A pair the image samples fewer than minTreeSamples times gets no tree: its points are
+    // evaluated directly (FromPointQuery::runDirect), which costs no precompute. The counts come
+    // from the first passes (scaled to all of them), so that prepare does not trace the whole
+    // image's rays twice; a pair no traced pass hit is rare, and evaluated directly too.
+    std::vector<PairKey> keys, all;
+    for (const auto& [key, count] : needed) {
+        all.push_back(key);
+        const uint64_t estimate = count * static_cast<uint64_t>(settings.spp) / passesTraced;
+        if (estimate >= settings.minTreeSamples || store_.find(key) != nullptr) keys.push_back(key);
+    }
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, keys.size(), 1),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                          for (size_t i = range.begin(); i != range.end(); ++i) {
+                              if (cancelled()) return;
+                              store_.getOrBuild(keys[i]);
+                          }
+                      });
+    recordUse(all, facesSeen, settings);
+    directMissing_ = settings.minTreeSamples > 0;
+    return seconds(t0, Clock::now());
+}
+
+bool ProgressiveRenderer::renderPass(const Camera& camera, const RenderSettings& settings,
+                                     Film& film, const std::atomic<bool>* cancel) {
+    return renderPassTimed(camera, settings, film, cancel, nullptr);
+}
+
+bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSettings& settings,
+                                          Film& film, const std::atomic<bool>* cancel,
+                                          PassTimes* times) {
+    validate(settings);
+    const auto t0 = Clock::now();
+    const int w = settings.width, h = settings.height;
+    const int pass =
+        film.width == w && film.height == h && film.sum.size() == static_cast<size_t>(w) * h
+            ? film.passes
+            : 0;
+    std::vector<Vec3> image(static_cast<size_t>(w) * h);
+    std::atomic<bool> cancelled{false};
+    std::mutex mutex;
+    std::vector<PairKey> usedKeys;
+    std::vector<uint32_t> facesSeen;
+    ExactEvaluations evaluations;     // by mutex
+    std::vector<PairKey> directKeys;  // by mutex
+    const int samples = settings.method == DirectMethod::Reference ? settings.referenceSamples
+                                                                   : settings.lightSamples;
+    const CameraRays rays(camera, w, h);
+    const bool exact = settings.method == DirectMethod::Exact;
+
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, tileCount(settings), 1),
+        [&](const tbb::blocked_range<int>& range) {
+            ExactScratch scratch;
+            scratch.query.setWorkLimit(settings.exactWorkLimit);
+            scratch.buildMissing = !directMissing_;
+            std::vector<uint32_t> faces;
+            struct PrimaryHit {
+                Ray ray;
+                std::optional<EmbreeScene::Hit> hit;
+            };
+            std::vector<PrimaryHit> hits;
+            struct TilePoint {
+                int x = 0, y = 0;
+                SurfacePoint point;
+                uint64_t group = 0;  // receiver face, patch and region cell (exact method)
+            };
+            std::vector<TilePoint> points;
+            uint64_t regionCounter = 0;
+            for (int t = range.begin(); t != range.end(); ++t) {
+                if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) {
+                    cancelled.store(true, std::memory_order_relaxed);
+                    return;
+                }
+                const Tile tile = tileAt(t, settings);
+                const auto a = Clock::now();
+                hits.clear();
+                for (int y = tile.y0; y < tile.y1; ++y) {
+                    for (int x = tile.x0; x < tile.x1; ++x) {
+                        const Ray ray = primaryRay(rays, settings, pass, x, y);
+                        hits.push_back({ray, bvh_.intersect(ray.origin, ray.direction)});
+                    }
+                }
+                const auto b = Clock::now();
+                // The tile's shading points. For the exact method they are shaded group by group,
+                // a group being the points of one receiver patch in one region cell of the tile:
+                // the query then decides once per group the nodes that send all of its points
+                // the same way (ExactScratch::regionCorners). Each pixel's value does not depend
+                // on the order (its random numbers are its own).
+                points.clear();
+                size_t i = 0;
+                for (int y = tile.y0; y < tile.y1; ++y) {
+                    for (int x = tile.x0; x < tile.x1; ++x, ++i) {
+                        const PrimaryHit& ph = hits[i];
+                        if (!ph.hit) continue;  // background: black
+                        const uint32_t f = ph.hit->face;
+                        const Vec3 n = faceNormal_[f];
+                        // A receiver sees only its face's front hemisphere, and a light emits
+                        // only to its front: a face seen from behind is black.
+                        if (!(dot(ph.ray.direction, n) < 0)) continue;
+                        if (faces.empty() || faces.back() != f) faces.push_back(f);
+                        TilePoint tp;
+                        tp.x = x;
+                        tp.y = y;
+                        SurfacePoint& p = tp.point;
+                        p.face = f;
+                        // Embree's hit is computed in float and lies a hair off the face's plane;
+                        // the exact query wants x on the face, so project it onto the plane.
+                        p.x = ph.hit->point - n * dot(n, ph.hit->point - faceOrigin_[f]);
+                        p.n = n;
+                        p.wo = -ph.ray.direction;
+                        p.material = &scene_.material(f);
+                        if (exact) {
+                            const uint32_t cell = static_cast<uint32_t>(
+                                ((y - tile.y0) / kRegionCell) * (kTileSize / kRegionCell) +
+                                (x - tile.x0) / kRegionCell);
+                            tp.group = (static_cast<uint64_t>(f) << 32) |
+                                       (static_cast<uint64_t>(store_.patches(f).find(p.x)) << 8) |
+                                       cell;
+                        }
+                        points.push_back(tp);
+                    }
+                }
+                if (exact)
+                    std::sort(
+                        points.begin(), points.end(),
+                        [](const TilePoint& l, const TilePoint& r) { return l.group < r.group; });
+                for (size_t g = 0; g < points.size();) {
+                    size_t end = g + 1;
+                    while (end < points.size() && points[end].group == points[g].group) ++end;
+                    if (exact) {
+                        vis::Bounds3 box;
+                        for (size_t q = g; q < end; ++q) box.add(points[q].point.x);
+                        boxCorners(box, scratch.regionCorners);
+                        scratch.regionId = ++regionCounter;
+                    }
+                    for (size_t q = g; q < end; ++q) {
+                        const SurfacePoint& p = points[q].point;
+                        const int x = points[q].x, y = points[q].y;
+                        Vec3 radiance = p.material->isEmissive() ? p.material->ke : Vec3{};
+                        SplitMix64 rng = SplitMix64::forIndices(
+                            {kLightStream, settings.lightSeed, static_cast<uint64_t>(pass),
+                             static_cast<uint64_t>(y) * static_cast<uint64_t>(w) +
+                                 static_cast<uint64_t>(x)});
+                        if (exact)
+                            radiance += lighting_->exactAreaLights(
+                                p, settings.glossySamples, settings.lightSamples, rng, scratch);
+                        else
+                            radiance += lighting_->sampledAreaLights(p, samples, rng);
+                        radiance += lighting_->pointLights(p);
+                        image[static_cast<size_t>(y) * w + x] = radiance;
+                    }
+                    g = end;
+                }
+                scratch.regionCorners.clear();
+                const auto c = Clock::now();
+                if (times != nullptr) {
+                    times->primaryNs.fetch_add(
+                        std::chrono::duration_cast<std::chrono::nanoseconds>(b - a).count(),
+                        std::memory_order_relaxed);
+                    times->shadingNs.fetch_add(
+                        std::chrono::duration_cast<std::chrono::nanoseconds>(c - b).count(),
+                        std::memory_order_relaxed);
+                }
+            }
+            std::lock_guard lock(mutex);
+            usedKeys.insert(usedKeys.end(), scratch.used.begin(), scratch.used.end());
+            facesSeen.insert(facesSeen.end(), faces.begin(), faces.end());
+            evaluations += scratch.evaluations;
+            directKeys.insert(directKeys.end(), scratch.usedDirect.begin(),
+                              scratch.usedDirect.end());
+        });
+    if (cancelled.load()) return false;
+
+    if (pass == 0) film.reset(w, h);
+    for (size_t i = 0; i < image.size(); ++i) film.sum[i] += image[i];
+    ++film.passes;
+    recordUse(usedKeys, facesSeen, settings, evaluations, directKeys);
+    if (times != nullptr) times->wall = seconds(t0, Clock::now());
+    return true;
+}
+
+Film ProgressiveRenderer::render(const Camera& camera, const RenderSettings& settings,
+                                 RenderTimes* times, const std::atomic<bool>* cancel) {
+    validate(settings);
+    const auto t0 = Clock::now();
+    const double cpu0 = processCpuSeconds();
+    Film film;
+    film.reset(settings.width, settings.height);
+    const double precompute = prepare(camera, settings, cancel);
+    const double cpu1 = processCpuSeconds();
+    double primary = 0, shading = 0;
+    for (int i = 0; i < settings.spp; ++i) {
+        PassTimes pt;
+        if (!renderPassTimed(camera, settings, film, cancel, &pt)) break;
+        // Thread time per phase, scaled so that the two phases add up to the pass's wall time.
+        const double p = pt.primaryNs.load() * 1e-9, s = pt.shadingNs.load() * 1e-9;
+        if (p + s > 0) {
+            primary += pt.wall * p / (p + s);
+            shading += pt.wall * s / (p + s);
+        }
+    }
+    if (times != nullptr) {
+        times->precompute = precompute;
+        times->primary = primary;
+        times->shading = shading;
+        times->total = seconds(t0, Clock::now());
+        times->precomputeCpu = cpu1 - cpu0;
+        times->totalCpu = processCpuSeconds() - cpu0;
+    }
+    return film;
+}
+
+EffectsSummary ProgressiveRenderer::effects() const {
+    EffectsSummary s;
+    s.areaLights = scene_.lights.size();
+    s.pointLights = scene_.pointLights.size();
+    std::lock_guard lock(mutex_);
+    if (!rendered_) return s;
+    s.method = toString(method_);
+    s.lightSamples = lightSamples_;  // exact: the points over the work limit
+    s.exactEvaluations = evaluations_.all;
+    s.sampledEvaluations = evaluations_.sampled;
+    s.exactWorkLimit = exactWorkLimit_;
+    s.pairsDirect = directUsed_.size();
+    s.directEvaluations = evaluations_.direct;
+    s.minTreeSamples = minTreeSamples_;
+    s.glossySamples = method_ == DirectMethod::Exact ? glossySamples_ : 0;
+    // Materials of the faces the image saw.
+    std::vector<char> materialSeen(scene_.materials.size() + 1, 0);  // last slot: the default
+    for (uint32_t f = 0; f < scene_.faceCount(); ++f) {
+        if (!faceSeen_[f]) continue;
+        const int32_t m = f < scene_.faceMaterial.size() ? scene_.faceMaterial[f] : -1;
+        materialSeen[m >= 0 ? static_cast<size_t>(m) : scene_.materials.size()] = 1;
+    }
+    for (size_t m = 0; m < materialSeen.size(); ++m) {
+        if (!materialSeen[m]) continue;
+        const Material& mat = m < scene_.materials.size() ? scene_.materials[m] : Material{};
+        if (method_ == DirectMethod::Exact && !mat.isGlossy())
+            ++s.materialsAnalytic;
+        else
+            ++s.materialsSampled;
+    }
+    if (method_ != DirectMethod::Exact) return s;
+    // Pairs by kind, from the trees the images used.
+    for (const PairKey& key : usedKeys_) {
+        const PairRecord* record = store_.find(key);
+        if (record == nullptr) continue;
+        switch (record->tree.kind) {
+            case vis::PairKind::BackFacing:
+                ++s.pairsBackFacing;
+                break;
+            case vis::PairKind::FullyVisible:
+                ++s.pairsFullyVisible;
+                break;
+            case vis::PairKind::FullyHidden:
+                ++s.pairsFullyHidden;
+                break;
+            case vis::PairKind::Penumbra:
+                ++s.pairsPenumbra;
+                if (record->tree.partial()) {
+                    ++s.pairsPartial;
+                    s.deferredOccluders += record->tree.deferred.size();
+                }
+                break;
+        }
+    }
+    // Every (receiver patch, light) pair of the scene that no image needed.
+    size_t total = 0;
+    for (uint32_t f = 0; f < scene_.faceCount(); ++f) {
+        const size_t patches = std::max<size_t>(1, store_.patches(f).patches.size());
+        for (uint32_t lf : scene_.lights)
+            if (lf != f) total += patches;
+    }
+    s.pairsNeverSeen = total > usedKeys_.size() ? total - usedKeys_.size() : 0;
+    return s;
+}
+
+}  // namespace penumbra

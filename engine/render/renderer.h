@@ -1,0 +1,166 @@
+// ProgressiveRenderer: the CPU ray tracer with exact soft shadows (issue 3).
+//
+// CONTRACT HEADER: declared here so that the viewer (app/) and the bench can be written against it
+// while it is implemented in engine/render/renderer.cpp. Additions are fine; changes need a reason.
+//
+// One pass = one jittered primary sample per pixel, rendered in tiles on oneTBB. Passes accumulate
+// in a Film; a pass can be cancelled (the partial pass is discarded, the film keeps whole passes).
+// Direct illumination only (emitted + one bounce from the area and point lights).
+//   Exact:     the visible fragments of each area light from the shading point (FPQuery through the
+//              VisibilityStore). Diffuse: L = kd * Le * F with F the point-to-polygon form factor
+//              of the fragments (irradiance pi Le F, times kd / pi): analytic, no samples.
+//              Glossy: samples drawn only inside the visible fragments.
+//   Sampled:   N stratified shadow rays per light per shading point (Embree), the paper's baseline.
+//   Reference: the same as Sampled with many rays (referenceSamples).
+// Conventions (engine/render/shading.h has the BRDF and the estimators):
+//   - A receiver sees only its face's front hemisphere and a light emits only to its front: a
+//     primary ray that hits a face from behind (or edge-on) returns black, emission included.
+//   - Embree's hit point is computed in float and lies a hair off the face's plane; it is
+//     projected onto the plane (through the face's first vertex, unit Newell normal) before
+//     shading, since the from-point query takes x on the face. The projection is itself rounded:
+//     x is on the plane up to an ulp or so, which moves a shadow boundary by as much.
+//   - Point lights: one shadow ray each (EmbreeScene::occluded), in every method.
+//   - Random numbers are counter-based (engine/render/random.h): the image does not depend on the
+//     thread schedule, and the same settings give the same film.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+#include "engine/precompute/visibility_store.h"
+#include "engine/render/effects_summary.h"
+#include "engine/scene/camera.h"
+#include "engine/scene/scene.h"
+
+namespace penumbra {
+
+class EmbreeScene;
+class DirectLighting;
+
+enum class DirectMethod { Exact, Sampled, Reference };
+const char* toString(DirectMethod m);
+
+struct RenderSettings {
+    int width = 512;
+    int height = 512;
+    int spp = 16;  // primary samples per pixel (= passes)
+    DirectMethod method = DirectMethod::Exact;
+    int lightSamples = 128;       // shadow rays per light per shading point (Sampled)
+    int referenceSamples = 1024;  // (Reference)
+    uint64_t seed = 1;            // the pixel sampling pattern; the same seed gives the same jitter
+    // The light sampling (shadow-ray positions, glossy samples inside the fragments): separate from
+    // `seed` so that the pixel pattern can stay fixed while the light samples change.
+    uint64_t lightSeed = 1;
+    int glossySamples = 16;  // Exact, glossy materials: samples per light inside the fragments
+    // Exact: the work one from-point query may do, in plane tests (vis::FromPointQuery::
+    // setWorkLimit); a point whose exact answer needs more (hundreds of fragments behind a plant's
+    // leaves) is shaded for that light with lightSamples shadow rays instead, and the effects
+    // summary counts it. 0 = no limit: every point exact, whatever it costs.
+    uint64_t exactWorkLimit = 1024;
+    // Exact: a (receiver patch, light) pair that the image's primary samples (all passes) hit
+    // fewer times than this gets no history tree; its points are evaluated directly
+    // (vis::FromPointQuery::runDirect: the faces in each point's pyramid to the light, clipped
+    // from the point; exact, no precompute). On a finely tessellated mesh most receivers are seen
+    // by a few samples each, and a tree would cost more than all of their queries. 0 = a tree for
+    // every pair. Only prepare() decides this (a pass alone, without prepare, builds what it
+    // needs); it counts the samples of the first two passes.
+    uint64_t minTreeSamples = 64;
+};
+
+// Linear radiance, accumulated over passes. A pass adds one jittered sample per pixel; the jitter
+// of pixel (x, y) in pass p depends only on (RenderSettings::seed, p, x, y).
+struct Film {
+    int width = 0, height = 0;
+    int passes = 0;
+    std::vector<Vec3> sum;  // width * height, row-major from the top-left
+    void reset(int w, int h);
+    Vec3 mean(int x, int y) const;  // sum / passes (0 when no pass)
+};
+
+struct RenderTimes {
+    double precompute = 0;  // seconds building the history trees the image needs
+    double primary = 0;     // tracing primary rays (summed over threads, then scaled to wall time)
+    double shading = 0;     // direct illumination
+    double total = 0;       // wall time
+    // Process CPU time (all threads, user + system) of the precompute and of the whole render:
+    // on a loaded machine wall times mislead, CPU times still compare methods.
+    double precomputeCpu = 0;
+    double totalCpu = 0;
+};
+
+class ProgressiveRenderer {
+  public:
+    // All three must outlive the renderer. The store is used only by DirectMethod::Exact.
+    ProgressiveRenderer(const Scene& scene, const EmbreeScene& bvh, VisibilityStore& store);
+
+    // The trees the image needs (for Exact), built in parallel before shading: the (receiver
+    // patch, light) pairs hit by the primary rays often enough (RenderSettings::minTreeSamples,
+    // counted on the first two passes; every pass is traced when it is 0). Returns seconds spent.
+    // Cancellable; returns early when cancelled.
+    double prepare(const Camera& camera, const RenderSettings& settings,
+                   const std::atomic<bool>* cancel = nullptr);
+    // Adds one pass (pass index = film.passes) to the film. Returns false when cancelled (the film
+    // is unchanged). A film of another size than settings' is reset first. The cancel flag is
+    // read before each tile. Throws std::invalid_argument for settings out of range (sizes,
+    // spp or sample counts < 1).
+    bool renderPass(const Camera& camera, const RenderSettings& settings, Film& film,
+                    const std::atomic<bool>* cancel = nullptr);
+    // prepare + settings.spp passes.
+    Film render(const Camera& camera, const RenderSettings& settings, RenderTimes* times = nullptr,
+                const std::atomic<bool>* cancel = nullptr);
+
+    // What was simulated and why (pairs by kind, materials analytic or sampled, point lights), for
+    // the images rendered since construction or the last resetEffects().
+    EffectsSummary effects() const;
+    void resetEffects();
+
+    ~ProgressiveRenderer();
+    ProgressiveRenderer(const ProgressiveRenderer&) = delete;
+    ProgressiveRenderer& operator=(const ProgressiveRenderer&) = delete;
+
+  private:
+    struct PassTimes;
+    bool renderPassTimed(const Camera& camera, const RenderSettings& settings, Film& film,
+                         const std::atomic<bool>* cancel, PassTimes* times);
+    void recordUse(const std::vector<PairKey>& keys, const std::vector<uint32_t>& faces,
+                   const RenderSettings& settings, const ExactEvaluations& evaluations = {},
+                   const std::vector<PairKey>& directKeys = {});
+
+    const Scene& scene_;
+    const EmbreeScene& bvh_;
+    VisibilityStore& store_;
+    std::unique_ptr<DirectLighting> lighting_;
+    std::vector<Vec3> faceNormal_;  // unit, per face
+    std::vector<Vec3> faceOrigin_;  // first vertex, per face
+
+    // What the images used (effects()); guarded by mutex_.
+    mutable std::mutex mutex_;
+    std::set<PairKey> usedKeys_;
+    std::vector<char> faceSeen_;
+    bool rendered_ = false;
+    DirectMethod method_ = DirectMethod::Exact;
+    int lightSamples_ = 0, glossySamples_ = 0;
+    uint64_t exactWorkLimit_ = 0;
+    // Exact method: (point, light) evaluations, and those over the work limit (sampled).
+    ExactEvaluations evaluations_;
+    uint64_t minTreeSamples_ = 0;
+    std::set<PairKey> directUsed_;
+    // Set by prepare() with minTreeSamples > 0: the passes evaluate the pairs without a tree
+    // point by point instead of building them (written by prepare, read by the passes, never at
+    // the same time).
+    bool directMissing_ = false;
+};
+
+// Output (engine/io/image_io.cpp). PFM: linear float, little-endian, bottom-to-top rows as the
+// format requires. PNG: exposure then sRGB tone mapping. Both written atomically (temp file +
+// rename); failures throw std::runtime_error naming the file and the reason.
+void writePfm(const Film& film, const std::string& path);
+void writePng(const Film& film, const std::string& path, double exposure = 1.0);
+
+}  // namespace penumbra

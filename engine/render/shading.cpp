@@ -1,0 +1,264 @@
+#include "engine/render/shading.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "engine/render/embree_scene.h"
+#include "visibility/form_factor.h"
+#include "visibility/fp_query.h"
+#include "visibility/polygon_clip.h"
+
+namespace penumbra {
+
+double phongLobe(double ns, const Vec3& n, const Vec3& wo, const Vec3& wi) {
+    const Vec3 r = 2 * dot(n, wo) * n - wo;  // mirror direction of wo
+    const double c = dot(r, wi);
+    if (!(c > 0)) return 0;
+    return (ns + 2) / (2 * std::numbers::pi) * std::pow(c, ns);
+}
+
+Vec3 brdf(const Material& m, const Vec3& n, const Vec3& wo, const Vec3& wi) {
+    Vec3 f = m.kd * (1 / std::numbers::pi);
+    if (m.isGlossy()) f += m.ks * phongLobe(m.ns, n, wo, wi);
+    return f;
+}
+
+void stratifiedGrid(int samples, int& a, int& b) {
+    a = static_cast<int>(std::sqrt(static_cast<double>(samples)));
+    while (a > 1 && a * a > samples) --a;  // guard sqrt rounding
+    while ((a + 1) * (a + 1) <= samples) ++a;
+    while (a > 1 && samples % a != 0) --a;
+    a = std::max(a, 1);
+    b = samples / a;
+}
+
+void TriangleSampler::clear() {
+    tris_.clear();
+    total_ = 0;
+}
+
+void TriangleSampler::addPolygon(std::span<const Vec3> polygon) {
+    for (size_t i = 1; i + 1 < polygon.size(); ++i) {
+        const Vec3 a = polygon[0], b = polygon[i], c = polygon[i + 1];
+        const double area = 0.5 * length(cross(b - a, c - a));
+        if (!(area > 0)) continue;
+        tris_.push_back({a, b, c, area});
+        total_ += area;
+    }
+}
+
+Vec3 TriangleSampler::sample(double u, double v) const {
+    double target = u * total_;
+    size_t t = 0;
+    while (t + 1 < tris_.size() && target >= tris_[t].area) {
+        target -= tris_[t].area;
+        ++t;
+    }
+    const Tri& tri = tris_[t];
+    const double s = std::sqrt(std::clamp(target / tri.area, 0.0, 1.0));
+    return tri.a + (tri.b - tri.a) * (s * (1 - v)) + (tri.c - tri.a) * (s * v);
+}
+
+DirectLighting::DirectLighting(const Scene& scene, const EmbreeScene& bvh, VisibilityStore* store)
+    : scene_(scene), bvh_(bvh), store_(store) {
+    for (uint32_t face : scene.lights) {
+        AreaLight light;
+        light.face = face;
+        light.ke = scene.material(face).ke;
+        light.normal = normalize(scene.mesh.faceAreaNormal(face));
+        light.origin = scene.mesh.vertices[scene.mesh.faces[face][0]];
+        light.plane = vis::facePlane(scene.mesh, face);
+        for (uint32_t v : scene.mesh.faces[face]) light.polygon.push_back(scene.mesh.vertices[v]);
+        light.sampler.addPolygon(light.polygon);
+        lights_.push_back(std::move(light));
+    }
+}
+
+Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, int fallbackSamples,
+                                     SplitMix64& rng, ExactScratch& scratch) const {
+    if (scratch.lastTree.size() != lights_.size()) {
+        scratch.lastKey.assign(lights_.size(), PairKey{});
+        scratch.lastTree.assign(lights_.size(), nullptr);
+        scratch.clippedFace.assign(lights_.size(), EmbreeScene::kNoFace);
+        scratch.lastDirect.assign(lights_.size(), 0);
+        scratch.clippedLight.assign(lights_.size(), vis::Polygon3{});
+    }
+    Vec3 out{};
+    for (size_t k = 0; k < lights_.size(); ++k) {
+        const AreaLight& light = lights_[k];
+        if (light.face == p.face) continue;  // a light does not light itself
+        const PairKey key = store_->keyAt(p.face, p.x, light.face);
+        const PairRecord* record = scratch.lastTree[k];
+        if ((record == nullptr && !scratch.lastDirect[k]) || scratch.lastKey[k] != key) {
+            // Without a tree and not to be built: evaluated point by point (buildMissing).
+            record = store_->find(key);
+            const bool direct = record == nullptr && !scratch.buildMissing;
+            if (record == nullptr && !direct) record = &store_->getOrBuild(key);
+            scratch.lastKey[k] = key;
+            scratch.lastTree[k] = record;
+            scratch.lastDirect[k] = direct;
+            scratch.used.insert(key);
+            if (direct) scratch.usedDirect.insert(key);
+        }
+        // The evaluations that need a query: a pair without a tree, or a tree to walk.
+        const bool queried = record == nullptr || record->tree.kind == vis::PairKind::Penumbra;
+        if (queried) {
+            ++scratch.evaluations.all;
+            if (record == nullptr) ++scratch.evaluations.direct;
+        }
+        // Over the work limit: shadow rays instead, and the region marked so that its later
+        // points skip the attempt (ExactScratch::regionOverLimit).
+        auto overLimit = [&] {
+            ++scratch.evaluations.sampled;
+            if (!scratch.regionCorners.empty()) scratch.regionOverLimit[k] = scratch.regionId;
+            return sampledAreaLight(light, p, fallbackSamples, rng);
+        };
+        if (queried && !scratch.regionCorners.empty()) {
+            if (scratch.regions.size() != lights_.size()) {
+                scratch.regions.assign(lights_.size(), vis::RegionDecisions{});
+                scratch.regionOf.assign(lights_.size(), 0);
+                scratch.regionOverLimit.assign(lights_.size(), 0);
+            }
+            if (scratch.regionOverLimit[k] == scratch.regionId) {
+                out += overLimit();
+                continue;
+            }
+        }
+        if (record == nullptr) {  // direct: the faces in the pyramid from x, clipped from x
+            const vis::FragmentList& list =
+                scratch.query.runDirect(scene_.mesh, p.face, light.face, p.x, bvh_.faceBoxes());
+            out += scratch.query.limitReached()
+                       ? overLimit()
+                       : shadeFragments(p, light, list, {}, glossySamples, rng, scratch);
+            continue;
+        }
+        const vis::PairKind kind = record->tree.kind;
+        if (kind == vis::PairKind::BackFacing || kind == vis::PairKind::FullyHidden) continue;
+        // The fragments, as polygons (the fully visible pair's cached clip) or the FPQuery list.
+        const vis::FragmentList* list = nullptr;
+        std::span<const vis::Polygon3> fragments;
+        if (kind == vis::PairKind::FullyVisible) {
+            // What FPQuery returns for a fully visible pair, cached per receiver face.
+            if (light.plane.side(p.x) != vis::Sign::Positive) continue;
+            if (scratch.clippedFace[k] != p.face) {
+                const vis::FacePlane receiver = vis::facePlane(scene_.mesh, p.face);
+                scratch.clippedLight[k] = vis::clipConvexPositive(
+                    light.polygon, vis::OrientedPlane{receiver.a, receiver.b, receiver.c});
+                scratch.clippedFace[k] = p.face;
+            }
+            if (scratch.clippedLight[k].size() < 3) continue;
+            fragments = std::span<const vis::Polygon3>(&scratch.clippedLight[k], 1);
+        } else {
+            vis::RegionDecisions* region = nullptr;
+            if (!scratch.regionCorners.empty()) {
+                region = &scratch.regions[k];
+                if (scratch.regionOf[k] != scratch.regionId || region->tree() != &record->tree) {
+                    region->reset(scene_.mesh, record->tree, scratch.regionCorners);
+                    scratch.regionOf[k] = scratch.regionId;
+                }
+            }
+            list = &scratch.query.run(scene_.mesh, record->tree, p.x, nullptr, region);
+            if (scratch.query.limitReached()) {
+                out += overLimit();
+                continue;
+            }
+            if (list->empty()) continue;
+        }
+        if (list == nullptr && fragments.empty()) continue;
+        static const vis::FragmentList kNone;  // immutable: shared by every thread
+        out += list != nullptr
+                   ? shadeFragments(p, light, *list, {}, glossySamples, rng, scratch)
+                   : shadeFragments(p, light, kNone, fragments, glossySamples, rng, scratch);
+    }
+    return out;
+}
+
+Vec3 DirectLighting::shadeFragments(const SurfacePoint& p, const AreaLight& light,
+                                    const vis::FragmentList& list,
+                                    std::span<const vis::Polygon3> fragments, int glossySamples,
+                                    SplitMix64& rng, ExactScratch& scratch) const {
+    const Material& m = *p.material;
+    const bool glossy = m.isGlossy() && glossySamples > 0;
+    // Diffuse: irradiance pi ke F times kd / pi. Exact up to rounding.
+    double formFactor = 0;
+    for (size_t i = 0; i < list.size(); ++i) formFactor += vis::formFactor(p.x, p.n, list[i]);
+    for (const vis::Polygon3& fragment : fragments)
+        formFactor += vis::formFactor(p.x, p.n, fragment);
+    Vec3 out = mul(m.kd, light.ke) * formFactor;
+    if (!glossy) return out;
+    // Glossy: stratified area samples inside the visible fragments only (no shadow rays).
+    TriangleSampler& sampler = scratch.fragments;
+    sampler.clear();
+    for (size_t i = 0; i < list.size(); ++i) sampler.addPolygon(list[i]);
+    for (const vis::Polygon3& fragment : fragments) sampler.addPolygon(fragment);
+    if (sampler.empty()) return out;
+    int a = 1, b = 1;
+    stratifiedGrid(glossySamples, a, b);
+    double sum = 0;
+    for (int i = 0; i < b; ++i) {
+        for (int j = 0; j < a; ++j) {
+            const double u = (i + rng.uniform()) / b;
+            const double v = (j + rng.uniform()) / a;
+            const Vec3 d = sampler.sample(u, v) - p.x;
+            const double r2 = dot(d, d);
+            if (!(r2 > 0)) continue;
+            const Vec3 wi = d / std::sqrt(r2);
+            const double cosX = dot(p.n, wi), cosY = -dot(light.normal, wi);
+            if (!(cosX > 0) || !(cosY > 0)) continue;
+            sum += phongLobe(m.ns, p.n, p.wo, wi) * cosX * cosY / r2;
+        }
+    }
+    return out + mul(m.ks, light.ke) * (sum * sampler.area() / glossySamples);
+}
+
+Vec3 DirectLighting::sampledAreaLight(const AreaLight& light, const SurfacePoint& p, int samples,
+                                      SplitMix64& rng) const {
+    if (light.face == p.face || light.sampler.empty() || samples < 1) return {};
+    // The light emits only to its front.
+    if (!(dot(p.x - light.origin, light.normal) > 0)) return {};
+    const Material& m = *p.material;
+    int a = 1, b = 1;
+    stratifiedGrid(samples, a, b);
+    Vec3 sum{};
+    for (int i = 0; i < b; ++i) {
+        for (int j = 0; j < a; ++j) {
+            const double u = (i + rng.uniform()) / b;
+            const double v = (j + rng.uniform()) / a;
+            const Vec3 y = light.sampler.sample(u, v);
+            const Vec3 d = y - p.x;
+            const double r2 = dot(d, d);
+            if (!(r2 > 0)) continue;
+            const Vec3 wi = d / std::sqrt(r2);
+            const double cosX = dot(p.n, wi), cosY = -dot(light.normal, wi);
+            // x sees only its face's open front half-space.
+            if (!(cosX > 0) || !(cosY > 0)) continue;
+            if (bvh_.occluded(p.x, y, p.face, light.face)) continue;
+            sum += brdf(m, p.n, p.wo, wi) * (cosX * cosY / r2);
+        }
+    }
+    return mul(sum, light.ke) * (light.sampler.area() / samples);
+}
+
+Vec3 DirectLighting::sampledAreaLights(const SurfacePoint& p, int samples, SplitMix64& rng) const {
+    Vec3 out{};
+    for (const AreaLight& light : lights_) out += sampledAreaLight(light, p, samples, rng);
+    return out;
+}
+
+Vec3 DirectLighting::pointLights(const SurfacePoint& p) const {
+    Vec3 out{};
+    for (const PointLight& light : scene_.pointLights) {
+        const Vec3 d = light.position - p.x;
+        const double r2 = dot(d, d);
+        if (!(r2 > 0)) continue;
+        const Vec3 wi = d / std::sqrt(r2);
+        const double cosX = dot(p.n, wi);
+        if (!(cosX > 0)) continue;
+        if (bvh_.occluded(p.x, light.position, p.face, EmbreeScene::kNoFace)) continue;
+        out += mul(brdf(*p.material, p.n, p.wo, wi), light.intensity) * (cosX / r2);
+    }
+    return out;
+}
+
+}  // namespace penumbra

@@ -1,0 +1,162 @@
+// Shading: the material model and the direct-light estimators of the renderer.
+//
+// BRDF (scene.h's Material): f(wi, wo) = kd / pi + ks (ns + 2) / (2 pi) max(0, r . wi)^ns with
+// r = reflect(wo) about the normal: Lambert plus the energy-normalised Phong lobe.
+// Area lights are one-sided Lambertian emitters of radiance ke: a point y on light L sends
+// radiance ke towards x when x is strictly in front of L's plane. A receiving point sees only
+// its face's open front half-space.
+//
+// The direct radiance leaving x towards wo from one area light is
+//   L(x, wo) = integral over the visible part of L of f(wi, wo) ke cos(theta_x) cos(theta_y) / r^2
+//   dA.
+// The estimators:
+//   exact:   the visible fragments of L from x (FPQuery on the pair's history tree). The diffuse
+//            part is kd ke F, F the form factor of the fragments: closed form, no samples (exact up
+//            to floating-point rounding). The glossy part is estimated with stratified
+//            area-uniform samples inside the fragments only: no shadow rays, since every point
+//            of a fragment is visible (unbiased, noisy only where the lobe varies over them).
+//   sampled: stratified area-uniform samples over the whole light, each with one Embree shadow
+//            ray (EmbreeScene::occluded, ignoring the receiver and light faces), the full BRDF
+//            (unbiased up to the shadow rays' float precision and their 1e-4 end pull-in).
+//   point lights: one shadow ray each, I cos(theta_x) / r^2 f (exact up to the float ray).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <unordered_set>
+#include <vector>
+
+#include "engine/precompute/visibility_store.h"
+#include "engine/render/effects_summary.h"
+#include "engine/render/random.h"
+#include "engine/scene/scene.h"
+#include "visibility/fp_query.h"
+#include "visibility/pair_occluders.h"
+
+namespace penumbra {
+
+class EmbreeScene;
+
+inline Vec3 mul(const Vec3& a, const Vec3& b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+
+// The Phong lobe's scalar factor (ns + 2) / (2 pi) max(0, r . wi)^ns (times ks gives f_s). n, wo,
+// wi unit; wo and wi point away from the surface.
+double phongLobe(double ns, const Vec3& n, const Vec3& wo, const Vec3& wi);
+// The whole BRDF f(wi, wo) per channel.
+Vec3 brdf(const Material& m, const Vec3& n, const Vec3& wo, const Vec3& wi);
+
+// samples = a * b with a the largest divisor of samples not above its square root: the grid
+// of stratified samples (EmbreeScene::sampledFraction uses the same rule).
+void stratifiedGrid(int samples, int& a, int& b);
+
+// Area-uniform points on a union of convex polygons, each split into its fan triangles. The unit
+// square maps onto the union: u picks a triangle by its share of the area and the sqrt-warped
+// distance from its first vertex, v the position across it; equal-area cells of the square map
+// to equal-area pieces, so stratification survives.
+class TriangleSampler {
+  public:
+    void clear();
+    void addPolygon(std::span<const Vec3> polygon);
+    double area() const { return total_; }
+    bool empty() const { return tris_.empty(); }
+    Vec3 sample(double u, double v) const;
+
+  private:
+    struct Tri {
+        Vec3 a, b, c;
+        double area;
+    };
+    std::vector<Tri> tris_;
+    double total_ = 0;
+};
+
+// One area light, prepared once per scene.
+struct AreaLight {
+    uint32_t face = 0;
+    Vec3 ke;
+    Vec3 normal;                // unit, towards the front (the side it lights)
+    Vec3 origin;                // a vertex, for the approximate plane test of the sampled estimator
+    vis::FacePlane plane;       // exact plane test (as FPQuery does it)
+    std::vector<Vec3> polygon;  // its vertices
+    TriangleSampler sampler;
+};
+
+// A shading point: x on face `face` (on its plane), unit front normal n, unit direction wo
+// towards the viewer (in n's hemisphere).
+struct SurfacePoint {
+    uint32_t face = 0;
+    Vec3 x, n, wo;
+    const Material* material = nullptr;
+};
+
+// Per-thread (per-tile) state of the exact estimator: the last tree used per light (neighbouring
+// pixels hit the same receiver patch, so most lookups skip the store), the keys the tile needed,
+// and scratch for the fragments. For a fully visible pair the fragment is the light clipped to
+// the receiver's front half-space, whatever x: it is cached per light for the last receiver face
+// (the same polygon FPQuery would return, without walking or allocating per point).
+struct ExactScratch {
+    std::vector<PairKey> lastKey;             // per light
+    std::vector<const PairRecord*> lastTree;  // per light (nullptr: none yet)
+    std::vector<uint32_t> clippedFace;        // per light: the receiver of clippedLight
+    std::vector<vis::Polygon3> clippedLight;  // per light
+    std::vector<char> lastDirect;             // per light: lastKey is a direct pair
+    std::unordered_set<PairKey, PairKeyHash> used;
+    TriangleSampler fragments;
+    vis::FromPointQuery query;     // FPQuery workspace: no allocation per point after warm-up
+    ExactEvaluations evaluations;  // see exactAreaLights
+    // False: a pair the store holds no tree for is evaluated point by point, without a tree
+    // (FromPointQuery::runDirect), instead of building one: the renderer's choice once prepare()
+    // has built the trees its image samples often enough.
+    bool buildMissing = true;
+    std::unordered_set<PairKey, PairKeyHash> usedDirect;  // the pairs evaluated that way
+
+    // The region the next points lie in (optional): corners spanning a box that holds them, all on
+    // one receiver patch (so one tree per light). FPQuery then skips the plane tests of the nodes
+    // that send the whole region one way (vis::RegionDecisions). The caller sets the corners and
+    // a new regionId (never 0) for each group of points; empty corners = no region.
+    std::vector<Vec3> regionCorners;
+    uint64_t regionId = 0;
+    std::vector<vis::RegionDecisions> regions;  // per light
+    std::vector<uint64_t> regionOf;             // per light: the regionId of its decisions
+    // Per light: the regionId in which a query reached the work limit. The later points of that
+    // region (in the caller's order) are sampled without trying: their neighbours' answer is as
+    // complex, and the attempt would be wasted work.
+    std::vector<uint64_t> regionOverLimit;
+};
+
+class DirectLighting {
+  public:
+    // scene and bvh must outlive this object; store may be null (then exact() may not be called).
+    DirectLighting(const Scene& scene, const EmbreeScene& bvh, VisibilityStore* store);
+
+    const std::vector<AreaLight>& areaLights() const { return lights_; }
+
+    // The reflected radiance at p from every area light, by the exact fragments. glossySamples
+    // samples per light for the Phong lobe (unused for diffuse materials). A partial tree's
+    // deferred occluders are clipped by the query itself. A query that reaches
+    // scratch.query's work limit (FromPointQuery::setWorkLimit) has no exact answer: that light
+    // is estimated with `fallbackSamples` stratified shadow rays, counted in
+    // scratch.evaluations.sampled (.all counts every point-light pair that needed a query); so
+    // are the later points of the same region (ExactScratch::regionOverLimit).
+    Vec3 exactAreaLights(const SurfacePoint& p, int glossySamples, int fallbackSamples,
+                         SplitMix64& rng, ExactScratch& scratch) const;
+    // The same with `samples` stratified shadow rays per light.
+    Vec3 sampledAreaLights(const SurfacePoint& p, int samples, SplitMix64& rng) const;
+    // Every point light, one shadow ray each.
+    Vec3 pointLights(const SurfacePoint& p) const;
+
+  private:
+    // Shading from the visible fragments of one light (those of `list`, then `fragments`).
+    Vec3 shadeFragments(const SurfacePoint& p, const AreaLight& light,
+                        const vis::FragmentList& list, std::span<const vis::Polygon3> fragments,
+                        int glossySamples, SplitMix64& rng, ExactScratch& scratch) const;
+    Vec3 sampledAreaLight(const AreaLight& light, const SurfacePoint& p, int samples,
+                          SplitMix64& rng) const;
+
+    const Scene& scene_;
+    const EmbreeScene& bvh_;
+    VisibilityStore* store_;
+    std::vector<AreaLight> lights_;
+};
+
+}  // namespace penumbra

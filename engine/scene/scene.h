@@ -1,0 +1,59 @@
+// Scene: a polygon mesh with materials and area lights, as loaded from a file.
+// The contract (DEVELOPERS.md issue 2): faces numbered from 0 in file order; a face whose material
+// has a nonzero Ke is an area light; lights numbered from 0 in file order; vertices
+// counter-clockwise seen from the front; faces planar and convex.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/scene/camera.h"
+#include "visibility/polygon_mesh.h"
+
+namespace penumbra {
+
+using vis::Vec3;
+
+// A material as the renderer sees it: Lambertian diffuse plus an optional normalised Phong lobe.
+// OBJ/MTL maps directly (Kd, Ks, Ns, Ke); glTF's metallic-roughness is converted by its loader
+// (kd = base (1 - metallic), ks = mix(0.04, base, metallic), ns = 2 / roughness^4 - 2).
+struct Material {
+    std::string name;
+    Vec3 kd{0.8, 0.8, 0.8};  // diffuse albedo
+    Vec3 ks{0, 0, 0};        // specular albedo of the Phong lobe
+    Vec3 ke{0, 0, 0};        // emitted radiance; nonzero makes the face an area light
+    double ns = 0;           // Phong exponent
+    bool isEmissive() const { return ke.x > 0 || ke.y > 0 || ke.z > 0; }
+    // A purely diffuse material is shaded analytically from the exact fragments; a glossy one
+    // (nonzero ks) needs samples inside them.
+    bool isGlossy() const { return ks.x > 0 || ks.y > 0 || ks.z > 0; }
+};
+
+// An isotropic point light: one shadow ray decides its visibility, no history tree.
+struct PointLight {
+    Vec3 position;
+    Vec3 intensity{1, 1, 1};  // radiant intensity (W/sr) per channel
+};
+
+struct Scene {
+    std::string sourcePath;               // for error messages
+    vis::PolygonMesh mesh;                // geometry handed to the visibility core
+    std::vector<int32_t> faceMaterial;    // per face, index into materials or -1 (default)
+    std::vector<int32_t> faceSourceLine;  // per face, the 1-based line it came from (0 if none)
+    std::vector<Material> materials;
+    std::vector<uint32_t> lights;         // face indices of emissive faces, in file order
+    std::vector<PointLight> pointLights;  // from scene files; no visibility precompute
+    std::optional<Camera> camera;         // from scene files (glTF, JSON); else the viewer fits one
+    // Problems the loader worked around (e.g. dropped degenerate faces), one message each, naming
+    // the file; commands print them to stderr.
+    std::vector<std::string> warnings;
+
+    uint32_t faceCount() const { return static_cast<uint32_t>(mesh.faces.size()); }
+    const Material& material(uint32_t face) const;
+    // Rebuilds `lights` from the face materials (file order).
+    void collectLights();
+};
+
+}  // namespace penumbra

@@ -1,0 +1,367 @@
+#include "engine/scene/scene_validation.h"
+
+#include <gmpxx.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace penumbra {
+namespace {
+
+using vis::Vec3;
+
+// ---- exact orient2d -----------------------------------------------------------------------------
+
+// Shewchuk (1997), ccwerrboundA: for det = (a.u-c.u)(b.v-c.v) - (a.v-c.v)(b.u-c.u) evaluated in
+// doubles, |det - exact| <= (3 + 16 eps) eps (|detleft| + |detright|), eps = 2^-53, as long as
+// nothing overflows or underflows. Below kUnderflowGuard or on overflow the filter is skipped.
+constexpr double kEps = DBL_EPSILON / 2;
+constexpr double kOrient2dBound = (3.0 + 16.0 * kEps) * kEps;
+constexpr double kUnderflowGuard = 0x1p-960;
+
+using P2 = FaceCheckScratch::P2;
+
+int orient2dExact(const P2& a, const P2& b, const P2& c) {
+    // mpq_class(double) is exact, so is the rest.
+    const mpq_class cu(c.u), cv(c.v);
+    const mpq_class det = (mpq_class(a.u) - cu) * (mpq_class(b.v) - cv) -
+                          (mpq_class(a.v) - cv) * (mpq_class(b.u) - cu);
+    return sgn(det);
+}
+
+// The sign of orient2d when the floating-point filter alone settles it, 0 when it does not.
+int orient2dFiltered(const P2& a, const P2& b, const P2& c) {
+    const double detLeft = (a.u - c.u) * (b.v - c.v);
+    const double detRight = (a.v - c.v) * (b.u - c.u);
+    const double det = detLeft - detRight;
+    const double sum = std::fabs(detLeft) + std::fabs(detRight);
+    if (!std::isfinite(sum) || sum < kUnderflowGuard) return 0;
+    const double bound = kOrient2dBound * sum;
+    return det > bound ? 1 : (det < -bound ? -1 : 0);
+}
+
+int signOf(double x) { return (x > 0) - (x < 0); }
+
+// Exact sign of the turn a -> b -> c: +1 left (counter-clockwise), -1 right, 0 collinear.
+// Inputs must be finite.
+int orient2d(const P2& a, const P2& b, const P2& c) {
+    // The sign of a difference of doubles is exact. When a factor of one product is exactly zero
+    // that product is exactly zero, and the sign of the determinant is the sign of the other
+    // product, a product of two exact signs. This settles faces in coordinate planes without GMP.
+    const double l1 = a.u - c.u, l2 = b.v - c.v, r1 = a.v - c.v, r2 = b.u - c.u;
+    if (l1 == 0 || l2 == 0) return -signOf(r1) * signOf(r2);
+    if (r1 == 0 || r2 == 0) return signOf(l1) * signOf(l2);
+    if (const int sign = orient2dFiltered(a, b, c)) return sign;
+    return orient2dExact(a, b, c);
+}
+
+P2 project(const Vec3& p, int u, int v) { return {p[u], p[v]}; }
+
+// Exact: is c on the line through a and b (a != b)? True iff the three coordinate-plane
+// projections of the cross product (b-a) x (c-a) all vanish. The filters are tried on all three
+// first: one certain nonzero settles it.
+bool collinear3(const Vec3& a, const Vec3& b, const Vec3& c) {
+    for (int axis = 0; axis < 3; ++axis) {
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        if (orient2dFiltered(project(a, u, v), project(b, u, v), project(c, u, v)) != 0) {
+            return false;
+        }
+    }
+    for (int axis = 0; axis < 3; ++axis) {
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        if (orient2d(project(a, u, v), project(b, u, v), project(c, u, v)) != 0) return false;
+    }
+    return true;
+}
+
+// ---- per-face checks ----------------------------------------------------------------------------
+
+std::string fmt(double x) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", x);
+    return buf;
+}
+
+FaceDefect degenerate(std::string message) { return FaceDefect{true, std::move(message)}; }
+FaceDefect invalid(std::string message) { return FaceDefect{false, std::move(message)}; }
+
+}  // namespace
+
+std::optional<FaceDefect> checkFace(const vis::PolygonMesh& mesh, uint32_t f,
+                                    FaceCheckScratch& scratch) {
+    const std::vector<uint32_t>& idx = mesh.faces[f];
+    const size_t k = idx.size();
+    const size_t nv = mesh.vertices.size();
+    if (k < 3) {
+        return invalid("only " + std::to_string(k) + " vertices (a face needs at least 3)");
+    }
+    for (uint32_t i : idx) {
+        if (i >= nv) {
+            return invalid("vertex index " + std::to_string(i) + " out of range (scene has " +
+                           std::to_string(nv) + " vertices)");
+        }
+    }
+    {
+        std::vector<uint32_t>& sorted = scratch.sorted;
+        sorted.assign(idx.begin(), idx.end());
+        std::sort(sorted.begin(), sorted.end());
+        const auto dup = std::adjacent_find(sorted.begin(), sorted.end());
+        if (dup != sorted.end()) {
+            return degenerate("vertex index " + std::to_string(*dup) +
+                              " repeated (degenerate face)");
+        }
+    }
+
+    std::vector<Vec3>& p = scratch.p;
+    p.resize(k);
+    for (size_t i = 0; i < k; ++i) {
+        p[i] = mesh.vertices[idx[i]];
+        if (!std::isfinite(p[i].x) || !std::isfinite(p[i].y) || !std::isfinite(p[i].z)) {
+            return invalid("vertex " + std::to_string(idx[i]) + " has a non-finite coordinate");
+        }
+    }
+    for (size_t i = 0; i < k; ++i) {
+        if (p[i] == p[(i + 1) % k]) {
+            return degenerate("zero-length edge: vertices " + std::to_string(idx[i]) + " and " +
+                              std::to_string(idx[(i + 1) % k]) + " coincide (degenerate)");
+        }
+    }
+
+    // Degenerate (exact): all vertices on the line through p[0] and p[1] (distinct, see above).
+    size_t offLine = 0;
+    for (size_t i = 2; i < k && offLine == 0; ++i) {
+        if (!collinear3(p[0], p[1], p[i])) offLine = i;
+    }
+    if (offLine == 0) return degenerate("degenerate (zero area): all vertices are collinear");
+
+    // Scale by powers of two (exact up to underflow, which does not matter for an approximate
+    // plane) so that nothing overflows: first to magnitude < 1, then, after centring on the
+    // centroid, to an extent of about 1 so that a small face far from the origin keeps its digits.
+    // `exponent` undoes both scalings.
+    auto exponentOf = [](double m) {
+        int e = 0;
+        if (m > 0 && std::isfinite(m)) std::frexp(m, &e);
+        return e;
+    };
+    auto scaleAll = [](std::vector<Vec3>& pts, int e) {
+        for (Vec3& a : pts) a = {std::ldexp(a.x, -e), std::ldexp(a.y, -e), std::ldexp(a.z, -e)};
+    };
+    std::vector<Vec3>& q = scratch.q;
+    q.assign(p.begin(), p.end());
+    double magnitude = 0;
+    for (const Vec3& a : q) magnitude = std::fmax(magnitude, vis::maxAbs(a));
+    int exponent = exponentOf(magnitude);
+    scaleAll(q, exponent);
+    Vec3 centroid{};
+    for (const Vec3& a : q) centroid += a;
+    centroid = centroid / static_cast<double>(k);
+    double extent = 0;
+    for (Vec3& a : q) {
+        a -= centroid;
+        extent = std::fmax(extent, vis::maxAbs(a));
+    }
+    const int second = exponentOf(extent);
+    scaleAll(q, second);
+    exponent += second;
+    Vec3 n{};
+    for (size_t i = 0; i < k; ++i) n += vis::cross(q[i], q[(i + 1) % k]);
+    if (n == Vec3{}) {
+        // Zero net area (a bow tie with equal lobes): fall back to a non-collinear vertex triple;
+        // such a face is rejected below anyway.
+        n = vis::cross(q[1] - q[0], q[offLine] - q[0]);
+    }
+
+    // Planarity, with the documented tolerance, for faces of 4 or more vertices.
+    if (k > 3) {
+        const Vec3 unit = vis::normalize(n);
+        double diameter = 0;
+        if (k <= 1024) {
+            for (size_t i = 0; i < k; ++i)
+                for (size_t j = i + 1; j < k; ++j)
+                    diameter = std::fmax(diameter, length(q[i] - q[j]));
+        } else {
+            Vec3 lo = q[0], hi = q[0];
+            for (const Vec3& qi : q) {
+                lo = {std::fmin(lo.x, qi.x), std::fmin(lo.y, qi.y), std::fmin(lo.z, qi.z)};
+                hi = {std::fmax(hi.x, qi.x), std::fmax(hi.y, qi.y), std::fmax(hi.z, qi.z)};
+            }
+            diameter = length(hi - lo);
+        }
+        const double tolerance = kPlanarityTolerance * diameter;
+        size_t worst = 0;
+        double deviation = -1;
+        for (size_t i = 0; i < k; ++i) {
+            const double d = std::fabs(dot(q[i], unit));
+            if (d > deviation) {
+                deviation = d;
+                worst = i;
+            }
+        }
+        if (!(deviation <= tolerance)) {
+            return invalid("non-planar: vertex " + std::to_string(idx[worst]) + " lies " +
+                           fmt(std::ldexp(deviation, exponent)) +
+                           " from the plane through the centroid (tolerance " +
+                           fmt(kPlanarityTolerance) + " x face diameter " +
+                           fmt(std::ldexp(diameter, exponent)) + " = " +
+                           fmt(std::ldexp(tolerance, exponent)) + ")");
+        }
+    }
+
+    // Strict convexity, exactly, in the projection that drops the dominant axis d of n. With
+    // (u, v) = (d+1, d+2) mod 3 the projected polygon's signed area has the sign of n[d].
+    // A zero turn is either true collinearity in 3D (an error) or, for a sliver so thin that the
+    // approximate n picked an axis the face is exactly parallel to, an artefact of the projection:
+    // then the next axis is tried (for a planar face some axis has a nonzero normal component,
+    // and every turn is strict in that projection).
+    int order[3] = {0, 1, 2};
+    std::stable_sort(order, order + 3,
+                     [&](int a, int b) { return std::fabs(n[a]) > std::fabs(n[b]); });
+    std::vector<P2>& s = scratch.s;
+    std::vector<int>& turn = scratch.turn;
+    s.resize(k);
+    turn.resize(k);
+    int d = -1;
+    for (int attempt = 0; attempt < 3 && d < 0; ++attempt) {
+        const int axis = order[attempt];
+        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        for (size_t i = 0; i < k; ++i) s[i] = project(p[i], u, v);
+        bool spurious = false;
+        for (size_t i = 0; i < k && !spurious; ++i) {
+            const size_t prev = (i + k - 1) % k, next = (i + 1) % k;
+            turn[i] = orient2d(s[prev], s[i], s[next]);
+            if (turn[i] != 0) continue;
+            if (collinear3(p[prev], p[i], p[next])) {
+                return invalid("collinear vertices: vertex " + std::to_string(idx[i]) +
+                               " lies on the line through its neighbours " +
+                               std::to_string(idx[prev]) + " and " + std::to_string(idx[next]) +
+                               " (zero turn)");
+            }
+            spurious = true;
+        }
+        if (!spurious) d = axis;
+    }
+    if (d < 0) return invalid("non-convex: no projection keeps every turn strict");
+    bool allPositive = true, allNegative = true;
+    for (size_t i = 0; i < k; ++i) {
+        allPositive = allPositive && turn[i] > 0;
+        allNegative = allNegative && turn[i] < 0;
+    }
+    if (!allPositive && !allNegative) {
+        const int expected = n[d] > 0 ? 1 : -1;
+        for (size_t i = 0; i < k; ++i) {
+            if (turn[i] != expected) {
+                return invalid("non-convex: reflex vertex " + std::to_string(idx[i]) +
+                               " (the face turns the other way there)");
+            }
+        }
+    }
+    // All turns agree. Count how often the edge direction passes angle 0 going round (in the
+    // counter-clockwise frame; flipping v is exact): once for a convex polygon, more for a star.
+    // Each strict turn rotates the direction by less than pi, so the count of transitions from the
+    // lower half-plane [pi, 2pi) to the upper [0, pi) is exactly the number of revolutions. Only
+    // signs of coordinate differences are used, and those are exact in doubles.
+    const double flip = allPositive ? 1.0 : -1.0;
+    auto upperHalf = [&](size_t i) {
+        const P2& a = s[i];
+        const P2& b = s[(i + 1) % k];
+        const double du = b.u - a.u, dv = flip * (b.v - a.v);
+        return dv > 0 || (dv == 0 && du > 0);
+    };
+    size_t revolutions = 0;
+    for (size_t i = 0; i < k; ++i) {
+        if (!upperHalf(i) && upperHalf((i + 1) % k)) ++revolutions;
+    }
+    if (revolutions != 1) {
+        return invalid("non-convex: self-intersecting (the boundary winds " +
+                       std::to_string(revolutions) + " times around)");
+    }
+    // Convex and not collinear, but so thin that its area rounds to zero in doubles (a sliver of
+    // 1e-80 on a unit scene, found by fuzzing): a light's visible fraction divides by its area, so
+    // such a face counts as degenerate too.
+    if (!(mesh.faceArea(f) > 0))
+        return degenerate("degenerate: its area rounds to zero (a sliver below double precision)");
+    return std::nullopt;
+}
+
+std::optional<std::string> coordinateProblem(const Vec3& p) {
+    for (int i = 0; i < 3; ++i) {
+        if (!std::isfinite(p[i])) return "non-finite coordinate";
+        if (std::fabs(p[i]) > kMaxCoordinate)
+            return "coordinate " + fmt(p[i]) +
+                   " beyond the supported magnitude 2^59 = 5.8e17 (README, scene contract)";
+    }
+    return std::nullopt;
+}
+
+void validateSceneStructure(const Scene& scene) {
+    const vis::PolygonMesh& mesh = scene.mesh;
+    const std::string& file = scene.sourcePath;
+    for (size_t v = 0; v < mesh.vertices.size(); ++v)
+        if (const auto problem = coordinateProblem(mesh.vertices[v]))
+            throw makeSceneError(file, 0, "vertex " + std::to_string(v) + ": " + *problem);
+    for (size_t k = 0; k < scene.pointLights.size(); ++k)
+        if (const auto problem = coordinateProblem(scene.pointLights[k].position))
+            throw makeSceneError(file, 0, "point light " + std::to_string(k) + ": " + *problem);
+    if (scene.camera) {
+        for (const Vec3* p : {&scene.camera->eye, &scene.camera->target})
+            if (const auto problem = coordinateProblem(*p))
+                throw makeSceneError(file, 0, "camera: " + *problem);
+    }
+    if (mesh.vertices.size() > kMaxSceneElements) {
+        throw makeSceneError(
+            file, 0,
+            "too many vertices (" + std::to_string(mesh.vertices.size()) + ", the limit is 2^30)");
+    }
+    if (mesh.faces.size() > kMaxSceneElements) {
+        throw makeSceneError(
+            file, 0,
+            "too many faces (" + std::to_string(mesh.faces.size()) + ", the limit is 2^30)");
+    }
+    const size_t nf = mesh.faces.size();
+    if (!scene.faceMaterial.empty() && scene.faceMaterial.size() != nf) {
+        throw makeSceneError(file, 0,
+                             "faceMaterial has " + std::to_string(scene.faceMaterial.size()) +
+                                 " entries for " + std::to_string(nf) + " faces");
+    }
+    if (!scene.faceSourceLine.empty() && scene.faceSourceLine.size() != nf) {
+        throw makeSceneError(file, 0,
+                             "faceSourceLine has " + std::to_string(scene.faceSourceLine.size()) +
+                                 " entries for " + std::to_string(nf) + " faces");
+    }
+    for (uint32_t f = 0; f < scene.faceMaterial.size(); ++f) {
+        const int32_t m = scene.faceMaterial[f];
+        if (m < -1 || (m >= 0 && static_cast<size_t>(m) >= scene.materials.size())) {
+            const int64_t line = f < scene.faceSourceLine.size() ? scene.faceSourceLine[f] : 0;
+            throw makeSceneError(file, line,
+                                 "face " + std::to_string(f) + ": material index " +
+                                     std::to_string(m) + " out of range (scene has " +
+                                     std::to_string(scene.materials.size()) + " materials)");
+        }
+    }
+    for (uint32_t light : scene.lights) {
+        if (light >= nf) {
+            throw makeSceneError(file, 0,
+                                 "light face " + std::to_string(light) +
+                                     " out of range (scene has " + std::to_string(nf) + " faces)");
+        }
+    }
+}
+
+void validateScene(const Scene& scene) {
+    validateSceneStructure(scene);
+    FaceCheckScratch scratch;
+    for (uint32_t f = 0; f < scene.faceCount(); ++f) {
+        if (std::optional<FaceDefect> defect = checkFace(scene.mesh, f, scratch)) {
+            const int64_t line = f < scene.faceSourceLine.size() ? scene.faceSourceLine[f] : 0;
+            throw makeSceneError(scene.sourcePath, line,
+                                 "face " + std::to_string(f) + ": " + defect->message);
+        }
+    }
+}
+
+}  // namespace penumbra

@@ -1,0 +1,92 @@
+// Scene validation: the geometric contract the visibility core relies on, checked once on load.
+//
+// Every face must be a planar, strictly convex, non-degenerate polygon:
+//   - at least 3 vertices, all indices in range, no vertex index repeated, finite coordinates;
+//   - no two consecutive vertices at the same position ("zero-length edge");
+//   - not all vertices collinear ("degenerate (zero area)"), decided exactly;
+//   - planar: with n the Newell normal and c the centroid of the face's vertices, every vertex lies
+//     within 1e-9 * D of the plane through c with normal n, where D is the face diameter (the
+//     largest distance between two of its vertices; for faces of more than 1024 vertices the
+//     diagonal of their bounding box is used instead, which is at most sqrt(3) times larger).
+//     Triangles are always planar. The error reports the measured deviation;
+//   - strictly convex: projected onto the coordinate plane that drops the dominant axis of n, every
+//     turn (p[i-1], p[i], p[i+1]) has the same strict sign, decided exactly (filtered orient2d with
+//     a GMP fallback). A zero turn is an error ("collinear vertices": it would make a zero-length
+//     edge hyperplane downstream), a turn of the other sign is a reflex vertex ("non-convex"), and
+//     a polygon whose turns all agree but whose edges wind around more than once (a pentagram) is
+//     self-intersecting ("non-convex").
+// Messages name faces and vertices by their 0-based index in the scene (for a scene read from an
+// OBJ file the vertex's OBJ index is one more), and give the face's source line as the location.
+// Scene-wide: at most 2^30 vertices and 2^30 faces (so 32-bit ids are safe), faceMaterial and
+// faceSourceLine either empty or one per face, material indices in range, lights naming faces.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/scene/scene.h"
+#include "engine/scene/scene_error.h"
+
+namespace penumbra {
+
+// The most vertices, and the most faces, a scene may have.
+inline constexpr size_t kMaxSceneElements = size_t{1} << 30;
+
+// The coordinate contract: every coordinate of a scene (vertices, point lights, the camera) is
+// finite with magnitude at most 2^59 (about 5.8e17). Derived, not tried:
+//   - Embree works in floats and takes a ray only when every component of its origin and direction
+//     is at most FLT_LARGE = 1.844e18 (its ray validity check; beyond, it aborts): a direction is
+//     the difference of two scene points, at most 2^60 < 1.844e18 in magnitude under the contract;
+//   - the exact core then stays far inside the double range: an orient3d of such points is below
+//     2^183, a product of two (edge_line.h) below 2^367, so no filter overflows (outside the
+//     expansion arithmetic's [2^-200, 2^200] the predicates take GMP rationals, still exact);
+//   - so do the face checks (cross products and Newell normals are degree 2 and 3).
+// No lower bound: tiny magnitudes are exact in the core (GMP), and Embree's float rounding of them
+// only moves a primary hit, as any rounding does. validateSceneStructure refuses what breaks it,
+// naming the element.
+inline constexpr double kMaxCoordinate = 0x1p59;
+
+// The problem with one point under the coordinate contract ("non-finite coordinate" or "coordinate
+// X beyond the supported magnitude 2^59 = 5.8e17"), or nullopt.
+std::optional<std::string> coordinateProblem(const Vec3& p);
+
+// The planarity tolerance, relative to the face diameter.
+inline constexpr double kPlanarityTolerance = 1e-9;
+
+// Throws SceneError naming scene.sourcePath, the face index and the face's source line on the first
+// face (in face order) that breaks the contract above. Returns normally when the scene is valid.
+// Equivalent to validateSceneStructure followed by checkFace on every face.
+void validateScene(const Scene& scene);
+
+// The scene-wide part of validateScene: element limits, faceMaterial and faceSourceLine sizes,
+// material indices, lights in range. No per-face geometry.
+void validateSceneStructure(const Scene& scene);
+
+// Why one face breaks the contract.
+struct FaceDefect {
+    // True when the face has zero area: a repeated vertex index, two consecutive vertices at the
+    // same position, or all vertices collinear (decided exactly). Loaders may drop such faces on
+    // request (engine/scene/face_check.h); every other defect is always an error.
+    bool degenerate = false;
+    std::string message;  // without location, e.g. "non-planar: vertex 7 lies ..."
+};
+
+// Buffers checkFace reuses from face to face; one per thread.
+struct FaceCheckScratch {
+    struct P2 {
+        double u, v;
+    };
+    std::vector<uint32_t> sorted;
+    std::vector<Vec3> p, q;
+    std::vector<P2> s;
+    std::vector<int> turn;
+};
+
+// The per-face part of validateScene: nullopt when face `face` of the mesh meets the contract.
+std::optional<FaceDefect> checkFace(const vis::PolygonMesh& mesh, uint32_t face,
+                                    FaceCheckScratch& scratch);
+
+}  // namespace penumbra

@@ -1,0 +1,363 @@
+// Tests of the point queries (engine/precompute/point_query.h) and of the `penumbra` executable,
+// run as a real process (its path comes from the PENUMBRA_EXE compile definition).
+//
+// The test scene (y is "sideways", z is "up"):
+//   face 0  floor    [-2,2]^2 at z=0, facing +z
+//   face 1  light    [-0.5,0.5]^2 at z=2, facing -z (material "lamp", Ke 10 10 10)
+//   face 2  blocker  [0,1]x[-0.5,0.5] at z=1, facing -z
+//   face 3  ceiling  [-2,2]^2 at z=3, facing -z (behind the light)
+// Seen from the origin, the blocker's edge x=0 (at z=1) lies in the plane x=0 through the origin
+// and the light's middle line, and the blocker spans x in [0,1], y in [-0.5,0.5] at half the
+// light's height: its shadow cone from the origin covers x in [0,2], y in [-1,1] at z=2, which
+// holds the whole half x >= 0 of the light and nothing of the half x < 0. So exactly half of the
+// light is visible (the fragment [-0.5,0]x[-0.5,0.5], whose corners are exact doubles), and by
+// symmetry about x=0 the form factor is exactly half the unoccluded one.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "engine/io/obj_io.h"
+#include "engine/precompute/point_query.h"
+#include "tests/support/exact_reference.h"
+#include "tests/support/run_penumbra.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+using test::ProcessResult;
+using test::runPenumbra;
+
+const char* kSceneObj =
+    "mtllib scene.mtl\n"
+    "v -2 -2 0\nv 2 -2 0\nv 2 2 0\nv -2 2 0\n"                  // floor
+    "v -0.5 -0.5 2\nv -0.5 0.5 2\nv 0.5 0.5 2\nv 0.5 -0.5 2\n"  // light
+    "v 0 -0.5 1\nv 0 0.5 1\nv 1 0.5 1\nv 1 -0.5 1\n"            // blocker
+    "v -2 -2 3\nv -2 2 3\nv 2 2 3\nv 2 -2 3\n"                  // ceiling
+    "usemtl white\nf 1 2 3 4\n"
+    "usemtl lamp\nf 5 6 7 8\n"
+    "usemtl white\nf 9 10 11 12\n"
+    "f 13 14 15 16\n";
+const char* kSceneMtl =
+    "newmtl white\nKd 0.8 0.8 0.8\n"
+    "newmtl lamp\nKd 0 0 0\nKe 10 10 10\n";
+
+// Point-to-rectangle form factor for a point below one corner of a parallel a x b rectangle at
+// height h (the classic closed form).
+double cornerFormFactor(double a, double b, double h) {
+    const double x = a / h, y = b / h;
+    const double sx = std::sqrt(1 + x * x), sy = std::sqrt(1 + y * y);
+    return (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy)) / (2 * std::numbers::pi);
+}
+
+// ---- the executable -----------------------------------------------------------------------------
+
+std::vector<std::string> lines(const std::string& text) {
+    std::vector<std::string> out;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) out.push_back(line);
+    return out;
+}
+
+class CliTest : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        dir_ = fs::temp_directory_path() /
+               ("penumbra_cli_test_" + std::to_string(::getpid()) + "_" + info->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+        write("scene.obj", kSceneObj);
+        write("scene.mtl", kSceneMtl);
+    }
+    void TearDown() override {
+        std::error_code ec;
+        fs::remove_all(dir_, ec);
+    }
+
+    fs::path path(const std::string& name) const { return dir_ / name; }
+    std::string scene() const { return path("scene.obj").string(); }
+    void write(const std::string& name, const std::string& text) const {
+        std::ofstream(path(name), std::ios::binary) << text;
+    }
+
+    // Runs a query expected to succeed with one output line, and returns its JSON.
+    json queryOne(const std::vector<std::string>& args) const {
+        const ProcessResult r = runPenumbra(args);
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        EXPECT_EQ(r.err, "");
+        const std::vector<std::string> out = lines(r.out);
+        EXPECT_EQ(out.size(), 1u) << r.out;
+        return out.empty() ? json() : json::parse(out.front());
+    }
+
+    // Expects a clean failure: the exit code, nothing on stdout, one "penumbra: error: " message
+    // containing every one of `keywords`.
+    void expectError(const std::vector<std::string>& args, int exitCode,
+                     const std::vector<std::string>& keywords) const {
+        const ProcessResult r = runPenumbra(args);
+        EXPECT_EQ(r.exitCode, exitCode) << r.err;
+        EXPECT_EQ(r.out, "");
+        EXPECT_EQ(r.err.rfind("penumbra: error: ", 0), 0u) << r.err;
+        for (const std::string& k : keywords) EXPECT_NE(r.err.find(k), std::string::npos) << r.err;
+    }
+
+  private:
+    fs::path dir_;
+};
+
+TEST_F(CliTest, HalfBlockedLightGivesFractionOneHalf) {
+    const json j = queryOne({"query", scene(), "--point", "0,0,0"});
+    ASSERT_TRUE(j.is_object()) << j.dump();
+    EXPECT_EQ(j["point"], json::array({0.0, 0.0, 0.0}));
+    EXPECT_EQ(j["face"], 0);
+    ASSERT_EQ(j["lights"].size(), 1u);
+    const json& l = j["lights"][0];
+    EXPECT_EQ(l["light"], 0);
+    EXPECT_EQ(l["light_face"], 1);
+    EXPECT_EQ(l["pair"], "penumbra");
+    EXPECT_NEAR(l["light_area"].get<double>(), 1.0, 1e-12);
+    EXPECT_NEAR(l["visible_area"].get<double>(), 0.5, 1e-12);
+    EXPECT_NEAR(l["fraction"].get<double>(), 0.5, 1e-12);
+    const double unoccluded = 4 * cornerFormFactor(0.5, 0.5, 2);
+    EXPECT_NEAR(l["unoccluded_form_factor"].get<double>(), unoccluded, 1e-12);
+    EXPECT_NEAR(l["form_factor"].get<double>(), unoccluded / 2, 1e-12);
+    EXPECT_GT(l["nodes_visited"].get<int>(), 0);
+    EXPECT_EQ(l["path"].size(), l["nodes_visited"].get<size_t>());
+    // Every fragment vertex lies in the light's plane z=2 and within the light's square; the
+    // visible part is x <= 0.
+    ASSERT_FALSE(l["fragments"].empty());
+    double area = 0;
+    for (const json& fragment : l["fragments"]) {
+        ASSERT_GE(fragment.size(), 3u);
+        std::vector<Vec3> polygon;
+        for (const json& v : fragment) {
+            ASSERT_EQ(v.size(), 3u);
+            const Vec3 p{v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+            EXPECT_NEAR(p.z, 2.0, 1e-12);
+            EXPECT_LE(p.x, 1e-12);
+            EXPECT_GE(p.x, -0.5 - 1e-12);
+            EXPECT_LE(std::fabs(p.y), 0.5 + 1e-12);
+            polygon.push_back(p);
+        }
+        for (size_t i = 0; i < polygon.size(); ++i) {  // shoelace in the xy plane
+            const Vec3& a = polygon[i];
+            const Vec3& b = polygon[(i + 1) % polygon.size()];
+            area += 0.5 * (a.x * b.y - b.x * a.y);
+        }
+    }
+    EXPECT_NEAR(std::fabs(area), 0.5, 1e-12);
+}
+
+TEST_F(CliTest, OnlyLightAndExplicitFace) {
+    const json j = queryOne({"query", scene(), "--point=0.3,0.2,0", "--face", "0", "--light", "0"});
+    ASSERT_EQ(j["lights"].size(), 1u);
+    // From (0.3, 0.2, 0) the blocker's edge x=0 at z=1 projects to x=-0.3 on the light.
+    EXPECT_NEAR(j["lights"][0]["fraction"].get<double>(), 0.2, 1e-12);
+}
+
+TEST_F(CliTest, PointsFilePrintsOneLinePerPoint) {
+    write("points.txt",
+          "# x y z [face]\n"
+          "0 0 0\n"
+          "\n"
+          "  0.3 0.2 0   # a comment\n"
+          "-1 -1 0 0\n"
+          "0 0 3\r\n");
+    const ProcessResult r =
+        runPenumbra({"query", scene(), "--points", path("points.txt").string()});
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    const std::vector<std::string> out = lines(r.out);
+    ASSERT_EQ(out.size(), 4u) << r.out;
+    const int faces[] = {0, 0, 0, 3};
+    const double fractions[] = {0.5, 0.2, 1.0, 0.0};
+    for (size_t i = 0; i < out.size(); ++i) {
+        const json j = json::parse(out[i]);
+        EXPECT_EQ(j["face"], faces[i]) << out[i];
+        EXPECT_NEAR(j["lights"][0]["fraction"].get<double>(), fractions[i], 1e-12) << out[i];
+    }
+}
+
+TEST_F(CliTest, PointBehindTheLightGetsNothing) {
+    // (0, 0, 3) is on the ceiling, behind the light's plane z=2 (the light faces -z).
+    const json j = queryOne({"query", scene(), "--point", "0,0,3"});
+    EXPECT_EQ(j["face"], 3);
+    const json& l = j["lights"][0];
+    EXPECT_EQ(l["fraction"].get<double>(), 0.0);
+    EXPECT_EQ(l["visible_area"].get<double>(), 0.0);
+    EXPECT_EQ(l["form_factor"].get<double>(), 0.0);
+    EXPECT_EQ(l["unoccluded_form_factor"].get<double>(), 0.0);
+    EXPECT_TRUE(l["fragments"].empty());
+    EXPECT_NEAR(l["light_area"].get<double>(), 1.0, 1e-12);
+}
+
+TEST_F(CliTest, MissingSceneFile) {
+    const std::string missing = path("no_such_scene.obj").string();
+    expectError({"query", missing, "--point", "0,0,0"}, 1, {missing});
+}
+
+TEST_F(CliTest, UnknownSceneFormat) {
+    write("scene.fbx", "ply\n");
+    expectError({"query", path("scene.fbx").string(), "--point", "0,0,0"}, 1,
+                {".fbx", ".obj", ".ply", ".gltf", ".json"});
+    // A known format with a malformed file is an input error too, naming the file.
+    write("scene.ply", "ply\n");
+    expectError({"query", path("scene.ply").string(), "--point", "0,0,0"}, 1,
+                {"scene.ply", "end_header"});
+}
+
+TEST_F(CliTest, MalformedSceneIsAnInputError) {
+    write("broken.obj", "v 0 0 0\nv 1 0 0\nf 1 2 3\n");
+    expectError({"query", path("broken.obj").string(), "--point", "0,0,0"}, 1, {"broken.obj:3"});
+}
+
+TEST_F(CliTest, MalformedPointIsAUsageError) {
+    expectError({"query", scene(), "--point", "1,2"}, 2, {"--point", "'1,2'"});
+    expectError({"query", scene(), "--point", "1,2,3,4"}, 2, {"--point"});
+    expectError({"query", scene(), "--point", "1,x,3"}, 2, {"--point"});
+    expectError({"query", scene(), "--point", "1,nan,3"}, 2, {"--point"});
+}
+
+TEST_F(CliTest, PointOnNoFace) {
+    expectError({"query", scene(), "--point", "0,0,5"}, 1, {"lies on no face", "(0, 0, 5)"});
+}
+
+TEST_F(CliTest, FaceAndLightOutOfRange) {
+    expectError({"query", scene(), "--point", "0,0,0", "--face", "4"}, 1, {"--face 4"});
+    expectError({"query", scene(), "--point", "0,0,0", "--light", "1"}, 1, {"--light 1"});
+    expectError({"query", scene(), "--point", "0,0,0", "--face", "-1"}, 2, {"--face"});
+}
+
+TEST_F(CliTest, MalformedPointsFileNamesFileAndLine) {
+    write("bad.txt", "0 0 0\n# fine\n1 2\n");
+    const std::string file = path("bad.txt").string();
+    expectError({"query", scene(), "--points", file}, 1, {file + ":3"});
+    write("bad.txt", "0 0 0\n\n0 0 zero\n");
+    expectError({"query", scene(), "--points", file}, 1, {file + ":3", "'zero'"});
+    write("bad.txt", "0 0 0 9\n");
+    expectError({"query", scene(), "--points", file}, 1, {file + ":1", "face 9"});
+    write("bad.txt", "0 0 0\n0 0 7\n");
+    expectError({"query", scene(), "--points", file}, 1, {file + ":2", "lies on no face"});
+    const std::string missing = path("missing.txt").string();
+    expectError({"query", scene(), "--points", missing}, 1, {missing});
+}
+
+TEST_F(CliTest, CommandLineUsage) {
+    expectError({}, 2, {"subcommand"});
+    expectError({"frobnicate"}, 2, {"frobnicate"});
+    expectError({"query", scene()}, 2, {"--point"});
+    expectError({"query", scene(), "--point", "0,0,0", "--points", "p.txt"}, 2, {"--points"});
+    expectError({"query", scene(), "--point", "0,0,0", "--no-such-flag"}, 2, {"--no-such-flag"});
+    const ProcessResult help = runPenumbra({"query", "--help"});
+    EXPECT_EQ(help.exitCode, 0);
+    EXPECT_NE(help.out.find("--point"), std::string::npos) << help.out;
+    EXPECT_NE(help.out.find("--light"), std::string::npos) << help.out;
+    const ProcessResult version = runPenumbra({"--version"});
+    EXPECT_EQ(version.exitCode, 0);
+    EXPECT_NE(version.out.find("penumbra"), std::string::npos) << version.out;
+}
+
+// ---- findFaceContaining and queryPoint, directly ------------------------------------------------
+
+Scene testScene() { return loadObjFromString(kSceneObj, kSceneMtl, "scene.obj"); }
+
+TEST(PointQuery, FindsTheFaceOfAPoint) {
+    const Scene scene = testScene();
+    EXPECT_EQ(findFaceContaining(scene, {0, 0, 0}).face, 0u);
+    EXPECT_EQ(findFaceContaining(scene, {-2, 2, 0}).face, 0u);  // a corner
+    EXPECT_EQ(findFaceContaining(scene, {0.25, 0, 1}).face, 2u);
+    EXPECT_EQ(findFaceContaining(scene, {1.5, 1.5, 3}).face, 3u);
+    // Within the tolerance (1e-9 * diagonal) of the plane and of the boundary.
+    EXPECT_EQ(findFaceContaining(scene, {0, 0, 1e-12}).face, 0u);
+    EXPECT_EQ(findFaceContaining(scene, {2 + 1e-12, 0, 0}).face, 0u);
+    // Off every face.
+    const FaceLookup none = findFaceContaining(scene, {0, 0, 0.5});
+    EXPECT_FALSE(none.ok());
+    EXPECT_NE(none.error.find("lies on no face"), std::string::npos) << none.error;
+    EXPECT_FALSE(findFaceContaining(scene, {0, 0, 1e-6}).ok());
+    EXPECT_FALSE(findFaceContaining(scene, {2.001, 0, 0}).ok());
+    EXPECT_FALSE(findFaceContaining(scene, {0, 0, NAN}).ok());
+}
+
+TEST(PointQuery, CoplanarFacesPickTheLowestIndexOtherwiseAmbiguous) {
+    // A unit quad split along its diagonal into faces 0 and 1; a wall (face 2) standing on the
+    // edge x=1 and facing -x; the first triangle again, reversed (face 3), far away at z=5.
+    const char* obj =
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+        "v 1 0 1\nv 1 1 1\n"
+        "v 0 0 5\nv 1 0 5\nv 1 1 5\n"
+        "f 1 2 3\nf 1 3 4\n"
+        "f 2 5 6 3\n"
+        "f 7 8 9\nf 9 8 7\n";
+    const Scene scene = loadObjFromString(obj, "", "split.obj");
+    EXPECT_EQ(findFaceContaining(scene, {0.5, 0.5, 0}).face, 0u);  // on the diagonal
+    EXPECT_EQ(findFaceContaining(scene, {0.25, 0.75, 0}).face, 1u);
+    EXPECT_EQ(findFaceContaining(scene, {0.75, 0.25, 0}).face, 0u);
+    EXPECT_EQ(findFaceContaining(scene, {1, 0.5, 0.5}).face, 2u);
+    // On the edge where the floor meets the wall: two planes.
+    const FaceLookup corner = findFaceContaining(scene, {1, 0.5, 0});
+    EXPECT_FALSE(corner.ok());
+    EXPECT_EQ(corner.candidates, (std::vector<uint32_t>{0, 2}));
+    EXPECT_NE(corner.error.find("ambiguous"), std::string::npos) << corner.error;
+    EXPECT_NE(corner.error.find("0 and 2"), std::string::npos) << corner.error;
+    // A double-sided triangle: one plane, two orientations.
+    const FaceLookup twoSided = findFaceContaining(scene, {0.75, 0.25, 5});
+    EXPECT_FALSE(twoSided.ok());
+    EXPECT_EQ(twoSided.candidates, (std::vector<uint32_t>{3, 4}));
+}
+
+TEST(PointQuery, MatchesTheExactReference) {
+    const Scene scene = testScene();
+    VisibilityStore::Options options;
+    options.patchFraction = 0.0;  // whole faces: one tree per (receiver, light) pair
+    VisibilityStore store(scene, nullptr, options);
+    const Vec3 points[] = {{0, 0, 0},      {0.3, 0.2, 0}, {-1, -1, 0},
+                           {0.7, -1.3, 0}, {1.9, 0.1, 0}, {-0.1, 0.4, 0}};
+    for (const Vec3& x : points) {
+        SCOPED_TRACE(vis::toString(x));
+        const std::vector<LightAtPoint> result = queryPoint(store, 0, x, std::nullopt);
+        ASSERT_EQ(result.size(), 1u);
+        const LightAtPoint& l = result[0];
+        const test::ReferenceResult ref = test::exactReference(scene.mesh, 0, 1, x);
+        EXPECT_EQ(l.light, 0u);
+        EXPECT_EQ(l.lightFace, 1u);
+        EXPECT_NEAR(l.lightArea, 1.0, 1e-12);
+        EXPECT_NEAR(l.fraction, ref.fraction, 1e-12);
+        EXPECT_NEAR(l.visibleArea, ref.visibleArea, 1e-12);
+        EXPECT_NEAR(l.formFactor, ref.formFactor, 1e-12);
+        EXPECT_NEAR(l.unoccludedFormFactor, ref.unoccludedFormFactor, 1e-12);
+        EXPECT_EQ(l.path.size(), l.nodesVisited);
+        for (const vis::Polygon3& fragment : l.fragments)
+            for (const Vec3& v : fragment) EXPECT_NEAR(v.z, 2.0, 1e-12);
+    }
+    EXPECT_EQ(store.treeCount(), 1u);  // one (receiver, light) pair, built once
+}
+
+TEST(PointQuery, BehindTheLightAndOnTheLight) {
+    const Scene scene = testScene();
+    VisibilityStore store(scene);
+    for (const auto& [face, x] : {std::pair<uint32_t, Vec3>{3, {0, 0, 3}}, {1, {0, 0, 2}}}) {
+        const std::vector<LightAtPoint> result = queryPoint(store, face, x, 0u);
+        ASSERT_EQ(result.size(), 1u);
+        EXPECT_EQ(result[0].fraction, 0.0);
+        EXPECT_EQ(result[0].formFactor, 0.0);
+        EXPECT_EQ(result[0].unoccludedFormFactor, 0.0);
+        EXPECT_TRUE(result[0].fragments.empty());
+        EXPECT_EQ(result[0].kind, vis::PairKind::BackFacing);
+    }
+    EXPECT_THROW(queryPoint(store, 4, {0, 0, 0}, std::nullopt), std::out_of_range);
+    EXPECT_THROW(queryPoint(store, 0, {0, 0, 0}, 1u), std::out_of_range);
+}
+
+}  // namespace
+}  // namespace penumbra

@@ -1,0 +1,229 @@
+// Tests of `penumbra render`, run as a real process (PENUMBRA_EXE): the files it writes, what it
+// prints, and its exit codes for bad input.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "tests/support/read_pfm.h"
+#include "tests/support/run_penumbra.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// Floor [-2,2]^2 at z=0 facing up, a light [-0.5,0.5]^2 at z=2 facing down, a blocker at z=1.
+const char* kObj =
+    "mtllib scene.mtl\n"
+    "v -2 -2 0\nv 2 -2 0\nv 2 2 0\nv -2 2 0\n"
+    "v -0.5 -0.5 2\nv -0.5 0.5 2\nv 0.5 0.5 2\nv 0.5 -0.5 2\n"
+    "v 0 -0.5 1\nv 0 0.5 1\nv 1 0.5 1\nv 1 -0.5 1\n"
+    "usemtl white\nf 1 2 3 4\n"
+    "usemtl lamp\nf 5 6 7 8\n"
+    "usemtl white\nf 9 10 11 12\n";
+const char* kMtl = "newmtl white\nKd 0.8 0.8 0.8\nnewmtl lamp\nKd 0 0 0\nKe 10 10 10\n";
+
+using penumbra::test::ProcessResult;
+
+// Runs `penumbra render ARGS... MORE...`.
+ProcessResult run(std::vector<std::string> args, const std::vector<std::string>& more = {}) {
+    args.insert(args.begin(), "render");
+    args.insert(args.end(), more.begin(), more.end());
+    return penumbra::test::runPenumbra(args);
+}
+
+// Everything the command printed: stdout, then stderr.
+std::string output(const ProcessResult& r) { return r.out + r.err; }
+
+class RenderCommand : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() /
+               ("penumbra_render_cmd_" + std::to_string(::getpid()) + "_" +
+                ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::create_directories(dir_);
+        std::ofstream(dir_ / "scene.obj") << kObj;
+        std::ofstream(dir_ / "scene.mtl") << kMtl;
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    // The scene and a small, fast view: the arguments most renders here start with.
+    std::vector<std::string> base() const {
+        std::vector<std::string> args = {path("scene.obj"), "--camera", "0.3,-5,1.5,0,0,0.3,40"};
+        args.insert(args.end(), {"--up", "0,0,1", "--size", "16x12", "--spp", "2"});
+        // A tree for every pair, however few samples (what the --visibility tests count).
+        args.insert(args.end(), {"--min-tree-samples", "0"});
+        return args;
+    }
+    fs::path dir_;
+};
+
+TEST_F(RenderCommand, WritesPngAndPfmAndExplainsItself) {
+    const ProcessResult r = run(base(), {"--out", path("a.png"), "--out", path("a.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("time: precompute"), std::string::npos) << output(r);
+    EXPECT_NE(output(r).find("shading"), std::string::npos) << output(r);
+    EXPECT_NE(output(r).find("pairs never seen"), std::string::npos) << output(r);
+    EXPECT_NE(output(r).find("materials analytic"), std::string::npos) << output(r);
+    std::ifstream pfm(path("a.pfm"), std::ios::binary);
+    std::string magic;
+    int w = 0, h = 0;
+    double scale = 0;
+    pfm >> magic >> w >> h >> scale;
+    EXPECT_EQ(magic, "PF");
+    EXPECT_EQ(w, 16);
+    EXPECT_EQ(h, 12);
+    EXPECT_EQ(scale, -1.0);
+    pfm.get();
+    const std::string data((std::istreambuf_iterator<char>(pfm)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(data.size(), 16u * 12 * 3 * 4);
+    std::ifstream png(path("a.png"), std::ios::binary);
+    std::string sig(8, '\0');
+    png.read(sig.data(), 8);
+    EXPECT_EQ(sig, std::string("\x89PNG\r\n\x1a\n", 8));
+}
+
+// Two occluders standing on the floor with vertices below it by less than a rounding unit (2^-60,
+// and the residue 0.1 * 3 - 0.3 = 5.55e-17 written out in full): the exact render used to lose
+// such an occluder whole and light its shadow. No pixel of `render --method exact` may be brighter
+// than the converged shadow-ray reference shows it (beyond that reference's noise).
+TEST_F(RenderCommand, ExactRenderKeepsTheShadowsOfHairCrossingOccluders) {
+    std::ofstream(path("hair.obj")) << "mtllib scene.mtl\n"
+                                       "v -2 -2 0\nv 2 -2 0\nv 2 2 0\nv -2 2 0\n"
+                                       "v -0.5 -0.5 2\nv -0.5 0.5 2\nv 0.5 0.5 2\nv 0.5 -0.5 2\n"
+                                       "v -0.9 -0.5 -8.6736173798840355e-19\n"
+                                       "v -0.2 -0.6 1.1\nv -0.5 0.1 0.9\n"
+                                       "v 0.2 -0.3 -5.5511151231257827e-17\n"
+                                       "v 0.9 -0.2 1.2\nv 0.5 0.4 1.0\n"
+                                       "usemtl white\nf 1 2 3 4\n"
+                                       "usemtl lamp\nf 5 6 7 8\n"
+                                       "usemtl white\nf 9 10 11\nf 12 13 14\n";
+    const std::vector<std::string> view = {
+        path("hair.obj"), "--camera", "0.3,-5,3,0,0,0,40",  "--up", "0,0,1", "--size", "24x18",
+        "--spp",          "2",        "--min-tree-samples", "0"};
+    const ProcessResult exact = run(view, {"--method", "exact", "--out", path("exact.pfm")});
+    ASSERT_EQ(exact.exitCode, 0) << output(exact);
+    const ProcessResult ref = run(view, {"--method", "reference", "--reference-samples", "2048",
+                                         "--out", path("reference.pfm")});
+    ASSERT_EQ(ref.exitCode, 0) << output(ref);
+    int w = 0, h = 0, w2 = 0, h2 = 0;
+    const std::vector<float> e = penumbra::test::readPfm(path("exact.pfm"), w, h);
+    const std::vector<float> r = penumbra::test::readPfm(path("reference.pfm"), w2, h2);
+    ASSERT_EQ(w, w2);
+    ASSERT_EQ(h, h2);
+    float brightest = 0;
+    for (float v : r) brightest = std::max(brightest, v);
+    ASSERT_GT(brightest, 0.f);
+    int shadowed = 0;
+    for (size_t i = 0; i < e.size(); ++i) {
+        // 2048 rays per light and 2 primary samples: the reference's noise is below 2% of the
+        // brightest pixel; an occluder lost whole lights a shadowed pixel by far more.
+        EXPECT_LE(e[i], r[i] + 0.05f * brightest) << "channel " << i % 3 << " of pixel " << i / 3;
+        shadowed += r[i] < 0.5f * brightest && r[i] > 0;
+    }
+    EXPECT_GT(shadowed, 10);  // the occluders do cast shadows in this view
+}
+
+TEST_F(RenderCommand, SampledMethodRuns) {
+    const ProcessResult r =
+        run(base(), {"--method", "sampled", "--light-samples", "4", "--out-pfm", path("s.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("4 stratified shadow rays"), std::string::npos) << output(r);
+    EXPECT_TRUE(fs::exists(path("s.pfm")));
+}
+
+std::string slurp(const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// --visibility: the trees are written, read back by the next render (nothing rebuilt, the same
+// image bit for bit as a render without the file), extended by another camera, and a damaged file
+// is reported, recomputed and replaced.
+TEST_F(RenderCommand, VisibilityFileIsReusedExtendedAndRepaired) {
+    const std::string pvis = path("scene.pvis");
+    ProcessResult r = run(base(), {"--out-pfm", path("plain.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    r = run(base(), {"--visibility", pvis, "--out-pfm", path("first.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("0 trees read"), std::string::npos) << output(r);
+    ASSERT_TRUE(fs::exists(pvis));
+    const auto firstSize = fs::file_size(pvis);
+
+    r = run(base(), {"--visibility", pvis, "--out-pfm", path("second.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("none added"), std::string::npos) << output(r);
+    EXPECT_EQ(slurp(path("second.pfm")), slurp(path("plain.pfm")));
+    EXPECT_EQ(slurp(path("first.pfm")), slurp(path("plain.pfm")));
+
+    // Another view sees other receiver patches: their trees are added to the file.
+    r = run({path("scene.obj"), "--camera", "-3,4,2.5,0,0,0", "--up", "0,0,1", "--size", "16x12",
+             "--spp", "2", "--min-tree-samples", "0", "--visibility", pvis, "--out-pfm",
+             path("other.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("added, wrote"), std::string::npos) << output(r);
+    EXPECT_GT(fs::file_size(pvis), firstSize);
+
+    // One flipped byte in the payload: reported, recomputed, the file replaced by a valid one.
+    {
+        std::fstream f(pvis, std::ios::in | std::ios::out | std::ios::binary);
+        f.seekg(60);
+        const char c = static_cast<char>(f.get());
+        f.seekp(60);
+        f.put(static_cast<char>(c ^ 0x10));
+    }
+    r = run(base(), {"--visibility", pvis, "--out-pfm", path("repaired.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("scene.pvis"), std::string::npos) << output(r);
+    EXPECT_NE(output(r).find("recomputing"), std::string::npos) << output(r);
+    EXPECT_EQ(slurp(path("repaired.pfm")), slurp(path("plain.pfm")));
+    r = run(base(), {"--visibility", pvis, "--out-pfm", path("again.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("none added"), std::string::npos) << output(r);
+
+    // A corrupt file and a render that builds no tree (every pair evaluated directly): the file
+    // is rewritten all the same, so the next run does not report it again.
+    std::ofstream(pvis, std::ios::binary | std::ios::trunc) << "garbage";
+    std::vector<std::string> direct = base();
+    direct.back() = "1000000000";  // --min-tree-samples
+    r = run(direct, {"--visibility", pvis, "--out-pfm", path("direct.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("recomputing"), std::string::npos) << output(r);
+    EXPECT_NE(output(r).find("wrote"), std::string::npos) << output(r);
+    r = run(direct, {"--visibility", pvis, "--out-pfm", path("direct2.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_EQ(output(r).find("recomputing"), std::string::npos) << output(r);
+    EXPECT_EQ(slurp(path("direct2.pfm")), slurp(path("direct.pfm")));
+}
+
+TEST_F(RenderCommand, BadInputGetsAClearErrorAndExitCode) {
+    ProcessResult r = run(base(), {"--size", "16by12", "--out", path("a.png")});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(output(r).find("--size"), std::string::npos) << output(r);
+    r = run(base(), {"--out", path("a.jpg")});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(output(r).find(".png or .pfm"), std::string::npos) << output(r);
+    r = run(base(), {"--method", "fancy", "--out", path("a.png")});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(output(r).find("fancy"), std::string::npos) << output(r);
+    r = run({path("scene.obj"), "--camera", "1,2,3,1,2", "--out", path("a.png")});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(output(r).find("--camera"), std::string::npos) << output(r);
+    r = run(base());
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(output(r).find("--out"), std::string::npos) << output(r);
+    r = run({path("missing.obj"), "--out", path("a.png")});
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(output(r).find("missing.obj"), std::string::npos) << output(r);
+    r = run(base(), {"--out", path("no_such_dir/a.png")});
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(output(r).find("a.png"), std::string::npos) << output(r);
+    EXPECT_FALSE(fs::exists(path("a.png")));
+}
+
+}  // namespace

@@ -1,0 +1,37 @@
+// Inputs that once crashed, hung or misled the program (tests/fuzz/regressions/FORMAT/: the
+// reproducers of the hostile-input defects, and every finding of scripts/fuzz.sh), loaded as the
+// fuzz harness loads them: each must load, or be refused with a SceneError that names the file;
+// never crash, hang (the test's timeout) or throw anything else. The reproducers of issue-sized
+// defects are also checked for their exact message in hostile_input_test.cpp.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "engine/io/scene_loader.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(FuzzRegressions, EveryRecordedInputLoadsOrIsRefusedWithAnErrorNamingTheFile) {
+    const fs::path root = fs::path(PENUMBRA_SOURCE_DIR) / "tests" / "fuzz" / "regressions";
+    int inputs = 0, refused = 0;
+    for (const fs::directory_entry& e : fs::recursive_directory_iterator(root)) {
+        if (!e.is_regular_file()) continue;
+        ++inputs;
+        try {
+            (void)loadScene(e.path());
+        } catch (const SceneError& error) {
+            ++refused;
+            EXPECT_EQ(error.file, e.path().string()) << error.what();
+        } catch (const std::exception& other) {
+            ADD_FAILURE() << e.path() << ": not a SceneError: " << other.what();
+        }
+    }
+    EXPECT_GE(inputs, 10);
+    EXPECT_GE(refused, 8);  // the hostile reproducers are refused
+}
+
+}  // namespace
+}  // namespace penumbra

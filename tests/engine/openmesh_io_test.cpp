@@ -1,0 +1,259 @@
+// Tests of the PLY, OFF and STL readers (engine/io/openmesh_io.h) on small files written here, with
+// counts, coordinates and face vertex lists checked against the values written.
+#include "engine/io/openmesh_io.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "tests/support/loader_test_support.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+using test::expectLoadError;
+using test::putF32;
+using test::putU32;
+using test::putU8;
+
+// The test solid: a unit square at z=0 (face 0, a quad, facing +z) and a triangle standing on its
+// edge y=0 (face 1: vertices 0, 1, 4, facing -y).
+const std::vector<Vec3> kVertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0, 1}};
+const std::vector<std::vector<uint32_t>> kFaces = {{0, 1, 2, 3}, {0, 1, 4}};
+
+void expectTestSolid(const Scene& scene) {
+    ASSERT_EQ(scene.mesh.vertices.size(), kVertices.size());
+    for (size_t i = 0; i < kVertices.size(); ++i)
+        EXPECT_EQ(scene.mesh.vertices[i], kVertices[i]) << i;
+    EXPECT_EQ(scene.mesh.faces, kFaces);
+    EXPECT_EQ(scene.faceMaterial, std::vector<int32_t>(2, -1));
+    EXPECT_TRUE(scene.lights.empty());
+    EXPECT_TRUE(scene.warnings.empty());
+    // Face 0 faces +z, face 1 faces -y (counter-clockwise kept).
+    EXPECT_GT(scene.mesh.faceAreaNormal(0).z, 0);
+    EXPECT_LT(scene.mesh.faceAreaNormal(1).y, 0);
+    EXPECT_DOUBLE_EQ(scene.mesh.faceArea(0), 1.0);
+    EXPECT_DOUBLE_EQ(scene.mesh.faceArea(1), 0.5);
+}
+
+std::string asciiPly(const std::string& vertexLines, const std::string& faceLines, int nv, int nf) {
+    return "ply\nformat ascii 1.0\ncomment test\nelement vertex " + std::to_string(nv) +
+           "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
+           std::to_string(nf) + "\nproperty list uchar int vertex_indices\nend_header\n" +
+           vertexLines + faceLines;
+}
+
+const std::string kPlyVertices = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0 1\n";
+const std::string kPlyFaces = "4 0 1 2 3\n3 0 1 4\n";
+
+// A binary little-endian PLY of the test solid; each vertex has an extra uchar property.
+std::string binaryPly() {
+    std::string s =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 5\nproperty float x\n"
+        "property float y\nproperty float z\nproperty uchar red\nelement face 2\n"
+        "property list uchar int vertex_indices\nend_header\n";
+    for (const Vec3& v : kVertices) {
+        putF32(s, static_cast<float>(v.x));
+        putF32(s, static_cast<float>(v.y));
+        putF32(s, static_cast<float>(v.z));
+        putU8(s, 200);
+    }
+    for (const auto& f : kFaces) {
+        putU8(s, static_cast<uint8_t>(f.size()));
+        for (uint32_t i : f) putU32(s, i);
+    }
+    return s;
+}
+
+class OpenMeshIo : public test::LoaderFiles {};
+
+TEST_F(OpenMeshIo, AsciiPly) {
+    expectTestSolid(loadOpenMeshFile(write("solid.ply", asciiPly(kPlyVertices, kPlyFaces, 5, 2))));
+}
+
+TEST_F(OpenMeshIo, BinaryPly) {
+    expectTestSolid(loadOpenMeshFile(write("solid.PLY", binaryPly())));
+}
+
+TEST_F(OpenMeshIo, TruncatedBinaryPlyIsAnError) {
+    const std::string full = binaryPly();
+    for (size_t cut : {size_t{1}, size_t{5}, size_t{30}}) {
+        const fs::path p =
+            write("cut" + std::to_string(cut) + ".ply", full.substr(0, full.size() - cut));
+        expectLoadError([&] { loadOpenMeshFile(p); }, p, {"truncated"});
+    }
+    const fs::path header = write("header.ply", full.substr(0, 40));
+    expectLoadError([&] { loadOpenMeshFile(header); }, header, {"end_header"});
+}
+
+TEST_F(OpenMeshIo, TruncatedAsciiPlyIsAnError) {
+    const fs::path p = write("cut.ply", asciiPly(kPlyVertices, "4 0 1 2 3\n", 5, 2));
+    expectLoadError([&] { loadOpenMeshFile(p); }, p, {"truncated"});
+}
+
+TEST_F(OpenMeshIo, PlyNonFiniteCoordinateIsAnError) {
+    const fs::path p =
+        write("nan.ply", asciiPly("0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 nan 1\n", kPlyFaces, 5, 2));
+    expectLoadError([&] { loadOpenMeshFile(p); }, p, {"vertex 4", "non-finite"});
+}
+
+TEST_F(OpenMeshIo, PlyIndexOutOfRangeNamesTheFace) {
+    const fs::path p = write("range.ply", asciiPly(kPlyVertices, "4 0 1 2 3\n3 0 1 7\n", 5, 2));
+    expectLoadError([&] { loadOpenMeshFile(p); }, p, {"face 1", "out of range"});
+}
+
+TEST_F(OpenMeshIo, PlyNonPlanarFaceNamesTheFace) {
+    const fs::path p =
+        write("bent.ply", asciiPly("0 0 0\n1 0 0\n1 1 0.1\n0 1 0\n0.5 0 1\n", kPlyFaces, 5, 2));
+    expectLoadError([&] { loadOpenMeshFile(p); }, p, {"face 0", "non-planar"});
+}
+
+TEST_F(OpenMeshIo, PlyNonConvexFaceNamesTheFace) {
+    // An arrow head: vertex 2 is reflex.
+    const fs::path p = write("reflex.ply", asciiPly("0 0 0\n2 0 0\n1 0.5 0\n2 2 0\n0.5 0 1\n",
+                                                    "3 0 1 4\n4 0 1 2 3\n", 5, 2));
+    expectLoadError([&] { loadOpenMeshFile(p); }, p, {"face 1", "non-convex"});
+}
+
+TEST_F(OpenMeshIo, DegenerateFaceIsAnErrorOrDroppedOnRequest) {
+    // Face 1 is collinear (zero area), face 2 repeats a vertex.
+    const std::string text =
+        asciiPly(kPlyVertices + "2 0 0\n", "4 0 1 2 3\n3 0 1 5\n3 0 4 4\n3 0 1 4\n", 6, 4);
+    const fs::path p = write("degenerate.ply", text);
+    expectLoadError([&] { loadOpenMeshFile(p); }, p, {"face 1", "degenerate"});
+    const Scene scene = loadOpenMeshFile(p, DegenerateFaces::kDrop);
+    EXPECT_EQ(scene.mesh.faces, kFaces);
+    ASSERT_EQ(scene.warnings.size(), 1u);
+    EXPECT_NE(scene.warnings[0].find("dropped 2 degenerate"), std::string::npos)
+        << scene.warnings[0];
+    EXPECT_NE(scene.warnings[0].find("face 1"), std::string::npos) << scene.warnings[0];
+}
+
+TEST_F(OpenMeshIo, PlyMalformedHeaderIsAnError) {
+    const fs::path p = write("bad.ply", "ply\nformat ascii 1.0\nelement vertex x\nend_header\n");
+    expectLoadError([&] { loadOpenMeshFile(p); }, p, {"bad count"});
+    const fs::path q = write("notply.ply", "hello\n");
+    expectLoadError([&] { loadOpenMeshFile(q); }, q, {"ply"});
+    const fs::path e = write("empty.ply", "");
+    expectLoadError([&] { loadOpenMeshFile(e); }, e, {"empty"});
+}
+
+const std::string kOff =
+    "OFF\n# the test solid\n5 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0 1\n4 0 1 2 3\n3 0 1 4\n";
+
+TEST_F(OpenMeshIo, Off) { expectTestSolid(loadOpenMeshFile(write("solid.off", kOff))); }
+
+TEST_F(OpenMeshIo, TruncatedOffIsAnError) {
+    const fs::path p = write("cut.off", kOff.substr(0, kOff.size() - 8));
+    expectLoadError([&] { loadOpenMeshFile(p); }, p, {"2 faces"});
+    const fs::path q = write("short.off", "OFF\n5 2 0\n0 0 0\n1 0 0\n");
+    expectLoadError([&] { loadOpenMeshFile(q); }, q, {});
+    const fs::path r = write("noheader.off", "5 2 0\n");
+    expectLoadError([&] { loadOpenMeshFile(r); }, r, {"OFF"});
+}
+
+// Two triangles of the unit square at z = 0, facing +z; 4 distinct corners.
+const float kStlTriangles[2][9] = {{0, 0, 0, 1, 0, 0, 1, 1, 0}, {0, 0, 0, 1, 1, 0, 0, 1, 0}};
+
+std::string binaryStl(const std::vector<std::array<float, 9>>& triangles) {
+    std::string s(80, ' ');
+    putU32(s, static_cast<uint32_t>(triangles.size()));
+    for (const auto& t : triangles) {
+        for (int k = 0; k < 3; ++k) putF32(s, k == 2 ? 1.0f : 0.0f);  // normal
+        for (float x : t) putF32(s, x);
+        s += std::string(2, '\0');
+    }
+    return s;
+}
+
+std::vector<std::array<float, 9>> stlSquare() {
+    std::vector<std::array<float, 9>> t(2);
+    for (int i = 0; i < 2; ++i)
+        for (int k = 0; k < 9; ++k) t[i][k] = kStlTriangles[i][k];
+    return t;
+}
+
+std::string asciiStl(const std::vector<std::array<float, 9>>& triangles, bool end = true) {
+    std::string s = "solid square\n";
+    for (const auto& t : triangles) {
+        s += "  facet normal 0 0 1\n    outer loop\n";
+        for (int k = 0; k < 3; ++k) {
+            s += "      vertex " + std::to_string(t[3 * k]) + " " + std::to_string(t[3 * k + 1]) +
+                 " " + std::to_string(t[3 * k + 2]) + "\n";
+        }
+        s += "    endloop\n  endfacet\n";
+    }
+    if (end) s += "endsolid square\n";
+    return s;
+}
+
+void expectStlSquare(const Scene& scene) {
+    ASSERT_EQ(scene.mesh.faces.size(), 2u);
+    EXPECT_EQ(scene.mesh.vertices.size(), 4u);  // corners are merged
+    for (size_t f = 0; f < 2; ++f) {
+        ASSERT_EQ(scene.mesh.faces[f].size(), 3u);
+        for (size_t k = 0; k < 3; ++k) {
+            const Vec3 v = scene.mesh.vertices[scene.mesh.faces[f][k]];
+            EXPECT_EQ(v, Vec3(kStlTriangles[f][3 * k], kStlTriangles[f][3 * k + 1],
+                              kStlTriangles[f][3 * k + 2]))
+                << f << " " << k;
+        }
+        EXPECT_GT(scene.mesh.faceAreaNormal(static_cast<uint32_t>(f)).z, 0);
+    }
+    EXPECT_TRUE(scene.lights.empty());
+}
+
+TEST_F(OpenMeshIo, AsciiStl) {
+    expectStlSquare(loadOpenMeshFile(write("square.stl", asciiStl(stlSquare()))));
+}
+
+TEST_F(OpenMeshIo, BinaryStl) {
+    expectStlSquare(loadOpenMeshFile(write("square.stl", binaryStl(stlSquare()))));
+}
+
+TEST_F(OpenMeshIo, TruncatedStlIsAnError) {
+    const std::string bin = binaryStl(stlSquare());
+    const fs::path p = write("cut.stl", bin.substr(0, bin.size() - 10));
+    expectLoadError([&] { loadOpenMeshFile(p); }, p, {"truncated", "2 triangles"});
+    const fs::path tiny = write("tiny.stl", bin.substr(0, 50));
+    expectLoadError([&] { loadOpenMeshFile(tiny); }, tiny, {"truncated"});
+    const fs::path a = write("cut_ascii.stl", asciiStl(stlSquare(), false));
+    expectLoadError([&] { loadOpenMeshFile(a); }, a, {"endsolid"});
+}
+
+TEST_F(OpenMeshIo, StlNonFiniteIsAnError) {
+    auto t = stlSquare();
+    t[1][4] = std::numeric_limits<float>::quiet_NaN();
+    const fs::path p = write("nan.stl", binaryStl(t));
+    expectLoadError([&] { loadOpenMeshFile(p); }, p, {"facet 1", "non-finite"});
+    const fs::path a = write("nan_ascii.stl",
+                             "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 "
+                             "nan\nvertex 0 1 0\nendloop\nendfacet\nendsolid x\n");
+    expectLoadError([&] { loadOpenMeshFile(a); }, a, {"facet 0"});
+}
+
+TEST_F(OpenMeshIo, StlDegenerateFacetIsAnErrorOrDropped) {
+    auto t = stlSquare();
+    t.insert(t.begin() + 1, std::array<float, 9>{0, 0, 0, 1, 0, 0, 1, 0, 0});  // corners 1 == 2
+    for (const bool binary : {true, false}) {
+        const fs::path p =
+            write(binary ? "deg.stl" : "deg_ascii.stl", binary ? binaryStl(t) : asciiStl(t));
+        expectLoadError([&] { loadOpenMeshFile(p); }, p, {"face 1", "degenerate"});
+        const Scene scene = loadOpenMeshFile(p, DegenerateFaces::kDrop);
+        expectStlSquare(scene);
+        ASSERT_EQ(scene.warnings.size(), 1u);
+        EXPECT_NE(scene.warnings[0].find("dropped 1"), std::string::npos) << scene.warnings[0];
+    }
+    // A collinear facet with distinct corners is found by validation, named by its facet index.
+    auto c = stlSquare();
+    c.push_back({0, 0, 0, 1, 1, 0, 2, 2, 0});
+    const fs::path q = write("collinear.stl", binaryStl(c));
+    expectLoadError([&] { loadOpenMeshFile(q); }, q, {"face 2", "degenerate"});
+}
+
+}  // namespace
+}  // namespace penumbra

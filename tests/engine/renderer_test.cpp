@@ -1,0 +1,461 @@
+// Tests of the progressive renderer: exact shading against independent references (a closed-form
+// form factor, converged shadow-ray estimates), determinism, cancellation, image output.
+#include "engine/render/renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <memory>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "engine/io/image_io.h"
+#include "engine/precompute/visibility_store.h"
+#include "engine/render/embree_scene.h"
+#include "tests/support/read_pfm.h"
+#include "tests/support/test_scale.h"
+
+namespace {
+
+using namespace penumbra;
+
+uint32_t addFace(Scene& s, std::initializer_list<Vec3> ccwFromFront, int32_t material) {
+    std::vector<uint32_t> idx;
+    for (const Vec3& p : ccwFromFront) {
+        idx.push_back(static_cast<uint32_t>(s.mesh.vertices.size()));
+        s.mesh.vertices.push_back(p);
+    }
+    s.mesh.faces.push_back(std::move(idx));
+    s.faceMaterial.push_back(material);
+    s.faceSourceLine.push_back(0);
+    return s.faceCount() - 1;
+}
+
+// Axis-aligned rectangle at height z, facing up (+z) or down (-z).
+uint32_t addRect(Scene& s, double x0, double x1, double y0, double y1, double z, bool up,
+                 int32_t material) {
+    if (up) return addFace(s, {{x0, y0, z}, {x1, y0, z}, {x1, y1, z}, {x0, y1, z}}, material);
+    return addFace(s, {{x0, y0, z}, {x0, y1, z}, {x1, y1, z}, {x1, y0, z}}, material);
+}
+
+int32_t addMaterial(Scene& s, Vec3 kd, Vec3 ks = {}, double ns = 0, Vec3 ke = {}) {
+    Material m;
+    m.name = "m" + std::to_string(s.materials.size());
+    m.kd = kd;
+    m.ks = ks;
+    m.ns = ns;
+    m.ke = ke;
+    s.materials.push_back(m);
+    return static_cast<int32_t>(s.materials.size() - 1);
+}
+
+// A floor (face 0, [-2,2]^2 at z=0, facing up), a light [-0.5,0.5]^2 at z=2 facing down (face 1),
+// a back wall at y=2 facing the camera, and a tilted triangle floating between floor and light
+// (its shadow on the floor has a wide penumbra). `floorMaterial` lets tests make the floor glossy.
+Scene penumbraScene(const Material& floorMaterial) {
+    Scene s;
+    s.materials.push_back(floorMaterial);
+    const int32_t light = addMaterial(s, {0.2, 0.2, 0.2}, {}, 0, {6, 5, 4});
+    const int32_t grey = addMaterial(s, {0.6, 0.6, 0.6});
+    addRect(s, -2, 2, -2, 2, 0, true, 0);
+    addRect(s, -0.5, 0.5, -0.5, 0.5, 2, false, light);
+    addFace(s, {{-2, 2, 0}, {2, 2, 0}, {2, 2, 2.5}, {-2, 2, 2.5}}, grey);  // facing -y
+    addFace(s, {{-0.8, -0.6, 1.0}, {0.3, -0.2, 1.2}, {-0.2, 0.7, 0.9}}, grey);
+    s.collectLights();
+    return s;
+}
+
+Camera penumbraCamera() {
+    Camera c;
+    c.eye = {0.3, -6, 1.6};
+    c.target = {0, 0, 0.4};
+    c.fovYDegrees = 40;
+    return c;
+}
+
+// The scene and everything the renderer needs, in construction order.
+struct Rig {
+    explicit Rig(Scene s)
+        : scene(std::move(s)), bvh(scene.mesh), store(scene, &bvh), renderer(scene, bvh, store) {}
+    Scene scene;
+    EmbreeScene bvh;
+    VisibilityStore store;
+    ProgressiveRenderer renderer;
+};
+
+double channelSum(const Vec3& v) { return v.x + v.y + v.z; }
+
+// Per-pixel mean and variance of the mean over K renders that differ only in lightSeed (the
+// pixel pattern, RenderSettings::seed, stays fixed): the light-sampling noise alone.
+struct Replicates {
+    std::vector<double> mean, varianceOfMean;  // of the pixel's channel sum
+};
+
+Replicates replicate(Rig& rig, const Camera& camera, RenderSettings settings, int count) {
+    const size_t n = static_cast<size_t>(settings.width) * settings.height;
+    std::vector<double> sum(n, 0), sumSq(n, 0);
+    for (int k = 0; k < count; ++k) {
+        settings.lightSeed = 1000 + static_cast<uint64_t>(k);
+        const Film film = rig.renderer.render(camera, settings);
+        for (size_t i = 0; i < n; ++i) {
+            const double v = channelSum(film.sum[i] / film.passes);
+            sum[i] += v;
+            sumSq[i] += v * v;
+        }
+    }
+    Replicates r;
+    r.mean.resize(n);
+    r.varianceOfMean.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        r.mean[i] = sum[i] / count;
+        const double var = std::max(0.0, (sumSq[i] - count * r.mean[i] * r.mean[i]) / (count - 1));
+        r.varianceOfMean[i] = var / count;
+    }
+    return r;
+}
+
+// Checks that `estimate` agrees with `reference` within the noise: per pixel |diff| < 4 sigma +
+// tiny for at least 99.5% of the pixels, and the mean difference within 4 of its standard errors.
+void expectAgreement(const std::vector<double>& estimate, const std::vector<double>& estimateVar,
+                     const Replicates& reference, const char* what) {
+    const size_t n = estimate.size();
+    ASSERT_EQ(reference.mean.size(), n);
+    size_t outside = 0, lit = 0;
+    double diffSum = 0, varSum = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const double diff = estimate[i] - reference.mean[i];
+        const double var = estimateVar[i] + reference.varianceOfMean[i];
+        const double tiny = 1e-9 + 1e-6 * std::fabs(reference.mean[i]);
+        if (std::fabs(diff) >= 4 * std::sqrt(var) + tiny) ++outside;
+        if (reference.mean[i] > 0.01) ++lit;
+        diffSum += diff;
+        varSum += var;
+    }
+    EXPECT_GT(lit, n / 4) << what << ": the image should be mostly lit";
+    EXPECT_LE(static_cast<double>(outside), 0.005 * n) << what << ": pixels outside 4 sigma";
+    const double meanDiff = diffSum / n, meanSe = std::sqrt(varSum) / n;
+    EXPECT_LE(std::fabs(meanDiff), 4 * meanSe + 1e-9)
+        << what << ": mean difference " << meanDiff << ", standard error " << meanSe;
+}
+
+TEST(Renderer, ExactDiffuseIsIndependentOfTheLightSeed) {
+    Rig rig(penumbraScene(Material{}));
+    RenderSettings s;
+    s.width = s.height = 24;
+    s.spp = 2;
+    s.lightSeed = 1;
+    const Film a = rig.renderer.render(penumbraCamera(), s);
+    s.lightSeed = 987654321;
+    const Film b = rig.renderer.render(penumbraCamera(), s);
+    ASSERT_EQ(a.sum.size(), b.sum.size());
+    size_t lit = 0;
+    for (size_t i = 0; i < a.sum.size(); ++i) {
+        EXPECT_EQ(a.sum[i], b.sum[i]) << "pixel " << i;
+        if (channelSum(a.sum[i]) > 0) ++lit;
+    }
+    EXPECT_GT(lit, a.sum.size() / 3);
+    // The sampled render does depend on it (so the seed reaches the light sampling at all).
+    s.method = DirectMethod::Sampled;
+    s.lightSamples = 4;
+    const Film c = rig.renderer.render(penumbraCamera(), s);
+    s.lightSeed = 1;
+    const Film d = rig.renderer.render(penumbraCamera(), s);
+    EXPECT_NE(c.sum, d.sum);
+}
+
+// The exact image of `s` (trees for every pair: minTreeSamples 0) as channel sums, checked against
+// the same render with no tree at all (every pair below minTreeSamples: each point evaluated
+// directly, from a fresh store): the same image up to rounding. Then checks it against converged
+// shadow rays (24 replicates of lightSamples 64, scaled).
+void expectExactPathsAgreeWithShadowRays(const Scene& scene, const Camera& camera,
+                                         RenderSettings s) {
+    Rig rig(scene);
+    s.minTreeSamples = 0;
+    const Film exact = rig.renderer.render(camera, s);
+    // The image has a penumbra: some receiver patches are partly blocked.
+    EXPECT_GT(rig.renderer.effects().pairsPenumbra, 0u);
+    EXPECT_EQ(rig.renderer.effects().pairsDirect, 0u);
+    if (const char* dump = std::getenv("PENUMBRA_TEST_DUMP")) writePng(exact, dump);
+    std::vector<double> e(exact.sum.size());
+    for (size_t i = 0; i < e.size(); ++i) e[i] = channelSum(exact.sum[i] / exact.passes);
+    {
+        Rig fresh(scene);
+        RenderSettings d = s;
+        d.minTreeSamples = 1u << 30;
+        const Film direct = fresh.renderer.render(camera, d);
+        EXPECT_GT(fresh.renderer.effects().pairsDirect, 0u);
+        EXPECT_EQ(fresh.store.treeCount(), 0u);  // nothing was built
+        for (size_t i = 0; i < e.size(); ++i)
+            EXPECT_NEAR(channelSum(direct.sum[i] / direct.passes), e[i], 1e-9 * (1 + e[i]))
+                << "pixel " << i;
+    }
+    s.method = DirectMethod::Sampled;
+    s.lightSamples = test::scaled(64);
+    const Replicates sampled = replicate(rig, camera, s, 24);
+    expectAgreement(e, std::vector<double>(e.size(), 0.0), sampled, "exact vs sampled");
+}
+
+// Both exact paths: history trees for every pair (minTreeSamples 0), and no tree at all (every
+// pair below minTreeSamples: each point evaluated directly). Same image up to rounding.
+TEST(Renderer, ExactDiffuseAgreesWithConvergedShadowRays) {
+    RenderSettings s;
+    s.width = s.height = 32;
+    s.spp = 2;
+    s.seed = 7;
+    expectExactPathsAgreeWithShadowRays(penumbraScene(Material{}), penumbraCamera(), s);
+}
+
+// Occluders standing on the floor with a vertex a hair below it (2^-60, the decimal residue
+// 0.1 * 3 - 0.3, a subnormal; one with two such vertices): exactly the configuration where the
+// exact render used to lose an occluder whole (its clipped edges were rounded points that
+// coincided or swapped) and so lit pixels that lie in its shadow. The exact image must agree with
+// converged shadow rays (Embree sees the same shadows in floats), and the tree-less direct render
+// with the exact one.
+TEST(Renderer, HairCrossingOccludersKeepTheirShadows) {
+    auto scene = [] {
+        Scene s;
+        s.materials.push_back(Material{});
+        const int32_t light = addMaterial(s, {0.2, 0.2, 0.2}, {}, 0, {6, 5, 4});
+        const int32_t grey = addMaterial(s, {0.6, 0.6, 0.6});
+        addRect(s, -2, 2, -2, 2, 0, true, 0);
+        addRect(s, -0.5, 0.5, -0.5, 0.5, 2, false, light);
+        addFace(s, {{-2, 2, 0}, {2, 2, 0}, {2, 2, 2.5}, {-2, 2, 2.5}}, grey);
+        addFace(s, {{-0.9, -0.5, -0x1p-60}, {-0.2, -0.6, 1.1}, {-0.5, 0.1, 0.9}}, grey);
+        addFace(s, {{0.2, -0.3, 0.1 * 3 - 0.3}, {0.5, 0.4, 1.0}, {0.9, -0.2, 1.2}}, grey);
+        addFace(s, {{-0.3, 0.5, -1e-310}, {0.3, 0.6, -1e-310}, {0.0, 0.2, 1.3}}, grey);
+        s.collectLights();
+        return s;
+    };
+    RenderSettings s;
+    s.width = s.height = 32;
+    s.spp = 2;
+    s.seed = 3;
+    expectExactPathsAgreeWithShadowRays(scene(), penumbraCamera(), s);
+}
+
+// A point whose exact query needs more plane tests than RenderSettings::exactWorkLimit is shaded
+// by the sampled estimator with the point's own random numbers: such pixels come out bit for bit
+// as in the sampled render, the effects summary counts them, and without a limit none is sampled.
+TEST(Renderer, PointsOverTheWorkLimitAreSampledAndCounted) {
+    Rig rig(penumbraScene(Material{}));
+    const Camera camera = penumbraCamera();
+    RenderSettings s;
+    s.width = s.height = 24;
+    s.spp = 2;
+    s.lightSamples = 8;
+    s.exactWorkLimit = 0;
+    const Film exact = rig.renderer.render(camera, s);
+    EXPECT_EQ(rig.renderer.effects().sampledEvaluations, 0u);
+    EXPECT_GT(rig.renderer.effects().exactEvaluations, 0u);
+    rig.renderer.resetEffects();
+    s.exactWorkLimit = 1;
+    const Film limited = rig.renderer.render(camera, s);
+    const EffectsSummary e = rig.renderer.effects();
+    EXPECT_GT(e.sampledEvaluations, e.exactEvaluations / 4);
+    EXPECT_LE(e.sampledEvaluations, e.exactEvaluations);
+    EXPECT_NE(e.text().find("points sampled: "), std::string::npos) << e.text();
+    rig.renderer.resetEffects();
+    s.method = DirectMethod::Sampled;
+    const Film sampled = rig.renderer.render(camera, s);
+    size_t likeSampled = 0, likeExact = 0, unlike = 0;
+    for (size_t i = 0; i < limited.sum.size(); ++i) {
+        if (limited.sum[i] == exact.sum[i] && limited.sum[i] == sampled.sum[i]) continue;
+        if (limited.sum[i] == sampled.sum[i])
+            ++likeSampled;
+        else if (limited.sum[i] == exact.sum[i])
+            ++likeExact;
+        else
+            ++unlike;  // a pixel whose samples went both ways
+    }
+    EXPECT_GT(likeSampled, limited.sum.size() / 10);
+    EXPECT_GT(likeExact, 0u);  // fully visible pairs need no query: still exact
+    EXPECT_LT(unlike, limited.sum.size() / 4);
+}
+
+TEST(Renderer, GlossyExactAgreesWithReference) {
+    Material glossy;
+    glossy.kd = {0.3, 0.3, 0.3};
+    glossy.ks = {0.5, 0.4, 0.3};
+    glossy.ns = 12;
+    Rig rig(penumbraScene(glossy));
+    const Camera camera = penumbraCamera();
+    RenderSettings s;
+    s.width = s.height = 32;
+    s.spp = 1;
+    s.seed = 3;
+    s.glossySamples = 16;
+    const Replicates exact = replicate(rig, camera, s, 24);
+    s.method = DirectMethod::Reference;
+    s.referenceSamples = test::scaled(64);
+    const Replicates reference = replicate(rig, camera, s, 24);
+    expectAgreement(exact.mean, exact.varianceOfMean, reference, "glossy exact vs reference");
+    const EffectsSummary fx = rig.renderer.effects();
+    EXPECT_EQ(fx.method, "reference");
+}
+
+// Unoccluded form factor from a point to a rectangle in a parallel plane at distance c, the
+// rectangle's corner straight above the point, sides a and b (closed form, e.g. Howell's
+// catalogue of configuration factors, C-11).
+double cornerFormFactor(double a, double b, double c) {
+    const double x = a / c, y = b / c;
+    const double sx = std::sqrt(1 + x * x), sy = std::sqrt(1 + y * y);
+    return (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy)) / (2 * std::numbers::pi);
+}
+
+TEST(Renderer, PointUnderSquareLightMatchesClosedForm) {
+    Scene scene;
+    const Vec3 kd{0.5, 0.6, 0.7}, ke{3, 4, 5};
+    const int32_t floor = addMaterial(scene, kd);
+    const int32_t light = addMaterial(scene, {0, 0, 0}, {}, 0, ke);
+    addRect(scene, -2, 2, -2, 2, 0, true, floor);
+    addRect(scene, -0.5, 0.5, -0.5, 0.5, 1, false, light);
+    scene.collectLights();
+    Rig rig(std::move(scene));
+    // One pixel with a tiny field of view, looking at the origin (under the light's centre) from
+    // the side, below the light.
+    Camera camera;
+    camera.eye = {4, 0.1, 0.5};
+    camera.target = {0, 0, 0};
+    camera.fovYDegrees = 1e-3;
+    RenderSettings s;
+    s.width = s.height = 1;
+    s.spp = 3;
+    s.minTreeSamples = 0;  // a tree per pair, to count the pairs below
+    const Film film = rig.renderer.render(camera, s);
+    const double f = 4 * cornerFormFactor(0.5, 0.5, 1.0);
+    const Vec3 expected{kd.x * ke.x * f, kd.y * ke.y * f, kd.z * ke.z * f};
+    const Vec3 got = film.mean(0, 0);
+    EXPECT_NEAR(got.x, expected.x, 1e-6 * expected.x);
+    EXPECT_NEAR(got.y, expected.y, 1e-6 * expected.y);
+    EXPECT_NEAR(got.z, expected.z, 1e-6 * expected.z);
+
+    // What was simulated: fully visible pairs for the floor patches under the pixel (the origin
+    // is a corner of several patches, so the jittered samples may fall in a few), every other
+    // floor patch never seen, the floor's material analytic.
+    const EffectsSummary fx = rig.renderer.effects();
+    EXPECT_EQ(fx.method, "exact");
+    EXPECT_GE(fx.pairsFullyVisible, 1u);
+    EXPECT_LE(fx.pairsFullyVisible, 8u);
+    EXPECT_EQ(fx.pairsPenumbra + fx.pairsFullyHidden + fx.pairsBackFacing, 0u);
+    const size_t floorPatches = std::max<size_t>(1, rig.store.patches(0).patches.size());
+    EXPECT_GT(floorPatches, 8u);
+    EXPECT_EQ(fx.pairsNeverSeen, floorPatches - fx.pairsFullyVisible);
+    EXPECT_EQ(fx.materialsAnalytic, 1u);
+    EXPECT_EQ(fx.materialsSampled, 0u);
+    EXPECT_EQ(fx.areaLights, 1u);
+    EXPECT_NE(fx.text().find("never seen: " + std::to_string(fx.pairsNeverSeen)),
+              std::string::npos);
+
+    // A point light straight above the origin adds I cos / r^2 * kd / pi.
+    rig.scene.pointLights.push_back({{0, 0, 0.5}, {2, 2, 2}});
+    const Film withPoint = rig.renderer.render(camera, s);
+    const double pointTerm = 2 / 0.25 / std::numbers::pi;
+    EXPECT_NEAR(withPoint.mean(0, 0).x, expected.x + kd.x * pointTerm, 1e-5);
+}
+
+TEST(Renderer, CancelledPassLeavesTheFilmUnchanged) {
+    Rig rig(penumbraScene(Material{}));
+    RenderSettings s;
+    s.width = s.height = 20;
+    Film film;
+    ASSERT_TRUE(rig.renderer.renderPass(penumbraCamera(), s, film));
+    ASSERT_EQ(film.passes, 1);
+    const Film before = film;
+    std::atomic<bool> cancel{true};
+    EXPECT_FALSE(rig.renderer.renderPass(penumbraCamera(), s, film, &cancel));
+    EXPECT_EQ(film.passes, before.passes);
+    EXPECT_EQ(film.sum, before.sum);
+    // A fresh film stays empty.
+    Film empty;
+    EXPECT_FALSE(rig.renderer.renderPass(penumbraCamera(), s, empty, &cancel));
+    EXPECT_EQ(empty.passes, 0);
+    // And render() stops: no pass.
+    const Film none = rig.renderer.render(penumbraCamera(), s, nullptr, &cancel);
+    EXPECT_EQ(none.passes, 0);
+    // Passes add up: a second pass at index 1 matches a two-pass render.
+    cancel = false;
+    ASSERT_TRUE(rig.renderer.renderPass(penumbraCamera(), s, film, &cancel));
+    s.spp = 2;
+    const Film two = rig.renderer.render(penumbraCamera(), s);
+    EXPECT_EQ(film.sum, two.sum);
+}
+
+TEST(Renderer, RejectsBadSettings) {
+    Rig rig(penumbraScene(Material{}));
+    RenderSettings s;
+    s.width = 0;
+    Film film;
+    EXPECT_THROW(rig.renderer.renderPass(penumbraCamera(), s, film), std::invalid_argument);
+    s.width = 4;
+    s.spp = 0;
+    EXPECT_THROW(rig.renderer.render(penumbraCamera(), s), std::invalid_argument);
+}
+
+TEST(Renderer, PfmRoundTrip) {
+    Film film;
+    film.reset(5, 3);
+    film.passes = 2;
+    for (int y = 0; y < 3; ++y)
+        for (int x = 0; x < 5; ++x) film.sum[y * 5 + x] = {x + 0.25, y * 10.5, -1.0 / (1 + x + y)};
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("penumbra_renderer_test_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    const std::string path = (dir / "image.pfm").string();
+    writePfm(film, path);
+    int w = 0, h = 0;
+    const std::vector<float> pixels = test::readPfm(path, w, h);
+    ASSERT_EQ(w, 5);
+    ASSERT_EQ(h, 3);
+    for (int y = 0; y < 3; ++y) {
+        for (int x = 0; x < 5; ++x) {
+            const Vec3 m = film.mean(x, y);
+            const float* p = &pixels[(y * 5 + x) * 3];
+            EXPECT_EQ(p[0], static_cast<float>(m.x));
+            EXPECT_EQ(p[1], static_cast<float>(m.y));
+            EXPECT_EQ(p[2], static_cast<float>(m.z));
+        }
+    }
+    // PNG: the signature, and no temporary file left behind.
+    const std::string png = (dir / "image.png").string();
+    writePng(film, png);
+    std::ifstream in(png, std::ios::binary);
+    char sig[8] = {};
+    in.read(sig, 8);
+    EXPECT_EQ(std::memcmp(sig, "\x89PNG\r\n\x1a\n", 8), 0);
+    size_t files = 0;
+    for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
+    EXPECT_EQ(files, 2u);
+    // A directory that does not exist: a clear error naming the file.
+    try {
+        writePfm(film, (dir / "missing" / "x.pfm").string());
+        ADD_FAILURE() << "no error";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("x.pfm"), std::string::npos) << e.what();
+    }
+    std::filesystem::remove_all(dir);
+}
+
+TEST(Renderer, SrgbToneMapping) {
+    Film film;
+    film.reset(3, 1);
+    film.passes = 2;  // the mean is sum / 2
+    film.sum = {{0, 0.2, 2}, {4, -1, 0.0062616}, {0.6, NAN, 0.1}};
+    // Independent values of the sRGB curve: 1.055 v^(1/2.4) - 0.055 (12.92 v below 0.0031308),
+    // times 255, rounded: 0.1 -> 89.04, 0.3 -> 148.88, 0.05 -> 63.19, 0.0031308 -> 10.31.
+    const std::vector<uint8_t> px = toSrgb8(film);
+    const std::vector<uint8_t> expected = {0, 89, 255, 255, 0, 10, 149, 0, 63};
+    EXPECT_EQ(px, expected);
+    // Exposure scales before the curve: 0.05 * 2 = 0.1.
+    EXPECT_EQ(toSrgb8(film, 2.0)[8], 89);
+}
+
+}  // namespace

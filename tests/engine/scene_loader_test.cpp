@@ -1,0 +1,133 @@
+// Tests of loadScene (engine/io/scene_loader.h): the reader is chosen by extension, in any case;
+// unknown extensions are an error listing the supported ones; OBJ degenerate faces are an error
+// naming the line or, on request, dropped with a warning.
+#include "engine/io/scene_loader.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "tests/support/loader_test_support.h"
+
+namespace penumbra {
+namespace {
+
+namespace fs = std::filesystem;
+using test::expectLoadError;
+
+class SceneLoader : public test::LoaderFiles {};
+
+TEST_F(SceneLoader, ChoosesTheReaderByExtensionInAnyCase) {
+    const std::string square = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n";
+    const fs::path obj = write("a.OBJ", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+    const fs::path off = write("a.Off", "OFF\n4 1 0\n" + square + "4 0 1 2 3\n");
+    const fs::path ply = write("a.pLy",
+                               "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n"
+                               "property float y\nproperty float z\nelement face 1\n"
+                               "property list uchar int vertex_indices\nend_header\n" +
+                                   square + "4 0 1 2 3\n");
+    for (const fs::path& p : {obj, off, ply}) {
+        const Scene scene = loadScene(p);
+        EXPECT_EQ(scene.faceCount(), 1u) << p;
+        EXPECT_EQ(scene.mesh.vertices.size(), 4u) << p;
+        EXPECT_DOUBLE_EQ(scene.mesh.faceArea(0), 1.0) << p;
+        EXPECT_EQ(scene.sourcePath, p.string());
+    }
+    EXPECT_TRUE(isSupportedSceneExtension(".GLB"));
+    EXPECT_TRUE(isSupportedSceneExtension(".stl"));
+    EXPECT_TRUE(isSupportedSceneExtension(".Json"));
+    EXPECT_FALSE(isSupportedSceneExtension(".fbx"));
+    EXPECT_FALSE(isSupportedSceneExtension(".mtl"));  // next to the OBJ files in assets/
+    EXPECT_FALSE(isSupportedSceneExtension(""));
+}
+
+TEST_F(SceneLoader, UnknownExtensionListsTheSupportedOnes) {
+    const fs::path p = write("model.fbx", "whatever");
+    expectLoadError([&] { loadScene(p); }, p,
+                    {"unknown scene format '.fbx'", ".obj, .ply, .off, .stl, .gltf, .glb, .json"});
+    const fs::path q = write("model", "whatever");
+    expectLoadError([&] { loadScene(q); }, q, {"(no extension)"});
+}
+
+TEST_F(SceneLoader, ObjDegenerateFacesRejectedOrDropped) {
+    // Face 1 (line 6) is collinear, face 2 (line 7) repeats a vertex.
+    const fs::path p = write("deg.obj",
+                             "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 3 3\n"
+                             "f 2 3 1\n");
+    // The repeated vertex is found while parsing, before any geometry is checked.
+    expectLoadError([&] { loadScene(p); }, p, {"deg.obj:7: face 2", "repeated"});
+    const fs::path q =
+        write("collinear.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n");
+    expectLoadError([&] { loadScene(q); }, q, {"collinear.obj:6: face 1", "degenerate"});
+    const Scene scene = loadScene(p, DegenerateFaces::kDrop);
+    EXPECT_EQ(scene.faceCount(), 2u);
+    EXPECT_EQ(scene.faceSourceLine, (std::vector<int32_t>{5, 8}));
+    ASSERT_EQ(scene.warnings.size(), 1u);
+    EXPECT_NE(scene.warnings[0].find("dropped 2 degenerate"), std::string::npos)
+        << scene.warnings[0];
+    EXPECT_NE(scene.warnings[0].find("line 6"), std::string::npos) << scene.warnings[0];
+}
+
+}  // namespace
+}  // namespace penumbra
+
+namespace penumbra {
+namespace {
+
+#ifndef PENUMBRA_SOURCE_DIR
+#error "PENUMBRA_SOURCE_DIR must name the source tree"
+#endif
+
+const fs::path kAssets = fs::path(PENUMBRA_SOURCE_DIR) / "assets";
+
+// The committed Cornell box composed with a mesh written here, fitted on its floor: the box's lamp
+// stays the one light, the mesh stands on the floor inside the fit box.
+TEST_F(SceneLoader, CornellBoxComposesWithAFittedMesh) {
+    write("tet.off",
+          "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
+    const fs::path json = write("box.json", R"({"meshes": [
+        {"file": ")" + (kAssets / "cornell_box.obj").string() +
+                                                R"("},
+        {"file": "tet.off", "fit_into": {"min": [310, 0, 15], "max": [540, 250, 235],
+                                         "align": ["center", "min", "center"]}}]})");
+    const Scene box = loadScene(kAssets / "cornell_box.obj");
+    const Scene scene = loadScene(json);
+    EXPECT_EQ(scene.faceCount(), box.faceCount() + 4);
+    ASSERT_EQ(scene.lights.size(), 1u);
+    EXPECT_EQ(scene.lights[0], box.lights[0]);
+    EXPECT_EQ(scene.material(scene.lights[0]).ke, box.material(box.lights[0]).ke);
+    // The unit tetrahedron scaled by min(230, 250, 220) = 220, centred in x and z, on y = 0.
+    vis::Bounds3 b;
+    for (uint32_t f = box.faceCount(); f < scene.faceCount(); ++f) {
+        const vis::Bounds3 fb = scene.mesh.faceBounds(f);
+        b.add(fb.lo);
+        b.add(fb.hi);
+        // Outward normals: the tetrahedron is closed and its faces were written outward.
+        const Vec3 centroidToFace = scene.mesh.vertex(scene.mesh.faces[f][0]) - Vec3(370, 55, 70);
+        EXPECT_GT(dot(scene.mesh.faceAreaNormal(f), centroidToFace), 0) << f;
+    }
+    EXPECT_EQ(b.lo, Vec3(315, 0, 15));
+    EXPECT_EQ(b.hi, Vec3(535, 220, 235));
+}
+
+// The scene files of assets/scenes/ that use only small fetched meshes load when
+// scripts/fetch_meshes.sh has been run (skipped otherwise: the meshes are not committed).
+TEST_F(SceneLoader, CommittedSceneFilesLoadWhenMeshesAreFetched) {
+    int loaded = 0;
+    for (const char* name : {"bunny_in_box.json", "dragon_res4.json"}) {
+        const fs::path p = kAssets / "scenes" / name;
+        const bool fetched = fs::exists(
+            kAssets / "external" /
+            (std::string(name) == "bunny_in_box.json" ? "bunny.obj" : "dragon_vrip_res4.ply"));
+        if (!fetched) continue;
+        const Scene scene = loadScene(p);
+        EXPECT_EQ(scene.lights.size(), 1u) << name;
+        EXPECT_TRUE(scene.camera.has_value()) << name;
+        EXPECT_GT(scene.faceCount(), 10000u) << name;
+        ++loaded;
+    }
+    if (loaded == 0) GTEST_SKIP() << "run scripts/fetch_meshes.sh to fetch the meshes";
+}
+
+}  // namespace
+}  // namespace penumbra
