@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The main job: installs what is missing, builds, and opens the viewer (`penumbra view`, issue 4)
+# The main job: installs what is missing, builds, and opens the viewer (`penumbra view`)
 # on the default scene. With no display, `penumbra view` says so and writes the headless
 # screenshot of its UI (out/view.png, out/view_state.json) and the preview image (out/preview.png)
 # instead.

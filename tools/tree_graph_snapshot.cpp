@@ -141,18 +141,19 @@ int main(int argc, char** argv) try {
     vis::Vec3 c{};
     for (uint32_t v : scene.mesh.faces[receiver]) c += scene.mesh.vertices[v];
     c = c / double(scene.mesh.faces[receiver].size());
-    const vis::FromPointResult q = vis::fromPointQuery(scene.mesh, tree, c);
+    const std::vector<uint32_t> path =
+        vis::traceNodes(vis::fromPointQuery(scene.mesh, tree, c).trace);
     ui::TreeGraphPanel panel;
-    panel.setTree(&tree, q.path);
+    panel.setTree(&tree, path);
     panel.setMesh(&scene.mesh);
     shots.hover(ImVec2(-100, -100));
     shots.save(panel, "stairs_fit");
     // Zoomed in on the deepest node of the path, hovering it (tooltip).
     const ui::TreeGraphLayout& l = *panel.layout();
-    const auto& deepest = l.item(l.itemOfNode(q.path.back()));
+    const auto& deepest = l.item(l.itemOfNode(path.back()));
     panel.setView(deepest.x, l.layerY(deepest.depth) - 2.0, 28.0);
     shots.frame(panel);
-    if (auto p = panel.screenPosOfNode(q.path.back())) shots.hover(*p);
+    if (auto p = panel.screenPosOfNode(path.back())) shots.hover(*p);
     shots.save(panel, "stairs_zoom");
     shots.hover(ImVec2(-100, -100));
     panel.collapseToDepth(5);

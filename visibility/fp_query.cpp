@@ -10,7 +10,22 @@
 
 namespace penumbra::vis {
 
-void FromPointQuery::visit(uint32_t node, std::span<const Vec3> poly, size_t depth) {
+const char* toString(NodeSide side) {
+    switch (side) {
+        case NodeSide::Positive:
+            return "+";
+        case NodeSide::Negative:
+            return "-";
+        case NodeSide::Both:
+            return "both";
+        case NodeSide::OnPlane:
+            return "in plane (+)";
+    }
+    return "?";
+}
+
+void FromPointQuery::visit(uint32_t node, std::span<const Vec3> poly, size_t depth,
+                           uint32_t treeDepth) {
     // Down the tree while the plane leaves the polygon on one side (the common case: the same span
     // goes on, nothing is copied); recursion only where it is split in two.
     for (;;) {
@@ -20,9 +35,11 @@ void FromPointQuery::visit(uint32_t node, std::span<const Vec3> poly, size_t dep
         }
         if (node == kHiddenLeaf) return;
         if (limitReached_) return;
-        if (path_ != nullptr) path_->push_back(node);
+        const size_t step = trace_ != nullptr ? trace_->size() : 0;
+        if (trace_ != nullptr) trace_->push_back({node, treeDepth, NodeSide::Positive});
         ++nodesVisited_;
         const HistoryNode& n = tree_->nodes[node];
+        ++treeDepth;  // of the children
         if (region_ != nullptr) {
             const RegionDecisions::Decision d = region_->at(node);
             if (d == RegionDecisions::Decision::Positive) {
@@ -30,6 +47,7 @@ void FromPointQuery::visit(uint32_t node, std::span<const Vec3> poly, size_t dep
                 continue;
             }
             if (d == RegionDecisions::Decision::Negative) {
+                traceSide(step, NodeSide::Negative);
                 node = n.child[1];
                 continue;
             }
@@ -67,13 +85,18 @@ void FromPointQuery::visit(uint32_t node, std::span<const Vec3> poly, size_t dep
         }
         switch (outcome) {
             case SplitOutcome::OnPlane:  // measure zero: follows child[0] whole (see above)
+                traceSide(step, NodeSide::OnPlane);
+                node = c0;
+                continue;
             case SplitOutcome::Positive:
                 node = c0;
                 continue;
             case SplitOutcome::Negative:
+                traceSide(step, NodeSide::Negative);
                 node = c1;
                 continue;
             case SplitOutcome::Split: {
+                traceSide(step, NodeSide::Both);
                 // Spans into the parts' heap storage: they stay valid when deeper levels grow
                 // parts_ (moving a vector keeps its buffer), and deeper levels use other entries.
                 // One part left (the other is hidden): go on with it here, one level deeper.
@@ -91,8 +114,8 @@ void FromPointQuery::visit(uint32_t node, std::span<const Vec3> poly, size_t dep
                 }
                 const std::span<const Vec3> positive = parts.positive();
                 const std::span<const Vec3> negative = parts.negative();
-                visit(c0, positive, depth + 1);
-                visit(c1, negative, depth + 1);
+                visit(c0, positive, depth + 1, treeDepth);
+                visit(c1, negative, depth + 1, treeDepth);
                 return;
             }
         }
@@ -288,7 +311,7 @@ void FromPointQuery::startRun() {
     activePlanes_.clear();
     activePencils_.clear();
     deferredClips_ = 0;
-    path_ = nullptr;
+    trace_ = nullptr;
     region_ = nullptr;
 }
 
@@ -362,7 +385,7 @@ void FromPointQuery::preparePair(const PolygonMesh& mesh, uint32_t receiver, uin
 }
 
 const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTree& tree,
-                                        const Vec3& x, std::vector<uint32_t>* path,
+                                        const Vec3& x, std::vector<TraceStep>* trace,
                                         RegionDecisions* region) {
     if (region != nullptr && region->tree() != &tree)
         throw std::invalid_argument("FromPointQuery::run: region decisions of another tree");
@@ -396,22 +419,30 @@ const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTr
     if (tree.kind == PairKind::FullyHidden) return fragments_;
     mesh_ = &mesh;
     tree_ = &tree;
-    path_ = path;
+    trace_ = trace;
     region_ = region;
     deferredPrepared_ = !tree.partial();
     if (tree.nodes.empty())  // a partial tree with no node: one visible leaf
         reachVisible(lightClipped_, 0, 0);
     else
-        visit(0, lightClipped_, 0);
-    path_ = nullptr;
+        visit(0, lightClipped_, 0, 0);
+    trace_ = nullptr;
     region_ = nullptr;
     return fragments_;
+}
+
+std::vector<uint32_t> traceNodes(std::span<const TraceStep> trace) {
+    std::vector<uint32_t> out;
+    out.reserve(trace.size());
+    for (const TraceStep& s : trace) out.push_back(s.node);
+    return out;
 }
 
 FromPointResult fromPointQuery(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x) {
     FromPointQuery query;
     FromPointResult out;
-    const FragmentList& fragments = query.run(mesh, tree, x, &out.path);
+    const FragmentList& fragments = query.run(mesh, tree, x, &out.trace);
+    out.answeredOnContact = query.answeredOnContact();
     out.fragments.reserve(fragments.size());
     for (size_t i = 0; i < fragments.size(); ++i)
         out.fragments.emplace_back(fragments[i].begin(), fragments[i].end());

@@ -43,6 +43,22 @@ class FragmentList {
     std::vector<uint32_t> begin_{0};
 };
 
+// Where a visited node sent the light polygon: the positive side of the plane through x and the
+// node's edge (child[0]), the negative side (child[1]), both (the plane split it in two), or none
+// strictly (every vertex in the plane: x on the edge's line; it follows child[0] whole, a
+// measure-zero set of points, documented rule).
+enum class NodeSide : uint8_t { Positive, Negative, Both, OnPlane };
+const char* toString(NodeSide side);
+
+// One visited node of a walk (FromPointQuery::run's trace): the node, its depth in the tree (0 at
+// the root) and where the polygon went. A node decided for a whole region (RegionDecisions)
+// records the side it decided.
+struct TraceStep {
+    uint32_t node = 0;
+    uint32_t depth = 0;
+    NodeSide side = NodeSide::Positive;
+};
+
 // How FromPointQuery decides the side of each vertex (for measuring what exactness costs; the
 // product always uses Filtered).
 enum class PredicateMode : uint8_t {
@@ -59,20 +75,20 @@ class FromPointQuery {
     // The visible fragments of tree.light from x (x should lie on the receiver face; it is not
     // projected): disjoint convex parts of L, counter-clockwise as L. Applies the receiver's front
     // hemisphere and the light's one-sided emission: a point behind the light gets no fragment.
-    // When `path` is given, the visited node ids are appended in depth-first order. The result is
-    // valid until the next run. A partial tree (HistoryTree::deferred) gives the same answer: what
-    // reaches a visible leaf is clipped against the deferred occluders from x (those whose box
-    // can meet the pyramid from x over L), with the same signs as the walk.
-    // `region`, when given, must have been reset for this tree and a region holding x: nodes it
-    // decides for the whole region are followed without a plane test (region_decisions.h).
-    // Contact rule: a segment from x that touches an occluder only at x is not blocked by it. The
-    // tree's cells are closed sets of lines, so where x lies exactly on an occluder's contact
-    // with B they hold the limit of the neighbouring points instead; such an x (exactly in the
-    // plane of an occluder that reaches B's plane: HistoryTree::contactPlanes) is answered from
-    // the pair's occluders directly, as runDirect() does (answeredOnContact() says so, and no
-    // path is recorded).
+    // When `trace` is given, the visited nodes are appended in depth-first order, each with its
+    // depth and the side the polygon went to (the walk's own decisions: nothing is re-walked). The
+    // result is valid until the next run. A partial tree (HistoryTree::deferred) gives the same
+    // answer: what reaches a visible leaf is clipped against the deferred occluders from x (those
+    // whose box can meet the pyramid from x over L), with the same signs as the walk. `region`,
+    // when given, must have been reset for this tree and a region holding x: nodes it decides for
+    // the whole region are followed without a plane test (region_decisions.h). Contact rule: a
+    // segment from x that touches an occluder only at x is not blocked by it. The tree's cells are
+    // closed sets of lines, so where x lies exactly on an occluder's contact with B they hold the
+    // limit of the neighbouring points instead; such an x (exactly in the plane of an occluder that
+    // reaches B's plane: HistoryTree::contactPlanes) is answered from the pair's occluders
+    // directly, as runDirect() does (answeredOnContact() says so, and no trace is recorded).
     const FragmentList& run(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x,
-                            std::vector<uint32_t>* path = nullptr,
+                            std::vector<TraceStep>* trace = nullptr,
                             RegionDecisions* region = nullptr);
     // The same answer without a tree: the visible fragments of `light` from x on `receiver`, with
     // every face of `faces` (a hierarchy over the mesh's face boxes) that may meet the pyramid from
@@ -117,7 +133,12 @@ class FromPointQuery {
     template <class Plane>
     SplitOutcome splitBy(std::span<const Vec3> poly, const Plane& plane, SplitParts& parts,
                          KeepParts keep) const;
-    void visit(uint32_t node, std::span<const Vec3> poly, size_t depth);
+    // `depth` indexes the split scratch (parts_), `treeDepth` is the node's depth (for the trace).
+    void visit(uint32_t node, std::span<const Vec3> poly, size_t depth, uint32_t treeDepth);
+    // Records the side the current node sent the polygon to (the trace's entry `index`).
+    void traceSide(size_t index, NodeSide side) {
+        if (trace_ != nullptr) (*trace_)[index].side = side;
+    }
     // What reaches a visible leaf: kept, or with deferred occluders clipped against those from
     // active_[from] on.
     void reachVisible(std::span<const Vec3> poly, size_t from, size_t depth);
@@ -136,7 +157,7 @@ class FromPointQuery {
     const PolygonMesh* mesh_ = nullptr;
     const HistoryTree* tree_ = nullptr;
     Vec3 x_;
-    std::vector<uint32_t>* path_ = nullptr;
+    std::vector<TraceStep>* trace_ = nullptr;
     RegionDecisions* region_ = nullptr;
     uint32_t nodesVisited_ = 0;
     uint64_t workLimit_ = 0, work_ = 0;
@@ -185,12 +206,16 @@ class FromPointQuery {
 
 struct FromPointResult {
     std::vector<Polygon3> fragments;  // disjoint convex parts of L visible from x (CCW as L)
-    std::vector<uint32_t> path;       // node ids visited, in depth-first order
+    std::vector<TraceStep> trace;     // the nodes visited, in depth-first order, with their sides
+    bool answeredOnContact = false;   // FromPointQuery::answeredOnContact (no trace then)
     uint32_t nodesVisited = 0;
     uint32_t deferredActive = 0, deferredClips = 0;  // FromPointQuery's counters
 };
 
-// One-shot FromPointQuery::run with the path recorded.
+// The node ids of a trace, in its order (e.g. the path to highlight in a tree browser).
+std::vector<uint32_t> traceNodes(std::span<const TraceStep> trace);
+
+// One-shot FromPointQuery::run with the trace recorded.
 FromPointResult fromPointQuery(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x);
 
 }  // namespace penumbra::vis

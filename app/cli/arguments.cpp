@@ -1,5 +1,6 @@
 #include "app/cli/arguments.h"
 
+#include <CLI/CLI.hpp>
 #include <charconv>
 #include <cmath>
 #include <optional>
@@ -36,6 +37,18 @@ std::optional<std::vector<double>> numbers(std::string_view text, size_t maxCoun
 
 }  // namespace
 
+std::optional<double> parseNumber(std::string_view s) {
+    const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };
+    while (!s.empty() && blank(s.front())) s.remove_prefix(1);
+    while (!s.empty() && blank(s.back())) s.remove_suffix(1);
+    if (s.size() > 1 && s.front() == '+' && s[1] != '-') s.remove_prefix(1);
+    double v = 0;
+    const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
+    if (s.empty() || r.ec != std::errc{} || r.ptr != s.data() + s.size() || !std::isfinite(v))
+        return std::nullopt;
+    return v;
+}
+
 std::vector<double> parseNumberList(std::string_view flag, std::string_view text, size_t count) {
     const auto v = numbers(text, count);
     if (!v || v->size() != count)
@@ -44,7 +57,7 @@ std::vector<double> parseNumberList(std::string_view flag, std::string_view text
     return *v;
 }
 
-std::array<int, 2> parseSize(std::string_view flag, std::string_view text) {
+std::array<int, 2> parseSize(std::string_view flag, std::string_view text, SizeRange range) {
     const size_t x = text.find('x');
     int w = 0, h = 0;
     const auto whole = [](std::string_view s, int& v) {
@@ -54,9 +67,10 @@ std::array<int, 2> parseSize(std::string_view flag, std::string_view text) {
     if (x == std::string_view::npos || !whole(text.substr(0, x), w) ||
         !whole(text.substr(x + 1), h))
         throw usageError(std::string(flag) + ": expected WxH (e.g. 1280x800), got " + quoted(text));
-    if (w < 16 || h < 16 || w > 8192 || h > 8192)
-        throw usageError(std::string(flag) + ": " + quoted(text) +
-                         " out of range (16..8192 pixels a side)");
+    if (w < range.min || h < range.min || w > range.max || h > range.max)
+        throw usageError(std::string(flag) + ": " + quoted(text) + " out of range (" +
+                         std::to_string(range.min) + ".." + std::to_string(range.max) +
+                         " pixels a side)");
     return {w, h};
 }
 
@@ -80,6 +94,31 @@ Camera parseCamera(std::string_view flag, std::string_view text) {
         if (const auto problem = coordinateProblem(*p))
             throw usageError(std::string(flag) + ": " + *problem);
     return c;
+}
+
+Vec3 parseDirection(std::string_view flag, std::string_view text) {
+    const std::vector<double> v = parseNumberList(flag, text, 3);
+    if (v[0] == 0 && v[1] == 0 && v[2] == 0)
+        throw usageError(std::string(flag) + ": expected a nonzero vector X,Y,Z, got " +
+                         quoted(text));
+    return {v[0], v[1], v[2]};
+}
+
+void addExactOptions(CLI::App& sub, ExactOptions& o, ExactOptionSet set) {
+    sub.add_option("--max-lp-solves", o.maxLpSolves,
+                   "Exact: build budget of one history tree in linear programs; a tree that "
+                   "reaches it is partial, its remaining occluders clipped per point (the same "
+                   "answer; 0 = no limit)")
+        ->capture_default_str();
+    if (set == ExactOptionSet::BuildOnly) return;
+    sub.add_option("--min-tree-samples", o.minTreeSamples,
+                   "Exact: a pair the image samples fewer times gets no history tree, its points "
+                   "are evaluated directly (the same answer; 0 = a tree for every pair)")
+        ->capture_default_str();
+    sub.add_option("--exact-work-limit", o.exactWorkLimit,
+                   "Exact: plane tests one point's query may make; a point that needs more is "
+                   "sampled with --light-samples rays and counted (0 = every point exact)")
+        ->capture_default_str();
 }
 
 }  // namespace penumbra::cli

@@ -1,22 +1,49 @@
-// Parsing of the viewer's command-line values (`penumbra view`, `penumbra screenshot`): number
-// lists, sizes and cameras. Malformed values throw cli::CommandError (usage error) naming the
-// flag and quoting the value.
+// The command line's values, parsed once for every command: numbers, number lists, sizes,
+// cameras, and the exact-visibility option group. Malformed values throw cli::CommandError (a
+// usage error) naming the flag and quoting the value.
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string_view>
 #include <vector>
 
+#include "engine/render/exact_options.h"
 #include "engine/scene/camera.h"
+
+namespace CLI {
+class App;
+}  // namespace CLI
 
 namespace penumbra::cli {
 
+// A finite decimal number, the whole of s but for surrounding blanks (locale-independent; a
+// leading '+' is allowed); nullopt otherwise.
+std::optional<double> parseNumber(std::string_view s);
+
 // Exactly `count` finite numbers separated by commas.
 std::vector<double> parseNumberList(std::string_view flag, std::string_view text, size_t count);
-// "WxH", each in 16..8192.
-std::array<int, 2> parseSize(std::string_view flag, std::string_view text);
+
+// The sides an image or a window may have, in pixels.
+struct SizeRange {
+    int min = 1, max = 16384;
+};
+inline constexpr SizeRange kImageSize{1, 16384};   // rendered images (render, bench)
+inline constexpr SizeRange kWindowSize{16, 8192};  // the viewer's window and screenshots
+// "WxH" (an 'x'; nothing before, between or after but the two whole numbers), each in `range`.
+std::array<int, 2> parseSize(std::string_view flag, std::string_view text, SizeRange range);
+
 // "EX,EY,EZ,TX,TY,TZ" or with ",FOV" (vertical, degrees, in (0, 180)); up is +y. The eye must
-// differ from the target.
+// differ from the target; both within the coordinate contract.
 Camera parseCamera(std::string_view flag, std::string_view text);
+
+// A nonzero direction "X,Y,Z".
+Vec3 parseDirection(std::string_view flag, std::string_view text);
+
+// The exact-visibility option group (engine/render/exact_options.h), registered on a subcommand
+// with the same names, help and defaults everywhere: --max-lp-solves always; --min-tree-samples
+// and --exact-work-limit where the command renders images.
+enum class ExactOptionSet { BuildOnly, Render };
+void addExactOptions(CLI::App& sub, ExactOptions& options, ExactOptionSet set);
 
 }  // namespace penumbra::cli

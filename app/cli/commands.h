@@ -42,14 +42,10 @@ inline CommandError inputError(const std::string& message) {
     return CommandError(kExitInputError, message);
 }
 
-// A finite decimal number, the whole of s but for surrounding blanks (locale-independent; a leading
-// '+' is allowed); nullopt otherwise. Every command parses its numeric values with it.
-std::optional<double> parseNumber(std::string_view s);
-
 // Loads a scene file with engine/io/scene_loader.h, choosing the reader by extension
 // (case-insensitive): .obj (with its MTL libraries), .ply, .off, .stl, .gltf, .glb, .json. Prints
-// the scene's warnings to stderr ("penumbra: warning: ..."). Throws CommandError (input error) for
-// a missing file or an unknown extension, and SceneError for a malformed scene.
+// the scene's warnings to stderr ("penumbra: warning: ..."). Throws SceneError (an input error:
+// exit status 1) for a missing file, a directory, an unknown extension or a malformed scene.
 Scene loadSceneFile(const std::filesystem::path& path);
 
 // `penumbra query`: exact light visibility at points (app/cli/query_command.cpp).

@@ -26,6 +26,7 @@
 #include <string>
 #include <thread>
 
+#include "app/cli/arguments.h"
 #include "app/cli/commands.h"
 #include "engine/io/visibility_file.h"
 #include "engine/precompute/precompute_scheduler.h"
@@ -44,7 +45,7 @@ struct PrecomputeCommandOptions {
     std::string output;
     double memoryBudgetMB = 0;
     double patchFraction = 1.0 / 4;
-    uint64_t maxLpSolves = vis::BuildOptions{}.maxLpSolves;
+    ExactOptions exact;
     int threads = 0;
 };
 
@@ -107,7 +108,7 @@ void runPrecompute(const PrecomputeCommandOptions& o) {
     const EmbreeScene bvh(scene.mesh);
     VisibilityStore::Options storeOptions;
     storeOptions.patchFraction = o.patchFraction;
-    storeOptions.build.maxLpSolves = o.maxLpSolves;
+    o.exact.applyTo(storeOptions);
     VisibilityStore store(scene, &bvh, storeOptions);
     const fs::path output(o.output);
 
@@ -221,11 +222,7 @@ void registerPrecomputeCommand(CLI::App& app) {
     sub->add_option("--memory-budget", options->memoryBudgetMB,
                     "Stop once the trees take more than this many MB (0: no limit)")
         ->check(CLI::NonNegativeNumber);
-    sub->add_option("--max-lp-solves", options->maxLpSolves,
-                    "Build budget of one history tree in linear programs; a tree that reaches it "
-                    "is partial, its remaining occluders clipped per point (0 = no limit)")
-        ->capture_default_str()
-        ->type_name("N");
+    addExactOptions(*sub, options->exact, ExactOptionSet::BuildOnly);
     sub->add_option("--patch-fraction", options->patchFraction,
                     "Receiver patch size as a fraction of the scene diagonal (0: whole faces)")
         ->check(CLI::Range(0.0, 1.0));

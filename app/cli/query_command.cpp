@@ -27,6 +27,7 @@
 #include <string_view>
 #include <vector>
 
+#include "app/cli/arguments.h"
 #include "app/cli/commands.h"
 #include "engine/io/finite_output.h"
 #include "engine/precompute/point_query.h"
@@ -40,7 +41,7 @@ struct QueryOptions {
     std::string pointsFile;
     std::string face;
     std::string light;
-    uint64_t maxLpSolves = vis::BuildOptions{}.maxLpSolves;
+    ExactOptions exact;
 };
 
 // One point to query, and where it came from ("--point" or "FILE:LINE") for messages.
@@ -183,7 +184,15 @@ nlohmann::ordered_json toJson(const QueryPoint& p, uint32_t face,
         }
         j["fragments"] = std::move(fragments);
         j["nodes_visited"] = l.nodesVisited;
-        j["path"] = l.path;
+        nlohmann::ordered_json path = nlohmann::ordered_json::array(),
+                               sides = nlohmann::ordered_json::array();
+        for (const vis::TraceStep& s : l.trace) {
+            path.push_back(s.node);
+            sides.push_back(vis::toString(s.side));
+        }
+        j["path"] = std::move(path);
+        j["path_sides"] = std::move(sides);
+        if (l.answeredOnContact) j["answered_on_contact"] = true;
         j["pair"] = std::string(vis::toString(l.kind));
         if (l.deferredOccluders > 0) {
             // A partial tree: the budget stopped the build; the query clipped the rest from x.
@@ -237,7 +246,7 @@ void runQuery(const CLI::App& sub, const QueryOptions& options) {
     }
 
     VisibilityStore::Options storeOptions;
-    storeOptions.build.maxLpSolves = options.maxLpSolves;
+    options.exact.applyTo(storeOptions);
     VisibilityStore store(scene, nullptr, storeOptions);
     for (size_t i = 0; i < points.size(); ++i) {
         const std::vector<LightAtPoint> lights =
@@ -276,12 +285,7 @@ void registerQueryCommand(CLI::App& app) {
         ->type_name("F");
     sub->add_option("--light", options->light, "Only light K (default: every light)")
         ->type_name("K");
-    sub->add_option("--max-lp-solves", options->maxLpSolves,
-                    "Build budget of one history tree in linear programs; a pair beyond it gets a "
-                    "partial tree whose remaining occluders each query clips itself (0 = no "
-                    "limit)")
-        ->capture_default_str()
-        ->type_name("N");
+    addExactOptions(*sub, options->exact, ExactOptionSet::BuildOnly);
     sub->callback([sub, options] { runQuery(*sub, *options); });
 }
 

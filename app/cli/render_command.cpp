@@ -6,7 +6,8 @@
 // Renders the scene with the progressive CPU renderer (engine/render/renderer.h) and writes the
 // image: FILE ending in .png (tone mapped, sRGB) or .pfm (linear float); --out may be given twice
 // (one of each) and --out-pfm names a PFM file explicitly. The camera defaults to the scene's, else
-// one fitted to the scene's bounds. Prints the time breakdown and what was simulated and why.
+// the viewer's (engine/render/default_camera.h). Prints the time breakdown and what was simulated
+// and why.
 // --visibility FILE.pvis: the history trees are read from FILE when it is current for this scene
 // (as `penumbra precompute` writes it; a stale or corrupt file is reported and recomputed), and
 // FILE is written back atomically with every tree the render added, so the next render of the
@@ -25,9 +26,11 @@
 #include <string_view>
 #include <vector>
 
+#include "app/cli/arguments.h"
 #include "app/cli/commands.h"
 #include "engine/io/visibility_file.h"
 #include "engine/precompute/visibility_store.h"
+#include "engine/render/default_camera.h"
 #include "engine/render/embree_scene.h"
 #include "engine/render/renderer.h"
 #include "engine/scene/scene_validation.h"
@@ -45,9 +48,7 @@ struct RenderOptions {
     int lightSamples = 128;
     int referenceSamples = 1024;
     int glossySamples = 16;
-    uint64_t exactWorkLimit = RenderSettings{}.exactWorkLimit;
-    uint64_t maxLpSolves = vis::BuildOptions{}.maxLpSolves;
-    uint64_t minTreeSamples = RenderSettings{}.minTreeSamples;
+    ExactOptions exact;
     uint64_t seed = 1;
     uint64_t lightSeed = 1;
     double exposure = 1.0;
@@ -57,52 +58,6 @@ struct RenderOptions {
     std::string visibility;
 };
 
-std::vector<double> parseNumbers(const std::string& flag, const std::string& text) {
-    std::vector<double> v;
-    std::string_view rest = text;
-    while (true) {
-        const size_t comma = rest.find(',');
-        const std::string_view item = rest.substr(0, comma);
-        const std::optional<double> x = parseNumber(item);
-        if (!x)
-            throw usageError(flag + ": '" + std::string(item) + "' is not a finite number (in '" +
-                             text + "')");
-        v.push_back(*x);
-        if (comma == std::string_view::npos) break;
-        rest.remove_prefix(comma + 1);
-    }
-    return v;
-}
-
-Camera parseCamera(const std::string& text) {
-    const std::vector<double> v = parseNumbers("--camera", text);
-    if (v.size() != 6 && v.size() != 7)
-        throw usageError("--camera: expected EX,EY,EZ,TX,TY,TZ[,FOV] (6 or 7 numbers), got " +
-                         std::to_string(v.size()) + " in '" + text + "'");
-    Camera c;
-    c.eye = {v[0], v[1], v[2]};
-    c.target = {v[3], v[4], v[5]};
-    if (v.size() == 7) c.fovYDegrees = v[6];
-    if (c.eye == c.target) throw usageError("--camera: the eye and the target are the same point");
-    if (!(c.fovYDegrees > 0 && c.fovYDegrees < 180))
-        throw usageError("--camera: the field of view must be in (0, 180) degrees");
-    for (const Vec3* p : {&c.eye, &c.target})
-        if (const auto problem = coordinateProblem(*p)) throw usageError("--camera: " + *problem);
-    return c;
-}
-
-void parseSize(const std::string& text, int& w, int& h) {
-    const size_t x = text.find_first_of("xX");
-    auto parseInt = [&](std::string_view s, int& out) {
-        const auto r = std::from_chars(s.data(), s.data() + s.size(), out);
-        return !s.empty() && r.ec == std::errc{} && r.ptr == s.data() + s.size() && out >= 1 &&
-               out <= 16384;
-    };
-    const std::string_view s = text;
-    if (x == std::string::npos || !parseInt(s.substr(0, x), w) || !parseInt(s.substr(x + 1), h))
-        throw usageError("--size: expected WxH with 1 <= W, H <= 16384, got '" + text + "'");
-}
-
 bool endsWith(std::string s, std::string_view suffix) {
     for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
     return s.size() >= suffix.size() &&
@@ -111,7 +66,9 @@ bool endsWith(std::string s, std::string_view suffix) {
 
 void runRender(const RenderOptions& o) {
     RenderSettings settings;
-    parseSize(o.size, settings.width, settings.height);
+    const auto [width, height] = parseSize("--size", o.size, kImageSize);
+    settings.width = width;
+    settings.height = height;
     settings.spp = o.spp;
     if (o.method == "exact")
         settings.method = DirectMethod::Exact;
@@ -124,8 +81,7 @@ void runRender(const RenderOptions& o) {
     settings.lightSamples = o.lightSamples;
     settings.referenceSamples = o.referenceSamples;
     settings.glossySamples = o.glossySamples;
-    settings.exactWorkLimit = o.exactWorkLimit;
-    settings.minTreeSamples = o.minTreeSamples;
+    o.exact.applyTo(settings);
     settings.seed = o.seed;
     settings.lightSeed = o.lightSeed;
 
@@ -142,26 +98,21 @@ void runRender(const RenderOptions& o) {
     if (png.empty() && pfm.empty()) throw usageError("nothing to write: give --out FILE");
 
     std::optional<Camera> camera;
-    if (!o.camera.empty()) camera = parseCamera(o.camera);
+    if (!o.camera.empty()) camera = parseCamera("--camera", o.camera);
+    std::optional<Vec3> up;
+    if (!o.up.empty()) up = parseDirection("--up", o.up);
     const Scene scene = loadSceneFile(o.scene);
-    if (!o.up.empty()) {
-        const std::vector<double> u = parseNumbers("--up", o.up);
-        if (u.size() != 3 || (u[0] == 0 && u[1] == 0 && u[2] == 0))
-            throw usageError("--up: expected a nonzero vector X,Y,Z, got '" + o.up + "'");
-        const Vec3 up{u[0], u[1], u[2]};
-        if (camera)
-            camera->up = up;
-        else if (!scene.camera)
-            camera = Camera::fitting(scene.mesh.bounds(), {0.3, 0.4, 1.0}, 45, up);
-    }
-    if (!camera) camera = scene.camera ? *scene.camera : Camera::fitting(scene.mesh.bounds());
 
     std::optional<tbb::global_control> threads;
     if (o.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
 
     const EmbreeScene bvh(scene.mesh);
+    if (!camera)
+        camera = defaultCamera(scene, bvh, up);
+    else if (up)
+        camera->up = *up;
     VisibilityStore::Options storeOptions;
-    storeOptions.build.maxLpSolves = o.maxLpSolves;
+    o.exact.applyTo(storeOptions);
     VisibilityStore store(scene, &bvh, storeOptions);
     size_t loadedTrees = 0;
     const bool exact = settings.method == DirectMethod::Exact;
@@ -268,19 +219,7 @@ void registerRenderCommand(CLI::App& app) {
                     "Samples per light inside the visible fragments for glossy materials (exact)")
         ->check(CLI::Range(1, 1 << 20))
         ->capture_default_str();
-    sub->add_option("--max-lp-solves", o->maxLpSolves,
-                    "Exact: build budget of one history tree in linear programs; a tree that "
-                    "reaches it is partial, its remaining occluders clipped per point (0 = no "
-                    "limit)")
-        ->capture_default_str();
-    sub->add_option("--min-tree-samples", o->minTreeSamples,
-                    "Exact: a pair the image samples fewer times gets no history tree, its points "
-                    "are evaluated directly (0 = a tree for every pair)")
-        ->capture_default_str();
-    sub->add_option("--exact-work-limit", o->exactWorkLimit,
-                    "Exact: plane tests one point's query may make; a point that needs more is "
-                    "sampled with --light-samples rays and counted (0 = every point exact)")
-        ->capture_default_str();
+    addExactOptions(*sub, o->exact, ExactOptionSet::Render);
     sub->add_option("--seed", o->seed, "Seed of the pixel sampling pattern")->capture_default_str();
     sub->add_option("--light-seed", o->lightSeed, "Seed of the light sampling")
         ->capture_default_str();

@@ -20,6 +20,7 @@ struct ScreenshotOptions {
     std::string backend = "osmesa", previewMode = "exact";
     int lightSamples = 16, passes = 8;
     bool noPreview = false, precompute = false, accuracy = false;
+    ExactOptions exact;
 };
 
 viewer::PreviewMode parsePreviewMode(const std::string& s) {
@@ -44,7 +45,7 @@ void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
         h.pixel = std::array<double, 2>{v[0], v[1]};
     }
     if (sub.count("--camera") > 0) h.camera = parseCamera("--camera", o.camera);
-    const auto size = parseSize("--size", o.size);
+    const auto size = parseSize("--size", o.size, kWindowSize);
     h.width = size[0];
     h.height = size[1];
     if (h.pixel && ((*h.pixel)[0] < 0 || (*h.pixel)[1] < 0 || (*h.pixel)[0] >= h.width ||
@@ -65,6 +66,7 @@ void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
     h.viewer.previewSettings.lightSamples = o.lightSamples;
     h.viewer.previewSettings.passes = o.passes;
     h.viewer.preview = !o.noPreview;
+    h.viewer.exact = o.exact;
     h.viewer.showHelp = true;
     h.out = o.out;
     h.stateOut = o.stateOut;
@@ -109,6 +111,7 @@ void registerScreenshotCommand(CLI::App& app) {
         ->type_name("N");
     sub->add_option("--passes", o->passes, "Preview passes (default 8)")->type_name("N");
     sub->add_flag("--no-preview", o->noPreview, "Do not run the progressive preview");
+    addExactOptions(*sub, o->exact, ExactOptionSet::Render);
     sub->add_flag("--precompute", o->precompute,
                   "Precompute every pair in the background while drawing frames; the state "
                   "JSON records the frame times");

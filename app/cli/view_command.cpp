@@ -23,10 +23,11 @@ struct ViewOptions {
     double quitAfter = 0;
     bool noPreview = false;
     bool precompute = false;
+    ExactOptions exact;
 };
 
 void runView(const CLI::App& sub, const ViewOptions& o) {
-    const auto size = parseSize("--size", o.size);
+    const auto size = parseSize("--size", o.size, kWindowSize);
     std::optional<Camera> camera;
     if (sub.count("--camera") > 0) camera = parseCamera("--camera", o.camera);
     if (o.quitAfter < 0) throw usageError("--quit-after: must be >= 0 seconds");
@@ -42,6 +43,7 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
         w.stateOut = o.stateOut;
         w.quitAfterSeconds = o.quitAfter;
         w.viewer.preview = !o.noPreview;
+        w.viewer.exact = o.exact;
         w.precompute = o.precompute;
         try {
             viewer::runWindow(w);
@@ -61,6 +63,7 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
     h.height = size[1];
     h.camera = camera;
     h.viewer.preview = !o.noPreview;
+    h.viewer.exact = o.exact;
     const std::filesystem::path dir(o.outDir);
     h.out = dir / "view.png";
     h.stateOut = o.stateOut.empty() ? dir / "view_state.json" : std::filesystem::path(o.stateOut);
@@ -106,6 +109,7 @@ void registerViewCommand(CLI::App& app) {
     sub->add_option("--quit-after", o->quitAfter, "Close the window after this many seconds")
         ->type_name("SECONDS");
     sub->add_flag("--no-preview", o->noPreview, "Do not run the progressive preview");
+    addExactOptions(*sub, o->exact, ExactOptionSet::Render);
     sub->add_flag("--precompute", o->precompute,
                   "Start precomputing every pair in the background when the scene opens");
     sub->callback([sub, o] { runView(*sub, *o); });

@@ -1,16 +1,19 @@
 #include "app/viewer/loaded_scene.h"
 
-#include "app/cli/commands.h"
+#include "engine/io/scene_loader.h"
 
 namespace penumbra::viewer {
 
-std::shared_ptr<LoadedScene> loadScene(const std::filesystem::path& path) {
+std::shared_ptr<LoadedScene> loadScene(const std::filesystem::path& path,
+                                       const ExactOptions& exact) {
     auto s = std::make_shared<LoadedScene>();
     s->path = path;
-    s->scene = cli::loadSceneFile(path);
+    s->scene = penumbra::loadScene(path);
     s->bounds = s->scene.mesh.bounds();
     s->bvh = std::make_unique<EmbreeScene>(s->scene.mesh);
-    s->store = std::make_unique<VisibilityStore>(s->scene, s->bvh.get());
+    VisibilityStore::Options storeOptions;
+    exact.applyTo(storeOptions);
+    s->store = std::make_unique<VisibilityStore>(s->scene, s->bvh.get(), storeOptions);
     return s;
 }
 

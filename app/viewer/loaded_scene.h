@@ -9,6 +9,7 @@
 
 #include "engine/precompute/visibility_store.h"
 #include "engine/render/embree_scene.h"
+#include "engine/render/exact_options.h"
 #include "engine/scene/scene.h"
 
 namespace penumbra::viewer {
@@ -21,8 +22,9 @@ struct LoadedScene {
     std::unique_ptr<VisibilityStore> store;
 };
 
-// Loads the file (app/cli/commands.h loadSceneFile: errors as CommandError / SceneError) and builds
-// the BVH and an empty store.
-std::shared_ptr<LoadedScene> loadScene(const std::filesystem::path& path);
+// Loads the file (engine/io/scene_loader.h: errors as SceneError) and builds the BVH and an empty
+// store whose trees follow `exact` (the build budget).
+std::shared_ptr<LoadedScene> loadScene(const std::filesystem::path& path,
+                                       const ExactOptions& exact);
 
 }  // namespace penumbra::viewer

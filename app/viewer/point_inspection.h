@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include "engine/precompute/point_query.h"
@@ -13,20 +14,14 @@
 
 namespace penumbra::viewer {
 
-// Which children of a node the query descended into: the light polygon (as clipped so far) lay on
-// the positive side of the plane through x and the node's edge, the negative side, both (the
-// plane split it into two fragments), or in the plane (x on the edge's line: the documented rule
-// sends it to the positive child).
-enum class PathSide { Positive, Negative, Both, InPlane };
-const char* toString(PathSide side);
-
+// One visited node of the query's walk (vis::TraceStep) with what the debugger shows of it.
 struct PathStep {
     uint32_t node = 0;
     uint32_t depth = 0;                   // 0 at the root
     uint32_t v0 = 0, v1 = 0;              // the node's oriented edge (history_tree.h encoding)
     Vec3 a, b;                            // a segment of it, for display (vis::edgeSegment)
     uint32_t occluderFace = kNoOccluder;  // HistoryTree::nodeOccluder, when recorded
-    PathSide side = PathSide::Positive;
+    vis::NodeSide side = vis::NodeSide::Positive;  // where the walk sent the light polygon
     static constexpr uint32_t kNoOccluder = std::numeric_limits<uint32_t>::max();
 };
 
@@ -37,7 +32,7 @@ struct LightInspection {
     PairKey key;                // the tree that served the query
     // The tree (owned by the store, valid for its lifetime); nullptr for the light's own face.
     const vis::HistoryTree* tree = nullptr;
-    std::vector<PathStep> steps;  // one per node of result.path, same order
+    std::vector<PathStep> steps;  // one per step of result.trace, same order
 };
 
 struct PointInspection {
@@ -51,10 +46,9 @@ struct PointInspection {
 // UI thread). Throws what queryPoint throws.
 PointInspection inspectPoint(VisibilityStore& store, uint32_t face, const Vec3& x);
 
-// The path of fromPointQuery(mesh, tree, x) with the side taken at each node, from a re-walk that
-// applies the same exact clipping rules (visibility/fp_query.cpp); its node sequence equals
-// FromPointResult::path (a test checks this).
+// The debugger's rows for a query's trace on `tree`: each step with its node's edge, a segment of
+// it and its occluder face.
 std::vector<PathStep> pathSteps(const vis::PolygonMesh& mesh, const vis::HistoryTree& tree,
-                                const Vec3& x);
+                                std::span<const vis::TraceStep> trace);
 
 }  // namespace penumbra::viewer

@@ -156,6 +156,7 @@ void PreviewRunner::run(const std::shared_ptr<Job>& job) {
         exactSettings.height = s.height;
         exactSettings.spp = s.passes;
         exactSettings.method = DirectMethod::Exact;
+        s.exact.applyTo(exactSettings);
         RenderSettings sampledSettings = exactSettings;
         sampledSettings.method = DirectMethod::Sampled;
         sampledSettings.lightSamples = s.lightSamples;

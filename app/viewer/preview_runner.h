@@ -35,6 +35,7 @@ struct PreviewSettings {
     int passes = 16;
     int lightSamples = 16;
     double exposure = 1.0;
+    ExactOptions exact;  // the exact render's tree threshold and work limit
 };
 
 struct PreviewImage {

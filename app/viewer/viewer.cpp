@@ -7,78 +7,45 @@
 #include <cstddef>
 #include <system_error>
 
-#include "app/viewer/default_camera.h"
-#include "app/viewer/panels/tree_panel.h"
+#include "app/viewer/overlay_geometry.h"
+#include "app/viewer/panels/light_plane_panel.h"
+#include "app/viewer/panels/panel.h"
+#include "app/viewer/panels/path_panel.h"
+#include "app/viewer/panels/point_panel.h"
+#include "app/viewer/panels/precompute_panel.h"
+#include "app/viewer/panels/preview_panel.h"
 #include "app/viewer/picking.h"
-#include "engine/io/scene_loader.h"
 #include "engine/precompute/point_query.h"
-#include "engine/precompute/precompute_scheduler.h"
+#include "engine/render/default_camera.h"
 
 namespace penumbra::viewer {
 
-struct Viewer::PendingInspection {
-    std::shared_ptr<LoadedScene> scene;
-    uint32_t face = 0;
-    Vec3 point;
-    std::atomic<bool> done{false};
-    std::mutex mutex;  // guards result and error once done is set
-    std::optional<PointInspection> result;
-    std::string error;
-};
-
-Layout computeLayout(int width, int height) {
-    Layout l;
-    l.width = width;
-    l.height = height;
-    l.leftWidth = std::clamp(width / 4, 0, 340);
-    l.rightWidth = std::clamp(width / 3, 0, 440);
-    l.view.x = l.leftWidth;
-    l.view.y = 0;
-    l.view.width = std::max(1, width - l.leftWidth - l.rightWidth);
-    l.view.height = std::max(1, height);
-    return l;
-}
-
-std::vector<std::filesystem::path> listSceneFiles(const std::filesystem::path& assets) {
-    std::vector<std::filesystem::path> files;
-    for (const std::filesystem::path& dir : {assets, assets / "scenes"}) {
-        const size_t first = files.size();
-        std::error_code ec;
-        for (const auto& entry : std::filesystem::directory_iterator(dir, ec))
-            if (entry.is_regular_file(ec) &&
-                isSupportedSceneExtension(entry.path().extension().string()))
-                files.push_back(entry.path());
-        std::sort(files.begin() + static_cast<std::ptrdiff_t>(first), files.end());
-    }
-    return files;
-}
-
 Viewer::Viewer(ViewerOptions options)
     : options_(std::move(options)),
-      showHelp_(options_.showHelp),
-      treePanel_(std::make_unique<TreePanel>()) {
+      scenePanel_(options_.assetsDirectory),
+      helpPanel_(options_.showHelp) {
     glGenTextures(1, &previewTexture_);
     glBindTexture(GL_TEXTURE_2D, previewTexture_);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glBindTexture(GL_TEXTURE_2D, 0);
-    sceneFiles_ = listSceneFiles(options_.assetsDirectory);
 }
 
 Viewer::~Viewer() {
-    cancelAccuracyStudy();
-    cancelPrecompute();
+    accuracyJob_.cancel();
+    precompute_.cancel();
     preview_.stop();
     tasks_.wait();
     preview_.wait();
-    precompute_.reset();
+    precompute_.dispose(tasks_);
+    tasks_.wait();
     glDeleteTextures(1, &previewTexture_);
 }
 
 bool Viewer::openScene(const std::filesystem::path& path) {
     std::shared_ptr<LoadedScene> loaded;
     try {
-        loaded = loadScene(path);
+        loaded = loadScene(path, options_.exact);
     } catch (const std::exception& e) {
         error_ = e.what();
         status_ = "cannot open " + path.string() + ": " + error_;
@@ -89,21 +56,22 @@ bool Viewer::openScene(const std::filesystem::path& path) {
     preview_.stop();
     // An accuracy study belongs to the scene it measured: a running one is dropped (its task
     // keeps the old scene alive until it stops), a finished one is no longer shown.
-    cancelAccuracyStudy();
-    accuracyJob_.reset();
-    if (accuracyPanel_) accuracyPanel_->clear();
-    if (precompute_) {
-        // The old scheduler's destructor waits for its builds: let a task do that.
-        cancelPrecompute();
-        tasks_.run([old = std::move(precompute_)] {});
-    }
+    accuracyJob_.drop();
+    accuracyPanel_.clear();
+    // The old scheduler's destructor waits for its builds: a task does that.
+    precompute_.dispose(tasks_);
     scene_ = std::move(loaded);
     renderer_.setScene(scene_->scene);
-    orbit_.set(defaultCamera(*scene_));
+    orbit_.set(defaultCamera(scene_->scene, *scene_->bvh));
     previewDirty_ = true;
     lastCameraChange_ = {};
     status_ = "opened " + path.string() + ": " + std::to_string(scene_->scene.faceCount()) +
               " faces, " + std::to_string(scene_->scene.lights.size()) + " area lights";
+    const std::vector<std::string>& warnings = scene_->scene.warnings;
+    if (!warnings.empty())
+        status_ += "; " + std::to_string(warnings.size()) +
+                   (warnings.size() == 1 ? " warning: " : " warnings, the first: ") +
+                   warnings.front();
     return true;
 }
 
@@ -143,70 +111,38 @@ bool Viewer::selectPoint(const Vec3& x, std::optional<uint32_t> face) {
         }
         face = lookup.face;
     }
-    auto pending = std::make_shared<PendingInspection>();
-    pending->scene = scene_;
-    pending->face = *face;
-    pending->point = x;
-    pending_ = pending;
-    selection_ = std::make_pair(*face, x);
+    selection_.select(scene_, *face, x, tasks_);
     status_ = "inspecting the point on face " + std::to_string(*face) + "...";
-    tasks_.run([pending] {
-        std::optional<PointInspection> result;
-        std::string error;
-        try {
-            result = inspectPoint(*pending->scene->store, pending->face, pending->point);
-        } catch (const std::exception& e) {
-            error = e.what();
-        }
-        {
-            const std::lock_guard lock(pending->mutex);
-            pending->result = std::move(result);
-            pending->error = std::move(error);
-        }
-        pending->done = true;
-    });
     return true;
 }
 
 void Viewer::clearSelection() {
-    pending_.reset();
-    inspection_.reset();
-    selection_.reset();
-    treePanel_->setTree(nullptr, {});
+    selection_.clear();
+    treePanel_.setTree(nullptr, {});
     renderer_.setOverlay({});
 }
 
 void Viewer::updateOverlay() {
-    if (!inspection_ || !scene_) {
+    const LightInspection* li = selection_.selectedLight();
+    if (!selection_.inspection() || !scene_) {
         renderer_.setOverlay({});
-        treePanel_->setTree(nullptr, {});
+        treePanel_.setTree(nullptr, {});
         return;
     }
-    selectedLight_ = std::min(
-        selectedLight_, inspection_->lights.empty() ? size_t{0} : inspection_->lights.size() - 1);
-    renderer_.setOverlay(buildOverlay(*inspection_, scene_->bounds.diagonal(), selectedLight_));
-    if (inspection_->lights.empty()) {
-        treePanel_->setTree(nullptr, {});
+    renderer_.setOverlay(
+        buildOverlay(*selection_.inspection(), scene_->bounds.diagonal(), selection_.light()));
+    if (!li || !li->tree) {
+        treePanel_.setTree(nullptr, {});
     } else {
-        const LightInspection& li = inspection_->lights[selectedLight_];
-        treePanel_->setTree(li.tree, li.result.path, &scene_->scene.mesh);
+        treePanel_.setMesh(&scene_->scene.mesh);
+        treePanel_.setTree(li->tree, vis::traceNodes(li->result.trace));
     }
 }
 
 void Viewer::pollBackground() {
-    if (pending_ && pending_->done) {
-        std::shared_ptr<PendingInspection> p = std::move(pending_);
-        const std::lock_guard lock(p->mutex);
-        if (p->result) {
-            inspection_ = std::move(p->result);
-            status_ = "point (" + std::to_string(inspection_->point.x) + ", " +
-                      std::to_string(inspection_->point.y) + ", " +
-                      std::to_string(inspection_->point.z) + ") on face " +
-                      std::to_string(inspection_->face);
-        } else {
-            inspection_.reset();
-            status_ = "the point query failed: " + p->error;
-        }
+    std::string message;
+    if (selection_.poll(message) != Selection::Event::None) {
+        status_ = message;
         updateOverlay();
     }
     if (options_.preview && scene_ && previewDirty_ &&
@@ -219,6 +155,7 @@ void Viewer::restartPreview() {
     previewDirty_ = false;
     if (!scene_) return;
     PreviewSettings s = options_.previewSettings;
+    s.exact = options_.exact;
     const Layout l = layout_.width > 0 ? layout_ : computeLayout(1280, 800);
     s.width = std::max(8, static_cast<int>(l.view.width * options_.previewScale));
     s.height = std::max(8, static_cast<int>(l.view.height * options_.previewScale));
@@ -236,22 +173,19 @@ void Viewer::uploadPreview(const PreviewImage& image) {
     glBindTexture(GL_TEXTURE_2D, 0);
 }
 
-bool Viewer::precomputeAvailable() const { return true; }
-
 void Viewer::startPrecompute() {
     if (!scene_) return;
-    if (!precompute_) precompute_ = std::make_shared<PrecomputeScheduler>(*scene_->store);
-    precompute_->requestAll();
-    precomputeStart_ = std::chrono::steady_clock::now();
+    precompute_.start(*scene_->store);
     status_ = "precomputing every (receiver patch, light) pair in the background";
 }
 
-void Viewer::cancelPrecompute() {
-    if (precompute_) precompute_->cancel();
-}
+void Viewer::cancelPrecompute() { precompute_.cancel(); }
 
-bool Viewer::precomputeRunning() const {
-    return precompute_ && precompute_->progress().state == PrecomputeProgress::State::Running;
+void Viewer::startAccuracyStudy() { accuracyJob_.start(scene_, orbit_.camera(), tasks_); }
+
+void Viewer::openAccuracyStudy() {
+    showAccuracy_ = true;
+    startAccuracyStudy();
 }
 
 void Viewer::waitForBackground() {
@@ -290,12 +224,12 @@ void Viewer::handleInput(int width, int height) {
         pickPixel(io.MousePos.x, io.MousePos.y, width, height);
     if (!io.WantCaptureKeyboard) {
         if (ImGui::IsKeyPressed('F')) fitCamera();
-        if (ImGui::IsKeyPressed('H')) showHelp_ = !showHelp_;
+        if (ImGui::IsKeyPressed('H')) helpPanel_.toggle();
         if (ImGui::IsKeyPressed('T')) showTree_ = !showTree_;
         if (ImGui::IsKeyPressed('A')) showAccuracy_ = !showAccuracy_;
         if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) clearSelection();
-        if (ImGui::IsKeyPressed('L') && inspection_ && !inspection_->lights.empty()) {
-            selectedLight_ = (selectedLight_ + 1) % inspection_->lights.size();
+        if (ImGui::IsKeyPressed('L') && selection_.selectedLight()) {
+            selection_.nextLight();
             updateOverlay();
         }
         const PreviewMode modes[] = {PreviewMode::Exact, PreviewMode::Sampled,
@@ -327,19 +261,7 @@ void Viewer::frame(int width, int height, double deltaSeconds) {
     ImGui_ImplOpenGL3_NewFrame();
     ImGui::NewFrame();
     handleInput(width, height);
-    drawScenePanel();
-    drawPrecomputePanel();
-    if (showTree_) drawTreePanel();
-    drawPreviewPanel();
-    drawPointPanel();
-    drawLightPlanePanel();
-    drawPathPanel();
-    if (showHelp_) drawHelpPanel();
-    if (showAccuracy_)
-        drawAccuracyPanel();
-    else
-        panelRects_.erase("Accuracy vs time");
-    drawStatusBar();
+    drawPanels();
     ImGui::Render();
 
     glViewport(0, 0, width, height);
@@ -355,6 +277,75 @@ void Viewer::frame(int width, int height, double deltaSeconds) {
     frameStats_.lastSeconds = seconds;
     frameStats_.sumSeconds += seconds;
     frameStats_.maxSeconds = std::max(frameStats_.maxSeconds, seconds);
+}
+
+void Viewer::drawPanels() {
+    const Layout& l = layout_;
+    panelRects_.clear();
+    const auto record = [&](const char* name, const PanelRect& r) {
+        panelRects_[name] = {r.x, r.y, r.width, r.height};
+    };
+    const ScenePanel::Actions scene = scenePanel_.draw(l.scene, scene_.get());
+    record("Scene", l.scene);
+    switch (PrecomputePanel::draw(l.precompute, precompute_, preview_.effects().text())) {
+        case PrecomputePanel::Action::Start:
+            startPrecompute();
+            break;
+        case PrecomputePanel::Action::Cancel:
+            cancelPrecompute();
+            break;
+        case PrecomputePanel::Action::None:
+            break;
+    }
+    record("Precompute", l.precompute);
+    if (showTree_) {
+        placeNextWindow(l.tree);
+        treePanel_.draw("History tree");
+        record("History tree", l.tree);
+    }
+    if (PreviewPanel::draw(l.preview, options_.previewSettings, previewImage_, preview_.running(),
+                           previewTexture_))
+        previewDirty_ = true;
+    record("Preview", l.preview);
+    if (PointPanel::draw(l.point, selection_)) updateOverlay();
+    record("Point", l.point);
+    LightPlanePanel::draw(l.lightPlane, selection_, scene_ ? &scene_->scene.mesh : nullptr);
+    record("Light plane", l.lightPlane);
+    PathPanel::draw(l.path, selection_);
+    record("Path", l.path);
+    helpPanel_.draw(l.view);
+    if (showAccuracy_) drawAccuracy();
+    StatusBar::draw(l.view, status_, frameStats_);
+    // Actions that replace what the panels drew from, after every panel is drawn.
+    if (scene.fit) fitCamera();
+    if (scene.open) openScene(*scene.open);
+}
+
+void Viewer::drawAccuracy() {
+    if (std::optional<AccuracyStudy> result = accuracyJob_.takeResult())
+        accuracyPanel_.setResult(*result);
+    // First shown over the 3D view: the controls at its top left, the plot beside them.
+    const Viewport& vp = layout_.view;
+    const float vx = static_cast<float>(vp.x), vy = static_cast<float>(vp.y);
+    ImGui::SetNextWindowPos(ImVec2(vx + 8, vy + 64), ImGuiCond_FirstUseEver);
+    if (ImGui::Begin("Accuracy controls", &showAccuracy_,
+                     ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_AlwaysAutoResize)) {
+        if (accuracyJob_.running()) {
+            ImGui::ProgressBar(static_cast<float>(accuracyJob_.progress()), ImVec2(-1, 0),
+                               "measuring exact vs 1..1024 shadow rays");
+            if (ImGui::Button("Cancel")) accuracyJob_.cancel();
+        } else if (ImGui::Button("Measure this view (64x64, 2 spp)")) {
+            startAccuracyStudy();
+        }
+    }
+    ImGui::End();
+    if (!accuracyPanel_.hasResult()) return;
+    ImGui::SetNextWindowPos(
+        ImVec2(vx + std::max(8.0f, 0.5f * (static_cast<float>(vp.width) - 640)), vy + 110),
+        ImGuiCond_FirstUseEver);
+    accuracyPanel_.draw("Accuracy vs time");
+    const std::array<float, 4>& r = accuracyPanel_.windowRect();
+    panelRects_["Accuracy vs time"] = {r[0], r[1], r[2], r[3]};
 }
 
 }  // namespace penumbra::viewer

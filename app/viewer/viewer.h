@@ -23,20 +23,22 @@
 #include <string>
 #include <vector>
 
+#include "app/viewer/accuracy_job.h"
 #include "app/viewer/gl/scene_renderer.h"
+#include "app/viewer/layout.h"
 #include "app/viewer/loaded_scene.h"
 #include "app/viewer/orbit_camera.h"
 #include "app/viewer/panels/accuracy_panel.h"
+#include "app/viewer/panels/help_panel.h"
+#include "app/viewer/panels/scene_panel.h"
+#include "app/viewer/panels/tree_graph_panel.h"
 #include "app/viewer/point_inspection.h"
+#include "app/viewer/precompute_job.h"
 #include "app/viewer/preview_runner.h"
-
-namespace penumbra {
-class PrecomputeScheduler;
-}
+#include "app/viewer/selection.h"
+#include "engine/render/exact_options.h"
 
 namespace penumbra::viewer {
-
-class TreePanel;
 
 struct ViewerOptions {
     std::filesystem::path assetsDirectory = "assets";  // the scene list of the Scene panel
@@ -44,25 +46,7 @@ struct ViewerOptions {
     bool preview = true;              // run the progressive preview (when the renderer exists)
     PreviewSettings previewSettings;  // width/height are overwritten from the viewport
     double previewScale = 0.25;       // preview pixels per viewport pixel
-};
-
-// Where the panels and the 3D view go in a framebuffer of the given size.
-struct Layout {
-    Viewport view;       // the 3D view
-    int leftWidth = 0;   // left column: scene, precompute, history tree, preview
-    int rightWidth = 0;  // right column: point, light plane, path
-    int width = 0, height = 0;
-};
-Layout computeLayout(int width, int height);
-
-// The scene list of the Scene panel: every file loadScene reads (engine/io/scene_loader.h, any case
-// of the extension) directly in `assets`, then in `assets`/scenes (the JSON scenes), each
-// directory's files sorted. Missing directories list nothing.
-std::vector<std::filesystem::path> listSceneFiles(const std::filesystem::path& assets);
-
-struct FrameStats {
-    size_t frames = 0;
-    double maxSeconds = 0, sumSeconds = 0, lastSeconds = 0;
+    ExactOptions exact;               // the build budget and the renderer's exact settings
 };
 
 class Viewer {
@@ -92,15 +76,14 @@ class Viewer {
 
     // Precompute (engine/precompute/precompute_scheduler.h): every pair of the scene, in the
     // background.
-    bool precomputeAvailable() const;
     void startPrecompute();
     void cancelPrecompute();
-    bool precomputeRunning() const;
+    bool precomputeRunning() const { return precompute_.running(); }
 
     // The "Accuracy vs time" study of the current view (engine/studies/accuracy_study.h), in the
     // background: opens its panels and starts it (the A key and the panel's button do the same).
     void openAccuracyStudy();
-    bool accuracyStudyRunning() const;
+    bool accuracyStudyRunning() const { return accuracyJob_.running(); }
 
     // One frame: ImGui frame (after the host's platform NewFrame), input, panels, the 3D view,
     // ImGui's draw data. The framebuffer must be bound and of this size.
@@ -115,33 +98,21 @@ class Viewer {
 
     // Headless only (blocks): until the pending inspection has arrived and the preview finished.
     void waitForBackground();
-    bool inspectionPending() const { return pending_ != nullptr; }
+    bool inspectionPending() const { return selection_.pending(); }
 
     // What the UI shows, as JSON (for tests and --state-out).
     nlohmann::json stateJson() const;
 
   private:
-    struct PendingInspection;
     void handleInput(int width, int height);
     void pollBackground();
     void restartPreview();
     void uploadPreview(const PreviewImage& image);
+    // The overlay and the tree browser follow the selection's inspection and light.
     void updateOverlay();
-
-    // Positions the next panel window and records its rectangle (panelRects_).
-    void place(const char* panel, float x, float y, float w, float h);
-    void drawScenePanel();
-    void drawHelpPanel();
-    void drawPointPanel();
-    void drawLightPlanePanel();
-    void drawPathPanel();
-    void drawTreePanel();
-    void drawPreviewPanel();
-    void drawPrecomputePanel();
-    void drawStatusBar();
-    void drawAccuracyPanel();
     void startAccuracyStudy();
-    void cancelAccuracyStudy();
+    void drawPanels();
+    void drawAccuracy();
 
     ViewerOptions options_;
     SceneRenderer renderer_;
@@ -151,13 +122,8 @@ class Viewer {
     std::string status_;
     std::string error_;
     bool quit_ = false;
-    bool showHelp_ = true, showTree_ = true;
 
-    // The selection and its inspection (arrives from a background task).
-    std::optional<PointInspection> inspection_;
-    std::shared_ptr<PendingInspection> pending_;
-    size_t selectedLight_ = 0;
-    std::optional<std::pair<uint32_t, Vec3>> selection_;
+    Selection selection_;
 
     // Preview.
     PreviewRunner preview_;
@@ -167,19 +133,17 @@ class Viewer {
     bool previewDirty_ = false;
     std::chrono::steady_clock::time_point lastCameraChange_;
 
-    // Precompute (null when the scheduler is not built in).
-    std::shared_ptr<PrecomputeScheduler> precompute_;
-    std::chrono::steady_clock::time_point precomputeStart_;
+    PrecomputeJob precompute_;
+    AccuracyJob accuracyJob_;
 
-    // "Accuracy vs time" (A): the study of engine/studies/accuracy_study.h for the current scene
-    // and view, measured on a background task; the window shows its progress, then the curves.
-    struct AccuracyJob;
-    std::shared_ptr<AccuracyJob> accuracyJob_;
-    std::unique_ptr<ui::AccuracyPanel> accuracyPanel_;
+    // The panels that keep state of their own.
+    ScenePanel scenePanel_;
+    HelpPanel helpPanel_;
+    ui::TreeGraphPanel treePanel_;
+    bool showTree_ = true;
+    ui::AccuracyPanel accuracyPanel_;
     bool showAccuracy_ = false;
 
-    std::unique_ptr<TreePanel> treePanel_;
-    std::vector<std::filesystem::path> sceneFiles_;
     FrameStats frameStats_;
     std::map<std::string, std::array<float, 4>> panelRects_;  // x, y, width, height
     tbb::task_group tasks_;  // inspections, and disposal of old schedulers; waited on in ~Viewer

@@ -3,7 +3,6 @@
 #include <cmath>
 
 #include "app/viewer/palette.h"
-#include "app/viewer/panels/tree_panel.h"
 #include "app/viewer/viewer.h"
 #include "engine/precompute/precompute_scheduler.h"
 #include "engine/studies/accuracy_study.h"
@@ -28,22 +27,22 @@ nlohmann::json Viewer::stateJson() const {
     const Camera& c = orbit_.camera();
     s["camera"] = {
         {"eye", vec(c.eye)}, {"target", vec(c.target)}, {"up", vec(c.up)}, {"fovY", c.fovYDegrees}};
-    s["panels"] = {{"help", showHelp_},
+    // Which optional windows are open (the docked panels are always there).
+    s["panels"] = {{"help", helpPanel_.visible()},
                    {"tree", showTree_},
-                   {"treeGraphWidget", TreePanel::hasGraphWidget()},
-                   {"preview", true},
-                   {"precompute", true}};
+                   {"preview", options_.preview},
+                   {"accuracy", showAccuracy_}};
     json rects = json::object();
     for (const auto& [name, r] : panelRects_) rects[name] = {r[0], r[1], r[2], r[3]};
     rects["3D view"] = {layout_.view.x, layout_.view.y, layout_.view.width, layout_.view.height};
     s["panelRects"] = rects;
-    s["inspectionPending"] = pending_ != nullptr;
-    if (inspection_) {
-        const PointInspection& p = *inspection_;
+    s["inspectionPending"] = selection_.pending();
+    if (selection_.inspection()) {
+        const PointInspection& p = *selection_.inspection();
         json point = {{"face", p.face},
                       {"x", vec(p.point)},
                       {"normal", vec(p.normal)},
-                      {"selectedLight", selectedLight_}};
+                      {"selectedLight", selection_.light()}};
         json lights = json::array();
         for (const LightInspection& li : p.lights) {
             json fragments = json::array();
@@ -63,7 +62,7 @@ nlohmann::json Viewer::stateJson() const {
                                 {"occluderFace", st.occluderFace == PathStep::kNoOccluder
                                                      ? json(nullptr)
                                                      : json(st.occluderFace)},
-                                {"side", toString(st.side)}});
+                                {"side", vis::toString(st.side)}});
             lights.push_back({{"light", li.result.light},
                               {"lightFace", li.result.lightFace},
                               {"kind", std::string(vis::toString(li.result.kind))},
@@ -76,6 +75,7 @@ nlohmann::json Viewer::stateJson() const {
                               {"seconds", li.seconds},
                               {"treeNodes", li.tree ? li.tree->nodes.size() : 0},
                               {"fragments", fragments},
+                              {"answeredOnContact", li.result.answeredOnContact},
                               {"path", path}});
         }
         point["lights"] = lights;
@@ -96,8 +96,8 @@ nlohmann::json Viewer::stateJson() const {
                    {"meanSeconds",
                     frameStats_.frames > 0 ? frameStats_.sumSeconds / frameStats_.frames : 0.0}};
     json accuracy = {{"shown", showAccuracy_}, {"running", accuracyStudyRunning()}};
-    if (accuracyPanel_ && accuracyPanel_->hasResult()) {
-        const AccuracyStudy& st = accuracyPanel_->study();
+    if (accuracyPanel_.hasResult()) {
+        const AccuracyStudy& st = accuracyPanel_.study();
         auto point = [](const AccuracyPoint& p) {
             return json{{"rays", p.rays},
                         {"seconds", p.seconds},
@@ -119,13 +119,13 @@ nlohmann::json Viewer::stateJson() const {
                              {"equalErrorSeconds", finiteOrNull(st.equalErrorSeconds)},
                              {"equalErrorRays", finiteOrNull(st.equalErrorRays)},
                              {"equalErrorExtrapolated", st.equalErrorExtrapolated},
-                             {"pointsDrawn", accuracyPanel_->pointsDrawn()}};
+                             {"pointsDrawn", accuracyPanel_.pointsDrawn()}};
     } else {
         accuracy["study"] = nullptr;
     }
     s["accuracy"] = accuracy;
-    if (precompute_) {
-        const PrecomputeProgress p = precompute_->progress();
+    if (precompute_.started()) {
+        const PrecomputeProgress p = precompute_.progress();
         s["precompute"] = {
             {"done", p.done},       {"total", p.total},
             {"seconds", p.seconds}, {"nodes", p.nodes},

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cctype>
+#include <system_error>
 
 #include "engine/io/gltf_io.h"
 #include "engine/io/obj_io.h"
@@ -40,6 +41,11 @@ bool isSupportedSceneExtension(std::string_view extension) {
 }
 
 Scene loadScene(const std::filesystem::path& path, DegenerateFaces degenerate) {
+    std::error_code ec;
+    const std::filesystem::file_status status = std::filesystem::status(path, ec);
+    if (!std::filesystem::exists(status)) throw makeSceneError(path.string(), 0, "no such file");
+    if (std::filesystem::is_directory(status))
+        throw makeSceneError(path.string(), 0, "it is a directory, not a scene file");
     const std::string e = lower(path.extension().string());
     if (e == ".obj") return loadObj(path, degenerate);
     if (e == ".ply" || e == ".off" || e == ".stl") return loadOpenMeshFile(path, degenerate);

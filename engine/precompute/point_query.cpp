@@ -153,7 +153,8 @@ std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, cons
         r.kind = tree.kind;
         vis::FromPointResult q = vis::fromPointQuery(mesh, tree, x);
         r.fragments = std::move(q.fragments);
-        r.path = std::move(q.path);
+        r.trace = std::move(q.trace);
+        r.answeredOnContact = q.answeredOnContact;
         r.nodesVisited = q.nodesVisited;
         r.deferredOccluders = static_cast<uint32_t>(tree.deferred.size());
         r.deferredActive = q.deferredActive;

@@ -58,9 +58,10 @@ struct LightAtPoint {
     // The same without occluders: the light clipped to the receiver's front hemisphere; 0 when x
     // is not strictly in front of the light's plane.
     double unoccludedFormFactor = 0;
-    std::vector<vis::Polygon3> fragments;            // disjoint convex visible parts of the light
-    uint32_t nodesVisited = 0;                       // history-tree nodes the query visited
-    std::vector<uint32_t> path;                      // their ids, depth-first
+    std::vector<vis::Polygon3> fragments;  // disjoint convex visible parts of the light
+    uint32_t nodesVisited = 0;             // history-tree nodes the query visited
+    std::vector<vis::TraceStep> trace;     // those nodes, depth-first, with sides
+    bool answeredOnContact = false;        // x on a contact line: answered directly, no trace
     vis::PairKind kind = vis::PairKind::BackFacing;  // what the (receiver, light) pair is
     // A partial tree (vis::HistoryTree::deferred): its deferred occluders, those the query clipped
     // against from x, and the clips that changed a fragment.

@@ -1,4 +1,4 @@
-// PrecomputeScheduler: builds history trees in the background on oneTBB (issue 3).
+// PrecomputeScheduler: builds history trees in the background on oneTBB.
 //
 // Requests are served in order (the caller puts the receivers the camera sees first). A later
 // request() goes to the FRONT of the queue, ahead of everything still pending: the viewer

@@ -1,8 +1,6 @@
 // EffectsSummary: what a scene calls for and what the renderer simulates for it (the third promise
 // of the product: simulate only the effects a scene calls for, and say so).
-//
-// CONTRACT HEADER (see renderer.h): filled by the renderer and the precompute, printed by the
-// commands, shown by the viewer.
+// Filled by the renderer and the precompute, printed by the commands, shown by the viewer.
 #pragma once
 
 #include <cstddef>

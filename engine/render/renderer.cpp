@@ -11,6 +11,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "engine/render/cpu_time.h"
 #include "engine/render/embree_scene.h"
 #include "engine/render/random.h"
 #include "engine/render/shading.h"
@@ -43,14 +44,6 @@ constexpr uint64_t kPixelStream = 0x50495845ull, kLightStream = 0x4C494748ull;
 
 double seconds(Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double>(b - a).count();
-}
-
-// User + system CPU seconds of the whole process (every thread).
-double processCpuSeconds() {
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-           1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
 void validate(const RenderSettings& s) {

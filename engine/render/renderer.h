@@ -1,7 +1,4 @@
-// ProgressiveRenderer: the CPU ray tracer with exact soft shadows (issue 3).
-//
-// CONTRACT HEADER: declared here so that the viewer (app/) and the bench can be written against it
-// while it is implemented in engine/render/renderer.cpp. Additions are fine; changes need a reason.
+// ProgressiveRenderer: the CPU ray tracer with exact soft shadows.
 //
 // One pass = one jittered primary sample per pixel, rendered in tiles on oneTBB. Passes accumulate
 // in a Film; a pass can be cancelled (the partial pass is discarded, the film keeps whole passes).

@@ -1,6 +1,6 @@
 // Scene: a polygon mesh with materials and area lights, as loaded from a file.
-// The contract (DEVELOPERS.md issue 2): faces numbered from 0 in file order; a face whose material
-// has a nonzero Ke is an area light; lights numbered from 0 in file order; vertices
+// The contract (README, "Scene contract"): faces numbered from 0 in file order; a face whose
+// material has a nonzero Ke is an area light; lights numbered from 0 in file order; vertices
 // counter-clockwise seen from the front; faces planar and convex.
 #pragma once
 

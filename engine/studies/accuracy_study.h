@@ -1,4 +1,4 @@
-// Accuracy against time (issue 5): sampled direct illumination with 1, 2, 4 ... shadow rays per
+// Accuracy against time: sampled direct illumination with 1, 2, 4 ... shadow rays per
 // light against the exact image, the exact method's own point against a converged sampled
 // reference, and the equal-error time. Used by `penumbra bench` and the viewer's panel.
 //

@@ -1,4 +1,4 @@
-// What exact predicates cost inside FPQuery (issue 5): the same queries on the hard cases
+// What exact predicates cost inside FPQuery: the same queries on the hard cases
 // (makeHardCases()) with PredicateMode Filtered, AlwaysExact and Naive; time per query and the
 // answers that differ from AlwaysExact's (the exact reference here; the test suite also checks
 // Filtered against an exact CGAL reference).

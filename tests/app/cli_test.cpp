@@ -336,7 +336,7 @@ TEST(PointQuery, MatchesTheExactReference) {
         EXPECT_NEAR(l.visibleArea, ref.visibleArea, 1e-12);
         EXPECT_NEAR(l.formFactor, ref.formFactor, 1e-12);
         EXPECT_NEAR(l.unoccludedFormFactor, ref.unoccludedFormFactor, 1e-12);
-        EXPECT_EQ(l.path.size(), l.nodesVisited);
+        EXPECT_EQ(l.trace.size(), l.nodesVisited);
         for (const vis::Polygon3& fragment : l.fragments)
             for (const Vec3& v : fragment) EXPECT_NEAR(v.z, 2.0, 1e-12);
     }

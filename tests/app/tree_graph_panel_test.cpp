@@ -241,27 +241,28 @@ TEST(TreeGraphPanel, RealTreeWithTheQueryPathOfAPoint) {
     vis::Vec3 c{};
     for (uint32_t v : scene.mesh.faces[receiver]) c += scene.mesh.vertices[v];
     c = c / double(scene.mesh.faces[receiver].size());
-    const vis::FromPointResult q = vis::fromPointQuery(scene.mesh, tree, c);
-    ASSERT_FALSE(q.path.empty());
+    const std::vector<uint32_t> path =
+        vis::traceNodes(vis::fromPointQuery(scene.mesh, tree, c).trace);
+    ASSERT_FALSE(path.empty());
     // The query's path is a subtree hanging from the root: each node but the root has its parent
     // on the path (checked on the tree itself), so it has path.size() - 1 edges.
     std::vector<uint32_t> parent(tree.nodes.size(), kNoIndex);
     for (uint32_t v = 0; v < tree.nodes.size(); ++v)
         for (uint32_t ch : tree.nodes[v].child)
             if (!vis::isLeaf(ch)) parent[ch] = v;
-    EXPECT_EQ(q.path.front(), 0u);
-    for (size_t k = 1; k < q.path.size(); ++k)
-        EXPECT_NE(std::find(q.path.begin(), q.path.end(), parent[q.path[k]]), q.path.end());
+    EXPECT_EQ(path.front(), 0u);
+    for (size_t k = 1; k < path.size(); ++k)
+        EXPECT_NE(std::find(path.begin(), path.end(), parent[path[k]]), path.end());
 
     TreeGraphPanel panel;
     panel.setMesh(&scene.mesh);
-    panel.setTree(&tree, q.path);
+    panel.setTree(&tree, path);
     host.frame(panel);
     host.frame(panel);
-    EXPECT_EQ(panel.lastFrameStats().pathEdgesDrawn, q.path.size() - 1);
+    EXPECT_EQ(panel.lastFrameStats().pathEdgesDrawn, path.size() - 1);
     EXPECT_EQ(panel.lastFrameStats().itemsOnScreen, panel.layout()->itemCount());
     // Hover the deepest path node: a tooltip (the mesh is set: coordinates are formatted).
-    const auto p = panel.screenPosOfNode(q.path.back());
+    const auto p = panel.screenPosOfNode(path.back());
     ASSERT_TRUE(p.has_value());
     ImGui::GetIO().MousePos = *p;
     host.frame(panel);
@@ -273,7 +274,7 @@ TEST(TreeGraphPanel, RealTreeWithTheQueryPathOfAPoint) {
     EXPECT_EQ(panel.lastFrameStats().pathEdgesDrawn, 0u);
     panel.revealPath();
     host.frame(panel);
-    EXPECT_EQ(panel.lastFrameStats().pathEdgesDrawn, q.path.size() - 1);
+    EXPECT_EQ(panel.lastFrameStats().pathEdgesDrawn, path.size() - 1);
 }
 
 }  // namespace

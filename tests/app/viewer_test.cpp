@@ -40,43 +40,6 @@ Camera lightCamera() {
 
 fs::path cornell() { return test::sourceDir() / "assets" / "cornell_box.obj"; }
 
-TEST(ViewerPathSteps, SameNodesAsTheFromPointQueryWithConsistentSides) {
-    const Scene scene = loadObj(cornell());
-    VisibilityStore store(scene);
-    const std::vector<Vec3> points = {{278, 0, 280}, {100, 0, 100}, {450, 0, 500}, {200, 0, 420}};
-    size_t both = 0;
-    for (const Vec3& x : points) {
-        const uint32_t face = *findFaceContaining(scene, x).face;
-        const std::vector<LightAtPoint> r = queryPoint(store, face, x, std::nullopt);
-        for (const LightAtPoint& li : r) {
-            const vis::HistoryTree& tree =
-                store.getOrBuild(store.keyAt(face, x, li.lightFace)).tree;
-            const std::vector<viewer::PathStep> steps = viewer::pathSteps(scene.mesh, tree, x);
-            ASSERT_EQ(steps.size(), li.path.size());
-            const std::set<uint32_t> visited(li.path.begin(), li.path.end());
-            for (size_t i = 0; i < steps.size(); ++i) {
-                const viewer::PathStep& s = steps[i];
-                EXPECT_EQ(s.node, li.path[i]);
-                const vis::HistoryNode& n = tree.nodes[s.node];
-                EXPECT_EQ(s.v0, n.v0);
-                EXPECT_EQ(s.occluderFace, tree.nodeOccluder[s.node]);
-                // An inner child is on the path exactly when its side was taken.
-                const bool pos = s.side != viewer::PathSide::Negative;
-                const bool neg =
-                    s.side == viewer::PathSide::Negative || s.side == viewer::PathSide::Both;
-                if (!vis::isLeaf(n.child[0])) {
-                    EXPECT_EQ(visited.count(n.child[0]) > 0, pos);
-                }
-                if (!vis::isLeaf(n.child[1])) {
-                    EXPECT_EQ(visited.count(n.child[1]) > 0, neg);
-                }
-                both += s.side == viewer::PathSide::Both;
-            }
-        }
-    }
-    EXPECT_GT(both, 0u);  // the points see penumbrae: some node splits the light
-}
-
 TEST(ViewerLayout, ViewBetweenTheColumns) {
     const viewer::Layout l = viewer::computeLayout(1280, 800);
     EXPECT_EQ(l.view.x, l.leftWidth);
@@ -132,8 +95,12 @@ TEST(ViewerScreenshot, FragmentOverlayAndPathMatchAnIndependentQuery) {
     ASSERT_EQ(state["point"]["face"], face);
     ASSERT_EQ(state["point"]["lights"].size(), q.size());
     const json& light = state["point"]["lights"][0];
-    ASSERT_EQ(light["path"].size(), q[0].path.size());
-    for (size_t i = 0; i < q[0].path.size(); ++i) EXPECT_EQ(light["path"][i]["node"], q[0].path[i]);
+    ASSERT_EQ(light["path"].size(), q[0].trace.size());
+    for (size_t i = 0; i < q[0].trace.size(); ++i) {
+        EXPECT_EQ(light["path"][i]["node"], q[0].trace[i].node);
+        EXPECT_EQ(light["path"][i]["depth"], q[0].trace[i].depth);
+        EXPECT_EQ(light["path"][i]["side"], vis::toString(q[0].trace[i].side));
+    }
     EXPECT_EQ(light["fragments"].size(), q[0].fragments.size());
     EXPECT_NEAR(light["fraction"].get<double>(), q[0].fraction, 1e-12);
     EXPECT_GT(q[0].fragments.size(), 2u);  // a penumbra point: several fragments to look for

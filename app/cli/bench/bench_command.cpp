@@ -1,4 +1,4 @@
-// penumbra bench [SCENES] --out DIR: what accuracy costs in time (issue 5), every comparison
+// penumbra bench [SCENES] --out DIR: what accuracy costs in time, every comparison
 // measured in one run on one machine, written as DIR/bench.json, DIR/report.md and (through
 // scripts/plot_bench.py) PNG plots.
 //   table1     the paper's Table 1: 128-ray sampled rendering against the exact renderer (its
@@ -31,12 +31,15 @@
 #include <sstream>
 #include <thread>
 
+#include "app/cli/arguments.h"
 #include "app/cli/commands.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/finite_output.h"
 #include "engine/io/visibility_file.h"
 #include "engine/precompute/precompute_scheduler.h"
 #include "engine/precompute/visibility_store.h"
+#include "engine/render/cpu_time.h"
+#include "engine/render/default_camera.h"
 #include "engine/render/embree_scene.h"
 #include "engine/render/renderer.h"
 #include "engine/studies/accuracy_study.h"
@@ -75,22 +78,6 @@ struct BenchOptions {
 
 double seconds(Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double>(b - a).count();
-}
-
-double cpuNow() {
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-           1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
-
-void parseSize(const std::string& flag, const std::string& text, int& w, int& h) {
-    if (std::sscanf(text.c_str(), "%dx%d", &w, &h) != 2 || w < 1 || h < 1 || w > 16384 || h > 16384)
-        throw usageError(flag + ": expected WxH (e.g. 512x512), got '" + text + "'");
-}
-
-Camera cameraFor(const Scene& scene) {
-    return scene.camera ? *scene.camera : Camera::fitting(scene.mesh.bounds());
 }
 
 json kindsJson(const VisibilityStore& store) {
@@ -143,7 +130,7 @@ size_t fileSize(const VisibilityStore& store, const fs::path& dir, const std::st
 
 // The scheduler builds `keys` (or every pair when empty); stops at the limit.
 json precomputePairs(VisibilityStore& store, const std::vector<PairKey>* keys, double limit) {
-    const double c0 = cpuNow();
+    const double c0 = processCpuSeconds();
     const auto t0 = Clock::now();
     PrecomputeScheduler scheduler(store);
     if (keys)
@@ -169,7 +156,7 @@ json precomputePairs(VisibilityStore& store, const std::vector<PairKey>* keys, d
     scheduler.wait();
     const PrecomputeProgress p = scheduler.progress();
     return {{"seconds", seconds(t0, Clock::now())},
-            {"cpu", cpuNow() - c0},
+            {"cpu", processCpuSeconds() - c0},
             {"pairs", p.total},
             {"done", p.done},
             {"complete", !over && p.done >= p.total},
@@ -187,10 +174,10 @@ constexpr uint32_t kAllPairsMaxFaces = 10000;
 
 json table1Row(const std::string& path, const BenchOptions& o, const fs::path& dir, bool large) {
     const Scene scene = loadSceneFile(path);
-    int w = 0, h = 0;
-    parseSize(large ? "--large-size" : "--size", large ? o.largeSize : o.size, w, h);
-    const Camera camera = cameraFor(scene);
+    const auto [w, h] =
+        parseSize(large ? "--large-size" : "--size", large ? o.largeSize : o.size, kImageSize);
     const EmbreeScene bvh(scene.mesh);
+    const Camera camera = defaultCamera(scene, bvh);
     json row = {{"scene", path},
                 {"faces", scene.faceCount()},
                 {"areaLights", scene.lights.size()},
@@ -221,10 +208,10 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
         s.method = DirectMethod::Exact;
         std::atomic<bool> cancel{false};
         double prepWall = 0, prepCpu = 0;
-        const double c0 = cpuNow();
+        const double c0 = processCpuSeconds();
         const bool ok =
             runWithLimit(o.limit, cancel, [&] { prepWall = r.prepare(camera, s, &cancel); });
-        prepCpu = cpuNow() - c0;
+        prepCpu = processCpuSeconds() - c0;
         json e = {{"precomputeWall", prepWall}, {"precomputeCpu", prepCpu},
                   {"precomputeComplete", ok},   {"trees", store.treeCount()},
                   {"nodes", treeNodes(store)},  {"bytes", store.bytes()},
@@ -309,7 +296,9 @@ json accuracy(const BenchOptions& o) {
     const EmbreeScene bvh(scene.mesh);
     VisibilityStore store(scene, &bvh);
     AccuracyStudyOptions a;
-    parseSize("--accuracy-size", o.accuracySize, a.width, a.height);
+    const auto [width, height] = parseSize("--accuracy-size", o.accuracySize, kImageSize);
+    a.width = width;
+    a.height = height;
     a.spp = o.accuracySpp;
     a.rayCounts.clear();
     for (int n = 1; n <= o.maxRays; n *= 2) a.rayCounts.push_back(n);
@@ -320,7 +309,7 @@ json accuracy(const BenchOptions& o) {
     AccuracyStudy st;
     std::atomic<bool> never{false};
     runWithLimit(INFINITY, never,
-                 [&] { st = runAccuracyStudy(scene, bvh, store, cameraFor(scene), a); });
+                 [&] { st = runAccuracyStudy(scene, bvh, store, defaultCamera(scene, bvh), a); });
     json j = {{"scene", o.accuracyScene},
               {"width", a.width},
               {"height", a.height},

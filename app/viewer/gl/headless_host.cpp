@@ -34,8 +34,6 @@ void runHeadless(const HeadlessOptions& o) {
 
     nlohmann::json precomputeFrames;
     if (o.precompute) {
-        if (!viewer.precomputeAvailable())
-            throw cli::inputError("--precompute: the precompute scheduler is not built in");
         viewer.frame(o.width, o.height, dt);
         viewer.resetFrameStats();
         const auto start = std::chrono::steady_clock::now();

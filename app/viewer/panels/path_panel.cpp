@@ -1,0 +1,65 @@
+#include "app/viewer/panels/path_panel.h"
+
+#include <string>
+
+#include "app/viewer/panels/panel.h"
+
+namespace penumbra::viewer {
+
+void PathPanel::draw(const PanelRect& rect, const Selection& selection) {
+    placeNextWindow(rect);
+    if (ImGui::Begin("Path", nullptr, kDockedPanel)) {
+        const LightInspection* li = selection.selectedLight();
+        if (!li) {
+            ImGui::TextUnformatted("The history-tree path of the selected light.");
+        } else {
+            ImGui::Text("light %u, tree %s: %zu nodes visited (L cycles lights)", li->result.light,
+                        std::string(vis::toString(li->result.kind)).c_str(), li->steps.size());
+            if (li->result.deferredOccluders > 0)
+                ImGui::Text(
+                    "partial tree: %u deferred occluders, %u clipped from this point "
+                    "(%u clips changed a fragment)",
+                    li->result.deferredOccluders, li->result.deferredActive,
+                    li->result.deferredClips);
+            if (li->result.answeredOnContact)
+                ImGui::TextWrapped(
+                    "x lies in the plane of an occluder touching the receiver: answered from the "
+                    "pair's occluders directly (the contact rule), no path");
+            if (ImGui::BeginTable(
+                    "path", 5,
+                    ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY)) {
+                ImGui::TableSetupScrollFreeze(0, 1);
+                ImGui::TableSetupColumn("depth");
+                ImGui::TableSetupColumn("node");
+                ImGui::TableSetupColumn("edge v0 -> v1");
+                ImGui::TableSetupColumn("occluder");
+                ImGui::TableSetupColumn("side");
+                ImGui::TableHeadersRow();
+                ImGuiListClipper clipper;
+                clipper.Begin(static_cast<int>(li->steps.size()));
+                while (clipper.Step())
+                    for (int i = clipper.DisplayStart; i < clipper.DisplayEnd; ++i) {
+                        const PathStep& s = li->steps[static_cast<size_t>(i)];
+                        ImGui::TableNextRow();
+                        ImGui::TableNextColumn();
+                        ImGui::Text("%u", s.depth);
+                        ImGui::TableNextColumn();
+                        ImGui::Text("%u", s.node);
+                        ImGui::TableNextColumn();
+                        ImGui::Text("%u -> %u", s.v0, s.v1);
+                        ImGui::TableNextColumn();
+                        if (s.occluderFace == PathStep::kNoOccluder)
+                            ImGui::TextUnformatted("?");
+                        else
+                            ImGui::Text("face %u", s.occluderFace);
+                        ImGui::TableNextColumn();
+                        ImGui::TextUnformatted(vis::toString(s.side));
+                    }
+                ImGui::EndTable();
+            }
+        }
+    }
+    ImGui::End();
+}
+
+}  // namespace penumbra::viewer

@@ -1,0 +1,65 @@
+#include "app/viewer/panels/point_panel.h"
+
+#include <cstdio>
+
+#include "app/viewer/panels/panel.h"
+
+namespace penumbra::viewer {
+
+bool PointPanel::draw(const PanelRect& rect, Selection& selection) {
+    bool changed = false;
+    placeNextWindow(rect);
+    if (ImGui::Begin("Point", nullptr, kDockedPanel)) {
+        if (selection.pending()) ImGui::TextUnformatted("computing the point query...");
+        if (!selection.inspection()) {
+            if (!selection.pending())
+                ImGui::TextUnformatted("Click a surface point in the 3D view.");
+        } else {
+            const PointInspection& p = *selection.inspection();
+            ImGui::Text("face %u  x = (%.4g, %.4g, %.4g)", p.face, p.point.x, p.point.y, p.point.z);
+            ImGui::Text("normal (%.3f, %.3f, %.3f)   * = tree built by this query", p.normal.x,
+                        p.normal.y, p.normal.z);
+            if (ImGui::BeginTable(
+                    "lights", 6,
+                    ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY)) {
+                ImGui::TableSetupColumn("light");
+                ImGui::TableSetupColumn("visible");
+                ImGui::TableSetupColumn("form factor");
+                ImGui::TableSetupColumn("frags");
+                ImGui::TableSetupColumn("nodes");
+                ImGui::TableSetupColumn("time");
+                ImGui::TableHeadersRow();
+                for (size_t k = 0; k < p.lights.size(); ++k) {
+                    const LightInspection& li = p.lights[k];
+                    ImGui::TableNextRow();
+                    ImGui::TableNextColumn();
+                    char label[32];
+                    std::snprintf(label, sizeof label, "%u", li.result.light);
+                    if (ImGui::Selectable(label, selection.light() == k,
+                                          ImGuiSelectableFlags_SpanAllColumns)) {
+                        selection.selectLight(k);
+                        changed = true;
+                    }
+                    ImGui::TableNextColumn();
+                    ImGui::Text("%.2f%%", 100 * li.result.fraction);
+                    ImGui::TableNextColumn();
+                    ImGui::Text("%.4g", li.result.formFactor);
+                    if (ImGui::IsItemHovered())
+                        ImGui::SetTooltip("unoccluded: %.6g (light face %u)",
+                                          li.result.unoccludedFormFactor, li.result.lightFace);
+                    ImGui::TableNextColumn();
+                    ImGui::Text("%zu", li.result.fragments.size());
+                    ImGui::TableNextColumn();
+                    ImGui::Text("%u", li.result.nodesVisited);
+                    ImGui::TableNextColumn();
+                    ImGui::Text("%.1f ms%s", 1e3 * li.seconds, li.treeWasBuilt ? "*" : "");
+                }
+                ImGui::EndTable();
+            }
+        }
+    }
+    ImGui::End();
+    return changed;
+}
+
+}  // namespace penumbra::viewer

@@ -1,0 +1,58 @@
+#include "app/viewer/panels/precompute_panel.h"
+
+#include <cstdio>
+
+#include "app/viewer/panels/panel.h"
+
+namespace penumbra::viewer {
+namespace {
+
+const char* stateName(PrecomputeProgress::State s) {
+    switch (s) {
+        case PrecomputeProgress::State::Idle:
+            return "idle";
+        case PrecomputeProgress::State::Running:
+            return "running";
+        case PrecomputeProgress::State::Cancelled:
+            return "cancelled";
+        case PrecomputeProgress::State::OverBudget:
+            return "over budget";
+        case PrecomputeProgress::State::Failed:
+            return "failed";
+    }
+    return "idle";
+}
+
+}  // namespace
+
+PrecomputePanel::Action PrecomputePanel::draw(const PanelRect& rect, const PrecomputeJob& job,
+                                              const std::string& effects) {
+    Action action = Action::None;
+    placeNextWindow(rect);
+    if (ImGui::Begin("Precompute", nullptr, kDockedPanel)) {
+        if (job.started()) {
+            const PrecomputeProgress p = job.progress();
+            const float fraction =
+                p.total > 0 ? static_cast<float>(p.done) / static_cast<float>(p.total) : 0.0f;
+            char overlay[96];
+            std::snprintf(overlay, sizeof overlay, "%zu / %zu pairs, %.0f s left", p.done, p.total,
+                          p.secondsLeft);
+            ImGui::ProgressBar(fraction, ImVec2(-1, 0), overlay);
+            ImGui::Text("%s: %zu pairs done, %zu nodes, %s, %.1f s", stateName(p.state), p.done,
+                        p.nodes, humanBytes(p.bytes).c_str(), p.seconds);
+            if (!p.error.empty()) ImGui::TextWrapped("error: %s", p.error.c_str());
+            if (p.state == PrecomputeProgress::State::Running) {
+                if (ImGui::Button("Cancel (C)")) action = Action::Cancel;
+            } else if (ImGui::Button("Precompute all (P)")) {
+                action = Action::Start;
+            }
+        } else if (ImGui::Button("Precompute all (P)")) {
+            action = Action::Start;
+        }
+        ImGui::TextWrapped("%s", effects.c_str());
+    }
+    ImGui::End();
+    return action;
+}
+
+}  // namespace penumbra::viewer

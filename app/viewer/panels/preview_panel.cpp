@@ -1,0 +1,42 @@
+#include "app/viewer/panels/preview_panel.h"
+
+#include <algorithm>
+#include <cstdint>
+
+#include "app/viewer/panels/panel.h"
+
+namespace penumbra::viewer {
+
+bool PreviewPanel::draw(const PanelRect& rect, PreviewSettings& s, const PreviewImage& image,
+                        bool running, uint32_t texture) {
+    bool changed = false;
+    placeNextWindow(rect);
+    if (ImGui::Begin("Preview", nullptr, kDockedPanel)) {
+        int mode = static_cast<int>(s.mode);
+        const char* names[] = {"exact", "sampled", "side by side", "difference"};
+        if (ImGui::Combo("mode (1-4)", &mode, names, 4)) {
+            s.mode = static_cast<PreviewMode>(mode);
+            changed = true;
+        }
+        if (ImGui::SliderInt("light samples", &s.lightSamples, 1, 256)) changed = true;
+        ImGui::Text("%d / %d passes, %.1f s%s", image.passes, s.passes, image.seconds,
+                    running ? "" : " (done)");
+        if (image.relativeRmsError >= 0)
+            ImGui::Text("sampled vs exact: %.2f%% RMS", 100 * image.relativeRmsError);
+        if (!image.error.empty()) ImGui::TextWrapped("error: %s", image.error.c_str());
+        if (image.width > 0) {
+            // The whole image in the space left, aspect kept.
+            const ImVec2 avail = ImGui::GetContentRegionAvail();
+            const float scale =
+                std::max(0.0f, std::min(avail.x / static_cast<float>(image.width),
+                                        avail.y / static_cast<float>(image.height)));
+            ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<intptr_t>(texture)),
+                         ImVec2(scale * static_cast<float>(image.width),
+                                scale * static_cast<float>(image.height)));
+        }
+    }
+    ImGui::End();
+    return changed;
+}
+
+}  // namespace penumbra::viewer

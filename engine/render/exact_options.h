@@ -1,0 +1,34 @@
+// ExactOptions: the settings that decide what the exact method costs and where it gives way, the
+// same for every command (query, render, precompute, view, screenshot, bench) and the viewer, with
+// one set of defaults. None of them changes an exact answer: the build budget moves work from the
+// precompute to the queries (a partial tree answers the same), the tree threshold chooses between
+// a tree and the tree-less evaluation (the same answer), and the work limit is the one place
+// where a point may be sampled instead (counted and reported, 0 = never).
+#pragma once
+
+#include <cstdint>
+
+#include "engine/precompute/visibility_store.h"
+#include "engine/render/renderer.h"
+
+namespace penumbra {
+
+struct ExactOptions {
+    // History-tree build budget in linear programs (vis::BuildOptions::maxLpSolves; 0 = none).
+    uint64_t maxLpSolves = vis::BuildOptions{}.maxLpSolves;
+    // A pair the image samples fewer times gets no tree (RenderSettings::minTreeSamples).
+    uint64_t minTreeSamples = RenderSettings{}.minTreeSamples;
+    // Plane tests one point's query may make before it is sampled
+    // (RenderSettings::exactWorkLimit; 0 = every point exact).
+    uint64_t exactWorkLimit = RenderSettings{}.exactWorkLimit;
+
+    void applyTo(RenderSettings& settings) const {
+        settings.minTreeSamples = minTreeSamples;
+        settings.exactWorkLimit = exactWorkLimit;
+    }
+    void applyTo(VisibilityStore::Options& options) const {
+        options.build.maxLpSolves = maxLpSolves;
+    }
+};
+
+}  // namespace penumbra
