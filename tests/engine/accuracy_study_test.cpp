@@ -30,8 +30,8 @@ AccuracyStudyOptions tinyOptions() {
 
 TEST(AccuracyStudy, SampledErrorFallsAndExactAgreesWithTheReference) {
     // The Cornell box through its open front (the bench's accuracy scene), 24x24 pixels.
-    const Scene scene =
-        loadJsonScene(std::string(PENUMBRA_SOURCE_DIR) + "/assets/scenes/cornell_box.json");
+    const Scene scene = loadJsonScene(std::filesystem::path(PENUMBRA_SOURCE_DIR) /
+                                      "assets/scenes/cornell_box.json");
     ASSERT_TRUE(scene.camera.has_value());
     const EmbreeScene bvh(scene.mesh);
     VisibilityStore store(scene, &bvh);
