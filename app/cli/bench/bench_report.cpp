@@ -21,6 +21,27 @@ std::string sceneName(const json& row) {
     return fs::path(row["scene"].get<std::string>()).filename().string();
 }
 
+// The scenes `study` skipped because files they need are missing (bench.json's "skipped").
+json skippedBy(const json& b, const std::string& study) {
+    json out = json::array();
+    if (b.contains("skipped"))
+        for (const json& s : b["skipped"])
+            if (s["study"] == study) out.push_back(s);
+    return out;
+}
+
+void writeSkipped(std::ostream& r, const json& skipped) {
+    if (skipped.empty()) return;
+    r << "Skipped because files they need are missing (run `scripts/fetch_meshes.sh` to fetch "
+         "the meshes): ";
+    for (size_t i = 0; i < skipped.size(); ++i) {
+        r << (i == 0 ? "" : ", ") << sceneName(skipped[i]) << " (missing";
+        for (const json& file : skipped[i]["missing"]) r << " " << file.get<std::string>();
+        r << ")";
+    }
+    r << ".\n\n";
+}
+
 void writeHeading(std::ostream& r, const json& b) {
     const json& m = b["machine"];
     r << "# Penumbra: what accuracy costs in time\n\n"
@@ -74,7 +95,7 @@ void writeTable1Row(std::ostream& r, const json& row) {
     }
 }
 
-void writeTable1(std::ostream& r, const json& rows, bool plots) {
+void writeTable1(std::ostream& r, const json& rows, const json& skipped, bool plots) {
     r << "## Table 1 re-measured\n\n"
       << "Sampled: 128 shadow rays per light per shading point. Exact: the trees the image "
          "needs (`ProgressiveRenderer::prepare`) then the render, with the product's "
@@ -97,6 +118,7 @@ void writeTable1(std::ostream& r, const json& rows, bool plots) {
     for (const json& row : rows) writeTable1Row(r, row);
     r << "\n";
     if (plots) r << "![Table 1](table1.png)\n\n";
+    writeSkipped(r, skipped);
 }
 
 // ---- The other studies ---------------------------------------------------------------------
@@ -179,20 +201,25 @@ void writeBuildOptions(std::ostream& r, const json& rows) {
     r << "\n";
 }
 
-void writeScaling(std::ostream& r, const json& rows, const json& limit, bool plots) {
-    r << "## Precompute against triangle count\n\n"
-      << "A fixed set of receiver patches: every patch of the floor and 32 faces of the model "
-         "drawn with a fixed seed, against the light; built on the `PrecomputeScheduler` ("
-      << num(limit, "%.0f") << " s limit per scene).\n\n"
-      << "| scene | faces | pairs | done | wall s | CPU s | nodes | bytes | penumbra | "
-         "partial |\n|---|---|---|---|---|---|---|---|---|---|\n";
-    for (const json& s : rows)
-        r << "| " << sceneName(s) << " | " << s["faces"] << " | " << s["pairs"] << " | "
-          << s["done"] << " | " << num(s["seconds"]) << " | " << num(s["cpu"]) << " | "
-          << s["nodes"] << " | " << s["bytes"] << " | " << s["kinds"]["penumbra"] << " | "
-          << s["kinds"]["partial"] << " |\n";
-    if (plots) r << "\n![scaling](scaling.png)\n";
-    r << "\n";
+// Without rows (every resolution skipped) the section only says what is missing.
+void writeScaling(std::ostream& r, const json& rows, const json& limit, const json& skipped,
+                  bool plots) {
+    r << "## Precompute against triangle count\n\n";
+    if (!rows.empty()) {
+        r << "A fixed set of receiver patches: every patch of the floor and 32 faces of the model "
+             "drawn with a fixed seed, against the light; built on the `PrecomputeScheduler` ("
+          << num(limit, "%.0f") << " s limit per scene).\n\n"
+          << "| scene | faces | pairs | done | wall s | CPU s | nodes | bytes | penumbra | "
+             "partial |\n|---|---|---|---|---|---|---|---|---|---|\n";
+        for (const json& s : rows)
+            r << "| " << sceneName(s) << " | " << s["faces"] << " | " << s["pairs"] << " | "
+              << s["done"] << " | " << num(s["seconds"]) << " | " << num(s["cpu"]) << " | "
+              << s["nodes"] << " | " << s["bytes"] << " | " << s["kinds"]["penumbra"] << " | "
+              << s["kinds"]["partial"] << " |\n";
+        if (plots) r << "\n![scaling](scaling.png)\n";
+        r << "\n";
+    }
+    writeSkipped(r, skipped);
 }
 
 void writePerPoint(std::ostream& r, const json& rows) {
@@ -217,13 +244,14 @@ std::string fmt(const char* f, double v) {
 std::string benchReport(const json& b, bool plots, const std::string& plotNote) {
     std::ostringstream r;
     writeHeading(r, b);
-    if (b.contains("table1")) writeTable1(r, b["table1"], plots);
+    if (b.contains("table1")) writeTable1(r, b["table1"], skippedBy(b, "table1"), plots);
     if (b.contains("accuracy")) writeAccuracy(r, b["accuracy"], plots);
     if (b.contains("predicates")) writePredicates(r, b["predicates"]);
     if (b.contains("buildOptions") && !b["buildOptions"].empty())
         writeBuildOptions(r, b["buildOptions"]);
-    if (b.contains("scaling") && !b["scaling"].empty())
-        writeScaling(r, b["scaling"], b["options"]["limit"], plots);
+    const json scalingSkipped = skippedBy(b, "scaling");
+    if (b.contains("scaling") && (!b["scaling"].empty() || !scalingSkipped.empty()))
+        writeScaling(r, b["scaling"], b["options"]["limit"], scalingSkipped, plots);
     if (b.contains("perPoint")) writePerPoint(r, b["perPoint"]);
     if (!plots) r << "Plots skipped: " << plotNote << "\n";
     return r.str();
