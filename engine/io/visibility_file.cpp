@@ -252,7 +252,15 @@ struct ParsedTree {
     PairRecord record;
 };
 
-std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const VisibilityStore& store) {
+// What the header says, once checked against the file and the scene.
+struct Header {
+    uint64_t treeCount = 0;
+    size_t end = 0;  // where the payload ends (the checksum follows)
+};
+
+// The header and the file as a whole (size, checksum), then the scene hash, so that a stale file
+// is told apart from a corrupt one only when it is intact.
+Header parseHeader(std::span<const unsigned char> bytes, const VisibilityStore& store) {
     if (bytes.size() < kHeaderBytes + kTrailerBytes)
         throw Corrupt("truncated: " + std::to_string(bytes.size()) + " bytes, not even a header");
     if (!std::equal(kMagic.begin(), kMagic.end(), bytes.begin()))
@@ -291,75 +299,85 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
     if (treeCount > payloadBytes / kRecordFixedBytes)
         throw Corrupt("tree count " + std::to_string(treeCount) + " does not fit in " +
                       std::to_string(payloadBytes) + " payload bytes");
+    return {treeCount, end};
+}
 
-    ByteReader p(bytes.first(end), kHeaderBytes);
+void readStats(ByteReader& p, vis::BuildStats& s, const std::string& where) {
+    s.occludersInShaft = p.u32();
+    s.occludersInserted = p.u32();
+    s.occludersDeferred = p.u32();
+    for (uint64_t* v : {&s.classifications, &s.lpSolves, &s.uncertain, &s.exactCertificates,
+                        &s.prunedSplits, &s.realLineTests, &s.realLineWitness, &s.mergedLeaves})
+        *v = p.u64();
+    s.seconds = p.f64();
+    if (!std::isfinite(s.seconds) || s.seconds < 0)
+        throw Corrupt(where + ": build time is not a finite non-negative number");
+}
+
+// One tree record, its fields checked on their own; validateTree checks it against the scene.
+ParsedTree parseTree(ByteReader& p, const std::string& where) {
+    p.need(kRecordFixedBytes, "a tree record");
+    ParsedTree pt;
+    PairKey& key = pt.key;
+    vis::HistoryTree& t = pt.record.tree;
+    key.receiver = p.u32();
+    key.patch = p.u32();
+    key.lightFace = p.u32();
+    t.receiver = p.u32();
+    t.light = p.u32();
+    const uint8_t kind = p.u8();
+    const uint8_t hasStats = p.u8();
+    const uint16_t reasonBytes = p.u16();
+    t.meshVertexCount = p.u32();
+    const uint32_t nodes = p.u32(), inserted = p.u32(), occluders = p.u32(), deferred = p.u32();
+    if (kind >= vis::kPairKindCount)
+        throw Corrupt(where + ": unknown pair kind " + std::to_string(kind));
+    t.kind = static_cast<vis::PairKind>(kind);
+    if (hasStats > 1) throw Corrupt(where + ": bad stats flag " + std::to_string(hasStats));
+    if (reasonBytes > kMaxReasonBytes) throw Corrupt(where + ": reason text too long");
+    // Every count against the bytes left before anything is allocated.
+    const uint64_t need = uint64_t{reasonBytes} + uint64_t{nodes} * kNodeBytes +
+                          uint64_t{inserted} * 4 + uint64_t{occluders} * 4 +
+                          uint64_t{deferred} * 4 + (hasStats ? kStatsBytes : 0);
+    if (need > p.left())
+        throw Corrupt(where + ": truncated or bad counts (" + std::to_string(nodes) + " nodes, " +
+                      std::to_string(inserted) + " occluders, " + std::to_string(occluders) +
+                      " node occluders need " + std::to_string(need) + " bytes, " +
+                      std::to_string(p.left()) + " left)");
+    const std::string_view reason = p.text(reasonBytes);
+    t.why = canonicalReason(reason);
+    if (t.why.empty())
+        throw Corrupt(where + ": unknown reason \"" + std::string(reason.substr(0, 80)) + "\"");
+    t.nodes.resize(nodes);
+    for (vis::HistoryNode& n : t.nodes) {
+        n.v0 = p.u32();
+        n.v1 = p.u32();
+        n.child[0] = p.u32();
+        n.child[1] = p.u32();
+    }
+    t.occluders.resize(inserted);
+    for (uint32_t& f : t.occluders) f = p.u32();
+    t.nodeOccluder.resize(occluders);
+    for (uint32_t& f : t.nodeOccluder) f = p.u32();
+    t.deferred.resize(deferred);
+    for (vis::DeferredOccluder& d : t.deferred) d.face = p.u32();
+    if (hasStats) readStats(p, pt.record.stats, where);
+    return pt;
+}
+
+std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const VisibilityStore& store) {
+    const Header header = parseHeader(bytes, store);
+    ByteReader p(bytes.first(header.end), kHeaderBytes);
     std::vector<ParsedTree> out;
-    out.reserve(static_cast<size_t>(treeCount));
+    out.reserve(static_cast<size_t>(header.treeCount));
     std::set<PairKey> seen;
-    for (uint64_t i = 0; i < treeCount; ++i) {
+    for (uint64_t i = 0; i < header.treeCount; ++i) {
         const std::string where =
             "tree " + std::to_string(i) + " (byte " + std::to_string(p.offset()) + ")";
-        p.need(kRecordFixedBytes, "a tree record");
-        ParsedTree pt;
-        PairKey& key = pt.key;
-        vis::HistoryTree& t = pt.record.tree;
-        key.receiver = p.u32();
-        key.patch = p.u32();
-        key.lightFace = p.u32();
-        t.receiver = p.u32();
-        t.light = p.u32();
-        const uint8_t kind = p.u8();
-        const uint8_t hasStats = p.u8();
-        const uint16_t reasonBytes = p.u16();
-        t.meshVertexCount = p.u32();
-        const uint32_t nodes = p.u32(), inserted = p.u32(), occluders = p.u32(), deferred = p.u32();
-        if (kind >= vis::kPairKindCount)
-            throw Corrupt(where + ": unknown pair kind " + std::to_string(kind));
-        t.kind = static_cast<vis::PairKind>(kind);
-        if (hasStats > 1) throw Corrupt(where + ": bad stats flag " + std::to_string(hasStats));
-        if (reasonBytes > kMaxReasonBytes) throw Corrupt(where + ": reason text too long");
-        // Every count against the bytes left before anything is allocated.
-        const uint64_t need = uint64_t{reasonBytes} + uint64_t{nodes} * kNodeBytes +
-                              uint64_t{inserted} * 4 + uint64_t{occluders} * 4 +
-                              uint64_t{deferred} * 4 + (hasStats ? kStatsBytes : 0);
-        if (need > p.left())
-            throw Corrupt(where + ": truncated or bad counts (" + std::to_string(nodes) +
-                          " nodes, " + std::to_string(inserted) + " occluders, " +
-                          std::to_string(occluders) + " node occluders need " +
-                          std::to_string(need) + " bytes, " + std::to_string(p.left()) + " left)");
-        const std::string_view reason = p.text(reasonBytes);
-        t.why = canonicalReason(reason);
-        if (t.why.empty())
-            throw Corrupt(where + ": unknown reason \"" + std::string(reason.substr(0, 80)) + "\"");
-        t.nodes.resize(nodes);
-        for (vis::HistoryNode& n : t.nodes) {
-            n.v0 = p.u32();
-            n.v1 = p.u32();
-            n.child[0] = p.u32();
-            n.child[1] = p.u32();
-        }
-        t.occluders.resize(inserted);
-        for (uint32_t& f : t.occluders) f = p.u32();
-        t.nodeOccluder.resize(occluders);
-        for (uint32_t& f : t.nodeOccluder) f = p.u32();
-        t.deferred.resize(deferred);
-        for (vis::DeferredOccluder& d : t.deferred) d.face = p.u32();
-        if (hasStats) {
-            vis::BuildStats& s = pt.record.stats;
-            s.occludersInShaft = p.u32();
-            s.occludersInserted = p.u32();
-            s.occludersDeferred = p.u32();
-            for (uint64_t* v :
-                 {&s.classifications, &s.lpSolves, &s.uncertain, &s.exactCertificates,
-                  &s.prunedSplits, &s.realLineTests, &s.realLineWitness, &s.mergedLeaves})
-                *v = p.u64();
-            s.seconds = p.f64();
-            if (!std::isfinite(s.seconds) || s.seconds < 0)
-                throw Corrupt(where + ": build time is not a finite non-negative number");
-        }
-        validateTree(key, t, store, where);
-        vis::prepareForQueries(store.scene().mesh, t);
-        if (!seen.insert(key).second) throw Corrupt(where + ": a second tree for the same pair");
+        ParsedTree pt = parseTree(p, where);
+        validateTree(pt.key, pt.record.tree, store, where);
+        vis::prepareForQueries(store.scene().mesh, pt.record.tree);
+        if (!seen.insert(pt.key).second) throw Corrupt(where + ": a second tree for the same pair");
         out.push_back(std::move(pt));
     }
     if (p.left() != 0)

@@ -87,6 +87,141 @@ Ray primaryRay(const CameraRays& rays, const RenderSettings& s, int pass, int x,
     return rays(x + u, y + v);
 }
 
+// What every tile of one pass reads.
+struct PassInputs {
+    const Scene& scene;
+    const EmbreeScene& bvh;
+    const VisibilityStore& store;
+    const DirectLighting& lighting;
+    const std::vector<Vec3>& faceNormal;  // unit, per face
+    const std::vector<Vec3>& faceOrigin;  // first vertex, per face
+    const CameraRays& rays;
+    const RenderSettings& settings;
+    int pass = 0;
+    int samples = 0;  // shadow rays per light of the sampled and reference methods
+    bool exact = false;
+};
+
+// One thread's share of a pass: per tile, traces the primary rays, then shades the hits into the
+// image. The buffers are reused from tile to tile; what the tiles used accumulates in `scratch`
+// (pairs, evaluations) and `faces`.
+class TileShader {
+  public:
+    TileShader(const PassInputs& in, bool buildMissing) : in_(in) {
+        scratch.query.setWorkLimit(in.settings.exactWorkLimit);
+        scratch.buildMissing = buildMissing;
+    }
+
+    void trace(const Tile& tile) {
+        hits_.clear();
+        for (int y = tile.y0; y < tile.y1; ++y) {
+            for (int x = tile.x0; x < tile.x1; ++x) {
+                const Ray ray = primaryRay(in_.rays, in_.settings, in_.pass, x, y);
+                hits_.push_back({ray, in_.bvh.intersect(ray.origin, ray.direction)});
+            }
+        }
+    }
+
+    // The traced tile's points, shaded group by group for the exact method, a group being the
+    // points of one receiver patch in one region cell of the tile: the query then decides once per
+    // group the nodes that send all of its points the same way (ExactScratch::regionCorners). Each
+    // pixel's value does not depend on the order (its random numbers are its own).
+    void shade(const Tile& tile, std::vector<Vec3>& image) {
+        collectPoints(tile);
+        if (in_.exact)
+            std::sort(points_.begin(), points_.end(),
+                      [](const TilePoint& l, const TilePoint& r) { return l.group < r.group; });
+        for (size_t g = 0; g < points_.size();) {
+            size_t end = g + 1;
+            while (end < points_.size() && points_[end].group == points_[g].group) ++end;
+            shadeGroup(g, end, image);
+            g = end;
+        }
+        scratch.regionCorners.clear();
+    }
+
+    ExactScratch scratch;
+    std::vector<uint32_t> faces;  // the faces seen, in tile order (repeats in a row collapsed)
+
+  private:
+    struct PrimaryHit {
+        Ray ray;
+        std::optional<EmbreeScene::Hit> hit;
+    };
+    struct TilePoint {
+        int x = 0, y = 0;
+        SurfacePoint point;
+        uint64_t group = 0;  // receiver face, patch and region cell (exact method)
+    };
+
+    void collectPoints(const Tile& tile) {
+        points_.clear();
+        size_t i = 0;
+        for (int y = tile.y0; y < tile.y1; ++y) {
+            for (int x = tile.x0; x < tile.x1; ++x, ++i) {
+                const PrimaryHit& ph = hits_[i];
+                if (!ph.hit) continue;  // background: black
+                const uint32_t f = ph.hit->face;
+                const Vec3 n = in_.faceNormal[f];
+                // A receiver sees only its face's front hemisphere, and a light emits only to its
+                // front: a face seen from behind is black.
+                if (!(dot(ph.ray.direction, n) < 0)) continue;
+                if (faces.empty() || faces.back() != f) faces.push_back(f);
+                TilePoint tp;
+                tp.x = x;
+                tp.y = y;
+                SurfacePoint& p = tp.point;
+                p.face = f;
+                // Embree's hit is computed in float and lies a hair off the face's plane; the exact
+                // query wants x on the face, so project it onto the plane.
+                p.x = ph.hit->point - n * dot(n, ph.hit->point - in_.faceOrigin[f]);
+                p.n = n;
+                p.wo = -ph.ray.direction;
+                p.material = &in_.scene.material(f);
+                if (in_.exact) {
+                    const uint32_t cell = static_cast<uint32_t>(((y - tile.y0) / kRegionCell) *
+                                                                    (kTileSize / kRegionCell) +
+                                                                (x - tile.x0) / kRegionCell);
+                    tp.group = (static_cast<uint64_t>(f) << 32) |
+                               (static_cast<uint64_t>(in_.store.patches(f).find(p.x)) << 8) | cell;
+                }
+                points_.push_back(tp);
+            }
+        }
+    }
+
+    void shadeGroup(size_t begin, size_t end, std::vector<Vec3>& image) {
+        if (in_.exact) {
+            vis::Bounds3 box;
+            for (size_t q = begin; q < end; ++q) box.add(points_[q].point.x);
+            boxCorners(box, scratch.regionCorners);
+            scratch.regionId = ++regionCounter_;
+        }
+        const RenderSettings& settings = in_.settings;
+        for (size_t q = begin; q < end; ++q) {
+            const SurfacePoint& p = points_[q].point;
+            const int x = points_[q].x, y = points_[q].y;
+            Vec3 radiance = p.material->isEmissive() ? p.material->ke : Vec3{};
+            SplitMix64 rng = SplitMix64::forIndices(
+                {kLightStream, settings.lightSeed, static_cast<uint64_t>(in_.pass),
+                 static_cast<uint64_t>(y) * static_cast<uint64_t>(settings.width) +
+                     static_cast<uint64_t>(x)});
+            if (in_.exact)
+                radiance += in_.lighting.exactAreaLights(p, settings.glossySamples,
+                                                         settings.lightSamples, rng, scratch);
+            else
+                radiance += in_.lighting.sampledAreaLights(p, in_.samples, rng);
+            radiance += in_.lighting.pointLights(p);
+            image[static_cast<size_t>(y) * settings.width + x] = radiance;
+        }
+    }
+
+    const PassInputs& in_;
+    std::vector<PrimaryHit> hits_;
+    std::vector<TilePoint> points_;
+    uint64_t regionCounter_ = 0;
+};
+
 }  // namespace
 
 const char* toString(DirectMethod m) {
@@ -257,30 +392,24 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     std::vector<uint32_t> facesSeen;
     ExactEvaluations evaluations;     // by mutex
     std::vector<PairKey> directKeys;  // by mutex
-    const int samples = settings.method == DirectMethod::Reference ? settings.referenceSamples
-                                                                   : settings.lightSamples;
     const CameraRays rays(camera, w, h);
-    const bool exact = settings.method == DirectMethod::Exact;
+    const PassInputs in{scene_,
+                        bvh_,
+                        store_,
+                        *lighting_,
+                        faceNormal_,
+                        faceOrigin_,
+                        rays,
+                        settings,
+                        pass,
+                        settings.method == DirectMethod::Reference ? settings.referenceSamples
+                                                                   : settings.lightSamples,
+                        settings.method == DirectMethod::Exact};
 
     tbb::parallel_for(
         tbb::blocked_range<int>(0, tileCount(settings), 1),
         [&](const tbb::blocked_range<int>& range) {
-            ExactScratch scratch;
-            scratch.query.setWorkLimit(settings.exactWorkLimit);
-            scratch.buildMissing = !directMissing_;
-            std::vector<uint32_t> faces;
-            struct PrimaryHit {
-                Ray ray;
-                std::optional<EmbreeScene::Hit> hit;
-            };
-            std::vector<PrimaryHit> hits;
-            struct TilePoint {
-                int x = 0, y = 0;
-                SurfacePoint point;
-                uint64_t group = 0;  // receiver face, patch and region cell (exact method)
-            };
-            std::vector<TilePoint> points;
-            uint64_t regionCounter = 0;
+            TileShader shader(in, !directMissing_);
             for (int t = range.begin(); t != range.end(); ++t) {
                 if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) {
                     cancelled.store(true, std::memory_order_relaxed);
@@ -288,85 +417,9 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                 }
                 const Tile tile = tileAt(t, settings);
                 const auto a = Clock::now();
-                hits.clear();
-                for (int y = tile.y0; y < tile.y1; ++y) {
-                    for (int x = tile.x0; x < tile.x1; ++x) {
-                        const Ray ray = primaryRay(rays, settings, pass, x, y);
-                        hits.push_back({ray, bvh_.intersect(ray.origin, ray.direction)});
-                    }
-                }
+                shader.trace(tile);
                 const auto b = Clock::now();
-                // The tile's shading points. For the exact method they are shaded group by group,
-                // a group being the points of one receiver patch in one region cell of the tile:
-                // the query then decides once per group the nodes that send all of its points
-                // the same way (ExactScratch::regionCorners). Each pixel's value does not depend
-                // on the order (its random numbers are its own).
-                points.clear();
-                size_t i = 0;
-                for (int y = tile.y0; y < tile.y1; ++y) {
-                    for (int x = tile.x0; x < tile.x1; ++x, ++i) {
-                        const PrimaryHit& ph = hits[i];
-                        if (!ph.hit) continue;  // background: black
-                        const uint32_t f = ph.hit->face;
-                        const Vec3 n = faceNormal_[f];
-                        // A receiver sees only its face's front hemisphere, and a light emits
-                        // only to its front: a face seen from behind is black.
-                        if (!(dot(ph.ray.direction, n) < 0)) continue;
-                        if (faces.empty() || faces.back() != f) faces.push_back(f);
-                        TilePoint tp;
-                        tp.x = x;
-                        tp.y = y;
-                        SurfacePoint& p = tp.point;
-                        p.face = f;
-                        // Embree's hit is computed in float and lies a hair off the face's plane;
-                        // the exact query wants x on the face, so project it onto the plane.
-                        p.x = ph.hit->point - n * dot(n, ph.hit->point - faceOrigin_[f]);
-                        p.n = n;
-                        p.wo = -ph.ray.direction;
-                        p.material = &scene_.material(f);
-                        if (exact) {
-                            const uint32_t cell = static_cast<uint32_t>(
-                                ((y - tile.y0) / kRegionCell) * (kTileSize / kRegionCell) +
-                                (x - tile.x0) / kRegionCell);
-                            tp.group = (static_cast<uint64_t>(f) << 32) |
-                                       (static_cast<uint64_t>(store_.patches(f).find(p.x)) << 8) |
-                                       cell;
-                        }
-                        points.push_back(tp);
-                    }
-                }
-                if (exact)
-                    std::sort(
-                        points.begin(), points.end(),
-                        [](const TilePoint& l, const TilePoint& r) { return l.group < r.group; });
-                for (size_t g = 0; g < points.size();) {
-                    size_t end = g + 1;
-                    while (end < points.size() && points[end].group == points[g].group) ++end;
-                    if (exact) {
-                        vis::Bounds3 box;
-                        for (size_t q = g; q < end; ++q) box.add(points[q].point.x);
-                        boxCorners(box, scratch.regionCorners);
-                        scratch.regionId = ++regionCounter;
-                    }
-                    for (size_t q = g; q < end; ++q) {
-                        const SurfacePoint& p = points[q].point;
-                        const int x = points[q].x, y = points[q].y;
-                        Vec3 radiance = p.material->isEmissive() ? p.material->ke : Vec3{};
-                        SplitMix64 rng = SplitMix64::forIndices(
-                            {kLightStream, settings.lightSeed, static_cast<uint64_t>(pass),
-                             static_cast<uint64_t>(y) * static_cast<uint64_t>(w) +
-                                 static_cast<uint64_t>(x)});
-                        if (exact)
-                            radiance += lighting_->exactAreaLights(
-                                p, settings.glossySamples, settings.lightSamples, rng, scratch);
-                        else
-                            radiance += lighting_->sampledAreaLights(p, samples, rng);
-                        radiance += lighting_->pointLights(p);
-                        image[static_cast<size_t>(y) * w + x] = radiance;
-                    }
-                    g = end;
-                }
-                scratch.regionCorners.clear();
+                shader.shade(tile, image);
                 const auto c = Clock::now();
                 if (times != nullptr) {
                     times->primaryNs.fetch_add(
@@ -377,9 +430,10 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                         std::memory_order_relaxed);
                 }
             }
+            const ExactScratch& scratch = shader.scratch;
             std::lock_guard lock(mutex);
             usedKeys.insert(usedKeys.end(), scratch.used.begin(), scratch.used.end());
-            facesSeen.insert(facesSeen.end(), faces.begin(), faces.end());
+            facesSeen.insert(facesSeen.end(), shader.faces.begin(), shader.faces.end());
             evaluations += scratch.evaluations;
             directKeys.insert(directKeys.end(), scratch.usedDirect.begin(),
                               scratch.usedDirect.end());

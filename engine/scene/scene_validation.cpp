@@ -90,13 +90,10 @@ std::string fmt(double x) {
 FaceDefect degenerate(std::string message) { return FaceDefect{true, std::move(message)}; }
 FaceDefect invalid(std::string message) { return FaceDefect{false, std::move(message)}; }
 
-}  // namespace
-
-std::optional<FaceDefect> checkFace(const vis::PolygonMesh& mesh, uint32_t f,
-                                    FaceCheckScratch& scratch) {
-    const std::vector<uint32_t>& idx = mesh.faces[f];
+// The face's indices alone: at least 3, all in range, none repeated.
+std::optional<FaceDefect> indexDefect(const std::vector<uint32_t>& idx, size_t nv,
+                                      std::vector<uint32_t>& sorted) {
     const size_t k = idx.size();
-    const size_t nv = mesh.vertices.size();
     if (k < 3) {
         return invalid("only " + std::to_string(k) + " vertices (a face needs at least 3)");
     }
@@ -106,18 +103,19 @@ std::optional<FaceDefect> checkFace(const vis::PolygonMesh& mesh, uint32_t f,
                            std::to_string(nv) + " vertices)");
         }
     }
-    {
-        std::vector<uint32_t>& sorted = scratch.sorted;
-        sorted.assign(idx.begin(), idx.end());
-        std::sort(sorted.begin(), sorted.end());
-        const auto dup = std::adjacent_find(sorted.begin(), sorted.end());
-        if (dup != sorted.end()) {
-            return degenerate("vertex index " + std::to_string(*dup) +
-                              " repeated (degenerate face)");
-        }
+    sorted.assign(idx.begin(), idx.end());
+    std::sort(sorted.begin(), sorted.end());
+    const auto dup = std::adjacent_find(sorted.begin(), sorted.end());
+    if (dup != sorted.end()) {
+        return degenerate("vertex index " + std::to_string(*dup) + " repeated (degenerate face)");
     }
+    return std::nullopt;
+}
 
-    std::vector<Vec3>& p = scratch.p;
+// Reads the face's positions into p: all coordinates finite, no two consecutive positions equal.
+std::optional<FaceDefect> positionDefect(const vis::PolygonMesh& mesh,
+                                         const std::vector<uint32_t>& idx, std::vector<Vec3>& p) {
+    const size_t k = idx.size();
     p.resize(k);
     for (size_t i = 0; i < k; ++i) {
         p[i] = mesh.vertices[idx[i]];
@@ -131,14 +129,28 @@ std::optional<FaceDefect> checkFace(const vis::PolygonMesh& mesh, uint32_t f,
                               std::to_string(idx[(i + 1) % k]) + " coincide (degenerate)");
         }
     }
+    return std::nullopt;
+}
 
-    // Degenerate (exact): all vertices on the line through p[0] and p[1] (distinct, see above).
+// The first vertex off the line through p[0] and p[1] (distinct, see positionDefect), decided
+// exactly; 0 when every vertex is on it.
+size_t firstVertexOffLine(const std::vector<Vec3>& p) {
     size_t offLine = 0;
-    for (size_t i = 2; i < k && offLine == 0; ++i) {
+    for (size_t i = 2; i < p.size() && offLine == 0; ++i) {
         if (!collinear3(p[0], p[1], p[i])) offLine = i;
     }
-    if (offLine == 0) return degenerate("degenerate (zero area): all vertices are collinear");
+    return offLine;
+}
 
+// An approximate normal of the face, computed on copies q of its vertices scaled so that nothing
+// overflows; `exponent` turns lengths in q back into scene units (ldexp).
+struct ScaledFace {
+    Vec3 normal;
+    int exponent = 0;
+};
+
+ScaledFace scaledNormal(const std::vector<Vec3>& p, size_t offLine, std::vector<Vec3>& q) {
+    const size_t k = p.size();
     // Scale by powers of two (exact up to underflow, which does not matter for an approximate
     // plane) so that nothing overflows: first to magnitude < 1, then, after centring on the
     // centroid, to an extent of about 1 so that a small face far from the origin keeps its digits.
@@ -151,7 +163,6 @@ std::optional<FaceDefect> checkFace(const vis::PolygonMesh& mesh, uint32_t f,
     auto scaleAll = [](std::vector<Vec3>& pts, int e) {
         for (Vec3& a : pts) a = {std::ldexp(a.x, -e), std::ldexp(a.y, -e), std::ldexp(a.z, -e)};
     };
-    std::vector<Vec3>& q = scratch.q;
     q.assign(p.begin(), p.end());
     double magnitude = 0;
     for (const Vec3& a : q) magnitude = std::fmax(magnitude, vis::maxAbs(a));
@@ -175,49 +186,66 @@ std::optional<FaceDefect> checkFace(const vis::PolygonMesh& mesh, uint32_t f,
         // such a face is rejected below anyway.
         n = vis::cross(q[1] - q[0], q[offLine] - q[0]);
     }
+    return {n, exponent};
+}
 
-    // Planarity, with the documented tolerance, for faces of 4 or more vertices.
-    if (k > 3) {
-        const Vec3 unit = vis::normalize(n);
-        double diameter = 0;
-        if (k <= 1024) {
-            for (size_t i = 0; i < k; ++i)
-                for (size_t j = i + 1; j < k; ++j)
-                    diameter = std::fmax(diameter, length(q[i] - q[j]));
-        } else {
-            Vec3 lo = q[0], hi = q[0];
-            for (const Vec3& qi : q) {
-                lo = {std::fmin(lo.x, qi.x), std::fmin(lo.y, qi.y), std::fmin(lo.z, qi.z)};
-                hi = {std::fmax(hi.x, qi.x), std::fmax(hi.y, qi.y), std::fmax(hi.z, qi.z)};
-            }
-            diameter = length(hi - lo);
+// The face diameter of the planarity tolerance (scene_validation.h).
+double diameterOf(const std::vector<Vec3>& q) {
+    const size_t k = q.size();
+    double diameter = 0;
+    if (k <= 1024) {
+        for (size_t i = 0; i < k; ++i)
+            for (size_t j = i + 1; j < k; ++j) diameter = std::fmax(diameter, length(q[i] - q[j]));
+    } else {
+        Vec3 lo = q[0], hi = q[0];
+        for (const Vec3& qi : q) {
+            lo = {std::fmin(lo.x, qi.x), std::fmin(lo.y, qi.y), std::fmin(lo.z, qi.z)};
+            hi = {std::fmax(hi.x, qi.x), std::fmax(hi.y, qi.y), std::fmax(hi.z, qi.z)};
         }
-        const double tolerance = kPlanarityTolerance * diameter;
-        size_t worst = 0;
-        double deviation = -1;
-        for (size_t i = 0; i < k; ++i) {
-            const double d = std::fabs(dot(q[i], unit));
-            if (d > deviation) {
-                deviation = d;
-                worst = i;
-            }
-        }
-        if (!(deviation <= tolerance)) {
-            return invalid("non-planar: vertex " + std::to_string(idx[worst]) + " lies " +
-                           fmt(std::ldexp(deviation, exponent)) +
-                           " from the plane through the centroid (tolerance " +
-                           fmt(kPlanarityTolerance) + " x face diameter " +
-                           fmt(std::ldexp(diameter, exponent)) + " = " +
-                           fmt(std::ldexp(tolerance, exponent)) + ")");
+        diameter = length(hi - lo);
+    }
+    return diameter;
+}
+
+// Planarity with the documented tolerance, on the centred and scaled vertices q.
+std::optional<FaceDefect> planarityDefect(const std::vector<uint32_t>& idx,
+                                          const std::vector<Vec3>& q, const ScaledFace& face) {
+    const size_t k = q.size();
+    const Vec3 unit = vis::normalize(face.normal);
+    const double diameter = diameterOf(q);
+    const double tolerance = kPlanarityTolerance * diameter;
+    size_t worst = 0;
+    double deviation = -1;
+    for (size_t i = 0; i < k; ++i) {
+        const double d = std::fabs(dot(q[i], unit));
+        if (d > deviation) {
+            deviation = d;
+            worst = i;
         }
     }
+    if (!(deviation <= tolerance)) {
+        const int exponent = face.exponent;
+        return invalid("non-planar: vertex " + std::to_string(idx[worst]) + " lies " +
+                       fmt(std::ldexp(deviation, exponent)) +
+                       " from the plane through the centroid (tolerance " +
+                       fmt(kPlanarityTolerance) + " x face diameter " +
+                       fmt(std::ldexp(diameter, exponent)) + " = " +
+                       fmt(std::ldexp(tolerance, exponent)) + ")");
+    }
+    return std::nullopt;
+}
 
-    // Strict convexity, exactly, in the projection that drops the dominant axis d of n. With
-    // (u, v) = (d+1, d+2) mod 3 the projected polygon's signed area has the sign of n[d].
-    // A zero turn is either true collinearity in 3D (an error) or, for a sliver so thin that the
-    // approximate n picked an axis the face is exactly parallel to, an artefact of the projection:
-    // then the next axis is tried (for a planar face some axis has a nonzero normal component,
-    // and every turn is strict in that projection).
+// The coordinate axis d whose dropping projects the face with every turn strict: into `axis`,
+// with the projected vertices in scratch.s and the turn signs in scratch.turn. The axes are tried
+// in the order of the normal's dominant component: with (u, v) = (d+1, d+2) mod 3 the projected
+// polygon's signed area has the sign of n[d]. A zero turn is either true collinearity in 3D (an
+// error) or, for a sliver so thin that the approximate n picked an axis the face is exactly
+// parallel to, an artefact of the projection: then the next axis is tried (for a planar face some
+// axis has a nonzero normal component, and every turn is strict in that projection).
+std::optional<FaceDefect> strictProjection(const std::vector<uint32_t>& idx,
+                                           const std::vector<Vec3>& p, const Vec3& n,
+                                           FaceCheckScratch& scratch, int& axis) {
+    const size_t k = p.size();
     int order[3] = {0, 1, 2};
     std::stable_sort(order, order + 3,
                      [&](int a, int b) { return std::fabs(n[a]) > std::fabs(n[b]); });
@@ -227,8 +255,8 @@ std::optional<FaceDefect> checkFace(const vis::PolygonMesh& mesh, uint32_t f,
     turn.resize(k);
     int d = -1;
     for (int attempt = 0; attempt < 3 && d < 0; ++attempt) {
-        const int axis = order[attempt];
-        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+        const int candidate = order[attempt];
+        const int u = (candidate + 1) % 3, v = (candidate + 2) % 3;
         for (size_t i = 0; i < k; ++i) s[i] = project(p[i], u, v);
         bool spurious = false;
         for (size_t i = 0; i < k && !spurious; ++i) {
@@ -243,16 +271,46 @@ std::optional<FaceDefect> checkFace(const vis::PolygonMesh& mesh, uint32_t f,
             }
             spurious = true;
         }
-        if (!spurious) d = axis;
+        if (!spurious) d = candidate;
     }
     if (d < 0) return invalid("non-convex: no projection keeps every turn strict");
+    axis = d;
+    return std::nullopt;
+}
+
+// How often the edge direction of the projected polygon s passes angle 0 going round (in the
+// counter-clockwise frame: `flip` -1 mirrors a clockwise polygon, exactly): once for a convex
+// polygon, more for a star. Each strict turn rotates the direction by less than pi, so the count
+// of transitions from the lower half-plane [pi, 2pi) to the upper [0, pi) is exactly the number
+// of revolutions. Only signs of coordinate differences are used, and those are exact in doubles.
+size_t revolutions(const std::vector<P2>& s, double flip) {
+    const size_t k = s.size();
+    auto upperHalf = [&](size_t i) {
+        const P2& a = s[i];
+        const P2& b = s[(i + 1) % k];
+        const double du = b.u - a.u, dv = flip * (b.v - a.v);
+        return dv > 0 || (dv == 0 && du > 0);
+    };
+    size_t count = 0;
+    for (size_t i = 0; i < k; ++i) {
+        if (!upperHalf(i) && upperHalf((i + 1) % k)) ++count;
+    }
+    return count;
+}
+
+// Strict convexity, given strict turns in the projection that drops `axis` (strictProjection):
+// all turns the same way, and the boundary going round once.
+std::optional<FaceDefect> convexityDefect(const std::vector<uint32_t>& idx, const Vec3& n, int axis,
+                                          const FaceCheckScratch& scratch) {
+    const std::vector<int>& turn = scratch.turn;
+    const size_t k = turn.size();
     bool allPositive = true, allNegative = true;
     for (size_t i = 0; i < k; ++i) {
         allPositive = allPositive && turn[i] > 0;
         allNegative = allNegative && turn[i] < 0;
     }
     if (!allPositive && !allNegative) {
-        const int expected = n[d] > 0 ? 1 : -1;
+        const int expected = n[axis] > 0 ? 1 : -1;
         for (size_t i = 0; i < k; ++i) {
             if (turn[i] != expected) {
                 return invalid("non-convex: reflex vertex " + std::to_string(idx[i]) +
@@ -260,26 +318,31 @@ std::optional<FaceDefect> checkFace(const vis::PolygonMesh& mesh, uint32_t f,
             }
         }
     }
-    // All turns agree. Count how often the edge direction passes angle 0 going round (in the
-    // counter-clockwise frame; flipping v is exact): once for a convex polygon, more for a star.
-    // Each strict turn rotates the direction by less than pi, so the count of transitions from the
-    // lower half-plane [pi, 2pi) to the upper [0, pi) is exactly the number of revolutions. Only
-    // signs of coordinate differences are used, and those are exact in doubles.
-    const double flip = allPositive ? 1.0 : -1.0;
-    auto upperHalf = [&](size_t i) {
-        const P2& a = s[i];
-        const P2& b = s[(i + 1) % k];
-        const double du = b.u - a.u, dv = flip * (b.v - a.v);
-        return dv > 0 || (dv == 0 && du > 0);
-    };
-    size_t revolutions = 0;
-    for (size_t i = 0; i < k; ++i) {
-        if (!upperHalf(i) && upperHalf((i + 1) % k)) ++revolutions;
-    }
-    if (revolutions != 1) {
+    const size_t count = revolutions(scratch.s, allPositive ? 1.0 : -1.0);
+    if (count != 1) {
         return invalid("non-convex: self-intersecting (the boundary winds " +
-                       std::to_string(revolutions) + " times around)");
+                       std::to_string(count) + " times around)");
     }
+    return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<FaceDefect> checkFace(const vis::PolygonMesh& mesh, uint32_t f,
+                                    FaceCheckScratch& scratch) {
+    const std::vector<uint32_t>& idx = mesh.faces[f];
+    if (auto defect = indexDefect(idx, mesh.vertices.size(), scratch.sorted)) return defect;
+    if (auto defect = positionDefect(mesh, idx, scratch.p)) return defect;
+    const size_t offLine = firstVertexOffLine(scratch.p);
+    if (offLine == 0) return degenerate("degenerate (zero area): all vertices are collinear");
+    const ScaledFace scaled = scaledNormal(scratch.p, offLine, scratch.q);
+    // Triangles are planar.
+    if (idx.size() > 3) {
+        if (auto defect = planarityDefect(idx, scratch.q, scaled)) return defect;
+    }
+    int axis = -1;
+    if (auto defect = strictProjection(idx, scratch.p, scaled.normal, scratch, axis)) return defect;
+    if (auto defect = convexityDefect(idx, scaled.normal, axis, scratch)) return defect;
     // Convex and not collinear, but so thin that its area rounds to zero in doubles (a sliver of
     // 1e-80 on a unit scene, found by fuzzing): a light's visible fraction divides by its area, so
     // such a face counts as degenerate too.

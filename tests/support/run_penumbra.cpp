@@ -32,7 +32,7 @@ std::string shellQuote(const std::string& s) {
     return q + "'";
 }
 
-ProcessResult runPenumbra(const std::vector<std::string>& args) {
+ProcessResult runPenumbra(const std::vector<std::string>& args, const fs::path& workingDirectory) {
     ProcessResult r;
     // A directory of its own (mkdtemp): tests running in parallel never share the files.
     std::string dirName = (fs::temp_directory_path() / "penumbra_run_XXXXXX").string();
@@ -41,7 +41,9 @@ ProcessResult runPenumbra(const std::vector<std::string>& args) {
         return r;
     }
     const fs::path dir = dirName, out = dir / "stdout", err = dir / "stderr";
-    std::string command = shellQuote(PENUMBRA_EXE);
+    std::string command;
+    if (!workingDirectory.empty()) command = "cd " + shellQuote(workingDirectory.string()) + " && ";
+    command += shellQuote(PENUMBRA_EXE);
     for (const std::string& a : args) command += " " + shellQuote(a);
     command += " >" + shellQuote(out.string()) + " 2>" + shellQuote(err.string());
     const int status = std::system(command.c_str());

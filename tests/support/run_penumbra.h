@@ -2,6 +2,7 @@
 // for the tests of its commands: the CLI, precompute, render and viewer tests share it.
 #pragma once
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -15,9 +16,11 @@ struct ProcessResult {
 // `s` as one word for the POSIX shell (single-quoted).
 std::string shellQuote(const std::string& s);
 
-// Runs `penumbra ARGS...` through the shell and waits for it. Its stdout and stderr go to two
-// files in a fresh temporary directory, read back and removed with it. If it cannot be run at
-// all: ADD_FAILURE and exit code -1.
-ProcessResult runPenumbra(const std::vector<std::string>& args);
+// Runs `penumbra ARGS...` through the shell and waits for it, in `workingDirectory` when given
+// (commands that read files relative to the current directory, such as the bench's default
+// scenes). Its stdout and stderr go to two files in a fresh temporary directory, read back and
+// removed with it. If it cannot be run at all: ADD_FAILURE and exit code -1.
+ProcessResult runPenumbra(const std::vector<std::string>& args,
+                          const std::filesystem::path& workingDirectory = {});
 
 }  // namespace penumbra::test

@@ -11,6 +11,8 @@
 //   options    quadric pruning and leaf merging on and off.
 //   scaling    precompute time and size against the triangle count (the dragon's resolutions).
 //   per point  the from-point query plus the exact form factor against 16 and 128 shadow rays.
+// A default scene whose meshes scripts/fetch_meshes.sh has not fetched (the bunny, the motorbike,
+// the dragon) is skipped, with a warning and a line in the report (canMeasure).
 #include <sys/resource.h>
 #include <tbb/global_control.h>
 #include <tbb/info.h>
@@ -28,10 +30,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <random>
-#include <sstream>
 #include <thread>
 
 #include "app/cli/arguments.h"
+#include "app/cli/bench/bench_report.h"
 #include "app/cli/commands.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/finite_output.h"
@@ -166,11 +168,45 @@ json precomputePairs(VisibilityStore& store, const std::vector<PairKey>* keys, d
             {"kinds", kindsJson(store)}};
 }
 
-// ---- Table 1 -------------------------------------------------------------------------------
+// ---- Scenes with fetched meshes --------------------------------------------------------------
 
-// Every (patch, light) pair of a scene above this many faces is not a precompute anyone would run
-// (the image's pairs are the Table 1 figure there): the all-pairs column is skipped.
-constexpr uint32_t kAllPairsMaxFaces = 10000;
+// The files a scene needs and lacks: the scene file itself, or the mesh files a JSON scene names.
+// The committed scenes of the bunny, the motorbike and the dragon name meshes that
+// scripts/fetch_meshes.sh downloads into assets/external/ (too large to commit), so a fresh clone
+// lacks them. A scene file that does not parse lacks nothing here: loading it says what is wrong.
+std::vector<std::string> missingFiles(const std::string& scene) {
+    if (!fs::exists(scene)) return {scene};
+    if (fs::path(scene).extension() != ".json") return {};
+    std::ifstream in(scene);
+    const json j = json::parse(in, nullptr, /*allow_exceptions=*/false);
+    std::vector<std::string> missing;
+    if (!j.is_object() || !j.contains("meshes") || !j["meshes"].is_array()) return missing;
+    for (const json& mesh : j["meshes"]) {
+        if (!mesh.is_object() || !mesh.contains("file") || !mesh["file"].is_string()) continue;
+        const fs::path file = fs::path(scene).parent_path() / mesh["file"].get<std::string>();
+        if (!fs::exists(file)) missing.push_back(file.lexically_normal().string());
+    }
+    return missing;
+}
+
+// Whether `study` can measure `scene`. If not, says on stderr which files are missing and records
+// the skip in `skipped` (bench.json's "skipped", which the report lists under the study): the
+// one way the bench leaves out a scene whose meshes have not been fetched, so that a fresh clone
+// still gets a report.
+bool canMeasure(const std::string& scene, const std::string& study, json& skipped) {
+    const std::vector<std::string> missing = missingFiles(scene);
+    if (missing.empty()) return true;
+    std::string list;
+    for (const std::string& f : missing) list += (list.empty() ? "" : ", ") + f;
+    std::fprintf(stderr,
+                 "penumbra: warning: %s: %s skipped, missing %s (run scripts/fetch_meshes.sh to "
+                 "fetch the meshes)\n",
+                 study.c_str(), scene.c_str(), list.c_str());
+    skipped.push_back({{"study", study}, {"scene", scene}, {"missing", missing}});
+    return false;
+}
+
+// ---- Table 1 -------------------------------------------------------------------------------
 
 json table1Row(const std::string& path, const BenchOptions& o, const fs::path& dir, bool large) {
     const Scene scene = loadSceneFile(path);
@@ -444,13 +480,10 @@ json buildOptions(const std::vector<std::string>& scenes, const BenchOptions& o)
 
 // A fixed set of receiver patches: every patch of the non-mesh faces (the floor) and 32 faces of
 // the model drawn by a fixed seed, against every light.
-json scaling(const std::vector<std::string>& scenes, const BenchOptions& o) {
+json scaling(const std::vector<std::string>& scenes, const BenchOptions& o, json& skipped) {
     json rows = json::array();
     for (const std::string& path : scenes) {
-        if (!fs::exists(path)) {
-            std::printf("scaling: %s missing (scripts/fetch_meshes.sh), skipped\n", path.c_str());
-            continue;
-        }
+        if (!canMeasure(path, "scaling", skipped)) continue;
         const auto l0 = Clock::now();
         const Scene scene = loadSceneFile(path);
         const EmbreeScene bvh(scene.mesh);
@@ -554,7 +587,7 @@ json perPoint(const std::string& path, const BenchOptions& o) {
             {"fragmentsPerQuery", static_cast<double>(fragments) / samples.size()}};
 }
 
-// ---- Machine and report --------------------------------------------------------------------
+// ---- Machine and output ---------------------------------------------------------------------
 
 json machine() {
     std::string cpu = "unknown";
@@ -577,206 +610,12 @@ json machine() {
             {"buildType", PENUMBRA_BUILD_TYPE}};
 }
 
-std::string fmt(const char* f, double v) {
-    char b[64];
-    std::snprintf(b, sizeof b, f, v);
-    return b;
-}
-
-std::string num(const json& j, const char* f = "%.2f") {
-    return j.is_number() ? fmt(f, j.get<double>()) : std::string("-");
-}
-
 void writeAtomically(const fs::path& path, const std::string& text) {
     try {
         writeFileAtomically(path, text);
     } catch (const AtomicWriteError& e) {
         throw inputError(e.what());
     }
-}
-
-std::string report(const json& b, bool plots, const std::string& plotNote) {
-    std::ostringstream r;
-    const json& m = b["machine"];
-    r << "# Penumbra: what accuracy costs in time\n\n"
-      << "Measured by `" << b["command"].get<std::string>() << "` on "
-      << m["date"].get<std::string>() << ".\n\nMachine: " << m["cpu"].get<std::string>() << ", "
-      << m["cores"].get<unsigned>() << " logical cores, load average at the start `"
-      << m["loadavg"].get<std::string>() << "` (shared machine: compare CPU times), build type "
-      << m["buildType"].get<std::string>() << ".\n\n";
-    if (b.contains("table1")) {
-        r << "## Table 1 re-measured\n\n"
-          << "Sampled: 128 shadow rays per light per shading point. Exact: the trees the image "
-             "needs (`ProgressiveRenderer::prepare`) then the render, with the product's "
-             "defaults: a build budget of `BuildOptions::maxLpSolves` linear programs per tree "
-             "(a tree that reaches it is *partial*: its other occluders are clipped by each "
-             "point's query, still exact), no tree for a pair the image samples fewer than "
-             "`RenderSettings::minTreeSamples` times (its points are evaluated directly, exact), "
-             "and a work limit of `RenderSettings::exactWorkLimit` plane tests per query: a "
-             "point whose exact answer needs more is sampled with 128 rays (the *sampled "
-             "points* column; not exact). *Every point exact*: the same render with no work "
-             "limit. All pairs: every (receiver patch, light) pair on the `PrecomputeScheduler` "
-             "(skipped above "
-          << kAllPairsMaxFaces
-          << " faces). Times in seconds, wall / CPU (all threads). Speed-up = sampled time / "
-             "(exact precompute + render), wall; in parentheses the render alone.\n\n"
-          << "| scene | faces | image | sampled 128 | exact precompute | exact render | speed-up "
-             "| trees (partial) | pairs without a tree | sampled points | every point exact | "
-             "file (image) | all pairs: time | all pairs: file |\n"
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-        for (const json& row : b["table1"]) {
-            const json& e = row["exact"];
-            r << "| " << fs::path(row["scene"].get<std::string>()).filename().string() << " | "
-              << row["faces"] << " | " << row["width"] << "x" << row["height"] << ", " << row["spp"]
-              << " spp | " << num(row["sampled128"]["wall"]) << " / "
-              << num(row["sampled128"]["cpu"]) << " | " << num(e["precomputeWall"]) << " / "
-              << num(e["precomputeCpu"])
-              << (e["precomputeComplete"].get<bool>() ? "" : " (over the limit)") << " | "
-              << (e.contains("renderWall") ? num(e["renderWall"]) + " / " + num(e["renderCpu"])
-                                           : std::string("-"))
-              << " | "
-              << (row.contains("speedupWall")
-                      ? num(row["speedupWall"]) + "x (" + num(row["speedupRenderOnlyWall"]) + "x)"
-                      : std::string("-"))
-              << " | " << e["trees"] << " (" << e["kinds"]["partial"] << ") | "
-              << (e.contains("pairsWithoutTree") ? e["pairsWithoutTree"].dump() : "-") << " | ";
-            if (e.contains("evaluations"))
-                r << num(100.0 * e["sampledEvaluations"].get<double>() /
-                             std::max(1.0, e["evaluations"].get<double>()),
-                         "%.1f")
-                  << "% | ";
-            else
-                r << "- | ";
-            if (e.contains("everyPointExact")) {
-                const json& a = e["everyPointExact"];
-                r << (a["complete"].get<bool>() ? "" : "over ") << num(a["renderWall"]) << " | ";
-            } else {
-                r << (e.contains("sampledEvaluations") &&
-                              e["sampledEvaluations"].get<uint64_t>() == 0
-                          ? "(the same) | "
-                          : "- | ");
-            }
-            r << num(e["fileBytes"].get<double>() / 1024.0, "%.1f") << " KB | ";
-            if (row.contains("allPairs")) {
-                const json& a = row["allPairs"];
-                r << num(a["seconds"]) << " / " << num(a["cpu"])
-                  << (a["complete"].get<bool>() ? "" : " (over the limit)") << " | "
-                  << num(a["fileBytes"].get<double>() / 1024.0, "%.1f") << " KB |\n";
-            } else {
-                r << (row["faces"].get<uint32_t>() > kAllPairsMaxFaces ? "skipped | - |\n"
-                                                                       : "- | - |\n");
-            }
-        }
-        r << "\n";
-        if (plots) r << "![Table 1](table1.png)\n\n";
-    }
-    if (b.contains("accuracy")) {
-        const json& a = b["accuracy"];
-        r << "## Error against time\n\n"
-          << "Scene " << a["scene"].get<std::string>() << ", " << a["width"] << "x" << a["height"]
-          << ", " << a["spp"]
-          << " primary samples per pixel, the same for every image (so the sampled images differ "
-             "from the exact one only by their shadow-ray noise). RMSE and max error over all "
-             "pixels and RGB channels of linear radiance (mean radiance of the exact image "
-          << num(a["meanRadiance"], "%.4g") << ").\n\n"
-          << "| method | rays | wall s | CPU s | RMSE | max error |\n|---|---|---|---|---|---|\n";
-        for (const json& p : a["sampled"])
-            r << "| sampled vs exact | " << p["rays"] << " | " << num(p["seconds"], "%.3f") << " | "
-              << num(p["cpu"], "%.3f") << " | " << num(p["rmse"], "%.4g") << " | "
-              << num(p["maxError"], "%.4g") << " |\n";
-        const json& e = a["exact"];
-        r << "| exact vs reference | - | " << num(e["seconds"], "%.3f") << " | "
-          << num(e["cpu"], "%.3f") << " | " << num(e["rmse"], "%.4g") << " | "
-          << num(e["maxError"], "%.4g") << " |\n\n"
-          << "Reference: the mean of two sampled images of " << a["referenceRays"]
-          << " rays each (different light seeds); its own noise (standard error, RMS) is "
-          << num(a["referenceNoise"], "%.4g") << ", against the exact image's RMSE of "
-          << num(e["rmse"], "%.4g")
-          << ": the exact image agrees with the converged reference when these are close. The "
-             "exact time includes its precompute ("
-          << num(e["precompute"], "%.3f") << " s wall).\n\n";
-        if (a["equalErrorSeconds"].is_number())
-            r << "**Equal error:** the sampled method reaches the exact image's error level ("
-              << num(e["rmse"], "%.4g") << ", an upper bound on the exact image's error) at about "
-              << num(a["equalErrorRays"], "%.0f") << " rays per light and "
-              << num(a["equalErrorSeconds"], "%.3f") << " s wall, against "
-              << num(e["seconds"], "%.3f") << " s for the exact method: "
-              << num(a["equalErrorSeconds"].get<double>() / e["seconds"].get<double>()) << "x"
-              << (a["equalErrorExtrapolated"].get<bool>() ? " (extrapolated beyond the "
-                                                            "measured curve)"
-                                                          : "")
-              << ". Interpolated linearly on the log-log curve.\n\n";
-        if (plots) r << "![error against time](accuracy.png)\n\n";
-    }
-    if (b.contains("predicates")) {
-        const json& p = b["predicates"];
-        r << "## What exactness costs: predicates\n\n"
-          << "FPQuery on the " << p["cases"] << " hard cases (`makeHardCases()`), " << p["queries"]
-          << " queries (patch vertices, edge midpoints and random points of every penumbra pair). "
-             "Wrong: the visible fraction differs from the AlwaysExact answer by more than 1e-9 "
-             "of L's area, or the fragments overlap or leave L. (The test suite checks Filtered "
-             "against an exact CGAL reference.)\n\n"
-          << "| predicates | us per query (wall) | us per query (CPU) | wrong | other fragment "
-             "count than AlwaysExact |\n|---|---|---|---|---|\n";
-        for (const json& mm : p["modes"])
-            r << "| " << mm["mode"].get<std::string>() << " | " << num(mm["usPerQuery"], "%.3f")
-              << " | " << num(mm["cpuUsPerQuery"], "%.3f") << " | " << mm["wrong"] << " | "
-              << mm["otherCount"] << " |\n";
-        r << "\nNaive answers with another fragment count than Filtered: "
-          << p["naiveOtherThanFiltered"]
-          << ". A different fragment count is a sliver more or less (the topology of the answer); "
-             "Filtered decides rounded constructed vertices by its filter and so may drop slivers "
-             "that AlwaysExact's exact sign of the rounded vertex keeps.\n\nPer case (naive wrong "
-             "/ naive other count / filtered other count): ";
-        for (const json& c : p["perCase"])
-            r << c["case"].get<std::string>() << " " << c["naiveWrong"] << "/"
-              << c["naiveOtherCount"] << "/" << c["filteredOtherCount"] << "; ";
-        r << "\n\n";
-    }
-    if (b.contains("buildOptions") && !b["buildOptions"].empty()) {
-        r << "## Quadric pruning and leaf merging\n\nAll pairs of each scene.\n\n"
-          << "| scene | merge leaves | quadric pruning | nodes | bytes | precompute wall / CPU s "
-             "| us per query |\n|---|---|---|---|---|---|---|\n";
-        for (const json& o : b["buildOptions"])
-            r << "| " << fs::path(o["scene"].get<std::string>()).filename().string() << " | "
-              << (o["mergeLeaves"].get<bool>() ? "on" : "off") << " | "
-              << (o["quadricPruning"].get<bool>() ? "on" : "off") << " | " << o["nodes"] << " | "
-              << o["bytes"] << " | " << num(o["seconds"]) << " / " << num(o["cpu"])
-              << (o["complete"].get<bool>() ? std::string()
-                                            : " (over the limit: " + o["done"].dump() + "/" +
-                                                  o["pairs"].dump() + " pairs)")
-              << " | " << num(o["queryUs"], "%.3f") << " |\n";
-        r << "\n";
-    }
-    if (b.contains("scaling") && !b["scaling"].empty()) {
-        r << "## Precompute against triangle count\n\n"
-          << "A fixed set of receiver patches: every patch of the floor and 32 faces of the model "
-             "drawn with a fixed seed, against the light; built on the `PrecomputeScheduler` ("
-          << num(b["options"]["limit"], "%.0f") << " s limit per scene).\n\n"
-          << "| scene | faces | pairs | done | wall s | CPU s | nodes | bytes | penumbra | "
-             "partial |\n|---|---|---|---|---|---|---|---|---|---|\n";
-        for (const json& s : b["scaling"])
-            r << "| " << fs::path(s["scene"].get<std::string>()).filename().string() << " | "
-              << s["faces"] << " | " << s["pairs"] << " | " << s["done"] << " | "
-              << num(s["seconds"]) << " | " << num(s["cpu"]) << " | " << s["nodes"] << " | "
-              << s["bytes"] << " | " << s["kinds"]["penumbra"] << " | " << s["kinds"]["partial"]
-              << " |\n";
-        if (plots) r << "\n![scaling](scaling.png)\n";
-        r << "\n";
-    }
-    if (b.contains("perPoint")) {
-        r << "## Per point: exact query against shadow rays\n\nLight 0, one thread.\n\n"
-          << "| scene | points | exact query + form factor us | nodes | 16 rays us | 128 rays us "
-             "|\n|---|---|---|---|---|---|\n";
-        for (const json& p : b["perPoint"])
-            r << "| " << fs::path(p["scene"].get<std::string>()).filename().string() << " | "
-              << p["points"] << " | " << num(p["exactUs"]) << " | "
-              << num(p["nodesPerQuery"], "%.1f") << " | " << num(p["rays16Us"]) << " | "
-              << num(p["rays128Us"]) << " |\n";
-        r << "\n";
-    }
-    if (!plots) r << "Plots skipped: " << plotNote << "\n";
-    return r.str();
 }
 
 void runBench(const BenchOptions& o, const std::string& commandLine) {
@@ -794,11 +633,13 @@ void runBench(const BenchOptions& o, const std::string& commandLine) {
     b["command"] = commandLine;
     b["options"] = {{"size", o.size},   {"largeSize", o.largeSize}, {"spp", o.spp},
                     {"quick", o.quick}, {"skipLarge", o.skipLarge}, {"limit", o.limit}};
+    json skipped = json::array();
     std::vector<std::string> small = o.scenes, large;
     if (small.empty()) {
         small = {"assets/scenes/stairs.json", "assets/scenes/table.json",
                  "assets/scenes/grids.json", "assets/scenes/cornell_box.json"};
-        if (!o.quick) small.push_back("assets/scenes/bunny_in_box.json");
+        const std::string bunny = "assets/scenes/bunny_in_box.json";
+        if (!o.quick && canMeasure(bunny, "table1", skipped)) small.push_back(bunny);
         if (!o.skipLarge && !o.quick) large = {"assets/scenes/motorbike.json"};
     }
     for (const std::string& s : small)
@@ -807,10 +648,7 @@ void runBench(const BenchOptions& o, const std::string& commandLine) {
     b["table1"] = json::array();
     for (const std::string& s : small) b["table1"].push_back(table1Row(s, o, dir, false));
     for (const std::string& s : large)
-        if (fs::exists(s))
-            b["table1"].push_back(table1Row(s, o, dir, true));
-        else
-            std::printf("%s missing (scripts/fetch_meshes.sh): skipped\n", s.c_str());
+        if (canMeasure(s, "table1", skipped)) b["table1"].push_back(table1Row(s, o, dir, true));
     b["accuracy"] = accuracy(o);
     b["predicates"] = predicates(o);
     std::vector<std::string> optionScenes = {"assets/scenes/stairs.json",
@@ -824,9 +662,10 @@ void runBench(const BenchOptions& o, const std::string& commandLine) {
         scalingScenes.push_back("assets/scenes/dragon_res2.json");
         scalingScenes.push_back("assets/scenes/dragon.json");
     }
-    b["scaling"] = scaling(scalingScenes, o);
+    b["scaling"] = scaling(scalingScenes, o, skipped);
     b["perPoint"] = json::array();
     for (const std::string& s : small) b["perPoint"].push_back(perPoint(s, o));
+    b["skipped"] = skipped;
 
     requireFinite(b, (dir / "bench.json").string());
     writeAtomically(dir / "bench.json", b.dump(2));
@@ -843,7 +682,7 @@ void runBench(const BenchOptions& o, const std::string& commandLine) {
         plots = rc == 0;
         if (!plots) note = "`" + cmd + "` failed (matplotlib missing?)";
     }
-    writeAtomically(dir / "report.md", report(b, plots, note));
+    writeAtomically(dir / "report.md", benchReport(b, plots, note));
     std::printf("wrote %s\n", (dir / "report.md").c_str());
 }
 

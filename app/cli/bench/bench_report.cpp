@@ -1,0 +1,260 @@
+#include "app/cli/bench/bench_report.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <ostream>
+#include <sstream>
+
+namespace penumbra::cli {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+std::string num(const json& j, const char* f = "%.2f") {
+    return j.is_number() ? fmt(f, j.get<double>()) : std::string("-");
+}
+
+// The scene's file name: the tables have no room for the directories.
+std::string sceneName(const json& row) {
+    return fs::path(row["scene"].get<std::string>()).filename().string();
+}
+
+// The scenes `study` skipped because files they need are missing (bench.json's "skipped").
+json skippedBy(const json& b, const std::string& study) {
+    json out = json::array();
+    if (b.contains("skipped"))
+        for (const json& s : b["skipped"])
+            if (s["study"] == study) out.push_back(s);
+    return out;
+}
+
+void writeSkipped(std::ostream& r, const json& skipped) {
+    if (skipped.empty()) return;
+    r << "Skipped because files they need are missing (run `scripts/fetch_meshes.sh` to fetch "
+         "the meshes): ";
+    for (size_t i = 0; i < skipped.size(); ++i) {
+        r << (i == 0 ? "" : ", ") << sceneName(skipped[i]) << " (missing";
+        for (const json& file : skipped[i]["missing"]) r << " " << file.get<std::string>();
+        r << ")";
+    }
+    r << ".\n\n";
+}
+
+void writeHeading(std::ostream& r, const json& b) {
+    const json& m = b["machine"];
+    r << "# Penumbra: what accuracy costs in time\n\n"
+      << "Measured by `" << b["command"].get<std::string>() << "` on "
+      << m["date"].get<std::string>() << ".\n\nMachine: " << m["cpu"].get<std::string>() << ", "
+      << m["cores"].get<unsigned>() << " logical cores, load average at the start `"
+      << m["loadavg"].get<std::string>() << "` (shared machine: compare CPU times), build type "
+      << m["buildType"].get<std::string>() << ".\n\n";
+}
+
+// ---- Table 1 -------------------------------------------------------------------------------
+
+void writeTable1Row(std::ostream& r, const json& row) {
+    const json& e = row["exact"];
+    r << "| " << sceneName(row) << " | " << row["faces"] << " | " << row["width"] << "x"
+      << row["height"] << ", " << row["spp"] << " spp | " << num(row["sampled128"]["wall"]) << " / "
+      << num(row["sampled128"]["cpu"]) << " | " << num(e["precomputeWall"]) << " / "
+      << num(e["precomputeCpu"]) << (e["precomputeComplete"].get<bool>() ? "" : " (over the limit)")
+      << " | "
+      << (e.contains("renderWall") ? num(e["renderWall"]) + " / " + num(e["renderCpu"])
+                                   : std::string("-"))
+      << " | "
+      << (row.contains("speedupWall")
+              ? num(row["speedupWall"]) + "x (" + num(row["speedupRenderOnlyWall"]) + "x)"
+              : std::string("-"))
+      << " | " << e["trees"] << " (" << e["kinds"]["partial"] << ") | "
+      << (e.contains("pairsWithoutTree") ? e["pairsWithoutTree"].dump() : "-") << " | ";
+    if (e.contains("evaluations"))
+        r << num(100.0 * e["sampledEvaluations"].get<double>() /
+                     std::max(1.0, e["evaluations"].get<double>()),
+                 "%.1f")
+          << "% | ";
+    else
+        r << "- | ";
+    if (e.contains("everyPointExact")) {
+        const json& a = e["everyPointExact"];
+        r << (a["complete"].get<bool>() ? "" : "over ") << num(a["renderWall"]) << " | ";
+    } else {
+        r << (e.contains("sampledEvaluations") && e["sampledEvaluations"].get<uint64_t>() == 0
+                  ? "(the same) | "
+                  : "- | ");
+    }
+    r << num(e["fileBytes"].get<double>() / 1024.0, "%.1f") << " KB | ";
+    if (row.contains("allPairs")) {
+        const json& a = row["allPairs"];
+        r << num(a["seconds"]) << " / " << num(a["cpu"])
+          << (a["complete"].get<bool>() ? "" : " (over the limit)") << " | "
+          << num(a["fileBytes"].get<double>() / 1024.0, "%.1f") << " KB |\n";
+    } else {
+        r << (row["faces"].get<uint32_t>() > kAllPairsMaxFaces ? "skipped | - |\n" : "- | - |\n");
+    }
+}
+
+void writeTable1(std::ostream& r, const json& rows, const json& skipped, bool plots) {
+    r << "## Table 1 re-measured\n\n"
+      << "Sampled: 128 shadow rays per light per shading point. Exact: the trees the image "
+         "needs (`ProgressiveRenderer::prepare`) then the render, with the product's "
+         "defaults: a build budget of `BuildOptions::maxLpSolves` linear programs per tree "
+         "(a tree that reaches it is *partial*: its other occluders are clipped by each "
+         "point's query, still exact), no tree for a pair the image samples fewer than "
+         "`RenderSettings::minTreeSamples` times (its points are evaluated directly, exact), "
+         "and a work limit of `RenderSettings::exactWorkLimit` plane tests per query: a "
+         "point whose exact answer needs more is sampled with 128 rays (the *sampled "
+         "points* column; not exact). *Every point exact*: the same render with no work "
+         "limit. All pairs: every (receiver patch, light) pair on the `PrecomputeScheduler` "
+         "(skipped above "
+      << kAllPairsMaxFaces
+      << " faces). Times in seconds, wall / CPU (all threads). Speed-up = sampled time / "
+         "(exact precompute + render), wall; in parentheses the render alone.\n\n"
+      << "| scene | faces | image | sampled 128 | exact precompute | exact render | speed-up "
+         "| trees (partial) | pairs without a tree | sampled points | every point exact | "
+         "file (image) | all pairs: time | all pairs: file |\n"
+         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const json& row : rows) writeTable1Row(r, row);
+    r << "\n";
+    if (plots) r << "![Table 1](table1.png)\n\n";
+    writeSkipped(r, skipped);
+}
+
+// ---- The other studies ---------------------------------------------------------------------
+
+void writeAccuracy(std::ostream& r, const json& a, bool plots) {
+    r << "## Error against time\n\n"
+      << "Scene " << a["scene"].get<std::string>() << ", " << a["width"] << "x" << a["height"]
+      << ", " << a["spp"]
+      << " primary samples per pixel, the same for every image (so the sampled images differ "
+         "from the exact one only by their shadow-ray noise). RMSE and max error over all "
+         "pixels and RGB channels of linear radiance (mean radiance of the exact image "
+      << num(a["meanRadiance"], "%.4g") << ").\n\n"
+      << "| method | rays | wall s | CPU s | RMSE | max error |\n|---|---|---|---|---|---|\n";
+    for (const json& p : a["sampled"])
+        r << "| sampled vs exact | " << p["rays"] << " | " << num(p["seconds"], "%.3f") << " | "
+          << num(p["cpu"], "%.3f") << " | " << num(p["rmse"], "%.4g") << " | "
+          << num(p["maxError"], "%.4g") << " |\n";
+    const json& e = a["exact"];
+    r << "| exact vs reference | - | " << num(e["seconds"], "%.3f") << " | "
+      << num(e["cpu"], "%.3f") << " | " << num(e["rmse"], "%.4g") << " | "
+      << num(e["maxError"], "%.4g") << " |\n\n"
+      << "Reference: the mean of two sampled images of " << a["referenceRays"]
+      << " rays each (different light seeds); its own noise (standard error, RMS) is "
+      << num(a["referenceNoise"], "%.4g") << ", against the exact image's RMSE of "
+      << num(e["rmse"], "%.4g")
+      << ": the exact image agrees with the converged reference when these are close. The "
+         "exact time includes its precompute ("
+      << num(e["precompute"], "%.3f") << " s wall).\n\n";
+    if (a["equalErrorSeconds"].is_number())
+        r << "**Equal error:** the sampled method reaches the exact image's error level ("
+          << num(e["rmse"], "%.4g") << ", an upper bound on the exact image's error) at about "
+          << num(a["equalErrorRays"], "%.0f") << " rays per light and "
+          << num(a["equalErrorSeconds"], "%.3f") << " s wall, against " << num(e["seconds"], "%.3f")
+          << " s for the exact method: "
+          << num(a["equalErrorSeconds"].get<double>() / e["seconds"].get<double>()) << "x"
+          << (a["equalErrorExtrapolated"].get<bool>() ? " (extrapolated beyond the "
+                                                        "measured curve)"
+                                                      : "")
+          << ". Interpolated linearly on the log-log curve.\n\n";
+    if (plots) r << "![error against time](accuracy.png)\n\n";
+}
+
+void writePredicates(std::ostream& r, const json& p) {
+    r << "## What exactness costs: predicates\n\n"
+      << "FPQuery on the " << p["cases"] << " hard cases (`makeHardCases()`), " << p["queries"]
+      << " queries (patch vertices, edge midpoints and random points of every penumbra pair). "
+         "Wrong: the visible fraction differs from the AlwaysExact answer by more than 1e-9 "
+         "of L's area, or the fragments overlap or leave L. (The test suite checks Filtered "
+         "against an exact CGAL reference.)\n\n"
+      << "| predicates | us per query (wall) | us per query (CPU) | wrong | other fragment "
+         "count than AlwaysExact |\n|---|---|---|---|---|\n";
+    for (const json& mm : p["modes"])
+        r << "| " << mm["mode"].get<std::string>() << " | " << num(mm["usPerQuery"], "%.3f")
+          << " | " << num(mm["cpuUsPerQuery"], "%.3f") << " | " << mm["wrong"] << " | "
+          << mm["otherCount"] << " |\n";
+    r << "\nNaive answers with another fragment count than Filtered: "
+      << p["naiveOtherThanFiltered"]
+      << ". A different fragment count is a sliver more or less (the topology of the answer); "
+         "Filtered decides rounded constructed vertices by its filter and so may drop slivers "
+         "that AlwaysExact's exact sign of the rounded vertex keeps.\n\nPer case (naive wrong "
+         "/ naive other count / filtered other count): ";
+    for (const json& c : p["perCase"])
+        r << c["case"].get<std::string>() << " " << c["naiveWrong"] << "/" << c["naiveOtherCount"]
+          << "/" << c["filteredOtherCount"] << "; ";
+    r << "\n\n";
+}
+
+void writeBuildOptions(std::ostream& r, const json& rows) {
+    r << "## Quadric pruning and leaf merging\n\nAll pairs of each scene.\n\n"
+      << "| scene | merge leaves | quadric pruning | nodes | bytes | precompute wall / CPU s "
+         "| us per query |\n|---|---|---|---|---|---|---|\n";
+    for (const json& o : rows)
+        r << "| " << sceneName(o) << " | " << (o["mergeLeaves"].get<bool>() ? "on" : "off") << " | "
+          << (o["quadricPruning"].get<bool>() ? "on" : "off") << " | " << o["nodes"] << " | "
+          << o["bytes"] << " | " << num(o["seconds"]) << " / " << num(o["cpu"])
+          << (o["complete"].get<bool>()
+                  ? std::string()
+                  : " (over the limit: " + o["done"].dump() + "/" + o["pairs"].dump() + " pairs)")
+          << " | " << num(o["queryUs"], "%.3f") << " |\n";
+    r << "\n";
+}
+
+// Without rows (every resolution skipped) the section only says what is missing.
+void writeScaling(std::ostream& r, const json& rows, const json& limit, const json& skipped,
+                  bool plots) {
+    r << "## Precompute against triangle count\n\n";
+    if (!rows.empty()) {
+        r << "A fixed set of receiver patches: every patch of the floor and 32 faces of the model "
+             "drawn with a fixed seed, against the light; built on the `PrecomputeScheduler` ("
+          << num(limit, "%.0f") << " s limit per scene).\n\n"
+          << "| scene | faces | pairs | done | wall s | CPU s | nodes | bytes | penumbra | "
+             "partial |\n|---|---|---|---|---|---|---|---|---|---|\n";
+        for (const json& s : rows)
+            r << "| " << sceneName(s) << " | " << s["faces"] << " | " << s["pairs"] << " | "
+              << s["done"] << " | " << num(s["seconds"]) << " | " << num(s["cpu"]) << " | "
+              << s["nodes"] << " | " << s["bytes"] << " | " << s["kinds"]["penumbra"] << " | "
+              << s["kinds"]["partial"] << " |\n";
+        if (plots) r << "\n![scaling](scaling.png)\n";
+        r << "\n";
+    }
+    writeSkipped(r, skipped);
+}
+
+void writePerPoint(std::ostream& r, const json& rows) {
+    r << "## Per point: exact query against shadow rays\n\nLight 0, one thread.\n\n"
+      << "| scene | points | exact query + form factor us | nodes | 16 rays us | 128 rays us "
+         "|\n|---|---|---|---|---|---|\n";
+    for (const json& p : rows)
+        r << "| " << sceneName(p) << " | " << p["points"] << " | " << num(p["exactUs"]) << " | "
+          << num(p["nodesPerQuery"], "%.1f") << " | " << num(p["rays16Us"]) << " | "
+          << num(p["rays128Us"]) << " |\n";
+    r << "\n";
+}
+
+}  // namespace
+
+std::string fmt(const char* f, double v) {
+    char b[64];
+    std::snprintf(b, sizeof b, f, v);
+    return b;
+}
+
+std::string benchReport(const json& b, bool plots, const std::string& plotNote) {
+    std::ostringstream r;
+    writeHeading(r, b);
+    if (b.contains("table1")) writeTable1(r, b["table1"], skippedBy(b, "table1"), plots);
+    if (b.contains("accuracy")) writeAccuracy(r, b["accuracy"], plots);
+    if (b.contains("predicates")) writePredicates(r, b["predicates"]);
+    if (b.contains("buildOptions") && !b["buildOptions"].empty())
+        writeBuildOptions(r, b["buildOptions"]);
+    const json scalingSkipped = skippedBy(b, "scaling");
+    if (b.contains("scaling") && (!b["scaling"].empty() || !scalingSkipped.empty()))
+        writeScaling(r, b["scaling"], b["options"]["limit"], scalingSkipped, plots);
+    if (b.contains("perPoint")) writePerPoint(r, b["perPoint"]);
+    if (!plots) r << "Plots skipped: " << plotNote << "\n";
+    return r.str();
+}
+
+}  // namespace penumbra::cli

@@ -1,0 +1,101 @@
+// Tests of `penumbra bench`, run as a real process (PENUMBRA_EXE) on a copy of the committed assets
+// without the meshes scripts/fetch_meshes.sh downloads: what a fresh clone gets, whether or not
+// this checkout has fetched them (the bench finds its default scenes relative to the current
+// directory, so it runs in the copy).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "tests/support/run_penumbra.h"
+
+#ifndef PENUMBRA_SOURCE_DIR
+#error "PENUMBRA_SOURCE_DIR must name the source tree"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+
+using penumbra::test::ProcessResult;
+
+std::string readFile(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+class BenchCommand : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        root_ = fs::temp_directory_path() /
+                ("penumbra_bench_cmd_" + std::to_string(::getpid()) + "_" +
+                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(root_);
+        fs::create_directories(root_ / "assets");
+        // Everything committed under assets/, not what fetch_meshes.sh put in assets/external/.
+        for (const fs::directory_entry& e :
+             fs::directory_iterator(fs::path(PENUMBRA_SOURCE_DIR) / "assets")) {
+            if (e.path().filename() == "external") continue;
+            fs::copy(e.path(), root_ / "assets" / e.path().filename(), fs::copy_options::recursive);
+        }
+    }
+    void TearDown() override { fs::remove_all(root_); }
+    fs::path root_;
+};
+
+TEST_F(BenchCommand, SkipsTheScalingRowsWhoseMeshesAreMissing) {
+    ASSERT_TRUE(fs::exists(root_ / "assets/scenes/dragon_res4.json"));
+    ASSERT_FALSE(fs::exists(root_ / "assets/external"));
+    const fs::path out = root_ / "out";
+    // The smallest run the command allows without --quick (which has no scaling study).
+    const ProcessResult r = penumbra::test::runPenumbra({"bench",
+                                                         "assets/stairs.obj",
+                                                         "--out",
+                                                         out.string(),
+                                                         "--size",
+                                                         "8x8",
+                                                         "--spp",
+                                                         "1",
+                                                         "--accuracy-size",
+                                                         "8x8",
+                                                         "--accuracy-spp",
+                                                         "1",
+                                                         "--max-rays",
+                                                         "1",
+                                                         "--reference-rays",
+                                                         "1",
+                                                         "--points",
+                                                         "1",
+                                                         "--limit",
+                                                         "0.1",
+                                                         "--no-plots"},
+                                                        root_);
+    ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+    EXPECT_NE(r.err.find("scaling: assets/scenes/dragon_res4.json skipped, missing "
+                         "assets/external/dragon_vrip_res4.ply"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("scripts/fetch_meshes.sh"), std::string::npos) << r.err;
+
+    ASSERT_TRUE(fs::exists(out / "report.md"));
+    const std::string report = readFile(out / "report.md");
+    const size_t scaling = report.find("## Precompute against triangle count");
+    ASSERT_NE(scaling, std::string::npos) << report;
+    const std::string section = report.substr(scaling, report.find("\n## ", scaling) - scaling);
+    EXPECT_NE(section.find("Skipped because files they need are missing (run "
+                           "`scripts/fetch_meshes.sh` to fetch the meshes)"),
+              std::string::npos)
+        << section;
+    for (const char* mesh : {"dragon_vrip_res4.ply", "dragon_vrip_res3.ply", "dragon_vrip_res2.ply",
+                             "dragon_vrip.ply"})
+        EXPECT_NE(section.find(std::string("(missing assets/external/") + mesh + ")"),
+                  std::string::npos)
+            << mesh << "\n"
+            << section;
+    EXPECT_EQ(section.find("| scene |"), std::string::npos) << "no rows: " << section;
+}
+
+}  // namespace
