@@ -8,7 +8,8 @@
 # exits 1. Turn each finding into a regression input under tests/fuzz/regressions/FORMAT/ (the
 # FuzzRegressions test loads every file there) once it is fixed.
 # PENUMBRA_FUZZ_SEED fixes libFuzzer's random seed (0, the default: a new one each run; CI uses 1
-# so that a run repeats the same mutations).
+# so that a run repeats the same mutations). PENUMBRA_FUZZ_JOBS harnesses run at a time (default:
+# the cores).
 # Usage: bash scripts/fuzz.sh [SECONDS] [HARNESS...]
 set -uo pipefail
 cd "$(dirname "$0")/.." || exit 1
@@ -21,7 +22,8 @@ dir=build-fuzz
 generator=()
 [[ -f "${dir}/CMakeCache.txt" ]] || generator=(-G Ninja)
 CXX=clang++ CC=clang cmake -S . -B "${dir}" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DPENUMBRA_FUZZ=ON -DPENUMBRA_TESTS=OFF >/dev/null || { echo "fuzz: configure failed" >&2; exit 1; }
+  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" -DPENUMBRA_FUZZ=ON -DPENUMBRA_TESTS=OFF \
+  >/dev/null || { echo "fuzz: configure failed" >&2; exit 1; }
 cmake --build "${dir}" || { echo "fuzz: build failed" >&2; exit 1; }
 
 harnesses=("$@")
@@ -36,15 +38,15 @@ mkdir -p "${dir}/findings" "${dir}/seeds/visibility_file" "${dir}/seeds/obj" "${
 cp assets/*.obj "${dir}/seeds/obj/"
 cp assets/scenes/*.json "${dir}/seeds/json/"
 
-# Leak checking stays on (a leak is a finding); one job per harness, one after the other.
-status=0
-printf '%-22s %10s %12s %8s %8s %8s\n' harness seconds executions exec/s cov ft
-for h in "${harnesses[@]}"; do
+# One harness: runs it, writes its table row to ${dir}/findings/HARNESS.row and returns 1 on a
+# finding (its log is ${dir}/findings/HARNESS.log). Leak checking stays on (a leak is a finding).
+fuzz_one() {
+  local h=$1 name corpus log before after rc execs rate cov ft
   name=${h#fuzz_scene_}
   name=${name#fuzz_}
   corpus="${dir}/corpus/${h}"
   mkdir -p "${corpus}"
-  seeds=()
+  local seeds=()
   [[ -d "tests/fuzz/seeds/${name}" ]] && seeds+=("tests/fuzz/seeds/${name}")
   [[ -d "${dir}/seeds/${name}" ]] && seeds+=("${dir}/seeds/${name}")
   [[ -d "tests/fuzz/regressions/${name}" ]] && seeds+=("tests/fuzz/regressions/${name}")
@@ -61,12 +63,34 @@ for h in "${harnesses[@]}"; do
   cov=$(grep -aEo 'cov: [0-9]+' "${log}" | awk '{print $2}' | tail -n 1)
   ft=$(grep -aEo 'ft: [0-9]+' "${log}" | awk '{print $2}' | tail -n 1)
   printf '%-22s %10s %12s %8s %8s %8s\n' "${h}" "${seconds}" "${execs:-?}" "${rate:-?}" \
-    "${cov:-?}" "${ft:-?}"
+    "${cov:-?}" "${ft:-?}" >"${dir}/findings/${h}.row"
   after=$(compgen -G "${dir}/findings/${h}-*" | sort)
   if ((rc != 0)) || [[ "${after}" != "${before}" ]]; then
-    echo "fuzz: ${h} found something (exit ${rc}); its log: ${log}" >&2
-    grep -aE 'ERROR|finding:|SUMMARY|Test unit written' "${log}" | head -n 20 >&2
-    status=1
+    {
+      echo "fuzz: ${h} found something (exit ${rc}); its log: ${log}"
+      grep -aE 'ERROR|finding:|SUMMARY|Test unit written' "${log}" | head -n 20
+    } >&2
+    return 1
   fi
+  return 0
+}
+
+# PENUMBRA_FUZZ_JOBS harnesses at a time (each is one process on one core).
+jobs_max="${PENUMBRA_FUZZ_JOBS:-$(nproc)}"
+status=0
+running=0
+for h in "${harnesses[@]}"; do
+  if ((running >= jobs_max)); then
+    wait -n || status=1
+    running=$((running - 1))
+  fi
+  fuzz_one "${h}" &
+  running=$((running + 1))
 done
+while ((running > 0)); do
+  wait -n || status=1
+  running=$((running - 1))
+done
+printf '%-22s %10s %12s %8s %8s %8s\n' harness seconds executions exec/s cov ft
+for h in "${harnesses[@]}"; do cat "${dir}/findings/${h}.row" 2>/dev/null || echo "${h}: no result"; done
 exit "${status}"
