@@ -9,7 +9,9 @@
 # FuzzRegressions test loads every file there) once it is fixed.
 # PENUMBRA_FUZZ_SEED fixes libFuzzer's random seed (0, the default: a new one each run; CI uses 1
 # so that a run repeats the same mutations). PENUMBRA_FUZZ_JOBS harnesses run at a time (default:
-# the cores).
+# the cores). PENUMBRA_FUZZ_BUILD names an existing clang build with the harnesses instead (the
+# sanitizer build of scripts/run_tests.sh: -DPENUMBRA_SANITIZE=ON with clang builds them too); by
+# default build-fuzz/ is configured and built here.
 # Usage: bash scripts/fuzz.sh [SECONDS] [HARNESS...]
 set -uo pipefail
 cd "$(dirname "$0")/.." || exit 1
@@ -18,13 +20,17 @@ seconds="${1:-${PENUMBRA_FUZZ_SECONDS:-60}}"
 shift || true
 bash scripts/install_deps.sh || { echo "fuzz: installing dependencies failed" >&2; exit 1; }
 
-dir=build-fuzz
-generator=()
-[[ -f "${dir}/CMakeCache.txt" ]] || generator=(-G Ninja)
-CXX=clang++ CC=clang cmake -S . -B "${dir}" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" -DPENUMBRA_FUZZ=ON -DPENUMBRA_TESTS=OFF \
-  >/dev/null || { echo "fuzz: configure failed" >&2; exit 1; }
-cmake --build "${dir}" || { echo "fuzz: build failed" >&2; exit 1; }
+dir="${PENUMBRA_FUZZ_BUILD:-build-fuzz}"
+if [[ -z "${PENUMBRA_FUZZ_BUILD:-}" ]]; then
+  generator=()
+  [[ -f "${dir}/CMakeCache.txt" ]] || generator=(-G Ninja)
+  CXX=clang++ CC=clang cmake -S . -B "${dir}" "${generator[@]}" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" -DPENUMBRA_FUZZ=ON -DPENUMBRA_TESTS=OFF \
+    >/dev/null || { echo "fuzz: configure failed" >&2; exit 1; }
+fi
+cmake --build "${dir}" --target fuzz_scene_obj fuzz_scene_ply fuzz_scene_off fuzz_scene_stl \
+  fuzz_scene_gltf fuzz_scene_glb fuzz_scene_json fuzz_visibility_file penumbra_fuzz_seed ||
+  { echo "fuzz: build failed" >&2; exit 1; }
 
 harnesses=("$@")
 if ((${#harnesses[@]} == 0)); then

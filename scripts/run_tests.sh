@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # CI entry point: installs the dependencies, then builds and tests three times, then fuzzes:
 #   build/       RelWithDebInfo
-#   build-asan/  RelWithDebInfo with -DPENUMBRA_SANITIZE=ON (ASan + UBSan), PENUMBRA_TEST_SCALE=0.25
+#   build-sanitize/  clang, RelWithDebInfo with -DPENUMBRA_SANITIZE=ON (ASan + UBSan, and the
+#                instrumentation for libFuzzer), PENUMBRA_TEST_SCALE=0.25; it also builds the
+#                libFuzzer harnesses of tests/fuzz/
 #   build-tsan/  RelWithDebInfo with -DPENUMBRA_TSAN=ON (ThreadSanitizer): only penumbra_tests is
 #                built and only the tests that run threads (scheduler, store) run, to stay fast
-#   build-fuzz/  clang, libFuzzer + ASan + UBSan: every harness of tests/fuzz/ for
-#                PENUMBRA_FUZZ_SECONDS (30) each (scripts/fuzz.sh)
+#   fuzz:        every harness of tests/fuzz/ (from build-sanitize/) for PENUMBRA_FUZZ_SECONDS
+#                (30) each, one per core at a time (scripts/fuzz.sh)
 # Every build compiles with line tables only (-g1: file and line in every backtrace and sanitizer
 # report, a quarter less compile time than -g). Runs every configuration even after a failure,
 # prints "N passed, M failed" over all runs as its last line, and exits non-zero if anything
@@ -36,7 +38,8 @@ run_suite() {
   fi
   echo "=== ${name}: build"
   local target=()
-  [[ -n "${SUITE_TARGET:-}" ]] && target=(--target "${SUITE_TARGET}")
+  # shellcheck disable=SC2206 # a list of targets, split on blanks
+  [[ -n "${SUITE_TARGET:-}" ]] && target=(--target ${SUITE_TARGET})
   if ! cmake --build "${dir}" "${target[@]}"; then
     problems+=("${name}: build failed")
     return
@@ -70,9 +73,13 @@ run_suite() {
 
 run_suite release build 1
 # Assignments in front of a function call are exported to what the function runs (ctest).
-# Only what the tests run (the tools are compiled by the release build).
-UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}" SUITE_TARGET=penumbra_tests \
-  run_suite sanitize build-asan 0.25 -DPENUMBRA_SANITIZE=ON
+# Built with clang: the same instrumented build also holds the fuzz harnesses (fuzz step below).
+# Only what the tests and the fuzzing run (the tools are compiled by the release build).
+fuzz_targets="fuzz_scene_obj fuzz_scene_ply fuzz_scene_off fuzz_scene_stl fuzz_scene_gltf"
+fuzz_targets+=" fuzz_scene_glb fuzz_scene_json fuzz_visibility_file penumbra_fuzz_seed"
+CXX=clang++ CC=clang UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}" \
+  SUITE_TARGET="penumbra_tests ${fuzz_targets}" \
+  run_suite sanitize build-sanitize 0.25 -DPENUMBRA_SANITIZE=ON
 # oneTBB and Embree are not instrumented: tests/tsan.supp lists (and justifies) what that hides.
 TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1 second_deadlock_stack=1 suppressions=${PWD}/tests/tsan.supp}" \
   SUITE_TARGET=penumbra_concurrency_tests SUITE_TESTS='^(PrecomputeScheduler|VisibilityStore)\.' \
@@ -81,11 +88,12 @@ TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1 second_deadlock_stack=1 suppressio
 # The libFuzzer harnesses, each for PENUMBRA_FUZZ_SECONDS (30 here; scripts/fuzz.sh runs them
 # longer on demand), one per core at a time. A finding fails the run; it counts as one test.
 echo "=== fuzz: ${PENUMBRA_FUZZ_SECONDS:-30} s per harness"
-if PENUMBRA_FUZZ_SEED="${PENUMBRA_FUZZ_SEED:-1}" bash scripts/fuzz.sh "${PENUMBRA_FUZZ_SECONDS:-30}"; then
+if PENUMBRA_FUZZ_SEED="${PENUMBRA_FUZZ_SEED:-1}" PENUMBRA_FUZZ_BUILD=build-sanitize \
+  bash scripts/fuzz.sh "${PENUMBRA_FUZZ_SECONDS:-30}"; then
   total_passed=$((total_passed + 1))
 else
   total_failed=$((total_failed + 1))
-  problems+=("fuzz: a harness found an input that breaks the contract (build-fuzz/findings/)")
+  problems+=("fuzz: a harness found an input that breaks the contract (build-sanitize/findings/)")
 fi
 
 for p in "${problems[@]}"; do
