@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -17,8 +18,6 @@ namespace penumbra {
 namespace {
 
 namespace fs = std::filesystem;
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Images are not needed: accept them undecoded.
 bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
@@ -175,7 +174,7 @@ class GltfReader {
                                       " camera ignored (only perspective cameras are used)");
             return;
         }
-        const double fov = c.perspective.yfov * 180 / kPi;
+        const double fov = c.perspective.yfov * 180 / std::numbers::pi;
         if (!(fov > 0 && fov < 180)) fail(where + ": camera yfov must lie in (0, pi)");
         Camera cam;
         cam.eye = world.point({0, 0, 0});

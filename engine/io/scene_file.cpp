@@ -5,6 +5,7 @@
 #include <fstream>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <optional>
 #include <set>
 #include <string>
@@ -21,8 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
-
-constexpr double kPi = 3.14159265358979323846;
 
 class SceneFileReader {
   public:
@@ -283,7 +282,9 @@ class SceneFileReader {
                 fail(rp, "needs \"axis\" and \"degrees\"");
             const Vec3 axis = vec3(r["axis"], rp + ".axis");
             if (axis == Vec3{}) fail(rp + ".axis", "must be nonzero");
-            a = Affine3::rotation(axis, number(r["degrees"], rp + ".degrees") * kPi / 180) * a;
+            a = Affine3::rotation(axis,
+                                  number(r["degrees"], rp + ".degrees") * std::numbers::pi / 180) *
+                a;
         }
         if (j.contains("translate"))
             a = Affine3::translation(vec3(j["translate"], path + ".translate")) * a;

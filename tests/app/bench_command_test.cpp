@@ -11,6 +11,7 @@
 #include <string>
 
 #include "tests/support/run_penumbra.h"
+#include "tests/support/test_files.h"
 
 #ifndef PENUMBRA_SOURCE_DIR
 #error "PENUMBRA_SOURCE_DIR must name the source tree"
@@ -22,10 +23,7 @@ namespace fs = std::filesystem;
 
 using penumbra::test::ProcessResult;
 
-std::string readFile(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+using penumbra::test::readFile;
 
 class BenchCommand : public ::testing::Test {
   protected:

@@ -26,6 +26,7 @@
 
 #include "engine/io/obj_io.h"
 #include "engine/precompute/point_query.h"
+#include "tests/support/closed_forms.h"
 #include "tests/support/exact_reference.h"
 #include "tests/support/run_penumbra.h"
 
@@ -51,13 +52,7 @@ const char* kSceneMtl =
     "newmtl white\nKd 0.8 0.8 0.8\n"
     "newmtl lamp\nKd 0 0 0\nKe 10 10 10\n";
 
-// Point-to-rectangle form factor for a point below one corner of a parallel a x b rectangle at
-// height h (the classic closed form).
-double cornerFormFactor(double a, double b, double h) {
-    const double x = a / h, y = b / h;
-    const double sx = std::sqrt(1 + x * x), sy = std::sqrt(1 + y * y);
-    return (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy)) / (2 * std::numbers::pi);
-}
+using test::cornerFormFactor;
 
 // ---- the executable -----------------------------------------------------------------------------
 

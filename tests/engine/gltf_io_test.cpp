@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "tests/support/loader_test_support.h"
+#include "tests/support/test_files.h"
 
 namespace penumbra {
 namespace {
@@ -100,11 +101,7 @@ std::string glb(const Json& g, const std::string& buffer) {
     return out;
 }
 
-void expectNear(const Vec3& a, const Vec3& b) {
-    EXPECT_NEAR(a.x, b.x, 1e-12) << vis::toString(a) << " vs " << vis::toString(b);
-    EXPECT_NEAR(a.y, b.y, 1e-12) << vis::toString(a) << " vs " << vis::toString(b);
-    EXPECT_NEAR(a.z, b.z, 1e-12) << vis::toString(a) << " vs " << vis::toString(b);
-}
+using test::expectNear;
 
 // Node 0 translates by (10,0,0), its child node 1 scales by 2: p -> (10,0,0) + 2p.
 void expectTestScene(const Scene& scene) {

@@ -143,7 +143,7 @@ class LoaderCorruption : public test::LoaderFiles {
     }
 };
 
-std::string binaryPly() {
+std::string intactBinaryPly() {
     std::string s =
         "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
         "property float y\nproperty float z\nelement face 2\n"
@@ -159,7 +159,7 @@ std::string binaryPly() {
     return s;
 }
 
-std::string binaryStl() {
+std::string intactBinaryStl() {
     std::string s(80, ' ');
     test::putU32(s, 2);
     const float t[2][9] = {{0, 0, 0, 1, 0, 0, 1, 1, 0}, {0, 0, 0, 1, 1, 0, 0, 1, 0}};
@@ -171,7 +171,7 @@ std::string binaryStl() {
     return s;
 }
 
-std::string glb() {
+std::string intactGlb() {
     std::string bin;
     const float v[3][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
     for (const auto& p : v)
@@ -199,17 +199,17 @@ std::string glb() {
 // Binary formats: the header declares every byte (PLY: counts and types; STL: the triangle count;
 // GLB: the total and chunk lengths), so every cut is missing declared data.
 TEST_F(LoaderCorruption, BinaryPly) {
-    const std::string s = binaryPly();
+    const std::string s = intactBinaryPly();
     corrupt("c.ply", s, {s.size()});
 }
 
 TEST_F(LoaderCorruption, BinaryStl) {
-    const std::string s = binaryStl();
+    const std::string s = intactBinaryStl();
     corrupt("c.stl", s, {s.size()});
 }
 
 TEST_F(LoaderCorruption, Glb) {
-    const std::string s = glb();
+    const std::string s = intactGlb();
     corrupt("c.glb", s, {s.size()});
 }
 

@@ -21,6 +21,7 @@
 #include "engine/io/image_io.h"
 #include "engine/precompute/visibility_store.h"
 #include "engine/render/embree_scene.h"
+#include "tests/support/closed_forms.h"
 #include "tests/support/read_pfm.h"
 #include "tests/support/test_scale.h"
 
@@ -302,14 +303,7 @@ TEST(Renderer, GlossyExactAgreesWithReference) {
     EXPECT_EQ(fx.method, "reference");
 }
 
-// Unoccluded form factor from a point to a rectangle in a parallel plane at distance c, the
-// rectangle's corner straight above the point, sides a and b (closed form, e.g. Howell's
-// catalogue of configuration factors, C-11).
-double cornerFormFactor(double a, double b, double c) {
-    const double x = a / c, y = b / c;
-    const double sx = std::sqrt(1 + x * x), sy = std::sqrt(1 + y * y);
-    return (x / sx * std::atan(y / sx) + y / sy * std::atan(x / sy)) / (2 * std::numbers::pi);
-}
+using test::cornerFormFactor;  // the closed form (tests/support/closed_forms.h)
 
 TEST(Renderer, PointUnderSquareLightMatchesClosedForm) {
     Scene scene;

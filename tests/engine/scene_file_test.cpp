@@ -10,6 +10,7 @@
 
 #include "engine/io/scene_loader.h"
 #include "tests/support/loader_test_support.h"
+#include "tests/support/test_files.h"
 
 namespace penumbra {
 namespace {
@@ -24,12 +25,7 @@ const std::string kSolidPly =
     "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n"
     "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0 1\n4 0 1 2 3\n3 0 1 4\n";
 
-void expectNear(const Vec3& a, const Vec3& b) {
-    const double tol = 1e-12;
-    EXPECT_NEAR(a.x, b.x, tol) << vis::toString(a) << " vs " << vis::toString(b);
-    EXPECT_NEAR(a.y, b.y, tol) << vis::toString(a) << " vs " << vis::toString(b);
-    EXPECT_NEAR(a.z, b.z, tol) << vis::toString(a) << " vs " << vis::toString(b);
-}
+using test::expectNear;
 
 class SceneFile : public test::LoaderFiles {
   protected:

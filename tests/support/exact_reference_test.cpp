@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "engine/scene/procedural_scenes.h"
+#include "tests/support/closed_forms.h"
 
 namespace {
 
@@ -24,13 +25,7 @@ using penumbra::vis::PolygonMesh;
 
 constexpr double kPi = std::numbers::pi;
 
-// Form factor from a differential area to an a x b rectangle in a parallel plane at distance c,
-// with one corner directly above the differential area (the standard closed form).
-double cornerFormFactor(double a, double b, double c) {
-    const double A = a / c, B = b / c;
-    const double sa = std::sqrt(1 + A * A), sb = std::sqrt(1 + B * B);
-    return (A / sa * std::atan(B / sa) + B / sb * std::atan(A / sb)) / (2 * kPi);
-}
+using penumbra::test::cornerFormFactor;  // the closed form (tests/support/closed_forms.h)
 
 // Same, for the rectangle [x0,x1] x [y0,y1] (coordinates relative to the point) at distance c:
 // inclusion-exclusion over signed corner rectangles.

@@ -9,6 +9,8 @@
 #include <iterator>
 #include <system_error>
 
+#include "tests/support/test_files.h"
+
 #ifndef PENUMBRA_EXE
 #error "PENUMBRA_EXE must name the penumbra executable"
 #endif
@@ -16,15 +18,6 @@
 namespace penumbra::test {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-std::string readFile(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-}  // namespace
 
 std::string shellQuote(const std::string& s) {
     std::string q = "'";
