@@ -64,7 +64,7 @@ bool endsWith(std::string s, std::string_view suffix) {
            s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
-void runRender(const RenderOptions& o) {
+RenderSettings renderSettings(const RenderOptions& o) {
     RenderSettings settings;
     const auto [width, height] = parseSize("--size", o.size, kImageSize);
     settings.width = width;
@@ -84,19 +84,114 @@ void runRender(const RenderOptions& o) {
     o.exact.applyTo(settings);
     settings.seed = o.seed;
     settings.lightSeed = o.lightSeed;
+    return settings;
+}
 
+// The images to write, by format (--out FILE.png|.pfm, --out-pfm FILE).
+struct Outputs {
     std::vector<std::string> png, pfm;
+};
+
+Outputs outputs(const RenderOptions& o) {
+    Outputs out;
     for (const std::string& f : o.out) {
         if (endsWith(f, ".png"))
-            png.push_back(f);
+            out.png.push_back(f);
         else if (endsWith(f, ".pfm"))
-            pfm.push_back(f);
+            out.pfm.push_back(f);
         else
             throw usageError("--out '" + f + "': the file must end in .png or .pfm");
     }
-    if (!o.outPfm.empty()) pfm.push_back(o.outPfm);
-    if (png.empty() && pfm.empty()) throw usageError("nothing to write: give --out FILE");
+    if (!o.outPfm.empty()) out.pfm.push_back(o.outPfm);
+    if (out.png.empty() && out.pfm.empty()) throw usageError("nothing to write: give --out FILE");
+    return out;
+}
 
+// --visibility FILE: the trees read into the store before the render (when the file is current).
+struct VisibilityInput {
+    size_t loadedTrees = 0;
+    // A file that is there but could not be used (corrupt, stale) is rewritten after the render
+    // even when the render added no tree: leaving it would report it again on every run.
+    bool repair = false;
+};
+
+VisibilityInput readVisibility(const std::string& file, VisibilityStore& store) {
+    VisibilityInput in;
+    try {
+        in.loadedTrees = readVisibilityFile(file, store);
+    } catch (const VisibilityFileError& e) {
+        if (e.status != VisibilityFileStatus::Missing) {
+            std::cerr << "penumbra: " << e.what() << " (" << toString(e.status)
+                      << "); recomputing\n";
+            in.repair = e.status != VisibilityFileStatus::Unreadable;
+        }
+    }
+    return in;
+}
+
+// Writes FILE back when the render added trees or the file needs repair, and says so.
+void writeVisibility(const std::string& file, const VisibilityStore& store,
+                     const VisibilityInput& in) {
+    if (store.treeCount() == in.loadedTrees && !in.repair) {
+        std::printf("visibility: %zu trees read from %s, none added\n", in.loadedTrees,
+                    file.c_str());
+        return;
+    }
+    try {
+        const size_t bytes = writeVisibilityFile(file, store);
+        std::printf("visibility: %zu trees read, %zu added, wrote %s (%zu bytes)\n", in.loadedTrees,
+                    store.treeCount() - in.loadedTrees, file.c_str(), bytes);
+    } catch (const VisibilityFileError& e) {
+        throw inputError(e.what());
+    }
+}
+
+void printTimes(const RenderOptions& o, const Scene& scene, const RenderSettings& settings,
+                const RenderTimes& times, const VisibilityStore& store) {
+    std::printf("%s: %u faces, %zu area lights, %zu point lights; %dx%d, %d spp, %s",
+                o.scene.c_str(), scene.faceCount(), scene.lights.size(), scene.pointLights.size(),
+                settings.width, settings.height, settings.spp, toString(settings.method));
+    if (settings.method == DirectMethod::Sampled)
+        std::printf(" (%d shadow rays per light)", settings.lightSamples);
+    if (settings.method == DirectMethod::Reference)
+        std::printf(" (%d shadow rays per light)", settings.referenceSamples);
+    std::printf(
+        "\ntime: precompute %.3f s (%zu trees), primary rays %.3f s, shading %.3f s, "
+        "total %.3f s\n",
+        times.precompute, store.treeCount(), times.primary, times.shading, times.total);
+    std::printf("cpu time (all threads): precompute %.3f s, rendering %.3f s, total %.3f s\n",
+                times.precomputeCpu, times.totalCpu - times.precomputeCpu, times.totalCpu);
+}
+
+void printEffects(const std::string& text) {
+    std::printf("effects:\n");
+    size_t start = 0;
+    while (start < text.size()) {
+        const size_t end = text.find('\n', start);
+        std::printf("  %s\n", text.substr(start, end - start).c_str());
+        if (end == std::string::npos) break;
+        start = end + 1;
+    }
+}
+
+void writeImages(const Film& film, const Outputs& out, double exposure) {
+    try {
+        for (const std::string& f : out.png) {
+            writePng(film, f, exposure);
+            std::printf("wrote %s\n", f.c_str());
+        }
+        for (const std::string& f : out.pfm) {
+            writePfm(film, f);
+            std::printf("wrote %s\n", f.c_str());
+        }
+    } catch (const std::runtime_error& e) {
+        throw inputError(e.what());
+    }
+}
+
+void runRender(const RenderOptions& o) {
+    const RenderSettings settings = renderSettings(o);
+    const Outputs out = outputs(o);
     std::optional<Camera> camera;
     if (!o.camera.empty()) camera = parseCamera("--camera", o.camera);
     std::optional<Vec3> up;
@@ -114,78 +209,23 @@ void runRender(const RenderOptions& o) {
     VisibilityStore::Options storeOptions;
     o.exact.applyTo(storeOptions);
     VisibilityStore store(scene, &bvh, storeOptions);
-    size_t loadedTrees = 0;
     const bool exact = settings.method == DirectMethod::Exact;
-    // A file that is there but could not be used (corrupt, stale) is rewritten after the render
-    // even when the render added no tree: leaving it would report it again on every run.
-    bool repair = false;
-    if (!o.visibility.empty() && exact) {
-        try {
-            loadedTrees = readVisibilityFile(o.visibility, store);
-        } catch (const VisibilityFileError& e) {
-            if (e.status != VisibilityFileStatus::Missing) {
-                std::cerr << "penumbra: " << e.what() << " (" << toString(e.status)
-                          << "); recomputing\n";
-                repair = e.status != VisibilityFileStatus::Unreadable;
-            }
-        }
-    }
+    VisibilityInput visibility;
+    if (!o.visibility.empty() && exact) visibility = readVisibility(o.visibility, store);
     ProgressiveRenderer renderer(scene, bvh, store);
     RenderTimes times;
     const Film film = renderer.render(*camera, settings, &times);
 
-    std::printf("%s: %u faces, %zu area lights, %zu point lights; %dx%d, %d spp, %s",
-                o.scene.c_str(), scene.faceCount(), scene.lights.size(), scene.pointLights.size(),
-                settings.width, settings.height, settings.spp, toString(settings.method));
-    if (settings.method == DirectMethod::Sampled)
-        std::printf(" (%d shadow rays per light)", settings.lightSamples);
-    if (settings.method == DirectMethod::Reference)
-        std::printf(" (%d shadow rays per light)", settings.referenceSamples);
-    std::printf(
-        "\ntime: precompute %.3f s (%zu trees), primary rays %.3f s, shading %.3f s, "
-        "total %.3f s\n",
-        times.precompute, store.treeCount(), times.primary, times.shading, times.total);
-    std::printf("cpu time (all threads): precompute %.3f s, rendering %.3f s, total %.3f s\n",
-                times.precomputeCpu, times.totalCpu - times.precomputeCpu, times.totalCpu);
+    printTimes(o, scene, settings, times, store);
     if (!o.visibility.empty()) {
-        if (!exact) {
+        if (!exact)
             std::printf("visibility: %s not used (the %s method needs no history trees)\n",
                         o.visibility.c_str(), toString(settings.method));
-        } else if (store.treeCount() == loadedTrees && !repair) {
-            std::printf("visibility: %zu trees read from %s, none added\n", loadedTrees,
-                        o.visibility.c_str());
-        } else {
-            try {
-                const size_t bytes = writeVisibilityFile(o.visibility, store);
-                std::printf("visibility: %zu trees read, %zu added, wrote %s (%zu bytes)\n",
-                            loadedTrees, store.treeCount() - loadedTrees, o.visibility.c_str(),
-                            bytes);
-            } catch (const VisibilityFileError& e) {
-                throw inputError(e.what());
-            }
-        }
+        else
+            writeVisibility(o.visibility, store, visibility);
     }
-    std::printf("effects:\n");
-    const std::string text = renderer.effects().text();
-    size_t start = 0;
-    while (start < text.size()) {
-        const size_t end = text.find('\n', start);
-        std::printf("  %s\n", text.substr(start, end - start).c_str());
-        if (end == std::string::npos) break;
-        start = end + 1;
-    }
-    try {
-        for (const std::string& f : png) {
-            writePng(film, f, o.exposure);
-            std::printf("wrote %s\n", f.c_str());
-        }
-        for (const std::string& f : pfm) {
-            writePfm(film, f);
-            std::printf("wrote %s\n", f.c_str());
-        }
-    } catch (const std::runtime_error& e) {
-        throw inputError(e.what());
-    }
+    printEffects(renderer.effects().text());
+    writeImages(film, out, o.exposure);
     std::fflush(stdout);
 }
 

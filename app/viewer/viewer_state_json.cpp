@@ -12,6 +12,88 @@ namespace {
 
 nlohmann::json vec(const Vec3& v) { return {v.x, v.y, v.z}; }
 
+// The inspected point: per light its answer, fragments (with their overlay colours) and path.
+nlohmann::json pointJson(const Selection& selection) {
+    using nlohmann::json;
+    if (!selection.inspection()) return nullptr;
+    const PointInspection& p = *selection.inspection();
+    json point = {{"face", p.face},
+                  {"x", vec(p.point)},
+                  {"normal", vec(p.normal)},
+                  {"selectedLight", selection.light()}};
+    json lights = json::array();
+    for (const LightInspection& li : p.lights) {
+        json fragments = json::array();
+        for (size_t i = 0; i < li.result.fragments.size(); ++i) {
+            json vertices = json::array();
+            for (const Vec3& v : li.result.fragments[i]) vertices.push_back(vec(v));
+            const Rgb colour = fragmentColour(i);
+            fragments.push_back(
+                {{"colour", {colour.r, colour.g, colour.b}}, {"vertices", vertices}});
+        }
+        json path = json::array();
+        for (const PathStep& st : li.steps)
+            path.push_back(
+                {{"node", st.node},
+                 {"depth", st.depth},
+                 {"v0", st.v0},
+                 {"v1", st.v1},
+                 {"occluderFace",
+                  st.occluderFace == PathStep::kNoOccluder ? json(nullptr) : json(st.occluderFace)},
+                 {"side", vis::toString(st.side)}});
+        lights.push_back({{"light", li.result.light},
+                          {"lightFace", li.result.lightFace},
+                          {"kind", std::string(vis::toString(li.result.kind))},
+                          {"fraction", li.result.fraction},
+                          {"formFactor", li.result.formFactor},
+                          {"unoccludedFormFactor", li.result.unoccludedFormFactor},
+                          {"nodesVisited", li.result.nodesVisited},
+                          {"deferredOccluders", li.result.deferredOccluders},
+                          {"deferredActive", li.result.deferredActive},
+                          {"seconds", li.seconds},
+                          {"treeNodes", li.tree ? li.tree->nodes.size() : 0},
+                          {"fragments", fragments},
+                          {"answeredOnContact", li.result.answeredOnContact},
+                          {"path", path}});
+    }
+    point["lights"] = lights;
+    return point;
+}
+
+// The "Accuracy vs time" window: shown, running, and the study it plots.
+nlohmann::json accuracyJson(const ui::AccuracyPanel& panel, bool shown, bool running) {
+    using nlohmann::json;
+    json accuracy = {{"shown", shown}, {"running", running}};
+    if (panel.hasResult()) {
+        const AccuracyStudy& st = panel.study();
+        auto point = [](const AccuracyPoint& p) {
+            return json{{"rays", p.rays},
+                        {"seconds", p.seconds},
+                        {"rmse", p.rmse},
+                        {"maxError", p.maxError},
+                        {"precomputeSeconds", p.precomputeSeconds}};
+        };
+        json sampled = json::array();
+        for (const AccuracyPoint& p : st.sampled) sampled.push_back(point(p));
+        auto finiteOrNull = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
+        accuracy["study"] = {{"width", st.options.width},
+                             {"height", st.options.height},
+                             {"spp", st.options.spp},
+                             {"complete", st.complete},
+                             {"sampled", sampled},
+                             {"exact", point(st.exact)},
+                             {"referenceNoise", st.referenceNoise},
+                             {"meanRadiance", st.meanRadiance},
+                             {"equalErrorSeconds", finiteOrNull(st.equalErrorSeconds)},
+                             {"equalErrorRays", finiteOrNull(st.equalErrorRays)},
+                             {"equalErrorExtrapolated", st.equalErrorExtrapolated},
+                             {"pointsDrawn", panel.pointsDrawn()}};
+    } else {
+        accuracy["study"] = nullptr;
+    }
+    return accuracy;
+}
+
 }  // namespace
 
 nlohmann::json Viewer::stateJson() const {
@@ -37,52 +119,7 @@ nlohmann::json Viewer::stateJson() const {
     rects["3D view"] = {layout_.view.x, layout_.view.y, layout_.view.width, layout_.view.height};
     s["panelRects"] = rects;
     s["inspectionPending"] = selection_.pending();
-    if (selection_.inspection()) {
-        const PointInspection& p = *selection_.inspection();
-        json point = {{"face", p.face},
-                      {"x", vec(p.point)},
-                      {"normal", vec(p.normal)},
-                      {"selectedLight", selection_.light()}};
-        json lights = json::array();
-        for (const LightInspection& li : p.lights) {
-            json fragments = json::array();
-            for (size_t i = 0; i < li.result.fragments.size(); ++i) {
-                json vertices = json::array();
-                for (const Vec3& v : li.result.fragments[i]) vertices.push_back(vec(v));
-                const Rgb colour = fragmentColour(i);
-                fragments.push_back(
-                    {{"colour", {colour.r, colour.g, colour.b}}, {"vertices", vertices}});
-            }
-            json path = json::array();
-            for (const PathStep& st : li.steps)
-                path.push_back({{"node", st.node},
-                                {"depth", st.depth},
-                                {"v0", st.v0},
-                                {"v1", st.v1},
-                                {"occluderFace", st.occluderFace == PathStep::kNoOccluder
-                                                     ? json(nullptr)
-                                                     : json(st.occluderFace)},
-                                {"side", vis::toString(st.side)}});
-            lights.push_back({{"light", li.result.light},
-                              {"lightFace", li.result.lightFace},
-                              {"kind", std::string(vis::toString(li.result.kind))},
-                              {"fraction", li.result.fraction},
-                              {"formFactor", li.result.formFactor},
-                              {"unoccludedFormFactor", li.result.unoccludedFormFactor},
-                              {"nodesVisited", li.result.nodesVisited},
-                              {"deferredOccluders", li.result.deferredOccluders},
-                              {"deferredActive", li.result.deferredActive},
-                              {"seconds", li.seconds},
-                              {"treeNodes", li.tree ? li.tree->nodes.size() : 0},
-                              {"fragments", fragments},
-                              {"answeredOnContact", li.result.answeredOnContact},
-                              {"path", path}});
-        }
-        point["lights"] = lights;
-        s["point"] = point;
-    } else {
-        s["point"] = nullptr;
-    }
+    s["point"] = pointJson(selection_);
     s["preview"] = {{"mode", toString(options_.previewSettings.mode)},
                     {"passes", previewImage_.passes},
                     {"width", previewImage_.width},
@@ -95,35 +132,7 @@ nlohmann::json Viewer::stateJson() const {
                    {"maxSeconds", frameStats_.maxSeconds},
                    {"meanSeconds",
                     frameStats_.frames > 0 ? frameStats_.sumSeconds / frameStats_.frames : 0.0}};
-    json accuracy = {{"shown", showAccuracy_}, {"running", accuracyStudyRunning()}};
-    if (accuracyPanel_.hasResult()) {
-        const AccuracyStudy& st = accuracyPanel_.study();
-        auto point = [](const AccuracyPoint& p) {
-            return json{{"rays", p.rays},
-                        {"seconds", p.seconds},
-                        {"rmse", p.rmse},
-                        {"maxError", p.maxError},
-                        {"precomputeSeconds", p.precomputeSeconds}};
-        };
-        json sampled = json::array();
-        for (const AccuracyPoint& p : st.sampled) sampled.push_back(point(p));
-        auto finiteOrNull = [](double v) { return std::isfinite(v) ? json(v) : json(nullptr); };
-        accuracy["study"] = {{"width", st.options.width},
-                             {"height", st.options.height},
-                             {"spp", st.options.spp},
-                             {"complete", st.complete},
-                             {"sampled", sampled},
-                             {"exact", point(st.exact)},
-                             {"referenceNoise", st.referenceNoise},
-                             {"meanRadiance", st.meanRadiance},
-                             {"equalErrorSeconds", finiteOrNull(st.equalErrorSeconds)},
-                             {"equalErrorRays", finiteOrNull(st.equalErrorRays)},
-                             {"equalErrorExtrapolated", st.equalErrorExtrapolated},
-                             {"pointsDrawn", accuracyPanel_.pointsDrawn()}};
-    } else {
-        accuracy["study"] = nullptr;
-    }
-    s["accuracy"] = accuracy;
+    s["accuracy"] = accuracyJson(accuracyPanel_, showAccuracy_, accuracyStudyRunning());
     if (precompute_.started()) {
         const PrecomputeProgress p = precompute_.progress();
         s["precompute"] = {

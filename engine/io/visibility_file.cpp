@@ -54,7 +54,13 @@ class ByteWriter {
     void u64(uint64_t v) { put(v, 8); }
     void f64(double v) { put(std::bit_cast<uint64_t>(v), 8); }
     void text(std::string_view s) { bytes_.insert(bytes_.end(), s.begin(), s.end()); }
-    void raw(std::span<const unsigned char> s) { bytes_.insert(bytes_.end(), s.begin(), s.end()); }
+    // resize + memcpy rather than insert: GCC 12 warns falsely (-Wstringop-overflow) about
+    // vector<unsigned char>::insert once this is inlined into a larger unit.
+    void raw(std::span<const unsigned char> s) {
+        const size_t at = bytes_.size();
+        bytes_.resize(at + s.size());
+        if (!s.empty()) std::memcpy(bytes_.data() + at, s.data(), s.size());
+    }
     void patchU64(size_t at, uint64_t v) {
         for (int k = 0; k < 8; ++k) bytes_[at + k] = static_cast<unsigned char>(v >> (8 * k));
     }

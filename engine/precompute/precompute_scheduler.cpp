@@ -18,8 +18,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using State = PrecomputeProgress::State;
 
-enum class KeyState : uint8_t { Queued, Running, Done };
-
 // ThreadSanitizer cannot see the synchronisation inside oneTBB (not instrumented): the enqueuing
 // thread constructs the task (our lambda) and a worker runs it, and the end of a task is
 // published to task_group::wait() - both through TBB's own atomics. These annotations state those
@@ -69,6 +67,10 @@ const char* toString(PrecomputeProgress::State state) {
 }
 
 struct PrecomputeScheduler::Impl {
+    // Where a key of the current batch is (a member type: a type of the anonymous namespace in
+    // a member of this class would give it internal linkage in a unity build).
+    enum class KeyState : uint8_t { Queued, Running, Done };
+
     // One pair handed to a worker, with the cancel flag and generation of the batch it came from
     // (cancel() replaces both, so a late finisher of a cancelled batch touches nothing new).
     struct Job {
