@@ -47,11 +47,9 @@ bool Viewer::openScene(const std::filesystem::path& path) {
     try {
         loaded = loadScene(path, options_.exact);
     } catch (const std::exception& e) {
-        error_ = e.what();
-        status_ = "cannot open " + path.string() + ": " + error_;
+        status_ = "cannot open " + path.string() + ": " + e.what();
         return false;
     }
-    error_.clear();
     clearSelection();
     preview_.stop();
     // An accuracy study belongs to the scene it measured: a running one is dropped (its task
@@ -159,8 +157,7 @@ void Viewer::restartPreview() {
     const Layout l = layout_.width > 0 ? layout_ : computeLayout(1280, 800);
     s.width = std::max(8, static_cast<int>(l.view.width * options_.previewScale));
     s.height = std::max(8, static_cast<int>(l.view.height * options_.previewScale));
-    previewCamera_ = orbit_.camera();
-    preview_.restart(scene_, previewCamera_, s);
+    preview_.restart(scene_, orbit_.camera(), s);
 }
 
 void Viewer::uploadPreview(const PreviewImage& image) {

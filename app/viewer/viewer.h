@@ -58,7 +58,7 @@ class Viewer {
     Viewer& operator=(const Viewer&) = delete;
 
     // Opens a scene (synchronously: loading and the BVH). On failure the message goes to the
-    // status line, the current scene stays, and false is returned (error() holds it).
+    // status line, the current scene stays, and false is returned.
     bool openScene(const std::filesystem::path& path);
     bool hasScene() const { return scene_ != nullptr; }
     const LoadedScene* scene() const { return scene_.get(); }
@@ -120,7 +120,6 @@ class Viewer {
     OrbitCamera orbit_;
     Layout layout_;
     std::string status_;
-    std::string error_;
     bool quit_ = false;
 
     Selection selection_;
@@ -129,7 +128,6 @@ class Viewer {
     PreviewRunner preview_;
     PreviewImage previewImage_;
     GLuint previewTexture_ = 0;
-    Camera previewCamera_;
     bool previewDirty_ = false;
     std::chrono::steady_clock::time_point lastCameraChange_;
 
