@@ -50,8 +50,20 @@ Sign signOf(const mpq_class& q) {
 
 Sign signOf(int s) { return s > 0 ? Sign::Positive : (s < 0 ? Sign::Negative : Sign::Zero); }
 
+// Exact zeros the filter cannot certify and the exact stage need not compute: two equal points
+// (a zero column, or two equal columns, after the translation by a), or four points in one plane
+// x, y or z = const (a zero row). Both are common in modelled scenes (shared vertices; floors,
+// walls and steps aligned with the axes, an occluder standing on its receiver), and each is an
+// exact statement about the input doubles.
+bool trivialZero(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    if (a == b || a == c || a == d || b == c || b == d || c == d) return true;
+    return (a.x == b.x && a.x == c.x && a.x == d.x) || (a.y == b.y && a.y == c.y && a.y == d.y) ||
+           (a.z == b.z && a.z == c.z && a.z == d.z);
+}
+
 // The exact stage: expansion arithmetic (no allocation), GMP rationals outside its safe range.
 Sign exactSign(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    if (trivialZero(a, b, c, d)) return Sign::Zero;
     int s;
     double approx;
     if (orient3dExpansion(a, b, c, d, s, approx)) return signOf(s);
@@ -82,6 +94,7 @@ BoundedValue orientValue(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
     if (std::fabs(e.det) > bound) {
         return {e.det, bound};
     }
+    if (trivialZero(a, b, c, d)) return {0.0, 0.0};
     int s;
     double approx;
     if (orient3dExpansion(a, b, c, d, s, approx)) {

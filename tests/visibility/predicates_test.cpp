@@ -90,6 +90,65 @@ TEST(Predicates, ExactlyCoplanarIntegerGridIsZero) {
     EXPECT_EQ(orientValue(a, b, c, d).error, 0.0);
 }
 
+// The exact zeros decided without the exact stage (two equal points; four points in one plane
+// x, y or z = const, as on a floor or a wall) and their near misses (the fourth point an ulp off
+// that plane, or only three of them on it): every sign equals the rational reference, through
+// orientSign, orientValue and PlaneOrient, and the near misses are not zeros.
+TEST(Predicates, AxisPlaneAndRepeatedPointZerosAreExactAndOnlyZeros) {
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1, 1);
+    const double offsets[] = {0.0, 0.7, -3.1e6};
+    int zeros = 0, nearMissesNonZero = 0, unfiltered = 0;
+    auto check = [&](const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+        const int ref = referenceSign(a, b, c, d);
+        EXPECT_EQ(toInt(orientSign(a, b, c, d)), ref);
+        const BoundedValue v = orientValue(a, b, c, d);
+        EXPECT_TRUE(v.certain());
+        EXPECT_EQ(toInt(v.sign()), ref);
+        const BoundedValue w = PlaneOrient(a, b, c).value(d);
+        EXPECT_TRUE(w.certain());
+        EXPECT_EQ(toInt(w.sign()), ref);
+        return ref;
+    };
+    for (int i = 0; i < 3000; ++i) {
+        const double off = offsets[i % 3];
+        Vec3 p[4];
+        for (Vec3& q : p) q = Vec3{u(rng), u(rng), u(rng)} + Vec3{off, off, off};
+        // Two equal points, each of the six pairs in turn.
+        const int pairs[6][2] = {{0, 1}, {0, 2}, {0, 3}, {1, 2}, {1, 3}, {2, 3}};
+        Vec3 r[4] = {p[0], p[1], p[2], p[3]};
+        r[pairs[i % 6][1]] = r[pairs[i % 6][0]];
+        zeros += check(r[0], r[1], r[2], r[3]) == 0;
+        // Four points in the plane axis = off + k (a floor, a wall).
+        const int axis = i % 3;
+        const double level = off + u(rng);
+        Vec3 q[4] = {p[0], p[1], p[2], p[3]};
+        for (Vec3& v : q) (axis == 0 ? v.x : axis == 1 ? v.y : v.z) = level;
+        zeros += check(q[0], q[1], q[2], q[3]) == 0;
+        // Near misses: one of them an ulp off that plane, on either side.
+        const int moved = static_cast<int>(rng() % 4);
+        double& m = axis == 0 ? q[moved].x : axis == 1 ? q[moved].y : q[moved].z;
+        m = std::nextafter(m, (i & 8) != 0 ? 1e300 : -1e300);
+        nearMissesNonZero += check(q[0], q[1], q[2], q[3]) != 0;
+        // Near misses the filter cannot decide: a, b, c in the plane and almost collinear in it
+        // (c an ulp off the line through a and b), d just off the plane. Only the exact stage
+        // gets these right; a shortcut that took "three points on the plane" for "four" would not.
+        Vec3 t[4] = {p[0], p[1], p[2], p[3]};
+        for (Vec3& v : t) (axis == 0 ? v.x : axis == 1 ? v.y : v.z) = level;
+        t[2] = t[0] + (t[1] - t[0]) * 0.375;
+        double& along = axis == 0 ? t[2].y : t[2].x;
+        along = std::nextafter(along, (i & 16) != 0 ? 1e300 : -1e300);
+        double& lift = axis == 0 ? t[3].x : axis == 1 ? t[3].y : t[3].z;
+        lift = std::nextafter(lift, (i & 32) != 0 ? 1e300 : -1e300);
+        unfiltered += !orientSignFiltered(t[0], t[1], t[2], t[3]).has_value();
+        nearMissesNonZero += check(t[0], t[1], t[2], t[3]) != 0;
+    }
+    EXPECT_EQ(zeros, 6000);
+    // Random points off the plane: the moved one is almost never exactly coplanar with the rest.
+    EXPECT_GT(nearMissesNonZero, 5800);
+    EXPECT_GT(unfiltered, 1000);  // the second kind does reach the exact stage
+}
+
 // det[b-a, c-a, d-a] in rationals by cofactor expansion (for values, not only signs).
 mpq_class referenceValue(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
     const mpq_class ux = mpq_class(b.x) - a.x, uy = mpq_class(b.y) - a.y, uz = mpq_class(b.z) - a.z;
