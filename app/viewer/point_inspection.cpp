@@ -53,4 +53,25 @@ PointInspection inspectPoint(VisibilityStore& store, uint32_t face, const Vec3& 
     return out;
 }
 
+std::optional<PointInspection> inspectPointDirect(const Scene& scene, const vis::BoxTree& faces,
+                                                  uint32_t face, const Vec3& x,
+                                                  uint64_t workLimit) {
+    PointInspection out;
+    out.face = face;
+    out.point = x;
+    out.normal = normalize(scene.mesh.faceAreaNormal(face));
+    out.treesPending = true;
+    for (uint32_t k = 0; k < scene.lights.size(); ++k) {
+        LightInspection li;
+        const auto start = std::chrono::steady_clock::now();
+        std::vector<LightAtPoint> r = queryPointDirect(scene, faces, face, x, k, workLimit);
+        li.seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (!r.front().complete) return std::nullopt;
+        li.result = std::move(r.front());
+        out.lights.push_back(std::move(li));
+    }
+    return out;
+}
+
 }  // namespace penumbra::viewer

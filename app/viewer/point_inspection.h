@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -40,11 +41,21 @@ struct PointInspection {
     Vec3 point;
     Vec3 normal;  // unit normal of the face
     std::vector<LightInspection> lights;
+    // The fragments came from the tree-less query (inspectPointDirect): no tree, path or kind
+    // yet; the full inspection (inspectPoint) is on its way.
+    bool treesPending = false;
 };
 
 // Queries every light at x on `face` (builds missing trees on the calling thread: run it off the
 // UI thread). Throws what queryPoint throws.
 PointInspection inspectPoint(VisibilityStore& store, uint32_t face, const Vec3& x);
+
+// The fragments and numbers of every light at x without history trees (queryPointDirect over
+// `faces`): cheap enough for the UI thread, so that a click answers in the frame it happens.
+// treesPending is set, no light has a tree or a path. nullopt when a light's query reached
+// `workLimit` plane tests (0 = none): then only the full inspection can answer.
+std::optional<PointInspection> inspectPointDirect(const Scene& scene, const vis::BoxTree& faces,
+                                                  uint32_t face, const Vec3& x, uint64_t workLimit);
 
 // The debugger's rows for a query's trace on `tree`: each step with its node's edge, a segment of
 // it and its occluder face.

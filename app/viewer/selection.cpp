@@ -16,8 +16,21 @@ struct Selection::Pending {
     std::string error;
 };
 
-void Selection::select(std::shared_ptr<LoadedScene> scene, uint32_t face, const Vec3& x,
+bool Selection::select(std::shared_ptr<LoadedScene> scene, uint32_t face, const Vec3& x,
                        tbb::task_group& tasks) {
+    inspection_.reset();
+    try {
+        // kClickWork divided evenly among the lights.
+        if (scene->bvh)
+            inspection_ =
+                inspectPointDirect(scene->scene, scene->bvh->faceBoxes(), face, x,
+                                   kClickWork / std::max<size_t>(1, scene->scene.lights.size()));
+    } catch (const std::exception&) {
+        inspection_.reset();  // the full inspection reports it
+    }
+    if (inspection_)
+        light_ = std::min(light_,
+                          inspection_->lights.empty() ? size_t{0} : inspection_->lights.size() - 1);
     auto pending = std::make_shared<Pending>();
     pending->scene = std::move(scene);
     pending->face = face;
@@ -38,6 +51,7 @@ void Selection::select(std::shared_ptr<LoadedScene> scene, uint32_t face, const 
         }
         pending->done = true;
     });
+    return inspection_.has_value();
 }
 
 void Selection::clear() {

@@ -109,8 +109,13 @@ bool Viewer::selectPoint(const Vec3& x, std::optional<uint32_t> face) {
         }
         face = lookup.face;
     }
-    selection_.select(scene_, *face, x, tasks_);
-    status_ = "inspecting the point on face " + std::to_string(*face) + "...";
+    if (selection_.select(scene_, *face, x, tasks_)) {
+        status_ = "point on face " + std::to_string(*face) +
+                  ": fragments from the tree-less query; building its history trees...";
+    } else {
+        status_ = "inspecting the point on face " + std::to_string(*face) + "...";
+    }
+    updateOverlay();
     return true;
 }
 

@@ -20,7 +20,8 @@ nlohmann::json pointJson(const Selection& selection) {
     json point = {{"face", p.face},
                   {"x", vec(p.point)},
                   {"normal", vec(p.normal)},
-                  {"selectedLight", selection.light()}};
+                  {"selectedLight", selection.light()},
+                  {"treesPending", p.treesPending}};
     json lights = json::array();
     for (const LightInspection& li : p.lights) {
         json fragments = json::array();
@@ -41,20 +42,23 @@ nlohmann::json pointJson(const Selection& selection) {
                  {"occluderFace",
                   st.occluderFace == PathStep::kNoOccluder ? json(nullptr) : json(st.occluderFace)},
                  {"side", vis::toString(st.side)}});
-        lights.push_back({{"light", li.result.light},
-                          {"lightFace", li.result.lightFace},
-                          {"kind", std::string(vis::toString(li.result.kind))},
-                          {"fraction", li.result.fraction},
-                          {"formFactor", li.result.formFactor},
-                          {"unoccludedFormFactor", li.result.unoccludedFormFactor},
-                          {"nodesVisited", li.result.nodesVisited},
-                          {"deferredOccluders", li.result.deferredOccluders},
-                          {"deferredActive", li.result.deferredActive},
-                          {"seconds", li.seconds},
-                          {"treeNodes", li.tree ? li.tree->nodes.size() : 0},
-                          {"fragments", fragments},
-                          {"answeredOnContact", li.result.answeredOnContact},
-                          {"path", path}});
+        lights.push_back(
+            {{"light", li.result.light},
+             {"lightFace", li.result.lightFace},
+             {"kind", li.result.fromTree ? json(std::string(vis::toString(li.result.kind)))
+                                         : json(nullptr)},
+             {"fraction", li.result.fraction},
+             {"formFactor", li.result.formFactor},
+             {"unoccludedFormFactor", li.result.unoccludedFormFactor},
+             {"nodesVisited", li.result.nodesVisited},
+             {"deferredOccluders", li.result.deferredOccluders},
+             {"deferredActive", li.result.deferredActive},
+             {"seconds", li.seconds},
+             {"treeNodes", li.tree ? li.tree->nodes.size() : 0},
+             {"fragments", fragments},
+             {"answeredOnContact", li.result.answeredOnContact},
+             {"fromTree", li.result.fromTree},
+             {"path", path}});
     }
     point["lights"] = lights;
     return point;

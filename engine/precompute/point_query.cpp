@@ -119,9 +119,10 @@ FaceLookup findFaceContaining(const Scene& scene, const Vec3& x) {
     return out;
 }
 
-std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, const Vec3& x,
-                                     std::optional<uint32_t> onlyLight) {
-    const Scene& scene = store.scene();
+namespace {
+
+// The range checks every point query makes first.
+void checkQueryRange(const Scene& scene, uint32_t face, std::optional<uint32_t> onlyLight) {
     if (face >= scene.faceCount())
         throw std::out_of_range("face " + std::to_string(face) + " out of range (the scene has " +
                                 std::to_string(scene.faceCount()) + " faces)");
@@ -129,11 +130,18 @@ std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, cons
         throw std::out_of_range("light " + std::to_string(*onlyLight) +
                                 " out of range (the scene has " +
                                 std::to_string(scene.lights.size()) + " lights)");
+}
+
+// Runs `answer(r, lightPolygon)` for every asked light of x on `face` (which fills r's fragments
+// and the counters of its path), then the numbers every answer derives from its fragments.
+template <class Answer>
+std::vector<LightAtPoint> forEachLight(const Scene& scene, uint32_t face, const Vec3& x,
+                                       std::optional<uint32_t> onlyLight, Answer&& answer) {
+    checkQueryRange(scene, face, onlyLight);
     const vis::PolygonMesh& mesh = scene.mesh;
     const Vec3 normal = unitNormal(mesh, face);
     const vis::FacePlane receiverPlane = vis::facePlane(mesh, face);
     const vis::OrientedPlane receiverFront{receiverPlane.a, receiverPlane.b, receiverPlane.c};
-
     std::vector<LightAtPoint> out;
     const uint32_t begin = onlyLight ? *onlyLight : 0;
     const uint32_t end = onlyLight ? *onlyLight + 1 : static_cast<uint32_t>(scene.lights.size());
@@ -149,16 +157,7 @@ std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, cons
             out.push_back(std::move(r));
             continue;
         }
-        const vis::HistoryTree& tree = store.getOrBuild(store.keyAt(face, x, r.lightFace)).tree;
-        r.kind = tree.kind;
-        vis::FromPointResult q = vis::fromPointQuery(mesh, tree, x);
-        r.fragments = std::move(q.fragments);
-        r.trace = std::move(q.trace);
-        r.answeredOnContact = q.answeredOnContact;
-        r.nodesVisited = q.nodesVisited;
-        r.deferredOccluders = static_cast<uint32_t>(tree.deferred.size());
-        r.deferredActive = q.deferredActive;
-        r.deferredClips = q.deferredClips;
+        answer(r);
         for (const vis::Polygon3& fragment : r.fragments) {
             r.visibleArea += vis::polygonArea(fragment);
             r.formFactor += vis::formFactor(x, normal, fragment);
@@ -171,6 +170,41 @@ std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, cons
         out.push_back(std::move(r));
     }
     return out;
+}
+
+}  // namespace
+
+std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, const Vec3& x,
+                                     std::optional<uint32_t> onlyLight) {
+    const vis::PolygonMesh& mesh = store.scene().mesh;
+    return forEachLight(store.scene(), face, x, onlyLight, [&](LightAtPoint& r) {
+        const vis::HistoryTree& tree = store.getOrBuild(store.keyAt(face, x, r.lightFace)).tree;
+        r.kind = tree.kind;
+        vis::FromPointResult q = vis::fromPointQuery(mesh, tree, x);
+        r.fragments = std::move(q.fragments);
+        r.trace = std::move(q.trace);
+        r.answeredOnContact = q.answeredOnContact;
+        r.nodesVisited = q.nodesVisited;
+        r.deferredOccluders = static_cast<uint32_t>(tree.deferred.size());
+        r.deferredActive = q.deferredActive;
+        r.deferredClips = q.deferredClips;
+    });
+}
+
+std::vector<LightAtPoint> queryPointDirect(const Scene& scene, const vis::BoxTree& faces,
+                                           uint32_t face, const Vec3& x,
+                                           std::optional<uint32_t> onlyLight, uint64_t workLimit) {
+    vis::FromPointQuery query;
+    query.setWorkLimit(workLimit);
+    return forEachLight(scene, face, x, onlyLight, [&](LightAtPoint& r) {
+        r.fromTree = false;
+        const vis::FragmentList& fragments =
+            query.runDirect(scene.mesh, face, r.lightFace, x, faces);
+        r.complete = !query.limitReached();
+        r.fragments.reserve(fragments.size());
+        for (size_t i = 0; i < fragments.size(); ++i)
+            r.fragments.emplace_back(fragments[i].begin(), fragments[i].end());
+    });
 }
 
 }  // namespace penumbra

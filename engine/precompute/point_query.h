@@ -66,6 +66,11 @@ struct LightAtPoint {
     // A partial tree (vis::HistoryTree::deferred): its deferred occluders, those the query clipped
     // against from x, and the clips that changed a fragment.
     uint32_t deferredOccluders = 0, deferredActive = 0, deferredClips = 0;
+    // Answered through the pair's history tree (queryPoint), or without one (queryPointDirect:
+    // no kind, path or counters then; the same fragments).
+    bool fromTree = true;
+    // False only for a direct answer stopped by its work limit: the fragments are incomplete.
+    bool complete = true;
 };
 
 // Every light (or only light `onlyLight`) of the store's scene as seen from x on face `face` (x is
@@ -75,5 +80,17 @@ struct LightAtPoint {
 // number out of range.
 std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, const Vec3& x,
                                      std::optional<uint32_t> onlyLight);
+
+// The same answer without history trees: every face of `faces` (a hierarchy over the scene's face
+// boxes, EmbreeScene::faceBoxes) that may meet the pyramid from x over the light is clipped from
+// x directly (vis::FromPointQuery::runDirect), exact like the tree's walk. No tree is built or
+// read, so it costs no precompute: what the viewer shows the moment a point is clicked, while the
+// pair's tree is built in the background. `workLimit` bounds each light's query in plane tests
+// (0 = none); a light that reaches it has complete = false and incomplete fragments. Throws what
+// queryPoint throws.
+std::vector<LightAtPoint> queryPointDirect(const Scene& scene, const vis::BoxTree& faces,
+                                           uint32_t face, const Vec3& x,
+                                           std::optional<uint32_t> onlyLight,
+                                           uint64_t workLimit = 0);
 
 }  // namespace penumbra

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "tests/support/run_penumbra.h"
@@ -94,6 +95,23 @@ TEST_F(BenchCommand, SkipsTheScalingRowsWhoseMeshesAreMissing) {
             << mesh << "\n"
             << section;
     EXPECT_EQ(section.find("| scene |"), std::string::npos) << "no rows: " << section;
+
+    // The per-point section: the cost distribution and the viewer's click, for the one point.
+    const nlohmann::json bench = nlohmann::json::parse(readFile(out / "bench.json"));
+    ASSERT_EQ(bench["perPoint"].size(), 1u);
+    const nlohmann::json& p = bench["perPoint"][0];
+    EXPECT_LE(p["exactMedianUs"].get<double>(), p["exactP99Us"].get<double>());
+    EXPECT_LE(p["exactP99Us"].get<double>(), p["exactMaxUs"].get<double>());
+    EXPECT_GT(p["exactMaxUs"].get<double>(), 0.0);
+    const nlohmann::json& click = p["click"];
+    EXPECT_EQ(click["points"], 1);
+    EXPECT_EQ(click["treePoints"], 1);
+    EXPECT_EQ(click["overBudget"], 0);  // stairs is far below the click's work budget
+    EXPECT_GT(click["fragmentsMedianMs"].get<double>(), 0.0);
+    EXPECT_GT(click["withTreesMedianMs"].get<double>(), 0.0);
+    const size_t clicks = report.find("### A click in the viewer");
+    ASSERT_NE(clicks, std::string::npos) << report;
+    EXPECT_NE(report.find("| stairs.obj | 1 |", clicks), std::string::npos) << report;
 }
 
 }  // namespace

@@ -338,6 +338,45 @@ TEST(PointQuery, MatchesTheExactReference) {
     EXPECT_EQ(store.treeCount(), 1u);  // one (receiver, light) pair, built once
 }
 
+// The tree-less query (what a click shows at once) against the same reference, on a box
+// hierarchy over the faces as EmbreeScene builds it; its work limit is reported, not hidden.
+TEST(PointQuery, DirectQueryMatchesTheExactReference) {
+    const Scene scene = testScene();
+    std::vector<vis::Bounds3> boxes(scene.faceCount());
+    for (uint32_t f = 0; f < scene.faceCount(); ++f) boxes[f] = scene.mesh.faceBounds(f);
+    const vis::BoxTree faces(boxes);
+    const Vec3 points[] = {{0, 0, 0},      {0.3, 0.2, 0}, {-1, -1, 0},
+                           {0.7, -1.3, 0}, {1.9, 0.1, 0}, {-0.1, 0.4, 0}};
+    int partlyLit = 0;
+    for (const Vec3& x : points) {
+        SCOPED_TRACE(vis::toString(x));
+        const std::vector<LightAtPoint> result = queryPointDirect(scene, faces, 0, x, std::nullopt);
+        ASSERT_EQ(result.size(), 1u);
+        const LightAtPoint& l = result[0];
+        const test::ReferenceResult ref = test::exactReference(scene.mesh, 0, 1, x);
+        EXPECT_FALSE(l.fromTree);
+        EXPECT_TRUE(l.complete);
+        EXPECT_TRUE(l.trace.empty());
+        EXPECT_NEAR(l.fraction, ref.fraction, 1e-12);
+        EXPECT_NEAR(l.visibleArea, ref.visibleArea, 1e-12);
+        EXPECT_NEAR(l.formFactor, ref.formFactor, 1e-12);
+        EXPECT_NEAR(l.unoccludedFormFactor, ref.unoccludedFormFactor, 1e-12);
+        partlyLit += ref.fraction > 0 && ref.fraction < 1;
+    }
+    EXPECT_GE(partlyLit, 2);  // the blocker does cut the light for some of them
+    // One plane test allowed: the origin's query (the blocker must be clipped) cannot finish.
+    const std::vector<LightAtPoint> limited = queryPointDirect(scene, faces, 0, {0, 0, 0}, 0u, 1);
+    EXPECT_FALSE(limited[0].complete);
+    EXPECT_THROW(queryPointDirect(scene, faces, 4, {0, 0, 0}, std::nullopt), std::out_of_range);
+    EXPECT_THROW(queryPointDirect(scene, faces, 0, {0, 0, 0}, 1u), std::out_of_range);
+    // Behind the light, and on the light itself: nothing.
+    for (const auto& [face, x] : {std::pair<uint32_t, Vec3>{3, {0, 0, 3}}, {1, {0, 0, 2}}}) {
+        const LightAtPoint r = queryPointDirect(scene, faces, face, x, 0u)[0];
+        EXPECT_EQ(r.fraction, 0.0);
+        EXPECT_TRUE(r.fragments.empty());
+    }
+}
+
 TEST(PointQuery, BehindTheLightAndOnTheLight) {
     const Scene scene = testScene();
     VisibilityStore store(scene);

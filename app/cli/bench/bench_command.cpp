@@ -35,6 +35,8 @@
 #include "app/cli/arguments.h"
 #include "app/cli/bench/bench_report.h"
 #include "app/cli/commands.h"
+#include "app/viewer/point_inspection.h"
+#include "app/viewer/selection.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/finite_output.h"
 #include "engine/io/visibility_file.h"
@@ -524,6 +526,21 @@ json scaling(const std::vector<std::string>& scenes, const BenchOptions& o, json
 
 // ---- Per point -----------------------------------------------------------------------------
 
+struct Quantiles {
+    double median = 0, p99 = 0, max = 0;
+};
+
+// Nearest-rank quantiles of `v` (sorted here); zeros for an empty list.
+Quantiles quantiles(std::vector<double> v) {
+    if (v.empty()) return {};
+    std::sort(v.begin(), v.end());
+    auto rank = [&](double q) {
+        const size_t k = static_cast<size_t>(std::ceil(q * static_cast<double>(v.size())));
+        return v[std::clamp<size_t>(k, 1, v.size()) - 1];
+    };
+    return {rank(0.5), rank(0.99), v.back()};
+}
+
 json perPoint(const std::string& path, const BenchOptions& o) {
     const Scene scene = loadSceneFile(path);
     const vis::PolygonMesh& mesh = scene.mesh;
@@ -566,6 +583,44 @@ json perPoint(const std::string& path, const BenchOptions& o) {
         fragments += r.size();
     }
     const double exactUs = seconds(q0, Clock::now()) / samples.size() * 1e6;
+    // The distribution: each point timed alone (the clock's own cost, some 20-40 ns, included).
+    std::vector<double> eachUs;
+    eachUs.reserve(samples.size());
+    for (const Sample& s : samples) {
+        const auto a = Clock::now();
+        const Vec3 n = vis::normalize(mesh.faceAreaNormal(s.face));
+        const vis::FragmentList& r = query.run(mesh, s.rec->tree, s.x);
+        for (size_t i = 0; i < r.size(); ++i) sink += vis::formFactor(s.x, n, r[i]);
+        eachUs.push_back(seconds(a, Clock::now()) * 1e6);
+    }
+    const Quantiles exactQ = quantiles(eachUs);
+    // A click in the viewer (app/viewer/selection.h): every light's fragments from the tree-less
+    // query, within the click's work budget, on a store that has no tree yet; and what a click
+    // cost before, the history trees built and walked (a fresh store: each point's pairs built
+    // unless an earlier point of the run built them).
+    const size_t clicks = std::min<size_t>(samples.size(), 200);
+    std::vector<double> directMs;
+    size_t overBudget = 0;
+    const uint64_t clickWork =
+        viewer::Selection::kClickWork / std::max<size_t>(1, scene.lights.size());
+    for (size_t i = 0; i < clicks; ++i) {
+        const auto a = Clock::now();
+        const std::optional<viewer::PointInspection> p = viewer::inspectPointDirect(
+            scene, embree.faceBoxes(), samples[i].face, samples[i].x, clickWork);
+        directMs.push_back(seconds(a, Clock::now()) * 1e3);
+        overBudget += !p.has_value();
+    }
+    const size_t treeClicks = std::min<size_t>(samples.size(), 20);
+    std::vector<double> treeMs;
+    {
+        VisibilityStore cold(scene, &embree);
+        for (size_t i = 0; i < treeClicks; ++i) {
+            const auto a = Clock::now();
+            viewer::inspectPoint(cold, samples[i].face, samples[i].x);
+            treeMs.push_back(seconds(a, Clock::now()) * 1e3);
+        }
+    }
+    const Quantiles directQ = quantiles(directMs), treeQ = quantiles(treeMs);
     auto timeRays = [&](int n) {
         const auto a = Clock::now();
         for (const Sample& s : samples) sink += embree.sampledFraction(s.face, l, s.x, n, 7);
@@ -573,14 +628,29 @@ json perPoint(const std::string& path, const BenchOptions& o) {
     };
     const double rays16 = timeRays(16), rays128 = timeRays(128);
     std::printf(
-        "per point %s: exact query + form factor %.2f us (%.1f nodes, %.2f fragments); "
-        "16 rays %.2f us; 128 rays %.2f us (checksum %.3g)\n",
-        path.c_str(), exactUs, static_cast<double>(visited) / samples.size(),
-        static_cast<double>(fragments) / samples.size(), rays16, rays128, sink);
+        "per point %s: exact query + form factor %.2f us (median %.2f, p99 %.2f; %.1f nodes, "
+        "%.2f fragments); 16 rays %.2f us; 128 rays %.2f us; click: fragments %.2f ms (median; "
+        "p99 %.2f), with the trees %.1f ms (median; max %.1f) (checksum %.3g)\n",
+        path.c_str(), exactUs, exactQ.median, exactQ.p99,
+        static_cast<double>(visited) / samples.size(),
+        static_cast<double>(fragments) / samples.size(), rays16, rays128, directQ.median,
+        directQ.p99, treeQ.median, treeQ.max, sink);
     std::fflush(stdout);
     return {{"scene", path},
             {"points", samples.size()},
             {"exactUs", exactUs},
+            {"exactMedianUs", exactQ.median},
+            {"exactP99Us", exactQ.p99},
+            {"exactMaxUs", exactQ.max},
+            {"click",
+             {{"points", clicks},
+              {"fragmentsMedianMs", directQ.median},
+              {"fragmentsP99Ms", directQ.p99},
+              {"fragmentsMaxMs", directQ.max},
+              {"overBudget", overBudget},
+              {"treePoints", treeClicks},
+              {"withTreesMedianMs", treeQ.median},
+              {"withTreesMaxMs", treeQ.max}}},
             {"rays16Us", rays16},
             {"rays128Us", rays128},
             {"nodesPerQuery", static_cast<double>(visited) / samples.size()},

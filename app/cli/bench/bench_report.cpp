@@ -223,13 +223,32 @@ void writeScaling(std::ostream& r, const json& rows, const json& limit, const js
 }
 
 void writePerPoint(std::ostream& r, const json& rows) {
-    r << "## Per point: exact query against shadow rays\n\nLight 0, one thread.\n\n"
-      << "| scene | points | exact query + form factor us | nodes | 16 rays us | 128 rays us "
-         "|\n|---|---|---|---|---|---|\n";
+    r << "## Per point: exact query against shadow rays\n\nLight 0, one thread. The exact "
+         "query's mean over all points, then its median, 99th percentile and maximum with each "
+         "point timed alone.\n\n"
+      << "| scene | points | exact query + form factor us | median | p99 | max | nodes | "
+         "fragments | 16 rays us | 128 rays us |\n|---|---|---|---|---|---|---|---|---|---|\n";
     for (const json& p : rows)
         r << "| " << sceneName(p) << " | " << p["points"] << " | " << num(p["exactUs"]) << " | "
-          << num(p["nodesPerQuery"], "%.1f") << " | " << num(p["rays16Us"]) << " | "
+          << num(p.value("exactMedianUs", json())) << " | " << num(p.value("exactP99Us", json()))
+          << " | " << num(p.value("exactMaxUs", json())) << " | " << num(p["nodesPerQuery"], "%.1f")
+          << " | " << num(p["fragmentsPerQuery"]) << " | " << num(p["rays16Us"]) << " | "
           << num(p["rays128Us"]) << " |\n";
+    r << "\n### A click in the viewer\n\nEvery light at a point: the fragments from the "
+         "tree-less query the viewer answers a click with (within its work budget; points over "
+         "it wait for the trees), and the former click, with the pairs' history trees built and "
+         "walked (a fresh store).\n\n"
+      << "| scene | clicks | fragments median ms | p99 | max | over budget | clicks with trees | "
+         "trees median ms | max |\n|---|---|---|---|---|---|---|---|---|\n";
+    for (const json& p : rows) {
+        if (!p.contains("click")) continue;
+        const json& c = p["click"];
+        r << "| " << sceneName(p) << " | " << c["points"] << " | "
+          << num(c["fragmentsMedianMs"], "%.3f") << " | " << num(c["fragmentsP99Ms"], "%.3f")
+          << " | " << num(c["fragmentsMaxMs"], "%.3f") << " | " << c["overBudget"] << " | "
+          << c["treePoints"] << " | " << num(c["withTreesMedianMs"], "%.1f") << " | "
+          << num(c["withTreesMaxMs"], "%.1f") << " |\n";
+    }
     r << "\n";
 }
 

@@ -12,6 +12,9 @@ void PathPanel::draw(const PanelRect& rect, const Selection& selection) {
         const LightInspection* li = selection.selectedLight();
         if (!li) {
             ImGui::TextUnformatted("The history-tree path of the selected light.");
+        } else if (!li->result.fromTree) {
+            ImGui::Text("light %u: building the pair's history tree; its path follows.",
+                        li->result.light);
         } else {
             ImGui::Text("light %u, tree %s: %zu nodes visited (L cycles lights)", li->result.light,
                         std::string(vis::toString(li->result.kind)).c_str(), li->steps.size());

@@ -10,7 +10,11 @@ bool PointPanel::draw(const PanelRect& rect, Selection& selection) {
     bool changed = false;
     placeNextWindow(rect);
     if (ImGui::Begin("Point", nullptr, kDockedPanel)) {
-        if (selection.pending()) ImGui::TextUnformatted("computing the point query...");
+        if (selection.pending() && !selection.inspection())
+            ImGui::TextUnformatted("computing the point query...");
+        if (selection.inspection() && selection.inspection()->treesPending)
+            ImGui::TextUnformatted(
+                "answered without a tree; the history trees and paths are being built...");
         if (!selection.inspection()) {
             if (!selection.pending())
                 ImGui::TextUnformatted("Click a surface point in the 3D view.");
@@ -50,7 +54,10 @@ bool PointPanel::draw(const PanelRect& rect, Selection& selection) {
                     ImGui::TableNextColumn();
                     ImGui::Text("%zu", li.result.fragments.size());
                     ImGui::TableNextColumn();
-                    ImGui::Text("%u", li.result.nodesVisited);
+                    if (li.result.fromTree)
+                        ImGui::Text("%u", li.result.nodesVisited);
+                    else
+                        ImGui::TextUnformatted("-");
                     ImGui::TableNextColumn();
                     ImGui::Text("%.1f ms%s", 1e3 * li.seconds, li.treeWasBuilt ? "*" : "");
                 }
