@@ -1,11 +1,23 @@
 #include "visibility/box_tree.h"
 
 #include <algorithm>
+#include <array>
 
 namespace penumbra::vis {
 
 namespace {
 constexpr uint32_t kLeafSize = 4;
+
+// Every box of the hierarchy lies inside the root's: the planes' culling bounds are formed once
+// per query for that region (PlaneBoxCull). Queries with more planes than fit here use
+// boxNegative per box.
+constexpr size_t kMaxCullPlanes = 32;
+
+bool outsideOne(std::span<const PlaneBoxCull> planes, const Bounds3& box) {
+    for (const PlaneBoxCull& p : planes)
+        if (p.negative(box.lo, box.hi)) return true;
+    return false;
+}
 
 bool outsideOne(std::span<const PlaneOrient> planes, const Bounds3& box) {
     for (const PlaneOrient& p : planes)
@@ -77,6 +89,20 @@ void BoxTree::overlapping(const Bounds3& query, std::vector<uint32_t>& out) cons
 uint32_t BoxTree::notOutside(std::span<const PlaneOrient> planes, std::vector<uint32_t>& out,
                              uint64_t maxVisits) const {
     if (nodes_.empty()) return 0;
+    if (planes.size() <= kMaxCullPlanes) {
+        std::array<PlaneBoxCull, kMaxCullPlanes> cull;
+        const Bounds3& region = nodes_[0].box;
+        for (size_t i = 0; i < planes.size(); ++i)
+            cull[i] = PlaneBoxCull(planes[i], region.lo, region.hi);
+        return notOutsideWith(std::span<const PlaneBoxCull>(cull.data(), planes.size()), out,
+                              maxVisits);
+    }
+    return notOutsideWith(planes, out, maxVisits);
+}
+
+template <class Plane>
+uint32_t BoxTree::notOutsideWith(std::span<const Plane> planes, std::vector<uint32_t>& out,
+                                 uint64_t maxVisits) const {
     uint32_t visited = 0;
     uint32_t stack[64];
     int top = 0;

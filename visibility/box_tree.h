@@ -5,8 +5,9 @@
 //
 // Node boxes are unions (min / max, no rounding) of the double boxes below them. The box query is
 // the closed-box overlap test in doubles, so it returns exactly the items a loop over all items
-// would (touching counts). The plane query skips a box only when PlaneOrient::boxNegative proves
-// it strictly outside a plane: certain, never a wrong skip. Built by median splits of the box
+// would (touching counts). The plane query skips a box only when it is proven strictly outside a
+// plane (PlaneBoxCull, bounded once for the root's box, or PlaneOrient::boxNegative): certain,
+// never a wrong skip. Built by median splits of the box
 // centres along the widest axis, leaves of at most 4 items: O(log n + reported) per query when
 // the reported items are clustered.
 #pragma once
@@ -44,6 +45,10 @@ class BoxTree {
         uint32_t count = 0;  // leaf: number of items (> 0); inner: 0 (left child = this + 1)
     };
     uint32_t build(uint32_t begin, uint32_t end, std::vector<Vec3>& centre);
+    // notOutside with PlaneOrient (boxNegative per box) or PlaneBoxCull planes.
+    template <class Plane>
+    uint32_t notOutsideWith(std::span<const Plane> planes, std::vector<uint32_t>& out,
+                            uint64_t maxVisits) const;
 
     std::vector<Node> nodes_;
     std::vector<uint32_t> items_;  // item ids, grouped by leaf

@@ -135,6 +135,51 @@ inline bool PlaneOrient::boxNegative(const Vec3& lo, const Vec3& hi) const {
     return sum + (17 * u * reachPerm + 0x1p-1060) < 0;  // NaN or infinity: false (not certain)
 }
 
+// PlaneOrient::boxNegative for the many boxes of a hierarchy, all inside one region box: the
+// error term, which boxNegative bounds per box from the box's reach r_i = max(|lo_i - a_i|,
+// |hi_i - a_i|), is bounded once from the region's reach instead (rounding is monotone, so a box
+// inside the region never reaches further in any rounded difference), and each box then costs
+// three differences, three products and a sum. Rigorous for boxes inside the region only; looser
+// than boxNegative by the ratio of the reaches, which only costs work (a box not culled).
+class PlaneBoxCull {
+  public:
+    PlaneBoxCull() = default;
+    PlaneBoxCull(const PlaneOrient& plane, const Vec3& regionLo, const Vec3& regionHi);
+    // True only if every point of the box (which must lie inside the region) is certainly
+    // strictly on the plane's negative side.
+    bool negative(const Vec3& lo, const Vec3& hi) const {
+        const double sx = (n_[0] > 0 ? hi.x : lo.x) - a_[0];
+        const double sy = (n_[1] > 0 ? hi.y : lo.y) - a_[1];
+        const double sz = (n_[2] > 0 ? hi.z : lo.z) - a_[2];
+        double sum = 0;
+        sum += sx * n_[0];
+        sum += sy * n_[1];
+        sum += sz * n_[2];
+        return sum + margin_ < 0;  // NaN: false (not certain)
+    }
+
+  private:
+    double a_[3] = {0, 0, 0}, n_[3] = {0, 0, 0};
+    double margin_ = 0;
+};
+
+inline PlaneBoxCull::PlaneBoxCull(const PlaneOrient& plane, const Vec3& regionLo,
+                                  const Vec3& regionHi)
+    : a_{plane.a.x, plane.a.y, plane.a.z}, n_{plane.n[0], plane.n[1], plane.n[2]} {
+    // boxNegative's bound (17u sum r_i perm_i plus an absolute term for underflow), with the
+    // region's reach R_i >= every box's r_i.
+    constexpr double u = DBL_EPSILON / 2;
+    const double lo3[3] = {regionLo.x - a_[0], regionLo.y - a_[1], regionLo.z - a_[2]};
+    const double hi3[3] = {regionHi.x - a_[0], regionHi.y - a_[1], regionHi.z - a_[2]};
+    double reachPerm = 0;
+    for (int i = 0; i < 3; ++i) {
+        const double l = std::fabs(lo3[i]), h = std::fabs(hi3[i]);
+        reachPerm += (l > h ? l : h) * plane.perm[i];
+    }
+    margin_ = 17 * u * reachPerm + 0x1p-1060;
+    if (!(margin_ < INFINITY)) margin_ = INFINITY;  // NaN or overflow: nothing is certain
+}
+
 // Exactly: do a, b, c lie on one line (a zero cross product (b-a) x (c-a))?
 bool collinear(const Vec3& a, const Vec3& b, const Vec3& c);
 

@@ -316,6 +316,62 @@ TEST(Predicates, BoxNegativeIsCertainAtEveryMagnitude) {
     EXPECT_GT(said, 2000);  // it does decide most boxes that are not too close
 }
 
+// PlaneBoxCull (the box hierarchy's cull, its error bounded once for a region) must only say
+// "strictly negative" when every corner of the box is, for boxes anywhere inside the region: the
+// boxes of the test above, each inside a region that reaches up to 2^20 times further, on either
+// side; and with the box as its own region it decides what boxNegative decides.
+TEST(Predicates, PlaneBoxCullIsCertainForEveryBoxInsideItsRegion) {
+    std::mt19937_64 rng(19);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int said = 0, asBoxNegative = 0, boxNegativeSaid = 0;
+    for (double scale : {1.0, 1e4, 1e8, 1e12, 1e15}) {
+        for (int i = 0; i < 4000; ++i) {
+            const Vec3 o{scale * u(rng), scale * u(rng), scale * u(rng)};
+            const Vec3 a = o, b = o + Vec3{u(rng), u(rng), u(rng)},
+                       c = o + Vec3{u(rng), u(rng), u(rng)};
+            const PlaneOrient plane(a, b, c);
+            const Vec3 n = normalize(cross(b - a, c - a));
+            const Vec3 v{u(rng), u(rng), u(rng)};
+            const Vec3 centre = o + (v - n * dot(n, v)) * 0.5;
+            const double ulp = scale * 0x1p-52;
+            const bool inUlps = i % 2 == 0;
+            const double off = std::ldexp(u(rng), -static_cast<int>(rng() % 60));
+            const Vec3 p = centre + n * (inUlps ? ulp * std::round(8 * u(rng))
+                                                : off * std::max(1.0, scale * 1e-15));
+            const double half = inUlps
+                                    ? ulp * std::round(4 * std::fabs(u(rng)))
+                                    : std::ldexp(std::fabs(u(rng)), -static_cast<int>(rng() % 50));
+            const Vec3 lo{p.x - half, p.y - half, p.z - half},
+                hi{p.x + half, p.y + half, p.z + half};
+            // A region around the box, grown unevenly.
+            const double grow =
+                std::ldexp(std::fabs(u(rng)), static_cast<int>(rng() % 21)) * std::max(half, ulp);
+            const Vec3 rlo{lo.x - grow * std::fabs(u(rng)), lo.y - grow * std::fabs(u(rng)),
+                           lo.z - grow * std::fabs(u(rng))};
+            const Vec3 rhi{hi.x + grow * std::fabs(u(rng)), hi.y + grow * std::fabs(u(rng)),
+                           hi.z + grow * std::fabs(u(rng))};
+            const bool own = PlaneBoxCull(plane, lo, hi).negative(lo, hi);
+            const bool reference = plane.boxNegative(lo, hi);
+            boxNegativeSaid += reference;
+            asBoxNegative += own == reference;
+            for (const bool negative : {PlaneBoxCull(plane, rlo, rhi).negative(lo, hi), own}) {
+                if (!negative) continue;
+                ++said;
+                for (int k = 0; k < 8; ++k) {
+                    const Vec3 corner{k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y,
+                                      k & 4 ? hi.z : lo.z};
+                    EXPECT_EQ(orientSignExact(a, b, c, corner), Sign::Negative)
+                        << "scale " << scale << " box " << toString(lo) << " .. " << toString(hi);
+                }
+            }
+            if (::testing::Test::HasFailure()) return;
+        }
+    }
+    EXPECT_GT(said, 3000);               // it does decide most boxes not too close
+    EXPECT_EQ(asBoxNegative, 5 * 4000);  // its own region: boxNegative's decisions
+    EXPECT_GT(boxNegativeSaid, 1000);
+}
+
 // The filters' error bounds assume that each product and sum is rounded on its own. A fused
 // multiply-add (-ffp-contract=fast on a target with FMA) would round a * b - c * d once, and the
 // values below would differ from the two-step evaluation: this fails if the build contracts.
