@@ -17,7 +17,7 @@ namespace {
 
 struct ScreenshotOptions {
     std::string scene, point, pixel, camera, size = "1280x800", out, stateOut, previewOut;
-    std::string backend = "osmesa", previewMode = "exact";
+    std::string backend = "osmesa", previewMode = "exact", view = "raster";
     int lightSamples = 16, passes = 8;
     bool noPreview = false, precompute = false, accuracy = false;
     ExactOptions exact;
@@ -63,6 +63,14 @@ void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
     if (o.passes < 1 || o.passes > 4096)
         throw usageError("--passes: " + std::to_string(o.passes) + " out of range (1..4096)");
     h.viewer.previewSettings.mode = parsePreviewMode(o.previewMode);
+    if (sub.count("--view") > 0) {
+        if (sub.count("--preview-mode") > 0 && o.view != "raster")
+            throw usageError("screenshot: --view " + o.view +
+                             " names the preview's mode already; drop --preview-mode");
+        if (!viewer::parseViewName(o.view, h.viewer.view, h.viewer.previewSettings.mode))
+            throw usageError("--view: expected " + std::string(viewer::kViewNames) + ", got '" +
+                             o.view + "'");
+    }
     h.viewer.previewSettings.lightSamples = o.lightSamples;
     h.viewer.previewSettings.passes = o.passes;
     h.viewer.preview = !o.noPreview;
@@ -106,6 +114,10 @@ void registerScreenshotCommand(CLI::App& app) {
         ->type_name("FILE.png");
     sub->add_option("--backend", o->backend, "osmesa (default) or egl")->type_name("NAME");
     sub->add_option("--preview-mode", o->previewMode, "exact (default), sampled, side or diff")
+        ->type_name("MODE");
+    sub->add_option("--view", o->view,
+                    "What the 3D view shows: raster (default), or the render at the view's size: "
+                    "rendered (exact), sampled, side (exact | sampled), diff")
         ->type_name("MODE");
     sub->add_option("--light-samples", o->lightSamples, "Shadow rays per light (sampled)")
         ->type_name("N");

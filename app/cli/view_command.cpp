@@ -19,7 +19,7 @@ namespace {
 
 struct ViewOptions {
     std::string scene = "assets/cornell_box.obj";
-    std::string camera, size = "1280x800", stateOut, outDir = "out";
+    std::string camera, size = "1280x800", stateOut, outDir = "out", view = "raster";
     double quitAfter = 0;
     bool noPreview = false;
     bool precompute = false;
@@ -31,6 +31,11 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
     std::optional<Camera> camera;
     if (sub.count("--camera") > 0) camera = parseCamera("--camera", o.camera);
     if (o.quitAfter < 0) throw usageError("--quit-after: must be >= 0 seconds");
+    viewer::ViewMode view = viewer::ViewMode::Raster;
+    viewer::PreviewMode mode = viewer::PreviewSettings{}.mode;
+    if (!viewer::parseViewName(o.view, view, mode))
+        throw usageError("--view: expected " + std::string(viewer::kViewNames) + ", got '" +
+                         o.view + "'");
     // Scene problems are reported before any window opens.
     (void)loadSceneFile(o.scene);
     const std::string why = viewer::windowUnavailableReason();
@@ -44,6 +49,8 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
         w.quitAfterSeconds = o.quitAfter;
         w.viewer.preview = !o.noPreview;
         w.viewer.exact = o.exact;
+        w.viewer.view = view;
+        w.viewer.previewSettings.mode = mode;
         w.precompute = o.precompute;
         try {
             viewer::runWindow(w);
@@ -64,6 +71,8 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
     h.camera = camera;
     h.viewer.preview = !o.noPreview;
     h.viewer.exact = o.exact;
+    h.viewer.view = view;
+    h.viewer.previewSettings.mode = mode;
     const std::filesystem::path dir(o.outDir);
     h.out = dir / "view.png";
     h.stateOut = o.stateOut.empty() ? dir / "view_state.json" : std::filesystem::path(o.stateOut);
@@ -106,6 +115,10 @@ void registerViewCommand(CLI::App& app) {
         ->type_name("FILE.json");
     sub->add_option("--out-dir", o->outDir, "Where the no-display fallback writes (default out/)")
         ->type_name("DIR");
+    sub->add_option("--view", o->view,
+                    "What the 3D view shows: raster (default), or the render at the view's size: "
+                    "rendered (exact), sampled, side (exact | sampled), diff (V toggles)")
+        ->type_name("MODE");
     sub->add_option("--quit-after", o->quitAfter, "Close the window after this many seconds")
         ->type_name("SECONDS");
     sub->add_flag("--no-preview", o->noPreview, "Do not run the progressive preview");

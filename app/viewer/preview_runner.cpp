@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "engine/io/image_io.h"
 #include "engine/render/renderer.h"
 
 namespace penumbra::viewer {
@@ -20,12 +21,6 @@ namespace {
 
 double luminance(const Vec3& c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
 
-uint8_t toSrgb8(double v) {
-    v = std::clamp(v, 0.0, 1.0);
-    const double s = v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1 / 2.4) - 0.055;
-    return static_cast<uint8_t>(std::lround(255 * s));
-}
-
 void putPixel(PreviewImage& img, int x, int y, uint8_t r, uint8_t g, uint8_t b) {
     uint8_t* p = img.rgba.data() + (static_cast<size_t>(y) * img.width + x) * 4;
     p[0] = r;
@@ -34,11 +29,14 @@ void putPixel(PreviewImage& img, int x, int y, uint8_t r, uint8_t g, uint8_t b) 
     p[3] = 255;
 }
 
+// The film tone mapped as `penumbra render` writes its PNG (engine/io/image_io.h), so that the
+// rendered view shows the same pixels.
 void putFilm(PreviewImage& img, const Film& film, int offsetX, double exposure) {
+    const std::vector<uint8_t> rgb = toSrgb8(film, exposure);
     for (int y = 0; y < film.height; ++y)
         for (int x = 0; x < film.width; ++x) {
-            const Vec3 c = film.mean(x, y) * exposure;
-            putPixel(img, offsetX + x, y, toSrgb8(c.x), toSrgb8(c.y), toSrgb8(c.z));
+            const uint8_t* p = rgb.data() + (static_cast<size_t>(y) * film.width + x) * 3;
+            putPixel(img, offsetX + x, y, p[0], p[1], p[2]);
         }
 }
 

@@ -4,6 +4,7 @@
 #include <imgui_impl_opengl3.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <system_error>
 
@@ -148,21 +149,56 @@ void Viewer::pollBackground() {
         status_ = message;
         updateOverlay();
     }
-    if (options_.preview && scene_ && previewDirty_ &&
-        std::chrono::steady_clock::now() - lastCameraChange_ > std::chrono::milliseconds(200))
-        restartPreview();
+    if (options_.preview && scene_ && previewDirty_) {
+        // The full preview once the camera has rested for 200 ms; meanwhile, in the rendered
+        // view, a coarse single pass at most every 100 ms, so that the view follows the camera
+        // blockily without ever waiting for it.
+        const auto now = std::chrono::steady_clock::now();
+        if (now - lastCameraChange_ > std::chrono::milliseconds(200)) {
+            restartPreview();
+        } else if (options_.view == ViewMode::Rendered &&
+                   now - lastCoarseRestart_ > std::chrono::milliseconds(100)) {
+            lastCoarseRestart_ = now;
+            restartPreview(true);
+        }
+    }
     if (std::optional<PreviewImage> image = preview_.takeUpdate()) uploadPreview(*image);
 }
 
-void Viewer::restartPreview() {
-    previewDirty_ = false;
+void Viewer::restartPreview(bool coarse) {
+    if (!coarse) previewDirty_ = false;  // a coarse pass leaves the full one to come
     if (!scene_) return;
     PreviewSettings s = options_.previewSettings;
     s.exact = options_.exact;
     const Layout l = layout_.width > 0 ? layout_ : computeLayout(1280, 800);
-    s.width = std::max(8, static_cast<int>(l.view.width * options_.previewScale));
-    s.height = std::max(8, static_cast<int>(l.view.height * options_.previewScale));
+    // The rendered view: one preview pixel per view pixel, so that the view shows what
+    // `penumbra render` gives for this camera at the view's size.
+    constexpr double kCoarseScale = 0.125;
+    const double scale = coarse                                ? kCoarseScale
+                         : options_.view == ViewMode::Rendered ? 1.0
+                                                               : options_.previewScale;
+    s.width = std::max(8, static_cast<int>(std::lround(l.view.width * scale)));
+    s.height = std::max(8, static_cast<int>(std::lround(l.view.height * scale)));
+    if (coarse) s.passes = 1;
     preview_.restart(scene_, orbit_.camera(), s);
+}
+
+const ViewImage* Viewer::viewImage() {
+    if (options_.view != ViewMode::Rendered || previewImage_.width == 0 ||
+        previewImage_.rgba.empty())
+        return nullptr;  // no image yet: the rasterised scene meanwhile
+    viewImage_.texture = previewTexture_;
+    viewImage_.bands.clear();
+    if (options_.previewSettings.mode == PreviewMode::SideBySide) {
+        // Exact left of the split, sampled right of it: each half of the texture is one image of
+        // the view's size.
+        const float t = static_cast<float>(std::clamp(options_.split, 0.0, 1.0));
+        viewImage_.bands.push_back({0, t, 0, 0.5f * t});
+        viewImage_.bands.push_back({t, 1, 0.5f + 0.5f * t, 1});
+    } else {
+        viewImage_.bands.push_back({0, 1, 0, 1});
+    }
+    return &viewImage_;
 }
 
 void Viewer::uploadPreview(const PreviewImage& image) {
@@ -203,6 +239,22 @@ void Viewer::handleInput(int width, int height) {
     const Viewport& vp = layout_.view;
     const bool overView = vp.contains(io.MousePos.x, io.MousePos.y) && !io.WantCaptureMouse;
     bool moved = false;
+    // The split line of the rendered side-by-side view: a press within 6 pixels of it drags it.
+    const bool split = options_.view == ViewMode::Rendered &&
+                       options_.previewSettings.mode == PreviewMode::SideBySide;
+    const double splitX = vp.x + options_.split * vp.width;
+    if (split && overView && ImGui::IsMouseClicked(ImGuiMouseButton_Left) &&
+        std::fabs(io.MousePos.x - splitX) <= 6)
+        draggingSplit_ = true;
+    if (draggingSplit_) {
+        if (ImGui::IsMouseDown(ImGuiMouseButton_Left) && split) {
+            options_.split = std::clamp(
+                (static_cast<double>(io.MousePos.x) - vp.x) / std::max(1, vp.width), 0.0, 1.0);
+            return;
+        }
+        draggingSplit_ = false;
+        return;  // the release ends the drag, it picks nothing
+    }
     if (overView || ImGui::IsMouseDragging(ImGuiMouseButton_Left) ||
         ImGui::IsMouseDragging(ImGuiMouseButton_Right)) {
         if (!io.WantCaptureMouse) {
@@ -242,6 +294,11 @@ void Viewer::handleInput(int width, int height) {
                 previewDirty_ = true;
             }
         if (ImGui::IsKeyPressed('R')) previewDirty_ = true;
+        if (ImGui::IsKeyPressed('V')) {
+            options_.view =
+                options_.view == ViewMode::Raster ? ViewMode::Rendered : ViewMode::Raster;
+            previewDirty_ = true;
+        }
         if (ImGui::IsKeyPressed('P')) startPrecompute();
         if (ImGui::IsKeyPressed('C')) cancelPrecompute();
         if (ImGui::IsKeyPressed('Q') && io.KeyCtrl) quit_ = true;
@@ -269,7 +326,7 @@ void Viewer::frame(int width, int height, double deltaSeconds) {
     glViewport(0, 0, width, height);
     glClearColor(0.1f, 0.1f, 0.12f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    if (scene_) renderer_.draw(orbit_, scene_->bounds, layout_.view, height);
+    if (scene_) renderer_.draw(orbit_, scene_->bounds, layout_.view, height, viewImage());
     glViewport(0, 0, width, height);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 
@@ -305,9 +362,29 @@ void Viewer::drawPanels() {
         treePanel_.draw("History tree");
         record("History tree", l.tree);
     }
-    if (PreviewPanel::draw(l.preview, options_.previewSettings, previewImage_, preview_.running(),
-                           previewTexture_))
+    if (PreviewPanel::draw(l.preview, options_.previewSettings, options_.view, previewImage_,
+                           preview_.running(), previewTexture_))
         previewDirty_ = true;
+    if (options_.view == ViewMode::Rendered &&
+        options_.previewSettings.mode == PreviewMode::SideBySide) {
+        // The split line over the view (under the windows), with the names of its two sides.
+        const Viewport& vp = l.view;
+        const float x = static_cast<float>(vp.x + options_.split * vp.width);
+        const float midY = static_cast<float>(vp.y) + 0.5f * static_cast<float>(vp.height);
+        ImDrawList* draw = ImGui::GetBackgroundDrawList();
+        draw->AddLine(ImVec2(x, static_cast<float>(vp.y)),
+                      ImVec2(x, static_cast<float>(vp.y + vp.height)), IM_COL32(255, 255, 255, 200),
+                      2.0f);
+        const auto label = [&](float left, const char* text) {
+            const ImVec2 size = ImGui::CalcTextSize(text);
+            draw->AddRectFilled(ImVec2(left - 4, midY - 2),
+                                ImVec2(left + size.x + 4, midY + size.y + 2),
+                                IM_COL32(0, 0, 0, 170));
+            draw->AddText(ImVec2(left, midY), IM_COL32(255, 255, 255, 255), text);
+        };
+        label(x - 10 - ImGui::CalcTextSize("exact").x, "exact");
+        label(x + 10, "sampled");
+    }
     record("Preview", l.preview);
     if (PointPanel::draw(l.point, selection_)) updateOverlay();
     record("Point", l.point);
@@ -315,9 +392,10 @@ void Viewer::drawPanels() {
     record("Light plane", l.lightPlane);
     PathPanel::draw(l.path, selection_);
     record("Path", l.path);
-    helpPanel_.draw(l.view);
+    // The overlays of the 3D view, recorded too (the tests check that they stay inside it).
+    if (helpPanel_.visible()) record("Help", helpPanel_.draw(l.view));
     if (showAccuracy_) drawAccuracy();
-    StatusBar::draw(l.view, status_, frameStats_);
+    record("Status", StatusBar::draw(l.view, status_, frameStats_));
     // Actions that replace what the panels drew from, after every panel is drawn.
     if (scene.fit) fitCamera();
     if (scene.open) openScene(*scene.open);

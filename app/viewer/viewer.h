@@ -30,6 +30,7 @@
 #include "app/viewer/orbit_camera.h"
 #include "app/viewer/panels/accuracy_panel.h"
 #include "app/viewer/panels/help_panel.h"
+#include "app/viewer/panels/preview_panel.h"
 #include "app/viewer/panels/scene_panel.h"
 #include "app/viewer/panels/tree_graph_panel.h"
 #include "app/viewer/point_inspection.h"
@@ -43,10 +44,12 @@ namespace penumbra::viewer {
 struct ViewerOptions {
     std::filesystem::path assetsDirectory = "assets";  // the scene list of the Scene panel
     bool showHelp = true;
-    bool preview = true;              // run the progressive preview (when the renderer exists)
-    PreviewSettings previewSettings;  // width/height are overwritten from the viewport
-    double previewScale = 0.25;       // preview pixels per viewport pixel
-    ExactOptions exact;               // the build budget and the renderer's exact settings
+    bool preview = true;               // run the progressive preview (when the renderer exists)
+    PreviewSettings previewSettings;   // width/height are overwritten from the viewport
+    double previewScale = 0.25;        // preview pixels per viewport pixel (the panel's thumbnail)
+    ViewMode view = ViewMode::Raster;  // the rendered view renders at the viewport's resolution
+    double split = 0.5;  // side by side in the rendered view: exact left of this fraction
+    ExactOptions exact;  // the build budget and the renderer's exact settings
 };
 
 class Viewer {
@@ -106,7 +109,12 @@ class Viewer {
   private:
     void handleInput(int width, int height);
     void pollBackground();
-    void restartPreview();
+    // The preview for the current camera: at the thumbnail's scale, or at the view's resolution
+    // in the rendered view; `coarse`: one pass at kCoarseScale (the rendered view while the camera
+    // moves).
+    void restartPreview(bool coarse = false);
+    // The rendered view's image for this frame (nullptr: draw the rasterised scene).
+    const ViewImage* viewImage();
     void uploadPreview(const PreviewImage& image);
     // The overlay and the tree browser follow the selection's inspection and light.
     void updateOverlay();
@@ -129,7 +137,9 @@ class Viewer {
     PreviewImage previewImage_;
     GLuint previewTexture_ = 0;
     bool previewDirty_ = false;
-    std::chrono::steady_clock::time_point lastCameraChange_;
+    std::chrono::steady_clock::time_point lastCameraChange_, lastCoarseRestart_;
+    ViewImage viewImage_;
+    bool draggingSplit_ = false;
 
     PrecomputeJob precompute_;
     AccuracyJob accuracyJob_;

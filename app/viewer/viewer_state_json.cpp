@@ -124,6 +124,11 @@ nlohmann::json Viewer::stateJson() const {
     s["panelRects"] = rects;
     s["inspectionPending"] = selection_.pending();
     s["point"] = pointJson(selection_);
+    // What the 3D view shows: "raster", or "rendered" (the preview's image at the view's size, in
+    // the preview's mode; side by side split at `split`).
+    s["view"] = {{"mode", options_.view == ViewMode::Rendered ? "rendered" : "raster"},
+                 {"showsImage", options_.view == ViewMode::Rendered && !previewImage_.rgba.empty()},
+                 {"split", options_.split}};
     s["preview"] = {{"mode", toString(options_.previewSettings.mode)},
                     {"passes", previewImage_.passes},
                     {"width", previewImage_.width},

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -172,6 +173,101 @@ TEST(ViewerScreenshot, SampledPreviewConvergesToTheExactOne) {
     const json many = run(64, 1);
     EXPECT_LT(many["preview"]["relativeRmsError"].get<double>(), 0.5 * history.front());
     EXPECT_TRUE(fs::exists(dir / "preview.png"));
+}
+
+// The rendered view (--view) shows, pixel for pixel, what `penumbra render` writes for the same
+// camera, size (the view's), samples and tone map: exact, sampled, and the two side by side split
+// at the middle (exact left, sampled right), wherever the view's overlays (status line, help,
+// which must stay inside the view) leave it visible. The raster view of the same camera is far
+// from that image (the test can tell).
+TEST(ViewerScreenshot, RenderedViewIsTheImagePenumbraRenderWrites) {
+    const fs::path dir = test::scratchDir("viewer_rendered");
+    const std::string scene =
+        (test::sourceDir() / "assets" / "scenes" / "cornell_box.json").string();
+    const std::string camera = "278,273,-800,278,273,0,39.3";
+    auto shoot = [&](const std::string& view, const std::string& name) {
+        const test::ProcessResult r = test::runPenumbraGl(
+            {"screenshot", scene, "--view", view, "--camera", camera, "--size", "960x600",
+             "--passes", "2", "--light-samples", "4", "--out", (dir / (name + ".png")).string(),
+             "--state-out", (dir / (name + ".json")).string()});
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        return test::readJson(dir / (name + ".json"));
+    };
+    const json state = shoot("rendered", "exact");
+    const json& v = state["panelRects"]["3D view"];
+    const int vx = v[0], vy = v[1], vw = v[2], vh = v[3];
+    EXPECT_EQ(state["view"]["mode"], "rendered");
+    EXPECT_TRUE(state["view"]["showsImage"].get<bool>());
+    EXPECT_EQ(state["preview"]["width"], vw);
+    EXPECT_EQ(state["preview"]["height"], vh);
+    const std::string size = std::to_string(vw) + "x" + std::to_string(vh);
+    auto render = [&](const std::string& method, const std::string& name) {
+        const test::ProcessResult r = test::runPenumbra(
+            {"render", scene, "--camera", camera, "--up", "0,1,0", "--size", size, "--spp", "2",
+             "--method", method, "--light-samples", "4", "--out", (dir / name).string()});
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        return test::readPng(dir / name);
+    };
+    const test::Image exact = render("exact", "exact_render.png");
+    const test::Image sampled = render("sampled", "sampled_render.png");
+    ASSERT_EQ(exact.width, vw);
+    // The view's overlays (status line, help) stay inside it, and their pixels are not compared.
+    std::vector<std::array<double, 4>> overlays;
+    for (const char* name : {"Help", "Status"}) {
+        ASSERT_TRUE(state["panelRects"].contains(name)) << name;
+        const json& r = state["panelRects"][name];
+        const std::array<double, 4> rect = {r[0], r[1], r[2], r[3]};
+        EXPECT_GE(rect[0], vx) << name;
+        EXPECT_GE(rect[1], vy) << name;
+        EXPECT_LE(rect[0] + rect[2], vx + vw) << name;
+        EXPECT_LE(rect[1] + rect[3], vy + vh) << name;
+        overlays.push_back(rect);
+    }
+    auto covered = [&](int x, int y) {
+        for (const auto& r : overlays)
+            if (x >= r[0] - 1 && y >= r[1] - 1 && x <= r[0] + r[2] + 1 && y <= r[1] + r[3] + 1)
+                return true;
+        return false;
+    };
+    // Mean absolute difference (in [0, 1]) between the view's pixels and `reference(x)`'s, over
+    // the pixels no overlay covers.
+    auto meanDifference = [&](const test::Image& shot, auto reference) {
+        double sum = 0;
+        long n = 0;
+        for (int y = 0; y < vh; ++y)
+            for (int x = 0; x < vw; ++x) {
+                const test::Image* ref = reference(x, y);
+                if (ref == nullptr || covered(vx + x, vy + y)) continue;
+                const unsigned char* a = shot.at(vx + x, vy + y);
+                const unsigned char* b = ref->at(x, y);
+                for (int k = 0; k < 3; ++k) sum += std::abs(int(a[k]) - int(b[k])) / 255.0;
+                n += 3;
+            }
+        EXPECT_GT(n, 3 * 100000);
+        return sum / std::max<long>(n, 1);
+    };
+    const test::Image shotExact = test::readPng(dir / "exact.png");
+    EXPECT_LT(meanDifference(shotExact, [&](int, int) { return &exact; }), 1e-3);
+    shoot("sampled", "sampled");
+    EXPECT_LT(
+        meanDifference(test::readPng(dir / "sampled.png"), [&](int, int) { return &sampled; }),
+        1e-3);
+    const json side = shoot("side", "side");
+    EXPECT_EQ(side["preview"]["width"], 2 * vw);
+    const int split = static_cast<int>(side["view"]["split"].get<double>() * vw);
+    EXPECT_LT(meanDifference(test::readPng(dir / "side.png"),
+                             [&](int x, int y) -> const test::Image* {
+                                 // The drawn line, and its two labels at mid-height.
+                                 if (std::abs(x - split) <= 2) return nullptr;
+                                 if (std::abs(x - split) <= 90 && std::abs(y - vh / 2) <= 24)
+                                     return nullptr;
+                                 return x < split ? &exact : &sampled;
+                             }),
+              1e-3);
+    // Not a coincidence: the raster view of this camera is another picture.
+    shoot("raster", "raster");
+    EXPECT_GT(meanDifference(test::readPng(dir / "raster.png"), [&](int, int) { return &exact; }),
+              0.03);
 }
 
 // The "Accuracy vs time" panel of the view, run as the viewer runs it (in the background, frames

@@ -99,7 +99,8 @@ using ProcLoader = std::function<void*(const char* name)>;
     X(PFNGLGETERRORPROC, GetError)                               \
     X(PFNGLREADBUFFERPROC, ReadBuffer)                           \
     X(PFNGLCULLFACEPROC, CullFace)                               \
-    X(PFNGLFRONTFACEPROC, FrontFace)
+    X(PFNGLFRONTFACEPROC, FrontFace)                             \
+    X(PFNGLCOLORMASKPROC, ColorMask)
 
 struct GlApi {
 #define PENUMBRA_GL_FIELD(type, name) type name = nullptr;
@@ -210,3 +211,4 @@ std::string glErrorName(GLenum code);
 #define glReadBuffer (::penumbra::gl::currentGlApi().ReadBuffer)
 #define glCullFace (::penumbra::gl::currentGlApi().CullFace)
 #define glFrontFace (::penumbra::gl::currentGlApi().FrontFace)
+#define glColorMask (::penumbra::gl::currentGlApi().ColorMask)

@@ -30,10 +30,12 @@ std::array<float, 16> viewProjection(const Camera& camera, int width, int height
 SceneRenderer::SceneRenderer()
     : meshProgram_("mesh.vert", "mesh.frag"),
       overlayProgram_("overlay.vert", "overlay.frag"),
+      imageProgram_("image.vert", "image.frag"),
       mesh_({3, 3, 3, 1}),
       fragments_({3, 4}),
       lines_({3, 4}),
-      linesOnTop_({3, 4}) {}
+      linesOnTop_({3, 4}),
+      imageQuads_({2, 2}) {}
 
 void SceneRenderer::setScene(const Scene& scene) {
     std::vector<float> data;
@@ -72,8 +74,29 @@ void SceneRenderer::setOverlay(const OverlayGeometry& overlay) {
     linesOnTop_.upload(overlay.linesOnTop);
 }
 
+void SceneRenderer::drawImage(const ViewImage& image) const {
+    // Two triangles per band, in the view's clip space (x from -1 at the left, y from -1 at the
+    // bottom), texture v = 0 at the top row.
+    std::vector<float> quads;
+    for (const ViewImage::Band& b : image.bands) {
+        const float x0 = 2 * b.x0 - 1, x1 = 2 * b.x1 - 1;
+        quads.insert(quads.end(), {x0, -1, b.u0, 1, x1, -1, b.u1, 1, x1, 1, b.u1, 0,
+                                   x0, -1, b.u0, 1, x1, 1,  b.u1, 0, x0, 1, b.u0, 0});
+    }
+    imageQuads_.upload(quads);
+    glDisable(GL_DEPTH_TEST);
+    glDepthMask(GL_FALSE);
+    imageProgram_.use();
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, image.texture);
+    imageQuads_.draw(GL_TRIANGLES);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    glDepthMask(GL_TRUE);
+    glEnable(GL_DEPTH_TEST);
+}
+
 void SceneRenderer::draw(const OrbitCamera& orbit, const vis::Bounds3& sceneBox, const Viewport& vp,
-                         int framebufferHeight) const {
+                         int framebufferHeight, const ViewImage* image) const {
     const int glY = framebufferHeight - (vp.y + vp.height);
     glViewport(vp.x, glY, vp.width, vp.height);
     glEnable(GL_SCISSOR_TEST);
@@ -97,7 +120,12 @@ void SceneRenderer::draw(const OrbitCamera& orbit, const vis::Bounds3& sceneBox,
     meshProgram_.setMatrix("uViewProjection", m.data());
     meshProgram_.setVec3("uEye", static_cast<float>(camera.eye.x), static_cast<float>(camera.eye.y),
                          static_cast<float>(camera.eye.z));
+    if (image != nullptr) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);  // depth only
     mesh_.draw(GL_TRIANGLES);
+    if (image != nullptr) {
+        glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+        drawImage(*image);
+    }
 
     overlayProgram_.use();
     overlayProgram_.setMatrix("uViewProjection", m.data());

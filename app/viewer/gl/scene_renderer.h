@@ -5,6 +5,7 @@
 
 #include <array>
 #include <memory>
+#include <vector>
 
 #include "app/viewer/gl/shader_program.h"
 #include "app/viewer/gl/vertex_buffer.h"
@@ -28,18 +29,36 @@ struct Viewport {
 std::array<float, 16> viewProjection(const Camera& camera, int width, int height,
                                      double nearDistance, double farDistance);
 
+// The rendered view: the renderer's image shown in the 3D view instead of the rasterised colours,
+// as vertical bands of the view, each filled by a horizontal range of the texture (one band for an
+// image of the view's size; two for the split of exact and sampled images laid side by side in one
+// texture). Texture rows from the top, as the renderer writes them.
+struct ViewImage {
+    GLuint texture = 0;
+    struct Band {
+        float x0 = 0, x1 = 1;  // of the view's width
+        float u0 = 0, u1 = 1;  // of the texture's width
+    };
+    std::vector<Band> bands;
+};
+
 class SceneRenderer {
   public:
     SceneRenderer();
     void setScene(const Scene& scene);
     void setOverlay(const OverlayGeometry& overlay);
-    // Clears the viewport and draws; framebufferHeight converts to GL's bottom-up rows.
+    // Clears the viewport and draws; framebufferHeight converts to GL's bottom-up rows. With an
+    // image, the mesh only fills the depth buffer and the image is drawn in its place, pixel for
+    // pixel; the overlays are drawn on top of either, depth-tested against the mesh.
     void draw(const OrbitCamera& camera, const vis::Bounds3& sceneBox, const Viewport& viewport,
-              int framebufferHeight) const;
+              int framebufferHeight, const ViewImage* image = nullptr) const;
 
   private:
-    ShaderProgram meshProgram_, overlayProgram_;
+    void drawImage(const ViewImage& image) const;
+
+    ShaderProgram meshProgram_, overlayProgram_, imageProgram_;
     VertexBuffer mesh_, fragments_, lines_, linesOnTop_;
+    mutable VertexBuffer imageQuads_;
 };
 
 }  // namespace penumbra::viewer

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "app/viewer/gl/scene_renderer.h"
+#include "app/viewer/layout.h"
 
 namespace penumbra::viewer {
 
@@ -18,14 +19,18 @@ class HelpPanel {
     explicit HelpPanel(bool visible) : visible_(visible) {}
     bool visible() const { return visible_; }
     void toggle() { visible_ = !visible_; }
-    void draw(const Viewport& view);  // when visible (its close button hides it)
+    // When visible (its close button hides it). Returns the window's rectangle (empty when hidden),
+    // always inside the 3D view: its text wraps at the view's width.
+    PanelRect draw(const Viewport& view);
 
   private:
     bool visible_;
 };
 
 struct StatusBar {
-    static void draw(const Viewport& view, const std::string& status, const FrameStats& frames);
+    // Returns the window's rectangle, inside the 3D view as the Help's.
+    static PanelRect draw(const Viewport& view, const std::string& status,
+                          const FrameStats& frames);
 };
 
 }  // namespace penumbra::viewer

@@ -2,16 +2,40 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <utility>
 
 #include "app/viewer/panels/panel.h"
 
 namespace penumbra::viewer {
 
-bool PreviewPanel::draw(const PanelRect& rect, PreviewSettings& s, const PreviewImage& image,
-                        bool running, uint32_t texture) {
+bool parseViewName(std::string_view name, ViewMode& view, PreviewMode& mode) {
+    if (name == "raster") {
+        view = ViewMode::Raster;
+        return true;
+    }
+    const std::pair<std::string_view, PreviewMode> rendered[] = {{"rendered", PreviewMode::Exact},
+                                                                 {"sampled", PreviewMode::Sampled},
+                                                                 {"side", PreviewMode::SideBySide},
+                                                                 {"diff", PreviewMode::Difference}};
+    for (const auto& [n, m] : rendered)
+        if (name == n) {
+            view = ViewMode::Rendered;
+            mode = m;
+            return true;
+        }
+    return false;
+}
+
+bool PreviewPanel::draw(const PanelRect& rect, PreviewSettings& s, ViewMode& view,
+                        const PreviewImage& image, bool running, uint32_t texture) {
     bool changed = false;
     placeNextWindow(rect);
     if (ImGui::Begin("Preview", nullptr, kDockedPanel)) {
+        bool rendered = view == ViewMode::Rendered;
+        if (ImGui::Checkbox("in the 3D view (V)", &rendered)) {
+            view = rendered ? ViewMode::Rendered : ViewMode::Raster;
+            changed = true;
+        }
         int mode = static_cast<int>(s.mode);
         const char* names[] = {"exact", "sampled", "side by side", "difference"};
         if (ImGui::Combo("mode (1-4)", &mode, names, 4)) {

@@ -1,18 +1,32 @@
 // The Preview panel: the progressive render (exact, sampled, side by side, difference) as a
-// thumbnail, its mode and light samples (PreviewSettings, edited here), passes and error.
+// thumbnail, its mode and light samples (PreviewSettings, edited here), whether it fills the 3D
+// view (ViewMode, edited here), passes and error.
 #pragma once
 
 #include <cstdint>
+#include <string_view>
 
 #include "app/viewer/layout.h"
 #include "app/viewer/preview_runner.h"
 
 namespace penumbra::viewer {
 
+// What the 3D view shows: the rasterised scene (flat colours, the default), or the preview's image
+// at the view's own resolution (the rendered view: exact, sampled, exact and sampled split at a
+// draggable line, or the difference, as the preview's mode says), with the overlays on top.
+enum class ViewMode { Raster, Rendered };
+
+// The names of the command line's --view (screenshot, view): raster, or the rendered view with
+// the preview's mode: rendered (exact), sampled, side (exact and sampled, split), diff. False for
+// any other name (nothing is changed then).
+bool parseViewName(std::string_view name, ViewMode& view, PreviewMode& mode);
+inline constexpr const char* kViewNames = "raster, rendered, sampled, side or diff";
+
 struct PreviewPanel {
-    // Returns true when `settings` changed (the preview must restart). `texture` holds `image`.
-    static bool draw(const PanelRect& rect, PreviewSettings& settings, const PreviewImage& image,
-                     bool running, uint32_t texture);
+    // Returns true when `settings` or `view` changed (the preview must restart). `texture` holds
+    // `image`.
+    static bool draw(const PanelRect& rect, PreviewSettings& settings, ViewMode& view,
+                     const PreviewImage& image, bool running, uint32_t texture);
 };
 
 }  // namespace penumbra::viewer
