@@ -16,7 +16,7 @@ namespace penumbra::cli {
 namespace {
 
 struct ScreenshotOptions {
-    std::string scene, point, pixel, camera, size = "1280x800", out, stateOut, previewOut;
+    std::string scene, point, pixel, hover, camera, size = "1280x800", out, stateOut, previewOut;
     std::string backend = "osmesa", previewMode = "exact", view = "raster";
     int lightSamples = 16, passes = 8;
     bool noPreview = false, precompute = false, accuracy = false;
@@ -45,9 +45,16 @@ void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
         h.pixel = std::array<double, 2>{v[0], v[1]};
     }
     if (sub.count("--camera") > 0) h.camera = parseCamera("--camera", o.camera);
+    if (sub.count("--hover") > 0) {
+        const auto v = parseNumberList("--hover", o.hover, 2);
+        h.hover = std::array<double, 2>{v[0], v[1]};
+    }
     const auto size = parseSize("--size", o.size, kWindowSize);
     h.width = size[0];
     h.height = size[1];
+    if (h.hover && ((*h.hover)[0] < 0 || (*h.hover)[1] < 0 || (*h.hover)[0] >= h.width ||
+                    (*h.hover)[1] >= h.height))
+        throw usageError("--hover: outside the " + o.size + " image");
     if (h.pixel && ((*h.pixel)[0] < 0 || (*h.pixel)[1] < 0 || (*h.pixel)[0] >= h.width ||
                     (*h.pixel)[1] >= h.height))
         throw usageError("--pixel: outside the " + o.size + " image");
@@ -104,6 +111,9 @@ void registerScreenshotCommand(CLI::App& app) {
     sub->add_option("--point", o->point, "Inspect this point (on a face of the scene)")
         ->type_name("X,Y,Z");
     sub->add_option("--pixel", o->pixel, "Inspect the surface point under this pixel")
+        ->type_name("X,Y");
+    sub->add_option("--hover", o->hover,
+                    "The mouse over this pixel (the rendered view's pixel inspector)")
         ->type_name("X,Y");
     sub->add_option("--camera", o->camera, "Camera: eye, target, vertical field of view")
         ->type_name("EX,EY,EZ,TX,TY,TZ[,FOV]");

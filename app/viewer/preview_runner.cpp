@@ -40,6 +40,19 @@ void putFilm(PreviewImage& img, const Film& film, int offsetX, double exposure) 
         }
 }
 
+// The film's mean radiance as RGB floats, rows from the top.
+void putRadiance(std::vector<float>& out, const Film& film) {
+    out.resize(static_cast<size_t>(film.width) * film.height * 3);
+    size_t i = 0;
+    for (int y = 0; y < film.height; ++y)
+        for (int x = 0; x < film.width; ++x) {
+            const Vec3 c = film.mean(x, y);
+            out[i++] = static_cast<float>(c.x);
+            out[i++] = static_cast<float>(c.y);
+            out[i++] = static_cast<float>(c.z);
+        }
+}
+
 // Black -> red -> yellow -> white as t goes 0 -> 1.
 void heat(double t, uint8_t& r, uint8_t& g, uint8_t& b) {
     t = std::clamp(t, 0.0, 1.0) * 3;
@@ -199,6 +212,9 @@ void PreviewRunner::run(const std::shared_ptr<Job>& job) {
                 }
             }
             image.passes = pass + 1;
+            image.imageWidth = s.width;
+            if (wantExact) putRadiance(image.exactRadiance, exact);
+            if (wantSampled) putRadiance(image.sampledRadiance, sampled);
             if (wantExact && wantSampled) {
                 image.relativeRmsError = relativeRms(exact, sampled);
                 image.errorHistory.push_back(image.relativeRmsError);

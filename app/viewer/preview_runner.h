@@ -47,6 +47,11 @@ struct PreviewImage {
     double seconds = 0;                // since the job started
     bool finished = false;
     std::string error;  // a failure of the renderer
+    // The linear radiance (mean of the passes, before exposure and tone mapping) of the exact and
+    // the sampled image, `imageWidth` * height RGB triples each, rows from the top; empty for an
+    // image the mode does not render. What the pixel inspector reads.
+    int imageWidth = 0;
+    std::vector<float> exactRadiance, sampledRadiance;
 };
 
 class PreviewRunner {

@@ -396,9 +396,44 @@ void Viewer::drawPanels() {
     if (helpPanel_.visible()) record("Help", helpPanel_.draw(l.view));
     if (showAccuracy_) drawAccuracy();
     record("Status", StatusBar::draw(l.view, status_, frameStats_));
+    drawPixelInspector();
     // Actions that replace what the panels drew from, after every panel is drawn.
     if (scene.fit) fitCamera();
     if (scene.open) openScene(*scene.open);
+}
+
+void Viewer::drawPixelInspector() {
+    hover_ = nullptr;
+    const ImGuiIO& io = ImGui::GetIO();
+    if (options_.view != ViewMode::Rendered || !scene_ || io.WantCaptureMouse || draggingSplit_ ||
+        ImGui::IsMouseDragging(ImGuiMouseButton_Left) ||
+        ImGui::IsMouseDragging(ImGuiMouseButton_Right))
+        return;
+    hover_ = pixelInspector_.inspect(*scene_, orbit_.camera(), layout_.view, previewImage_,
+                                     io.MousePos.x, io.MousePos.y);
+    if (hover_ == nullptr) return;
+    const PixelReport& r = *hover_;
+    ImGui::BeginTooltip();
+    ImGui::Text("pixel (%d, %d)", r.x, r.y);
+    auto radiance = [](const char* name, const std::optional<Vec3>& c) {
+        if (c)
+            ImGui::Text("%-8s L = (%.4g, %.4g, %.4g)", name, c->x, c->y, c->z);
+        else
+            ImGui::Text("%-8s not rendered (the preview's mode or size)", name);
+    };
+    radiance("exact", r.exact);
+    radiance("sampled", r.sampled);
+    if (!r.hit) {
+        ImGui::TextUnformatted("no surface");
+    } else {
+        ImGui::Text("face %u at (%.4g, %.4g, %.4g)", r.hit->face, r.hit->point.x, r.hit->point.y,
+                    r.hit->point.z);
+        for (const LightAtPoint& l : r.lights)
+            ImGui::Text("light %u: %.2f%% visible, form factor %.4g%s", l.light, 100 * l.fraction,
+                        l.formFactor, l.complete ? "" : " (over the hover budget: at least)");
+        ImGui::TextUnformatted("click: inspect this point");
+    }
+    ImGui::EndTooltip();
 }
 
 void Viewer::drawAccuracy() {

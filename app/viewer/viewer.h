@@ -33,6 +33,7 @@
 #include "app/viewer/panels/preview_panel.h"
 #include "app/viewer/panels/scene_panel.h"
 #include "app/viewer/panels/tree_graph_panel.h"
+#include "app/viewer/pixel_inspector.h"
 #include "app/viewer/point_inspection.h"
 #include "app/viewer/precompute_job.h"
 #include "app/viewer/preview_runner.h"
@@ -120,6 +121,8 @@ class Viewer {
     void updateOverlay();
     void startAccuracyStudy();
     void drawPanels();
+    // The rendered view's pixel inspector: a tooltip for the pixel under the mouse.
+    void drawPixelInspector();
     void drawAccuracy();
 
     ViewerOptions options_;
@@ -139,6 +142,8 @@ class Viewer {
     bool previewDirty_ = false;
     std::chrono::steady_clock::time_point lastCameraChange_, lastCoarseRestart_;
     ViewImage viewImage_;
+    PixelInspector pixelInspector_;
+    const PixelReport* hover_ = nullptr;  // this frame's pixel report (the inspector's)
     bool draggingSplit_ = false;
 
     PrecomputeJob precompute_;

@@ -129,6 +129,24 @@ nlohmann::json Viewer::stateJson() const {
     s["view"] = {{"mode", options_.view == ViewMode::Rendered ? "rendered" : "raster"},
                  {"showsImage", options_.view == ViewMode::Rendered && !previewImage_.rgba.empty()},
                  {"split", options_.split}};
+    // The pixel inspector's report for the pixel under the mouse (rendered view only).
+    if (hover_ != nullptr) {
+        const PixelReport& r = *hover_;
+        auto radiance = [&](const std::optional<Vec3>& c) { return c ? vec(*c) : json(nullptr); };
+        json lights = json::array();
+        for (const LightAtPoint& l : r.lights)
+            lights.push_back({{"light", l.light},
+                              {"fraction", l.fraction},
+                              {"formFactor", l.formFactor},
+                              {"complete", l.complete}});
+        s["pixel"] = {{"x", r.x},
+                      {"y", r.y},
+                      {"exact", radiance(r.exact)},
+                      {"sampled", radiance(r.sampled)},
+                      {"face", r.hit ? json(r.hit->face) : json(nullptr)},
+                      {"point", r.hit ? vec(r.hit->point) : json(nullptr)},
+                      {"lights", lights}};
+    }
     s["preview"] = {{"mode", toString(options_.previewSettings.mode)},
                     {"passes", previewImage_.passes},
                     {"width", previewImage_.width},

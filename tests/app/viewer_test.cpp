@@ -19,8 +19,10 @@
 
 #include "app/viewer/point_inspection.h"
 #include "engine/io/obj_io.h"
+#include "engine/io/scene_loader.h"
 #include "engine/render/embree_scene.h"
 #include "tests/app/viewer_test_support.h"
+#include "tests/support/read_pfm.h"
 
 namespace penumbra {
 namespace {
@@ -268,6 +270,55 @@ TEST(ViewerScreenshot, RenderedViewIsTheImagePenumbraRenderWrites) {
     shoot("raster", "raster");
     EXPECT_GT(meanDifference(test::readPng(dir / "raster.png"), [&](int, int) { return &exact; }),
               0.03);
+}
+
+// The pixel inspector of the rendered view (--hover): the pixel's exact and sampled radiance are
+// the linear values `penumbra render` writes to its PFM for that pixel, and the per-light visible
+// fraction at the surface point under it is the one the history tree's query gives there (an
+// independent exact evaluation). The pixel lies in the tall box's penumbra on the floor.
+TEST(ViewerScreenshot, PixelInspectorReportsTheRenderedPixelAndTheExactFraction) {
+    const fs::path dir = test::scratchDir("viewer_hover");
+    const fs::path scene = test::sourceDir() / "assets" / "scenes" / "cornell_box.json";
+    const std::string camera = "278,273,-800,278,273,0,39.3";
+    const test::ProcessResult r = test::runPenumbraGl(
+        {"screenshot", scene.string(), "--view", "side", "--camera", camera, "--size", "960x600",
+         "--passes", "2", "--light-samples", "4", "--hover", "300,400", "--out",
+         (dir / "shot.png").string(), "--state-out", (dir / "state.json").string()});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const json state = test::readJson(dir / "state.json");
+    ASSERT_TRUE(state.contains("pixel")) << "no pixel report";
+    const json& p = state["pixel"];
+    const json& v = state["panelRects"]["3D view"];
+    const int vw = v[2], vh = v[3];
+    EXPECT_EQ(p["x"], 300 - v[0].get<int>());
+    EXPECT_EQ(p["y"], 400 - v[1].get<int>());
+    const std::string size = std::to_string(vw) + "x" + std::to_string(vh);
+    for (const char* method : {"exact", "sampled"}) {
+        SCOPED_TRACE(method);
+        const fs::path pfm = dir / (std::string(method) + ".pfm");
+        const test::ProcessResult rr = test::runPenumbra(
+            {"render", scene.string(), "--camera", camera, "--up", "0,1,0", "--size", size, "--spp",
+             "2", "--method", method, "--light-samples", "4", "--out", pfm.string()});
+        ASSERT_EQ(rr.exitCode, 0) << rr.err;
+        int w = 0, h = 0;
+        const std::vector<float> image = test::readPfm(pfm.string(), w, h);
+        ASSERT_EQ(w, vw);
+        const size_t at = (static_cast<size_t>(p["y"].get<int>()) * w + p["x"].get<int>()) * 3;
+        ASSERT_TRUE(p[method].is_array());
+        for (int k = 0; k < 3; ++k)
+            EXPECT_FLOAT_EQ(p[method][k].get<float>(), image[at + k]) << "channel " << k;
+    }
+    // The fraction under the pixel against the tree's answer at the same point.
+    const Scene s = loadScene(scene);
+    VisibilityStore store(s);
+    const Vec3 x{p["point"][0], p["point"][1], p["point"][2]};
+    const std::vector<LightAtPoint> tree = queryPoint(store, p["face"], x, std::nullopt);
+    ASSERT_EQ(p["lights"].size(), tree.size());
+    EXPECT_TRUE(p["lights"][0]["complete"].get<bool>());
+    EXPECT_NEAR(p["lights"][0]["fraction"].get<double>(), tree[0].fraction, 1e-9);
+    EXPECT_NEAR(p["lights"][0]["formFactor"].get<double>(), tree[0].formFactor, 1e-12);
+    EXPECT_GT(tree[0].fraction, 0.05);  // a penumbra: the test can tell a wrong point
+    EXPECT_LT(tree[0].fraction, 0.95);
 }
 
 // The "Accuracy vs time" panel of the view, run as the viewer runs it (in the background, frames

@@ -53,6 +53,10 @@ void runHeadless(const HeadlessOptions& o) {
         while (viewer.accuracyStudyRunning()) viewer.frame(o.width, o.height, dt);
     }
     viewer.waitForBackground();
+    // The mouse over --hover (the pixel inspector's tooltip in the rendered view), or nowhere.
+    if (o.hover)
+        ImGui::GetIO().MousePos =
+            ImVec2(static_cast<float>((*o.hover)[0]), static_cast<float>((*o.hover)[1]));
     // A few frames: auto-sized windows settle in two.
     for (int i = 0; i < 3; ++i) viewer.frame(o.width, o.height, dt);
     const std::vector<uint8_t> pixels = context->readRgba();

@@ -18,6 +18,7 @@ struct HeadlessOptions {
     std::optional<Vec3> point;                   // inspect this point (on the face containing it)
     std::optional<std::array<double, 2>> pixel;  // or the point under this pixel
     std::optional<Camera> camera;                // else the scene's, else fitted
+    std::optional<std::array<double, 2>> hover;  // the mouse over this pixel for the last frames
     std::filesystem::path out;                   // the screenshot (PNG)
     std::filesystem::path stateOut;              // optional: the UI state (JSON)
     std::filesystem::path previewOut;            // optional: the preview image alone (PNG)
