@@ -16,7 +16,8 @@ namespace penumbra::cli {
 namespace {
 
 struct ScreenshotOptions {
-    std::string scene, point, pixel, hover, camera, size = "1280x800", out, stateOut, previewOut;
+    std::string scene, point, pixel, hover, camera, size = "1280x800", out, stateOut, previewOut,
+                                                    saveView;
     std::string backend = "osmesa", previewMode = "exact", view = "raster";
     int lightSamples = 16, passes = 8;
     bool noPreview = false, precompute = false, accuracy = false;
@@ -86,6 +87,7 @@ void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
     h.out = o.out;
     h.stateOut = o.stateOut;
     h.previewOut = o.previewOut;
+    h.saveView = o.saveView;
     h.precompute = o.precompute;
     h.accuracy = o.accuracy;
     try {
@@ -122,6 +124,10 @@ void registerScreenshotCommand(CLI::App& app) {
     sub->add_option("--state-out", o->stateOut, "The UI state as JSON")->type_name("FILE.json");
     sub->add_option("--preview-out", o->previewOut, "The preview image alone (PNG)")
         ->type_name("FILE.png");
+    sub->add_option("--save-view", o->saveView,
+                    "Save the view as the UI's button does: STEM.png, STEM.pfm and STEM.json "
+                    "(the scene with this camera)")
+        ->type_name("STEM");
     sub->add_option("--backend", o->backend, "osmesa (default) or egl")->type_name("NAME");
     sub->add_option("--preview-mode", o->previewMode, "exact (default), sampled, side or diff")
         ->type_name("MODE");

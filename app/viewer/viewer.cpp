@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <system_error>
 
+#include "app/viewer/gl/png_output.h"
 #include "app/viewer/overlay_geometry.h"
 #include "app/viewer/panels/light_plane_panel.h"
 #include "app/viewer/panels/panel.h"
@@ -16,6 +17,7 @@
 #include "app/viewer/panels/precompute_panel.h"
 #include "app/viewer/panels/preview_panel.h"
 #include "app/viewer/picking.h"
+#include "engine/io/scene_file.h"
 #include "engine/precompute/point_query.h"
 #include "engine/render/default_camera.h"
 
@@ -25,6 +27,8 @@ Viewer::Viewer(ViewerOptions options)
     : options_(std::move(options)),
       scenePanel_(options_.assetsDirectory),
       helpPanel_(options_.showHelp) {
+    const std::string stem = "out/saved_view";
+    std::copy(stem.begin(), stem.end(), saveStem_.begin());
     glGenTextures(1, &previewTexture_);
     glBindTexture(GL_TEXTURE_2D, previewTexture_);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
@@ -362,9 +366,17 @@ void Viewer::drawPanels() {
         treePanel_.draw("History tree");
         record("History tree", l.tree);
     }
-    if (PreviewPanel::draw(l.preview, options_.previewSettings, options_.view, previewImage_,
-                           preview_.running(), previewTexture_))
-        previewDirty_ = true;
+    switch (PreviewPanel::draw(l.preview, options_.previewSettings, options_.view, saveStem_,
+                               previewImage_, preview_.running(), previewTexture_)) {
+        case PreviewPanel::Action::Restart:
+            previewDirty_ = true;
+            break;
+        case PreviewPanel::Action::SaveView:
+            saveView(saveStem_.data(), status_);
+            break;
+        case PreviewPanel::Action::None:
+            break;
+    }
     if (options_.view == ViewMode::Rendered &&
         options_.previewSettings.mode == PreviewMode::SideBySide) {
         // The split line over the view (under the windows), with the names of its two sides.
@@ -400,6 +412,43 @@ void Viewer::drawPanels() {
     // Actions that replace what the panels drew from, after every panel is drawn.
     if (scene.fit) fitCamera();
     if (scene.open) openScene(*scene.open);
+}
+
+bool Viewer::saveView(const std::filesystem::path& stem, std::string& message) {
+    const PreviewImage& image = previewImage_;
+    if (!scene_ || image.rgba.empty()) {
+        message = "save view: no rendered image yet";
+        return false;
+    }
+    const std::vector<float>& radiance =
+        !image.exactRadiance.empty() ? image.exactRadiance : image.sampledRadiance;
+    auto withExtension = [&](const char* ext) {
+        std::filesystem::path p = stem;
+        p += ext;
+        return p;
+    };
+    try {
+        std::error_code ec;
+        if (stem.has_parent_path()) std::filesystem::create_directories(stem.parent_path(), ec);
+        writeRgbaPng(withExtension(".png"), image.width, image.height, image.rgba);
+        if (!radiance.empty()) {
+            Film film;
+            film.reset(image.imageWidth, image.height);
+            film.passes = 1;
+            for (size_t i = 0; i < film.sum.size(); ++i)
+                film.sum[i] = Vec3{radiance[3 * i], radiance[3 * i + 1], radiance[3 * i + 2]};
+            writePfm(film, withExtension(".pfm").string());
+        }
+        writeTextFile(withExtension(".json"),
+                      jsonSceneWithCamera(scene_->path, orbit_.camera(), withExtension(".json")));
+    } catch (const std::exception& e) {
+        message = std::string("save view: ") + e.what();
+        return false;
+    }
+    message = "saved " + withExtension(".png").string() + ", .pfm and .json (" +
+              std::to_string(image.imageWidth) + "x" + std::to_string(image.height) + ", " +
+              std::to_string(image.passes) + " passes)";
+    return true;
 }
 
 void Viewer::drawPixelInspector() {

@@ -104,6 +104,13 @@ class Viewer {
     void waitForBackground();
     bool inspectionPending() const { return selection_.pending(); }
 
+    // Keep what you see: the preview's image as STEM.png (as shown, 8-bit sRGB; side by side: both
+    // halves), its linear exact radiance (the sampled one when the mode renders no exact image)
+    // as STEM.pfm, and the scene with the current camera as STEM.json (engine/io/scene_file.h:
+    // `penumbra view STEM.json` or `penumbra render STEM.json --size WxH` give this view again).
+    // Every file atomically. False with the reason in `message` (no image yet, a write failed).
+    bool saveView(const std::filesystem::path& stem, std::string& message);
+
     // What the UI shows, as JSON (for tests and --state-out).
     nlohmann::json stateJson() const;
 
@@ -142,6 +149,7 @@ class Viewer {
     bool previewDirty_ = false;
     std::chrono::steady_clock::time_point lastCameraChange_, lastCoarseRestart_;
     ViewImage viewImage_;
+    std::array<char, 256> saveStem_{};  // the Preview panel's "save view" path (STEM)
     PixelInspector pixelInspector_;
     const PixelReport* hover_ = nullptr;  // this frame's pixel report (the inspector's)
     bool draggingSplit_ = false;

@@ -1,6 +1,7 @@
 #include "engine/io/scene_file.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <initializer_list>
@@ -522,6 +523,46 @@ Scene loadJsonSceneFromString(std::string_view json, const fs::path& baseDirecto
                               std::string sourceName) {
     SceneFileReader reader(std::move(sourceName), baseDirectory);
     return reader.read(json);
+}
+
+std::string jsonSceneWithCamera(const std::filesystem::path& source, const Camera& camera,
+                                const std::filesystem::path& target) {
+    namespace fs = std::filesystem;
+    const fs::path targetDir = fs::absolute(target).parent_path();
+    // A path as the new file names it: relative to its directory (absolute when there is no
+    // relative form, e.g. another drive).
+    auto rebased = [&](const fs::path& absolutePath) {
+        const fs::path r = absolutePath.lexically_normal().lexically_relative(targetDir);
+        return (r.empty() ? absolutePath.lexically_normal() : r).generic_string();
+    };
+    const fs::path sourceDir = fs::absolute(source).parent_path();
+    nlohmann::ordered_json root;
+    std::string ext = source.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext == ".json") {
+        std::ifstream in(source, std::ios::binary);
+        if (!in) throw SceneError(source.string(), 0, "cannot be read");
+        try {
+            root = nlohmann::ordered_json::parse(in);
+        } catch (const nlohmann::json::exception& e) {
+            throw SceneError(source.string(), 0, e.what());
+        }
+        if (root.contains("meshes") && root["meshes"].is_array())
+            for (auto& mesh : root["meshes"])
+                if (mesh.is_object() && mesh.contains("file") && mesh["file"].is_string()) {
+                    const fs::path file = mesh["file"].get<std::string>();
+                    mesh["file"] = rebased(file.is_absolute() ? file : sourceDir / file);
+                }
+    } else {
+        root["comment"] = "The view of " + source.filename().string() + " saved by the viewer.";
+        root["meshes"] = nlohmann::ordered_json::array({{{"file", rebased(fs::absolute(source))}}});
+    }
+    root["camera"] = {{"eye", {camera.eye.x, camera.eye.y, camera.eye.z}},
+                      {"target", {camera.target.x, camera.target.y, camera.target.z}},
+                      {"up", {camera.up.x, camera.up.y, camera.up.z}},
+                      {"fov_y", camera.fovYDegrees}};
+    return root.dump(2) + "\n";
 }
 
 }  // namespace penumbra

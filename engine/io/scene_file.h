@@ -59,4 +59,12 @@ Scene loadJsonScene(const std::filesystem::path& path);
 Scene loadJsonSceneFromString(std::string_view json, const std::filesystem::path& baseDirectory,
                               std::string sourceName);
 
+// The text of a JSON scene file, to be written at `target`, that shows the scene of `source` (a
+// JSON scene or a mesh file of any supported format) from `camera`: a JSON source is kept as it is
+// but for its "camera" (its mesh paths rebased onto target's directory); a mesh file becomes
+// {"meshes": [{"file": ...}], "camera": ...}. Loading it gives the same scene and that camera
+// (the viewer's "save view"). Throws SceneError when a JSON source cannot be read or parsed.
+std::string jsonSceneWithCamera(const std::filesystem::path& source, const Camera& camera,
+                                const std::filesystem::path& target);
+
 }  // namespace penumbra

@@ -321,6 +321,60 @@ TEST(ViewerScreenshot, PixelInspectorReportsTheRenderedPixelAndTheExactFraction)
     EXPECT_LT(tree[0].fraction, 0.95);
 }
 
+// Keep what you see (--save-view, the Preview panel's button): the rendered view saved as PNG,
+// linear PFM and a JSON scene with the view's camera, in another directory than the scene; that
+// scene reopened by `penumbra render` at the view's size gives the same radiance, pixel for
+// pixel, and by `penumbra screenshot` the same camera. Also from a mesh file (no JSON scene).
+TEST(ViewerScreenshot, SavedViewReopensAsTheSameView) {
+    const fs::path dir = test::scratchDir("viewer_save_view");
+    const std::string camera = "300,250,-700,270,280,0,42";
+    for (const fs::path& scene : {test::sourceDir() / "assets" / "scenes" / "cornell_box.json",
+                                  test::sourceDir() / "assets" / "cornell_box.obj"}) {
+        SCOPED_TRACE(scene.string());
+        const fs::path stem = dir / scene.extension().string().substr(1) / "saved";
+        const test::ProcessResult r = test::runPenumbraGl(
+            {"screenshot", scene.string(), "--view", "rendered", "--camera", camera, "--size",
+             "960x600", "--passes", "2", "--save-view", stem.string(), "--out",
+             (dir / "shot.png").string(), "--state-out", (dir / "state.json").string()});
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        const json state = test::readJson(dir / "state.json");
+        const int vw = state["panelRects"]["3D view"][2], vh = state["panelRects"]["3D view"][3];
+        for (const char* ext : {".png", ".pfm", ".json"})
+            EXPECT_TRUE(fs::exists(fs::path(stem.string() + ext))) << ext;
+        const test::Image png = test::readPng(stem.string() + ".png");
+        EXPECT_EQ(png.width, vw);
+        EXPECT_EQ(png.height, vh);
+        // The saved scene, rendered at the view's size with the same samples.
+        const fs::path rendered = dir / "rendered.pfm";
+        const test::ProcessResult rr =
+            test::runPenumbra({"render", stem.string() + ".json", "--size",
+                               std::to_string(vw) + "x" + std::to_string(vh), "--spp", "2",
+                               "--method", "exact", "--out", rendered.string()});
+        ASSERT_EQ(rr.exitCode, 0) << rr.err;
+        int w1 = 0, h1 = 0, w2 = 0, h2 = 0;
+        const std::vector<float> saved = test::readPfm(stem.string() + ".pfm", w1, h1);
+        const std::vector<float> again = test::readPfm(rendered.string(), w2, h2);
+        ASSERT_EQ(w1, w2);
+        ASSERT_EQ(h1, h2);
+        size_t differ = 0, lit = 0;
+        for (size_t i = 0; i < saved.size(); ++i) {
+            differ += saved[i] != again[i];
+            lit += saved[i] > 0;
+        }
+        EXPECT_EQ(differ, 0u);
+        EXPECT_GT(lit, saved.size() / 2);
+        // And the viewer opens it with the saved camera.
+        const test::ProcessResult rs = test::runPenumbraGl(
+            {"screenshot", stem.string() + ".json", "--size", "960x600", "--no-preview", "--out",
+             (dir / "again.png").string(), "--state-out", (dir / "again.json").string()});
+        ASSERT_EQ(rs.exitCode, 0) << rs.err;
+        const json again_state = test::readJson(dir / "again.json");
+        EXPECT_EQ(again_state["camera"]["eye"], json({300.0, 250.0, -700.0}));
+        EXPECT_EQ(again_state["camera"]["target"], json({270.0, 280.0, 0.0}));
+        EXPECT_EQ(again_state["camera"]["fovY"], 42.0);
+    }
+}
+
 // The "Accuracy vs time" panel of the view, run as the viewer runs it (in the background, frames
 // drawn meanwhile): the study's curve behaves as Monte Carlo must (the error of the sampled image
 // falls with every doubling of the rays, by about 1/sqrt(2) or faster with stratification), the

@@ -59,6 +59,10 @@ void runHeadless(const HeadlessOptions& o) {
             ImVec2(static_cast<float>((*o.hover)[0]), static_cast<float>((*o.hover)[1]));
     // A few frames: auto-sized windows settle in two.
     for (int i = 0; i < 3; ++i) viewer.frame(o.width, o.height, dt);
+    if (!o.saveView.empty()) {
+        std::string message;
+        if (!viewer.saveView(o.saveView, message)) throw std::runtime_error(message);
+    }
     const std::vector<uint8_t> pixels = context->readRgba();
     if (!o.out.empty()) writeRgbaPng(o.out, o.width, o.height, pixels);
     const PreviewImage& preview = viewer.previewImage();

@@ -26,9 +26,10 @@ bool parseViewName(std::string_view name, ViewMode& view, PreviewMode& mode) {
     return false;
 }
 
-bool PreviewPanel::draw(const PanelRect& rect, PreviewSettings& s, ViewMode& view,
-                        const PreviewImage& image, bool running, uint32_t texture) {
-    bool changed = false;
+PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& s, ViewMode& view,
+                                        std::array<char, 256>& saveStem, const PreviewImage& image,
+                                        bool running, uint32_t texture) {
+    bool changed = false, save = false;
     placeNextWindow(rect);
     if (ImGui::Begin("Preview", nullptr, kDockedPanel)) {
         bool rendered = view == ViewMode::Rendered;
@@ -48,6 +49,13 @@ bool PreviewPanel::draw(const PanelRect& rect, PreviewSettings& s, ViewMode& vie
         if (image.relativeRmsError >= 0)
             ImGui::Text("sampled vs exact: %.2f%% RMS", 100 * image.relativeRmsError);
         if (!image.error.empty()) ImGui::TextWrapped("error: %s", image.error.c_str());
+        // Keep what you see: STEM.png, STEM.pfm and STEM.json (the scene with this camera).
+        ImGui::SetNextItemWidth(std::max(60.0f, ImGui::GetContentRegionAvail().x - 110));
+        ImGui::InputText("##stem", saveStem.data(), saveStem.size());
+        ImGui::SameLine();
+        if (ImGui::Button("Save view") && saveStem[0] != 0) save = true;
+        if (ImGui::IsItemHovered())
+            ImGui::SetTooltip("writes STEM.png, STEM.pfm (linear) and STEM.json (this camera)");
         if (image.width > 0) {
             // The whole image in the space left, aspect kept.
             const ImVec2 avail = ImGui::GetContentRegionAvail();
@@ -60,7 +68,8 @@ bool PreviewPanel::draw(const PanelRect& rect, PreviewSettings& s, ViewMode& vie
         }
     }
     ImGui::End();
-    return changed;
+    if (save) return Action::SaveView;
+    return changed ? Action::Restart : Action::None;
 }
 
 }  // namespace penumbra::viewer

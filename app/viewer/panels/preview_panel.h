@@ -3,6 +3,7 @@
 // view (ViewMode, edited here), passes and error.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string_view>
 
@@ -23,10 +24,13 @@ bool parseViewName(std::string_view name, ViewMode& view, PreviewMode& mode);
 inline constexpr const char* kViewNames = "raster, rendered, sampled, side or diff";
 
 struct PreviewPanel {
-    // Returns true when `settings` or `view` changed (the preview must restart). `texture` holds
+    enum class Action { None, Restart, SaveView };
+    // Restart when `settings` or `view` changed (the preview must restart); SaveView when its
+    // button asks to save the view under the path `saveStem` (edited here). `texture` holds
     // `image`.
-    static bool draw(const PanelRect& rect, PreviewSettings& settings, ViewMode& view,
-                     const PreviewImage& image, bool running, uint32_t texture);
+    static Action draw(const PanelRect& rect, PreviewSettings& settings, ViewMode& view,
+                       std::array<char, 256>& saveStem, const PreviewImage& image, bool running,
+                       uint32_t texture);
 };
 
 }  // namespace penumbra::viewer
