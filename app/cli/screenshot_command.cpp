@@ -20,6 +20,7 @@ struct ScreenshotOptions {
                                                     saveView;
     std::string backend = "osmesa", previewMode = "exact", view = "raster";
     int lightSamples = 16, passes = 8;
+    double uiScale = 1;
     bool noPreview = false, precompute = false, accuracy = false;
     ExactOptions exact;
 };
@@ -79,6 +80,9 @@ void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
             throw usageError("--view: expected " + std::string(viewer::kViewNames) + ", got '" +
                              o.view + "'");
     }
+    if (!(o.uiScale >= 0.5 && o.uiScale <= 4))
+        throw usageError("--ui-scale: " + std::to_string(o.uiScale) + " out of range (0.5..4)");
+    h.viewer.layout.scale = static_cast<float>(o.uiScale);
     h.viewer.previewSettings.lightSamples = o.lightSamples;
     h.viewer.previewSettings.passes = o.passes;
     h.viewer.preview = !o.noPreview;
@@ -124,6 +128,9 @@ void registerScreenshotCommand(CLI::App& app) {
     sub->add_option("--state-out", o->stateOut, "The UI state as JSON")->type_name("FILE.json");
     sub->add_option("--preview-out", o->previewOut, "The preview image alone (PNG)")
         ->type_name("FILE.png");
+    sub->add_option("--ui-scale", o->uiScale,
+                    "The UI's content scale, as a HiDPI monitor's (the window takes GLFW's)")
+        ->type_name("S");
     sub->add_option("--save-view", o->saveView,
                     "Save the view as the UI's button does: STEM.png, STEM.pfm and STEM.json "
                     "(the scene with this camera)")

@@ -4,12 +4,24 @@
 
 namespace penumbra::viewer {
 
-Layout computeLayout(int width, int height) {
+Layout computeLayout(int width, int height, const LayoutSettings& settings) {
     Layout l;
     l.width = width;
     l.height = height;
-    l.leftWidth = std::clamp(width / 4, 0, 340);
-    l.rightWidth = std::clamp(width / 3, 0, 440);
+    const float scale = std::clamp(settings.scale, 0.5f, 4.0f);
+    const int leftDefault = std::clamp(width / 4, 0, static_cast<int>(340 * scale));
+    const int rightDefault = std::clamp(width / 3, 0, static_cast<int>(440 * scale));
+    l.leftWidth = settings.leftWidth > 0 ? settings.leftWidth : leftDefault;
+    l.rightWidth = settings.rightWidth > 0 ? settings.rightWidth : rightDefault;
+    // Columns never squeeze the view below its minimum (nor below zero on a tiny framebuffer):
+    // the excess comes off both columns in proportion.
+    const int minView = std::min(width, static_cast<int>(kMinViewWidth * scale));
+    const int columns = l.leftWidth + l.rightWidth;
+    if (columns > width - minView && columns > 0) {
+        const int room = std::max(0, width - minView);
+        l.leftWidth = static_cast<int>(static_cast<long>(l.leftWidth) * room / columns);
+        l.rightWidth = room - l.leftWidth;
+    }
     l.view.x = l.leftWidth;
     l.view.y = 0;
     l.view.width = std::max(1, width - l.leftWidth - l.rightWidth);
@@ -17,9 +29,9 @@ Layout computeLayout(int width, int height) {
 
     const float h = static_cast<float>(height);
     const float left = static_cast<float>(l.leftWidth);
-    const float precomputeTop = std::min(150.0f, 0.19f * h);
-    const float treeTop = precomputeTop + std::min(150.0f, 0.19f * h);
-    const float previewTop = treeTop + std::min(190.0f, 0.24f * h);
+    const float precomputeTop = std::min(150.0f * scale, 0.19f * h);
+    const float treeTop = precomputeTop + std::min(150.0f * scale, 0.19f * h);
+    const float previewTop = treeTop + std::min(190.0f * scale, 0.24f * h);
     l.scene = {0, 0, left, precomputeTop};
     l.precompute = {0, precomputeTop, left, treeTop - precomputeTop};
     l.tree = {0, treeTop, left, previewTop - treeTop};

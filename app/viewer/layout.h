@@ -20,6 +20,19 @@ struct Layout {
     PanelRect scene, precompute, tree, preview;  // the left column, top to bottom
     PanelRect point, lightPlane, path;           // the right column, top to bottom
 };
-Layout computeLayout(int width, int height);
+// What shapes the layout besides the framebuffer's size: the monitor's content scale (HiDPI:
+// GLFW's window content scale; panel sizes and text grow with it) and the columns' widths the
+// user dragged (0: the default, a share of the width capped at 340 and 440 pixels times the
+// scale). The view keeps at least kMinViewWidth pixels times the scale: wider columns are narrowed.
+struct LayoutSettings {
+    float scale = 1;
+    int leftWidth = 0, rightWidth = 0;
+};
+inline constexpr int kMinViewWidth = 240;
+
+// Every docked rectangle lies inside the framebuffer, none overlaps another or the view, and
+// together with the view they tile it (tests/app/viewer_test.cpp checks sizes from 1280x720 to
+// 3840x2160 at scales 1 to 2).
+Layout computeLayout(int width, int height, const LayoutSettings& settings = {});
 
 }  // namespace penumbra::viewer

@@ -27,6 +27,10 @@ Viewer::Viewer(ViewerOptions options)
     : options_(std::move(options)),
       scenePanel_(options_.assetsDirectory),
       helpPanel_(options_.showHelp) {
+    if (options_.layout.scale != 1 && ImGui::GetCurrentContext() != nullptr) {
+        ImGui::GetStyle().ScaleAllSizes(options_.layout.scale);
+        ImGui::GetIO().FontGlobalScale = options_.layout.scale;
+    }
     const std::string stem = "out/saved_view";
     std::copy(stem.begin(), stem.end(), saveStem_.begin());
     glGenTextures(1, &previewTexture_);
@@ -93,7 +97,7 @@ void Viewer::fitCamera() {
 
 bool Viewer::pickPixel(double px, double py, int width, int height) {
     if (!scene_) return false;
-    layout_ = computeLayout(width, height);
+    layout_ = computeLayout(width, height, options_.layout);
     const std::optional<PickedPoint> hit =
         pickSurface(scene_->scene, *scene_->bvh, orbit_.camera(), layout_.view, px, py);
     if (!hit) {
@@ -174,7 +178,7 @@ void Viewer::restartPreview(bool coarse) {
     if (!scene_) return;
     PreviewSettings s = options_.previewSettings;
     s.exact = options_.exact;
-    const Layout l = layout_.width > 0 ? layout_ : computeLayout(1280, 800);
+    const Layout l = layout_.width > 0 ? layout_ : computeLayout(1280, 800, options_.layout);
     // The rendered view: one preview pixel per view pixel, so that the view shows what
     // `penumbra render` gives for this camera at the view's size.
     constexpr double kCoarseScale = 0.125;
@@ -243,6 +247,25 @@ void Viewer::handleInput(int width, int height) {
     const Viewport& vp = layout_.view;
     const bool overView = vp.contains(io.MousePos.x, io.MousePos.y) && !io.WantCaptureMouse;
     bool moved = false;
+    // The columns' edges: a press on the view's first or last 5 pixels drags that column's edge.
+    if (overView && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
+        if (io.MousePos.x < vp.x + 5) draggingColumn_ = -1;
+        if (io.MousePos.x >= vp.x + vp.width - 5) draggingColumn_ = +1;
+    }
+    if (draggingColumn_ != 0) {
+        if (ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
+            const int x = static_cast<int>(io.MousePos.x);
+            if (draggingColumn_ < 0)
+                options_.layout.leftWidth = std::clamp(x, 60, width);
+            else
+                options_.layout.rightWidth = std::clamp(width - x, 60, width);
+            previewDirty_ = true;  // the view's size changed: a new preview once it rests
+            lastCameraChange_ = std::chrono::steady_clock::now();
+            return;
+        }
+        draggingColumn_ = 0;
+        return;  // the release ends the drag, it picks nothing
+    }
     // The split line of the rendered side-by-side view: a press within 6 pixels of it drags it.
     const bool split = options_.view == ViewMode::Rendered &&
                        options_.previewSettings.mode == PreviewMode::SideBySide;
@@ -315,7 +338,7 @@ void Viewer::handleInput(int width, int height) {
 
 void Viewer::frame(int width, int height, double deltaSeconds) {
     const auto start = std::chrono::steady_clock::now();
-    layout_ = computeLayout(width, height);
+    layout_ = computeLayout(width, height, options_.layout);
     ImGuiIO& io = ImGui::GetIO();
     io.DisplaySize = ImVec2(static_cast<float>(width), static_cast<float>(height));
     io.DeltaTime = static_cast<float>(std::max(deltaSeconds, 1e-4));

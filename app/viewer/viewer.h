@@ -51,6 +51,9 @@ struct ViewerOptions {
     ViewMode view = ViewMode::Raster;  // the rendered view renders at the viewport's resolution
     double split = 0.5;  // side by side in the rendered view: exact left of this fraction
     ExactOptions exact;  // the build budget and the renderer's exact settings
+    // The content scale (the window host sets GLFW's; screenshot --ui-scale) and the columns'
+    // widths (dragged at the 3D view's edges).
+    LayoutSettings layout;
 };
 
 class Viewer {
@@ -153,6 +156,7 @@ class Viewer {
     PixelInspector pixelInspector_;
     const PixelReport* hover_ = nullptr;  // this frame's pixel report (the inspector's)
     bool draggingSplit_ = false;
+    int draggingColumn_ = 0;  // -1: the left column's edge, +1: the right one's
 
     PrecomputeJob precompute_;
     AccuracyJob accuracyJob_;

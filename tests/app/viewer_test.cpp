@@ -43,6 +43,99 @@ Camera lightCamera() {
 
 fs::path cornell() { return test::sourceDir() / "assets" / "cornell_box.obj"; }
 
+// At every window size from 1280x720 to 3840x2160, content scale 1 to 2 (HiDPI) and dragged
+// column widths (none, narrow, too wide for the window), the docked panels and the 3D view tile
+// the window: each inside it, no two overlapping, their areas summing to the window's; the view
+// keeps its minimum width.
+TEST(ViewerLayout, PanelsTileTheWindowAtEverySizeAndScale) {
+    int layouts = 0;
+    for (int w = 1280; w <= 3840; w += 160)
+        for (int h = 720; h <= 2160; h += 144)
+            for (float scale : {1.0f, 1.25f, 1.5f, 2.0f})
+                for (const auto& [left, right] :
+                     {std::pair{0, 0}, std::pair{200, 150}, std::pair{2000, 1900}}) {
+                    const viewer::LayoutSettings settings{scale, left, right};
+                    const viewer::Layout l = viewer::computeLayout(w, h, settings);
+                    SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + " scale " +
+                                 std::to_string(scale) + " columns " + std::to_string(left) + "/" +
+                                 std::to_string(right));
+                    const viewer::PanelRect view{
+                        static_cast<float>(l.view.x), static_cast<float>(l.view.y),
+                        static_cast<float>(l.view.width), static_cast<float>(l.view.height)};
+                    const std::vector<viewer::PanelRect> rects = {
+                        view,      l.scene, l.precompute, l.tree,
+                        l.preview, l.point, l.lightPlane, l.path};
+                    double area = 0;
+                    for (size_t i = 0; i < rects.size(); ++i) {
+                        const viewer::PanelRect& a = rects[i];
+                        EXPECT_GE(a.x, 0);
+                        EXPECT_GE(a.y, 0);
+                        EXPECT_LE(a.x + a.width, w + 1e-3);
+                        EXPECT_LE(a.y + a.height, h + 1e-3);
+                        EXPECT_GT(a.width, 0);
+                        EXPECT_GT(a.height, 0);
+                        area += double(a.width) * a.height;
+                        for (size_t j = i + 1; j < rects.size(); ++j) {
+                            const viewer::PanelRect& b = rects[j];
+                            const double ox =
+                                std::min(a.x + a.width, b.x + b.width) - std::max(a.x, b.x);
+                            const double oy =
+                                std::min(a.y + a.height, b.y + b.height) - std::max(a.y, b.y);
+                            EXPECT_FALSE(ox > 1e-3 && oy > 1e-3) << "rects " << i << ", " << j;
+                        }
+                    }
+                    EXPECT_NEAR(area, double(w) * h, 1e-3 * w * h);
+                    EXPECT_GE(l.view.width, static_cast<int>(viewer::kMinViewWidth * scale));
+                    if (left == 200) {
+                        EXPECT_EQ(l.leftWidth, 200);
+                    }
+                    if (::testing::Test::HasFailure()) return;
+                    ++layouts;
+                }
+    EXPECT_EQ(layouts, 17 * 11 * 4 * 3);
+}
+
+// The real windows, drawn by ImGui, at a HiDPI scale and the largest size, and at the smallest
+// size: no docked panel over another or over the 3D view, the overlays (help, status) inside it.
+TEST(ViewerLayout, WindowsStayApartAtHiDpiScale) {
+    const fs::path dir = test::scratchDir("viewer_hidpi");
+    auto shoot = [&](const std::string& size, const std::string& scale) {
+        const test::ProcessResult r = test::runPenumbraGl(
+            {"screenshot", cornell().string(), "--size", size, "--ui-scale", scale, "--point",
+             "278,0,280", "--no-preview", "--out", (dir / "shot.png").string(), "--state-out",
+             (dir / "state.json").string()});
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        return test::readJson(dir / "state.json");
+    };
+    for (const auto& [size, scale] :
+         {std::pair<std::string, std::string>{"3840x2160", "2"}, {"1280x720", "1"}}) {
+        SCOPED_TRACE(size + " scale " + scale);
+        const json state = shoot(size, scale);
+        const json& rects = state["panelRects"];
+        const json& view = rects["3D view"];
+        std::vector<std::pair<std::string, std::array<double, 4>>> docked;
+        for (const auto& [name, r] : rects.items()) {
+            const std::array<double, 4> a = {r[0], r[1], r[2], r[3]};
+            if (name == "Help" || name == "Status") {
+                EXPECT_GE(a[0], view[0].get<double>()) << name;
+                EXPECT_LE(a[0] + a[2], view[0].get<double>() + view[2].get<double>()) << name;
+                EXPECT_LE(a[1] + a[3], view[1].get<double>() + view[3].get<double>()) << name;
+                continue;
+            }
+            docked.emplace_back(name, a);
+        }
+        EXPECT_GE(docked.size(), 8u);  // the 3D view and the seven docked panels
+        for (size_t i = 0; i < docked.size(); ++i)
+            for (size_t j = i + 1; j < docked.size(); ++j) {
+                const auto& a = docked[i].second;
+                const auto& b = docked[j].second;
+                const double ox = std::min(a[0] + a[2], b[0] + b[2]) - std::max(a[0], b[0]);
+                const double oy = std::min(a[1] + a[3], b[1] + b[3]) - std::max(a[1], b[1]);
+                EXPECT_FALSE(ox > 0.5 && oy > 0.5) << docked[i].first << " / " << docked[j].first;
+            }
+    }
+}
+
 TEST(ViewerLayout, ViewBetweenTheColumns) {
     const viewer::Layout l = viewer::computeLayout(1280, 800);
     EXPECT_EQ(l.view.x, l.leftWidth);

@@ -104,7 +104,12 @@ void runWindow(const WindowOptions& o) {
         struct GlfwBackend {
             ~GlfwBackend() { ImGui_ImplGlfw_Shutdown(); }
         } backend;
-        Viewer viewer(o.viewer);
+        // HiDPI: the monitor's content scale sizes the panels, the widgets and the text.
+        ViewerOptions options = o.viewer;
+        float xScale = 1, yScale = 1;
+        glfwGetWindowContentScale(window.get(), &xScale, &yScale);
+        if (xScale > 0) options.layout.scale = xScale;
+        Viewer viewer(options);
         if (!o.scene.empty()) viewer.openScene(o.scene);
         if (o.camera) viewer.setCamera(*o.camera);
         if (o.precompute) viewer.startPrecompute();
