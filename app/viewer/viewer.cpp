@@ -389,8 +389,12 @@ void Viewer::drawPanels() {
         treePanel_.draw("History tree");
         record("History tree", l.tree);
     }
-    switch (PreviewPanel::draw(l.preview, options_.previewSettings, options_.view, saveStem_,
-                               previewImage_, preview_.running(), previewTexture_)) {
+    switch (PreviewPanel::draw(l.preview, options_.previewSettings, options_.view, options_.exact,
+                               saveStem_, previewImage_, preview_.running(), previewTexture_)) {
+        case PreviewPanel::Action::Reopen:
+            // The store's trees follow the build budget: a new store, the scene reopened.
+            if (scene_) openAfterFrame_ = scene_->path;
+            break;
         case PreviewPanel::Action::Restart:
             previewDirty_ = true;
             break;
@@ -435,6 +439,12 @@ void Viewer::drawPanels() {
     // Actions that replace what the panels drew from, after every panel is drawn.
     if (scene.fit) fitCamera();
     if (scene.open) openScene(*scene.open);
+    if (openAfterFrame_) {
+        const std::filesystem::path path = *openAfterFrame_;
+        openAfterFrame_.reset();
+        const Camera camera = orbit_.camera();
+        if (openScene(path)) setCamera(camera);  // the same view, with the new build budget
+    }
 }
 
 bool Viewer::saveView(const std::filesystem::path& stem, std::string& message) {

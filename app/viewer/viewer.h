@@ -153,6 +153,7 @@ class Viewer {
     std::chrono::steady_clock::time_point lastCameraChange_, lastCoarseRestart_;
     ViewImage viewImage_;
     std::array<char, 256> saveStem_{};  // the Preview panel's "save view" path (STEM)
+    std::optional<std::filesystem::path> openAfterFrame_;  // reopen (a new build budget)
     PixelInspector pixelInspector_;
     const PixelReport* hover_ = nullptr;  // this frame's pixel report (the inspector's)
     bool draggingSplit_ = false;

@@ -147,6 +147,12 @@ nlohmann::json Viewer::stateJson() const {
                       {"point", r.hit ? vec(r.hit->point) : json(nullptr)},
                       {"lights", lights}};
     }
+    // The settings that shape the answer, as the command line names them.
+    s["exact"] = {{"maxLpSolves", options_.exact.maxLpSolves},
+                  {"minTreeSamples", options_.exact.minTreeSamples},
+                  {"exactWorkLimit", options_.exact.exactWorkLimit},
+                  {"passes", options_.previewSettings.passes},
+                  {"lightSamples", options_.previewSettings.lightSamples}};
     s["preview"] = {{"mode", toString(options_.previewSettings.mode)},
                     {"passes", previewImage_.passes},
                     {"width", previewImage_.width},

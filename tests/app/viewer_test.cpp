@@ -136,6 +136,42 @@ TEST(ViewerLayout, WindowsStayApartAtHiDpiScale) {
     }
 }
 
+// The settings that shape the answer, as the UI holds them (the Preview panel edits them): the
+// command line's defaults (engine/render/exact_options.h, the renderer's) when no flag is given,
+// the flags' values otherwise.
+TEST(ViewerScreenshot, ExactOptionsInTheUiAreTheCommandLines) {
+    const fs::path dir = test::scratchDir("viewer_exact_options");
+    auto shoot = [&](std::vector<std::string> extra) {
+        std::vector<std::string> args = {"screenshot",
+                                         cornell().string(),
+                                         "--size",
+                                         "640x400",
+                                         "--no-preview",
+                                         "--out",
+                                         (dir / "shot.png").string(),
+                                         "--state-out",
+                                         (dir / "state.json").string()};
+        args.insert(args.end(), extra.begin(), extra.end());
+        const test::ProcessResult r = test::runPenumbraGl(args);
+        EXPECT_EQ(r.exitCode, 0) << r.err;
+        return test::readJson(dir / "state.json")["exact"];
+    };
+    const ExactOptions defaults;
+    const json d = shoot({});
+    EXPECT_EQ(d["maxLpSolves"], defaults.maxLpSolves);
+    EXPECT_EQ(d["minTreeSamples"], defaults.minTreeSamples);
+    EXPECT_EQ(d["exactWorkLimit"], defaults.exactWorkLimit);
+    EXPECT_EQ(d["minTreeSamples"], RenderSettings{}.minTreeSamples);
+    EXPECT_EQ(d["exactWorkLimit"], RenderSettings{}.exactWorkLimit);
+    const json g = shoot({"--max-lp-solves", "77", "--min-tree-samples", "5", "--exact-work-limit",
+                          "999", "--passes", "3", "--light-samples", "9"});
+    EXPECT_EQ(g["maxLpSolves"], 77);
+    EXPECT_EQ(g["minTreeSamples"], 5);
+    EXPECT_EQ(g["exactWorkLimit"], 999);
+    EXPECT_EQ(g["passes"], 3);
+    EXPECT_EQ(g["lightSamples"], 9);
+}
+
 TEST(ViewerLayout, ViewBetweenTheColumns) {
     const viewer::Layout l = viewer::computeLayout(1280, 800);
     EXPECT_EQ(l.view.x, l.leftWidth);

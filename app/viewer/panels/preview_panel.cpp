@@ -27,9 +27,9 @@ bool parseViewName(std::string_view name, ViewMode& view, PreviewMode& mode) {
 }
 
 PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& s, ViewMode& view,
-                                        std::array<char, 256>& saveStem, const PreviewImage& image,
-                                        bool running, uint32_t texture) {
-    bool changed = false, save = false;
+                                        ExactOptions& exact, std::array<char, 256>& saveStem,
+                                        const PreviewImage& image, bool running, uint32_t texture) {
+    bool changed = false, save = false, reopen = false;
     placeNextWindow(rect);
     if (ImGui::Begin("Preview", nullptr, kDockedPanel)) {
         bool rendered = view == ViewMode::Rendered;
@@ -44,6 +44,32 @@ PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& 
             changed = true;
         }
         if (ImGui::SliderInt("light samples", &s.lightSamples, 1, 256)) changed = true;
+        if (ImGui::SliderInt("passes (spp)", &s.passes, 1, 256)) changed = true;
+        if (ImGui::TreeNode("exact options")) {
+            // The command line's --min-tree-samples, --exact-work-limit, --max-lp-solves.
+            const uint64_t step = 1;
+            if (ImGui::InputScalar("min tree samples", ImGuiDataType_U64, &exact.minTreeSamples,
+                                   &step))
+                changed = true;
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip(
+                    "a pair the image samples fewer times gets no history tree (the "
+                    "same answer; 0 = a tree for every pair)");
+            if (ImGui::InputScalar("work limit", ImGuiDataType_U64, &exact.exactWorkLimit, &step))
+                changed = true;
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip(
+                    "plane tests one point may make before it is sampled and counted "
+                    "(0 = every point exact)");
+            ImGui::InputScalar("build budget", ImGuiDataType_U64, &exact.maxLpSolves, &step);
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip(
+                    "linear programs one history tree may solve; a tree reaching it "
+                    "is partial (the same answer; 0 = no limit)");
+            ImGui::SameLine();
+            if (ImGui::SmallButton("apply")) reopen = true;
+            ImGui::TreePop();
+        }
         ImGui::Text("%d / %d passes, %.1f s%s", image.passes, s.passes, image.seconds,
                     running ? "" : " (done)");
         if (image.relativeRmsError >= 0)
@@ -68,6 +94,7 @@ PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& 
         }
     }
     ImGui::End();
+    if (reopen) return Action::Reopen;
     if (save) return Action::SaveView;
     return changed ? Action::Restart : Action::None;
 }

@@ -1,6 +1,7 @@
 // The Preview panel: the progressive render (exact, sampled, side by side, difference) as a
-// thumbnail, its mode and light samples (PreviewSettings, edited here), whether it fills the 3D
-// view (ViewMode, edited here), passes and error.
+// thumbnail, its mode, passes and light samples (PreviewSettings, edited here), whether it fills
+// the 3D view (ViewMode, edited here), the exact-visibility options (ExactOptions, edited here:
+// the command line's option group, same meaning and defaults), passes done and error.
 #pragma once
 
 #include <array>
@@ -24,13 +25,14 @@ bool parseViewName(std::string_view name, ViewMode& view, PreviewMode& mode);
 inline constexpr const char* kViewNames = "raster, rendered, sampled, side or diff";
 
 struct PreviewPanel {
-    enum class Action { None, Restart, SaveView };
-    // Restart when `settings` or `view` changed (the preview must restart); SaveView when its
-    // button asks to save the view under the path `saveStem` (edited here). `texture` holds
-    // `image`.
+    enum class Action { None, Restart, SaveView, Reopen };
+    // Restart when `settings`, `view` or the renderer's exact options changed (the preview must
+    // restart); Reopen when the build budget is applied (the store's trees follow it: the scene
+    // is reopened); SaveView when its button asks to save the view under the path `saveStem`
+    // (edited here). `texture` holds `image`.
     static Action draw(const PanelRect& rect, PreviewSettings& settings, ViewMode& view,
-                       std::array<char, 256>& saveStem, const PreviewImage& image, bool running,
-                       uint32_t texture);
+                       ExactOptions& exact, std::array<char, 256>& saveStem,
+                       const PreviewImage& image, bool running, uint32_t texture);
 };
 
 }  // namespace penumbra::viewer
