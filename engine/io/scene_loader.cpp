@@ -8,6 +8,7 @@
 #include "engine/io/obj_io.h"
 #include "engine/io/openmesh_io.h"
 #include "engine/io/scene_file.h"
+#include "engine/scene/scene_validation.h"
 
 namespace penumbra {
 namespace {
@@ -47,10 +48,16 @@ Scene loadScene(const std::filesystem::path& path, DegenerateFaces degenerate) {
     if (std::filesystem::is_directory(status))
         throw makeSceneError(path.string(), 0, "it is a directory, not a scene file");
     const std::string e = lower(path.extension().string());
-    if (e == ".obj") return loadObj(path, degenerate);
-    if (e == ".ply" || e == ".off" || e == ".stl") return loadOpenMeshFile(path, degenerate);
-    if (e == ".gltf" || e == ".glb") return loadGltf(path, degenerate);
-    if (e == ".json") return loadJsonScene(path);
+    // Every format's scene, once its lights are known: none thinner than doubles resolve.
+    auto lightsChecked = [](Scene scene) {
+        validateLights(scene);
+        return scene;
+    };
+    if (e == ".obj") return lightsChecked(loadObj(path, degenerate));
+    if (e == ".ply" || e == ".off" || e == ".stl")
+        return lightsChecked(loadOpenMeshFile(path, degenerate));
+    if (e == ".gltf" || e == ".glb") return lightsChecked(loadGltf(path, degenerate));
+    if (e == ".json") return lightsChecked(loadJsonScene(path));
     throw makeSceneError(path.string(), 0,
                          "unknown scene format '" +
                              (e.empty() ? std::string("(no extension)") : e) +

@@ -361,6 +361,40 @@ std::optional<std::string> coordinateProblem(const Vec3& p) {
     return std::nullopt;
 }
 
+double lightResolutionWeight(const vis::PolygonMesh& mesh, uint32_t f) {
+    // W = sum over axes i of M_i (E_j + E_k): M_i the largest |coordinate| along i, E the face's
+    // extents along the other two axes (a rounding of u M_i along i moves the area by at most that
+    // times the extent across it).
+    double m[3] = {0, 0, 0}, lo[3], hi[3];
+    for (int i = 0; i < 3; ++i) {
+        lo[i] = INFINITY;
+        hi[i] = -INFINITY;
+    }
+    for (uint32_t v : mesh.faces[f]) {
+        const Vec3& p = mesh.vertices[v];
+        for (int i = 0; i < 3; ++i) {
+            m[i] = std::max(m[i], std::fabs(p[i]));
+            lo[i] = std::min(lo[i], p[i]);
+            hi[i] = std::max(hi[i], p[i]);
+        }
+    }
+    double w = 0;
+    for (int i = 0; i < 3; ++i)
+        w += m[i] * ((hi[(i + 1) % 3] - lo[(i + 1) % 3]) + (hi[(i + 2) % 3] - lo[(i + 2) % 3]));
+    return w;
+}
+
+std::optional<std::string> lightAreaProblem(const vis::PolygonMesh& mesh, uint32_t f) {
+    const double area = mesh.faceArea(f);
+    const double least = kMinLightAreaFactor * lightResolutionWeight(mesh, f);
+    if (area > least) return std::nullopt;
+    return "an area light of area " + fmt(area) +
+           ", too thin for doubles to resolve where it lies (the least is 2^-40 * W = " +
+           fmt(least) +
+           ", W the sum over the axes of the largest coordinate times the extents across it; "
+           "README, scene contract)";
+}
+
 void validateSceneStructure(const Scene& scene) {
     const vis::PolygonMesh& mesh = scene.mesh;
     const std::string& file = scene.sourcePath;
@@ -411,6 +445,20 @@ void validateSceneStructure(const Scene& scene) {
             throw makeSceneError(file, 0,
                                  "light face " + std::to_string(light) +
                                      " out of range (scene has " + std::to_string(nf) + " faces)");
+        }
+    }
+    validateLights(scene);
+}
+
+void validateLights(const Scene& scene) {
+    for (uint32_t light : scene.lights) {
+        if (light >= scene.faceCount() || scene.mesh.faces[light].size() < 3)
+            continue;  // validateSceneStructure and checkFace report these
+        if (const auto problem = lightAreaProblem(scene.mesh, light)) {
+            const int64_t line =
+                light < scene.faceSourceLine.size() ? scene.faceSourceLine[light] : 0;
+            throw makeSceneError(scene.sourcePath, line,
+                                 "face " + std::to_string(light) + ": " + *problem);
         }
     }
 }

@@ -53,6 +53,26 @@ inline constexpr double kMaxCoordinate = 0x1p59;
 // X beyond the supported magnitude 2^59 = 5.8e17"), or nullopt.
 std::optional<std::string> coordinateProblem(const Vec3& p);
 
+// The smallest area light doubles resolve. A light's visible fragments have rounded vertices
+// (constructions: each coordinate within a few u = 2^-53 of the largest magnitude M_i its face
+// reaches along that axis), so their area carries an absolute error of order u W, with
+//   W = sum over the axes i of M_i (E_j + E_k)     (E: the face's extents along the other axes),
+// and the light's visible fraction an error of order u W / area. A light face whose area is at
+// most kMinLightAreaFactor * W (2^13 u W: the fraction's error would reach about 1e-4) is refused,
+// naming the face: a sliver whose area lies below what its own coordinates resolve (found by
+// fuzzing: a light of area 6e-39 two units long, whose clipped fragment came out 4e21 times larger
+// than the light). Harmless as an occluder (the core is exact): refused only as a light.
+inline constexpr double kMinLightAreaFactor = 0x1p-40;
+
+// W above for face f.
+double lightResolutionWeight(const vis::PolygonMesh& mesh, uint32_t f);
+// The problem with light face `f` under that rule, or nullopt.
+std::optional<std::string> lightAreaProblem(const vis::PolygonMesh& mesh, uint32_t f);
+// Throws SceneError naming scene.sourcePath, the face and its source line for the first light in
+// scene.lights that breaks the rule (validateSceneStructure does this too; loadScene calls it
+// once the loader has collected the lights).
+void validateLights(const Scene& scene);
+
 // The planarity tolerance, relative to the face diameter.
 inline constexpr double kPlanarityTolerance = 1e-9;
 

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "engine/io/scene_loader.h"
+#include "tests/support/answer_check.h"
 
 namespace penumbra {
 namespace {
@@ -21,7 +22,10 @@ TEST(FuzzRegressions, EveryRecordedInputLoadsOrIsRefusedWithAnErrorNamingTheFile
         if (!e.is_regular_file()) continue;
         ++inputs;
         try {
-            (void)loadScene(e.path());
+            const Scene scene = loadScene(e.path());
+            // What loads must also be answered soundly (the harnesses' contract).
+            if (const auto problem = test::answerProblem(scene))
+                ADD_FAILURE() << e.path() << ": " << *problem;
         } catch (const SceneError& error) {
             ++refused;
             EXPECT_EQ(error.file, e.path().string()) << error.what();

@@ -13,6 +13,7 @@
 #include "engine/io/scene_loader.h"
 #include "engine/render/renderer.h"
 #include "engine/scene/scene_validation.h"
+#include "tests/support/answer_check.h"
 #include "tests/support/loader_test_support.h"
 
 namespace penumbra {
@@ -75,6 +76,34 @@ TEST_F(HostileInput, CoordinatesBeyondTheContractAreRefusedInEveryFormat) {
     EXPECT_FALSE(coordinateProblem({0x1p59, -0x1p59, 1e-300}).has_value());
     EXPECT_TRUE(coordinateProblem({std::nextafter(0x1p59, 1e300), 0, 0}).has_value());
     EXPECT_TRUE(coordinateProblem({0, std::numeric_limits<double>::quiet_NaN(), 0}).has_value());
+}
+
+// An area light thinner than its coordinates resolve (a fragment's rounding would exceed it) is
+// refused naming the face, in OBJ and in a JSON scene; a long thin light that doubles do resolve
+// loads, and its answer keeps its fraction within [0, 1] up to the rounding the rule bounds.
+TEST_F(HostileInput, LightsThinnerThanDoublesResolveAreRefused) {
+    write("s.mtl", kMtl);
+    // The fuzzed glb's light as an OBJ: 2 units long, area 6e-39.
+    refused("sliver.obj",
+            "mtllib s.mtl\nv -2 0 -2\nv 2 0 -2\nv 0 0 2\n"
+            "v -0.5 -1.99969482421875 -0.50001519918441772\nv 0 2 1.7540579766176321e-38\n"
+            "v 5.4182942733214815e-39 2 5.6051938572992683e-45\nusemtl white\nf 1 3 2\n"
+            "usemtl lamp\nf 4 5 6\n",
+            {"face 1", "too thin for doubles to resolve"});
+    refused("sliver.json",
+            R"({"polygons": [{"vertices": [[-2,0,-2],[0,0,2],[2,0,-2]]}],
+                "area_lights": [{"vertices": [[0,3,0],[1e-30,3,1e-30],[1000,3,1e-30]],
+                                 "emission": 5}]})",
+            {"face 1", "2^-40"});
+    // Long and thin but resolved: 1000 by 1e-6, at 1e3 from the origin.
+    const fs::path ok = write("thin.obj",
+                              "mtllib s.mtl\nv -2 0 -2\nv 2 0 -2\nv 0 0 2\n"
+                              "v 1000 3 0\nv 1000 3 1e-6\nv 2000 3 1e-6\nv 2000 3 0\n"
+                              "usemtl white\nf 1 3 2\nusemtl lamp\nf 4 5 6 7\n");
+    const Scene scene = loadScene(ok);
+    ASSERT_EQ(scene.lights.size(), 1u);
+    EXPECT_FALSE(lightAreaProblem(scene.mesh, scene.lights[0]).has_value());
+    EXPECT_FALSE(test::answerProblem(scene).has_value()) << *test::answerProblem(scene);
 }
 
 TEST_F(HostileInput, PlyHeadersThatHungTheReaderAreRefused) {
