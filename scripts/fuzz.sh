@@ -7,6 +7,9 @@
 # using more than 2 GB is a finding: its input is left in build-fuzz/findings/ and the script
 # exits 1. Turn each finding into a regression input under tests/fuzz/regressions/FORMAT/ (the
 # FuzzRegressions test loads every file there) once it is fixed.
+# PENUMBRA_FUZZ_TIMEOUT is the seconds one input may take before it counts as a finding (default
+# 10; the inputs take milliseconds: a longer campaign on a machine shared at low priority raises it
+# so that being descheduled is not reported as a hang).
 # PENUMBRA_FUZZ_SEED fixes libFuzzer's random seed (0, the default: a new one each run; CI uses 1
 # so that a run repeats the same mutations). PENUMBRA_FUZZ_JOBS harnesses run at a time (default:
 # the cores). PENUMBRA_FUZZ_BUILD names an existing clang build with the harnesses instead (the
@@ -59,7 +62,8 @@ fuzz_one() {
   log="${dir}/findings/${h}.log"
   # Artifacts of earlier runs stay (nothing is deleted); only new ones count as this run's.
   before=$(compgen -G "${dir}/findings/${h}-*" | sort)
-  timeout $((seconds + 120)) "${dir}/tests/fuzz/${h}" -max_total_time="${seconds}" -timeout=10 \
+  timeout $((seconds + 120)) "${dir}/tests/fuzz/${h}" -max_total_time="${seconds}" \
+    -timeout="${PENUMBRA_FUZZ_TIMEOUT:-10}" \
     -seed="${PENUMBRA_FUZZ_SEED:-0}" \
     -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1 \
     -artifact_prefix="${dir}/findings/${h}-" "${corpus}" "${seeds[@]}" >"${log}" 2>&1
