@@ -11,6 +11,7 @@
 #include <string>
 
 #include "engine/render/exact_options.h"
+#include "tests/support/random_points.h"
 
 namespace penumbra::viewer {
 namespace {
@@ -20,28 +21,8 @@ std::shared_ptr<LoadedScene> loadAsset(const std::string& file) {
                      ExactOptions{});
 }
 
-// `count` points on the faces of `scene` (area-weighted faces, random convex combinations of
-// their vertices), never on a light.
 std::vector<std::pair<uint32_t, Vec3>> surfacePoints(const Scene& scene, int count) {
-    std::mt19937_64 rng(5);
-    std::vector<double> area(scene.faceCount());
-    for (uint32_t f = 0; f < scene.faceCount(); ++f) area[f] = scene.mesh.faceArea(f);
-    for (uint32_t l : scene.lights) area[l] = 0;
-    std::discrete_distribution<uint32_t> pickFace(area.begin(), area.end());
-    std::uniform_real_distribution<double> u(0.02, 1.0);
-    std::vector<std::pair<uint32_t, Vec3>> out;
-    while (static_cast<int>(out.size()) < count) {
-        const uint32_t f = pickFace(rng);
-        Vec3 p{};
-        double w = 0;
-        for (uint32_t v : scene.mesh.faces[f]) {
-            const double a = u(rng);
-            p += scene.mesh.vertices[v] * a;
-            w += a;
-        }
-        out.emplace_back(f, p / w);
-    }
-    return out;
+    return test::surfacePoints(scene, count, 5);
 }
 
 void expectInstantClickAgreesWithTheTrees(const std::string& file, int count) {

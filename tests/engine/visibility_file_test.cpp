@@ -22,6 +22,7 @@
 #include "engine/scene/hash64.h"
 #include "engine/scene/procedural_scenes.h"
 #include "engine/scene/scene_hash.h"
+#include "tests/support/random_points.h"
 #include "tests/support/test_scale.h"
 #include "tests/support/tree_reference.h"
 #include "visibility/fp_query.h"
@@ -91,19 +92,6 @@ void buildFaces(VisibilityStore& store, const std::vector<uint32_t>& faces) {
         }
 }
 
-// A point strictly inside face f (a convex combination with random positive weights).
-Vec3 randomPointOn(const Scene& s, uint32_t f, std::mt19937_64& rng) {
-    std::uniform_real_distribution<double> u(0.05, 1.0);
-    Vec3 p{};
-    double w = 0;
-    for (uint32_t v : s.mesh.faces[f]) {
-        const double a = u(rng);
-        p += s.mesh.vertices[v] * a;
-        w += a;
-    }
-    return p / w;
-}
-
 TEST_F(VisibilityFileTest, RoundTripKeepsEveryFieldAndEveryQuery) {
     const Scene scene = makeStairs();
     const EmbreeScene bvh(scene.mesh);
@@ -150,7 +138,7 @@ TEST_F(VisibilityFileTest, RoundTripKeepsEveryFieldAndEveryQuery) {
     for (int i = 0; i < test::scaled(400); ++i) {
         const uint32_t f = faces[rng() % faces.size()];
         if (f == light) continue;
-        const Vec3 x = randomPointOn(scene, f, rng);
+        const Vec3 x = test::randomPointOn(scene.mesh, f, rng);
         const PairKey key = loaded.keyAt(f, x, light);
         const PairRecord* r = loaded.find(key);
         ASSERT_NE(r, nullptr);
@@ -202,7 +190,7 @@ TEST_F(VisibilityFileTest, RoundTripKeepsPartialTrees) {
     int deferredQueries = 0;
     for (uint32_t f : faces) {
         for (int i = 0; i < 5; ++i) {
-            const Vec3 x = randomPointOn(scene, f, rng);
+            const Vec3 x = test::randomPointOn(scene.mesh, f, rng);
             const PairKey key = loaded.keyAt(f, x, scene.lights[0]);
             const PairRecord* a = loaded.find(key);
             const PairRecord* b = store.find(key);

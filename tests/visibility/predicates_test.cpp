@@ -273,35 +273,49 @@ TEST(Predicates, Collinear) {
 namespace penumbra::vis {
 namespace {
 
+// A plane through points around o (|o| up to `scale`) and a box beside it, both from `rng`: the
+// box centred near the plane and offset along its normal by a tiny signed amount; every second
+// box (even i) a few units in the last place of the coordinates wide and away.
+struct NearPlaneBox {
+    Vec3 a, b, c;  // the plane's points
+    Vec3 lo, hi;   // the box
+    double ulp = 0;
+};
+
+NearPlaneBox nearPlaneBox(std::mt19937_64& rng, double scale, int i) {
+    std::uniform_real_distribution<double> u(-1, 1);
+    NearPlaneBox r;
+    const Vec3 o{scale * u(rng), scale * u(rng), scale * u(rng)};
+    r.a = o;
+    r.b = o + Vec3{u(rng), u(rng), u(rng)};
+    r.c = o + Vec3{u(rng), u(rng), u(rng)};
+    const Vec3 n = normalize(cross(r.b - r.a, r.c - r.a));
+    const double off = std::ldexp(u(rng), -static_cast<int>(rng() % 60));
+    const Vec3 v{u(rng), u(rng), u(rng)};
+    const Vec3 centre = o + (v - n * dot(n, v)) * 0.5;  // in the plane, up to rounding
+    r.ulp = scale * 0x1p-52;
+    const bool inUlps = i % 2 == 0;
+    const Vec3 p =
+        centre + n * (inUlps ? r.ulp * std::round(8 * u(rng)) : off * std::max(1.0, scale * 1e-15));
+    const double half = inUlps ? r.ulp * std::round(4 * std::fabs(u(rng)))
+                               : std::ldexp(std::fabs(u(rng)), -static_cast<int>(rng() % 50));
+    r.lo = {p.x - half, p.y - half, p.z - half};
+    r.hi = {p.x + half, p.y + half, p.z + half};
+    return r;
+}
+
 // boxNegative must only say "strictly negative" when every corner of the box is (the value is
 // affine, so the corners decide), at every magnitude: boxes just beside a plane through points
 // around the origin and around 1e4 .. 1e15, some touching or straddling it by less than a unit in
 // the last place of their coordinates.
 TEST(Predicates, BoxNegativeIsCertainAtEveryMagnitude) {
     std::mt19937_64 rng(17);
-    std::uniform_real_distribution<double> u(-1, 1);
     int said = 0, checked = 0;
     for (double scale : {1.0, 1e4, 1e8, 1e12, 1e15}) {
         for (int i = 0; i < 4000; ++i) {
-            const Vec3 o{scale * u(rng), scale * u(rng), scale * u(rng)};
-            const Vec3 a = o, b = o + Vec3{u(rng), u(rng), u(rng)},
-                       c = o + Vec3{u(rng), u(rng), u(rng)};
+            const NearPlaneBox t = nearPlaneBox(rng, scale, i);
+            const Vec3 &a = t.a, &b = t.b, &c = t.c, &lo = t.lo, &hi = t.hi;
             const PlaneOrient plane(a, b, c);
-            // A box centred near the plane, offset along the normal by a tiny signed amount.
-            const Vec3 n = normalize(cross(b - a, c - a));
-            const double off = std::ldexp(u(rng), -static_cast<int>(rng() % 60));
-            const Vec3 v{u(rng), u(rng), u(rng)};
-            const Vec3 centre = o + (v - n * dot(n, v)) * 0.5;  // in the plane, up to rounding
-            // Half of the boxes a few units in the last place of the coordinates wide and away.
-            const double ulp = scale * 0x1p-52;
-            const bool inUlps = i % 2 == 0;
-            const Vec3 p = centre + n * (inUlps ? ulp * std::round(8 * u(rng))
-                                                : off * std::max(1.0, scale * 1e-15));
-            const double half = inUlps
-                                    ? ulp * std::round(4 * std::fabs(u(rng)))
-                                    : std::ldexp(std::fabs(u(rng)), -static_cast<int>(rng() % 50));
-            const Vec3 lo{p.x - half, p.y - half, p.z - half},
-                hi{p.x + half, p.y + half, p.z + half};
             if (!plane.boxNegative(lo, hi)) continue;
             ++said;
             for (int k = 0; k < 8; ++k) {
@@ -326,23 +340,10 @@ TEST(Predicates, PlaneBoxCullIsCertainForEveryBoxInsideItsRegion) {
     int said = 0, asBoxNegative = 0, boxNegativeSaid = 0;
     for (double scale : {1.0, 1e4, 1e8, 1e12, 1e15}) {
         for (int i = 0; i < 4000; ++i) {
-            const Vec3 o{scale * u(rng), scale * u(rng), scale * u(rng)};
-            const Vec3 a = o, b = o + Vec3{u(rng), u(rng), u(rng)},
-                       c = o + Vec3{u(rng), u(rng), u(rng)};
+            const NearPlaneBox t = nearPlaneBox(rng, scale, i);
+            const Vec3 &a = t.a, &b = t.b, &c = t.c, &lo = t.lo, &hi = t.hi;
             const PlaneOrient plane(a, b, c);
-            const Vec3 n = normalize(cross(b - a, c - a));
-            const Vec3 v{u(rng), u(rng), u(rng)};
-            const Vec3 centre = o + (v - n * dot(n, v)) * 0.5;
-            const double ulp = scale * 0x1p-52;
-            const bool inUlps = i % 2 == 0;
-            const double off = std::ldexp(u(rng), -static_cast<int>(rng() % 60));
-            const Vec3 p = centre + n * (inUlps ? ulp * std::round(8 * u(rng))
-                                                : off * std::max(1.0, scale * 1e-15));
-            const double half = inUlps
-                                    ? ulp * std::round(4 * std::fabs(u(rng)))
-                                    : std::ldexp(std::fabs(u(rng)), -static_cast<int>(rng() % 50));
-            const Vec3 lo{p.x - half, p.y - half, p.z - half},
-                hi{p.x + half, p.y + half, p.z + half};
+            const double half = 0.5 * (hi.x - lo.x), ulp = t.ulp;
             // A region around the box, grown unevenly.
             const double grow =
                 std::ldexp(std::fabs(u(rng)), static_cast<int>(rng() % 21)) * std::max(half, ulp);
