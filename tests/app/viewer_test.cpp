@@ -307,7 +307,7 @@ TEST(ViewerScreenshot, SampledPreviewConvergesToTheExactOne) {
 }
 
 // The rendered view (--view) shows, pixel for pixel, what `penumbra render` writes for the same
-// camera, size (the view's), samples and tone map: exact, sampled, and the two side by side split
+// camera, size (the view's), samples and tone map: exact, and exact and sampled side by side split
 // at the middle (exact left, sampled right), wherever the view's overlays (status line, help,
 // which must stay inside the view) leave it visible. The raster view of the same camera is far
 // from that image (the test can tell).
@@ -318,8 +318,8 @@ TEST(ViewerScreenshot, RenderedViewIsTheImagePenumbraRenderWrites) {
     const std::string camera = "278,273,-800,278,273,0,39.3";
     auto shoot = [&](const std::string& view, const std::string& name) {
         const test::ProcessResult r = test::runPenumbraGl(
-            {"screenshot", scene, "--view", view, "--camera", camera, "--size", "960x600",
-             "--passes", "2", "--light-samples", "4", "--out", (dir / (name + ".png")).string(),
+            {"screenshot", scene, "--view", view, "--camera", camera, "--size", "800x500",
+             "--passes", "1", "--light-samples", "4", "--out", (dir / (name + ".png")).string(),
              "--state-out", (dir / (name + ".json")).string()});
         EXPECT_EQ(r.exitCode, 0) << r.err;
         return test::readJson(dir / (name + ".json"));
@@ -334,7 +334,7 @@ TEST(ViewerScreenshot, RenderedViewIsTheImagePenumbraRenderWrites) {
     const std::string size = std::to_string(vw) + "x" + std::to_string(vh);
     auto render = [&](const std::string& method, const std::string& name) {
         const test::ProcessResult r = test::runPenumbra(
-            {"render", scene, "--camera", camera, "--up", "0,1,0", "--size", size, "--spp", "2",
+            {"render", scene, "--camera", camera, "--up", "0,1,0", "--size", size, "--spp", "1",
              "--method", method, "--light-samples", "4", "--out", (dir / name).string()});
         EXPECT_EQ(r.exitCode, 0) << r.err;
         return test::readPng(dir / name);
@@ -374,15 +374,11 @@ TEST(ViewerScreenshot, RenderedViewIsTheImagePenumbraRenderWrites) {
                 for (int k = 0; k < 3; ++k) sum += std::abs(int(a[k]) - int(b[k])) / 255.0;
                 n += 3;
             }
-        EXPECT_GT(n, 3 * 100000);
+        EXPECT_GT(n, 3 * 50000);
         return sum / std::max<long>(n, 1);
     };
     const test::Image shotExact = test::readPng(dir / "exact.png");
     EXPECT_LT(meanDifference(shotExact, [&](int, int) { return &exact; }), 1e-3);
-    shoot("sampled", "sampled");
-    EXPECT_LT(
-        meanDifference(test::readPng(dir / "sampled.png"), [&](int, int) { return &sampled; }),
-        1e-3);
     const json side = shoot("side", "side");
     EXPECT_EQ(side["preview"]["width"], 2 * vw);
     const int split = static_cast<int>(side["view"]["split"].get<double>() * vw);
@@ -411,7 +407,7 @@ TEST(ViewerScreenshot, PixelInspectorReportsTheRenderedPixelAndTheExactFraction)
     const std::string camera = "278,273,-800,278,273,0,39.3";
     const test::ProcessResult r = test::runPenumbraGl(
         {"screenshot", scene.string(), "--view", "side", "--camera", camera, "--size", "960x600",
-         "--passes", "2", "--light-samples", "4", "--hover", "300,400", "--out",
+         "--passes", "1", "--light-samples", "4", "--hover", "300,400", "--out",
          (dir / "shot.png").string(), "--state-out", (dir / "state.json").string()});
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const json state = test::readJson(dir / "state.json");
@@ -427,7 +423,7 @@ TEST(ViewerScreenshot, PixelInspectorReportsTheRenderedPixelAndTheExactFraction)
         const fs::path pfm = dir / (std::string(method) + ".pfm");
         const test::ProcessResult rr = test::runPenumbra(
             {"render", scene.string(), "--camera", camera, "--up", "0,1,0", "--size", size, "--spp",
-             "2", "--method", method, "--light-samples", "4", "--out", pfm.string()});
+             "1", "--method", method, "--light-samples", "4", "--out", pfm.string()});
         ASSERT_EQ(rr.exitCode, 0) << rr.err;
         int w = 0, h = 0;
         const std::vector<float> image = test::readPfm(pfm.string(), w, h);
@@ -463,7 +459,7 @@ TEST(ViewerScreenshot, SavedViewReopensAsTheSameView) {
         const fs::path stem = dir / scene.extension().string().substr(1) / "saved";
         const test::ProcessResult r = test::runPenumbraGl(
             {"screenshot", scene.string(), "--view", "rendered", "--camera", camera, "--size",
-             "960x600", "--passes", "2", "--save-view", stem.string(), "--out",
+             "640x400", "--passes", "1", "--save-view", stem.string(), "--out",
              (dir / "shot.png").string(), "--state-out", (dir / "state.json").string()});
         ASSERT_EQ(r.exitCode, 0) << r.err;
         const json state = test::readJson(dir / "state.json");
@@ -477,7 +473,7 @@ TEST(ViewerScreenshot, SavedViewReopensAsTheSameView) {
         const fs::path rendered = dir / "rendered.pfm";
         const test::ProcessResult rr =
             test::runPenumbra({"render", stem.string() + ".json", "--size",
-                               std::to_string(vw) + "x" + std::to_string(vh), "--spp", "2",
+                               std::to_string(vw) + "x" + std::to_string(vh), "--spp", "1",
                                "--method", "exact", "--out", rendered.string()});
         ASSERT_EQ(rr.exitCode, 0) << rr.err;
         int w1 = 0, h1 = 0, w2 = 0, h2 = 0;
@@ -494,7 +490,7 @@ TEST(ViewerScreenshot, SavedViewReopensAsTheSameView) {
         EXPECT_GT(lit, saved.size() / 2);
         // And the viewer opens it with the saved camera.
         const test::ProcessResult rs = test::runPenumbraGl(
-            {"screenshot", stem.string() + ".json", "--size", "960x600", "--no-preview", "--out",
+            {"screenshot", stem.string() + ".json", "--size", "400x300", "--no-preview", "--out",
              (dir / "again.png").string(), "--state-out", (dir / "again.json").string()});
         ASSERT_EQ(rs.exitCode, 0) << rs.err;
         const json again_state = test::readJson(dir / "again.json");
