@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <fstream>
 #include <numbers>
 #include <string>
@@ -356,12 +357,20 @@ Scene loadGltf(const fs::path& path, DegenerateFaces degenerate) {
     std::string err, warn;
     const std::string baseDir = path.parent_path().string();
     const bool binary = data.compare(0, 4, "glTF") == 0;
-    const bool ok =
-        binary ? loader.LoadBinaryFromMemory(&model, &err, &warn,
-                                             reinterpret_cast<const unsigned char*>(data.data()),
-                                             static_cast<unsigned int>(data.size()), baseDir)
-               : loader.LoadASCIIFromString(&model, &err, &warn, data.data(),
-                                            static_cast<unsigned int>(data.size()), baseDir);
+    bool ok = false;
+    try {
+        ok = binary ? loader.LoadBinaryFromMemory(
+                          &model, &err, &warn, reinterpret_cast<const unsigned char*>(data.data()),
+                          static_cast<unsigned int>(data.size()), baseDir)
+                    : loader.LoadASCIIFromString(&model, &err, &warn, data.data(),
+                                                 static_cast<unsigned int>(data.size()), baseDir);
+    } catch (const std::exception& e) {
+        // tinygltf itself throws on some malformed files (found by fuzzing: an index checked
+        // with vector::at on an empty array): still an error about this file.
+        throw makeSceneError(file, 0,
+                             std::string(binary ? "GLB" : "glTF") +
+                                 ": tinygltf failed on the file (" + e.what() + ")");
+    }
     if (!ok) {
         while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
         throw makeSceneError(file, 0,
