@@ -361,11 +361,13 @@ std::optional<std::string> coordinateProblem(const Vec3& p) {
     return std::nullopt;
 }
 
-double lightResolutionWeight(const vis::PolygonMesh& mesh, uint32_t f) {
-    // W = sum over axes i of M_i (E_j + E_k): M_i the largest |coordinate| along i, E the face's
-    // extents along the other two axes (a rounding of u M_i along i moves the area by at most that
-    // times the extent across it).
-    double m[3] = {0, 0, 0}, lo[3], hi[3];
+double lightResolutionWeight(const vis::PolygonMesh& mesh, uint32_t f, double sceneSize) {
+    // W = sum over axes i of M_i (E_j + E_k): M_i the largest |coordinate| along i, or the scene's
+    // size S (its bounding box's diagonal) when larger, E the face's extents along the other two
+    // axes (a rounding of u M_i along i moves the area by at most that times the extent across it;
+    // the planes through a point x and the occluders' edges decide the light's vertices to within
+    // about u |y - x| <= u S).
+    double m[3] = {sceneSize, sceneSize, sceneSize}, lo[3], hi[3];
     for (int i = 0; i < 3; ++i) {
         lo[i] = INFINITY;
         hi[i] = -INFINITY;
@@ -384,15 +386,16 @@ double lightResolutionWeight(const vis::PolygonMesh& mesh, uint32_t f) {
     return w;
 }
 
-std::optional<std::string> lightAreaProblem(const vis::PolygonMesh& mesh, uint32_t f) {
+std::optional<std::string> lightAreaProblem(const vis::PolygonMesh& mesh, uint32_t f,
+                                            double sceneSize) {
     const double area = mesh.faceArea(f);
-    const double least = kMinLightAreaFactor * lightResolutionWeight(mesh, f);
+    const double least = kMinLightAreaFactor * lightResolutionWeight(mesh, f, sceneSize);
     if (area > least) return std::nullopt;
     return "an area light of area " + fmt(area) +
            ", too thin for doubles to resolve where it lies (the least is 2^-40 * W = " +
            fmt(least) +
-           ", W the sum over the axes of the largest coordinate times the extents across it; "
-           "README, scene contract)";
+           ", W the sum over the axes of the largest coordinate, or the scene's size when larger, "
+           "times the light's extents across it; README, scene contract)";
 }
 
 void validateSceneStructure(const Scene& scene) {
@@ -451,10 +454,12 @@ void validateSceneStructure(const Scene& scene) {
 }
 
 void validateLights(const Scene& scene) {
+    if (scene.lights.empty()) return;
+    const double sceneSize = scene.mesh.bounds().diagonal();  // once: a scene may have many lights
     for (uint32_t light : scene.lights) {
         if (light >= scene.faceCount() || scene.mesh.faces[light].size() < 3)
             continue;  // validateSceneStructure and checkFace report these
-        if (const auto problem = lightAreaProblem(scene.mesh, light)) {
+        if (const auto problem = lightAreaProblem(scene.mesh, light, sceneSize)) {
             const int64_t line =
                 light < scene.faceSourceLine.size() ? scene.faceSourceLine[light] : 0;
             throw makeSceneError(scene.sourcePath, line,

@@ -54,20 +54,27 @@ inline constexpr double kMaxCoordinate = 0x1p59;
 std::optional<std::string> coordinateProblem(const Vec3& p);
 
 // The smallest area light doubles resolve. A light's visible fragments have rounded vertices
-// (constructions: each coordinate within a few u = 2^-53 of the largest magnitude M_i its face
-// reaches along that axis), so their area carries an absolute error of order u W, with
-//   W = sum over the axes i of M_i (E_j + E_k)     (E: the face's extents along the other axes),
-// and the light's visible fraction an error of order u W / area. A light face whose area is at
-// most kMinLightAreaFactor * W (2^13 u W: the fraction's error would reach about 1e-4) is refused,
-// naming the face: a sliver whose area lies below what its own coordinates resolve (found by
-// fuzzing: a light of area 6e-39 two units long, whose clipped fragment came out 4e21 times larger
-// than the light). Harmless as an occluder (the core is exact): refused only as a light.
+// (constructions: each coordinate within a few u = 2^-53 of the largest magnitude M_i it reaches
+// along that axis), and a vertex within about u |y - x| of a cutting plane through the query point
+// x is taken as on it (the snap rule, polygon_clip.h; |y - x| is at most the scene's size S). So a
+// fragment's area carries an absolute error of order u W, with
+//   W = sum over the axes i of max(M_i, S) (E_j + E_k)   (E: the light's extents on the other
+//   axes),
+// and the light's visible fraction one of u W / area. A light face whose area is at most
+// kMinLightAreaFactor * W (2^13 u W: the fraction's error would reach about 1e-4) is refused,
+// naming the face: a sliver whose area lies below what its own coordinates resolve, or a light
+// some 1e12 times smaller than the scene (found by fuzzing: a light of area 6e-39 two units long
+// whose clipped fragment came out 4e21 times larger than the light; a light 1e-40 across seen from
+// 3e4 away, 15% too large). Harmless as an occluder (the core is exact): refused only as a light.
+// (The snap width also grows as 1 / sin(theta) for cutting planes nearly parallel to the light;
+// README, the one approximation.)
 inline constexpr double kMinLightAreaFactor = 0x1p-40;
 
-// W above for face f.
-double lightResolutionWeight(const vis::PolygonMesh& mesh, uint32_t f);
+// W above for face f of a scene of size `sceneSize` (its bounding box's diagonal).
+double lightResolutionWeight(const vis::PolygonMesh& mesh, uint32_t f, double sceneSize);
 // The problem with light face `f` under that rule, or nullopt.
-std::optional<std::string> lightAreaProblem(const vis::PolygonMesh& mesh, uint32_t f);
+std::optional<std::string> lightAreaProblem(const vis::PolygonMesh& mesh, uint32_t f,
+                                            double sceneSize);
 // Throws SceneError naming scene.sourcePath, the face and its source line for the first light in
 // scene.lights that breaks the rule (validateSceneStructure does this too; loadScene calls it
 // once the loader has collected the lights).

@@ -102,7 +102,8 @@ TEST_F(HostileInput, LightsThinnerThanDoublesResolveAreRefused) {
                               "usemtl white\nf 1 3 2\nusemtl lamp\nf 4 5 6 7\n");
     const Scene scene = loadScene(ok);
     ASSERT_EQ(scene.lights.size(), 1u);
-    EXPECT_FALSE(lightAreaProblem(scene.mesh, scene.lights[0]).has_value());
+    EXPECT_FALSE(
+        lightAreaProblem(scene.mesh, scene.lights[0], scene.mesh.bounds().diagonal()).has_value());
     EXPECT_FALSE(test::answerProblem(scene).has_value()) << *test::answerProblem(scene);
 }
 

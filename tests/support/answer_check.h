@@ -27,7 +27,7 @@ inline std::optional<std::string> answerProblem(const Scene& scene) {
     if (scene.lights.empty() || scene.faceCount() < 2 || scene.faceCount() > 64) return {};
     const uint32_t light = scene.lights[0];
     // Below that area the fraction would be noise (the allowance below exceeds the light).
-    if (const auto thin = lightAreaProblem(scene.mesh, light))
+    if (const auto thin = lightAreaProblem(scene.mesh, light, scene.mesh.bounds().diagonal()))
         return "a loaded light breaks the light-area rule: " + *thin;
     const uint32_t receiver = light == 0 ? 1 : 0;
     vis::BuildOptions options;
@@ -41,8 +41,9 @@ inline std::optional<std::string> answerProblem(const Scene& scene) {
     double area = 0;
     for (size_t i = 0; i < fragments.size(); ++i) area += vis::polygonArea(fragments[i]);
     const double lightArea = scene.mesh.faceArea(light);
-    const double rounding = 16 * 0x1p-53 * lightResolutionWeight(scene.mesh, light) *
-                            static_cast<double>(fragments.size() + 1);
+    const double rounding =
+        16 * 0x1p-53 * lightResolutionWeight(scene.mesh, light, scene.mesh.bounds().diagonal()) *
+        static_cast<double>(fragments.size() + 1);
     if (!std::isfinite(area) || area < 0 || area > lightArea + rounding) {
         char buf[200];
         std::snprintf(buf, sizeof buf,
