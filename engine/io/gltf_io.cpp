@@ -10,6 +10,7 @@
 #include <fstream>
 #include <numbers>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include "engine/scene/affine3.h"
@@ -24,6 +25,45 @@ namespace fs = std::filesystem;
 bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
                const unsigned char*, int, void*) {
     return true;
+}
+
+// File access for the buffers and images a glTF names by URI, in place of tinygltf's own. Its
+// reader sizes a file by seeking to the end, which on a directory (a URI of "." or "/", found by
+// fuzzing) reports 2^63 - 1 bytes and asks for that much memory; it also accepts devices and
+// pipes. Here only a regular file of bounded size is read, and the reason for a refusal is named.
+constexpr uintmax_t kMaxExternalBytes = 0x7fffffffu;
+
+bool pathExists(const std::string& path, void*) {
+    std::error_code ec;
+    return fs::exists(path, ec);
+}
+
+std::string samePath(const std::string& path, void*) { return path; }
+
+bool readRegularFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                     void*) {
+    const auto refuse = [&](const std::string& why) {
+        if (err) *err += why;
+        return false;
+    };
+    std::error_code ec;
+    if (!fs::is_regular_file(path, ec)) return refuse("not a regular file");
+    const uintmax_t size = fs::file_size(path, ec);
+    if (ec) return refuse("cannot read its size (" + ec.message() + ")");
+    if (size == 0) return refuse("empty file");
+    if (size > kMaxExternalBytes) return refuse("larger than 2 GiB");
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return refuse("cannot open file");
+    out->resize(static_cast<size_t>(size));
+    in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size));
+    if (in.gcount() != static_cast<std::streamsize>(size)) return refuse("cannot read file");
+    return true;
+}
+
+bool refuseWrite(std::string* err, const std::string& path, const std::vector<unsigned char>&,
+                 void*) {
+    if (err) *err += path + ": the glTF loader writes no files\n";
+    return false;
 }
 
 // Where a face came from, for messages.
@@ -353,6 +393,7 @@ Scene loadGltf(const fs::path& path, DegenerateFaces degenerate) {
 
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(skipImage, nullptr);
+    loader.SetFsCallbacks({pathExists, samePath, readRegularFile, refuseWrite, nullptr});
     tinygltf::Model model;
     std::string err, warn;
     const std::string baseDir = path.parent_path().string();

@@ -4,12 +4,14 @@
 #include "engine/io/gltf_io.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tests/support/loader_test_support.h"
@@ -179,6 +181,31 @@ TEST_F(GltfIo, RotationQuaternion) {
     const Scene scene = loadGltf(write("rot.gltf", embedded(g, testBuffer())));
     expectNear(scene.mesh.vertices[1], {10, 1, 0});
     expectNear(scene.mesh.vertices[2], {9, 1, 0});
+}
+
+// A URI naming a directory (seeking to its end reports 2^63 - 1 bytes: tinygltf's own reader asked
+// for that much memory, a fuzzing finding), a pipe, a missing or an empty file is an error naming
+// the file and why; an image's URI is only ignored, since images are not used.
+TEST_F(GltfIo, ExternalBufferThatIsNotARegularFileIsAnError) {
+    write("data/empty.bin", "");
+    const fs::path fifo = dir_ / "data" / "fifo";
+    ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {".", "data/. : not a regular file"},
+        {"..", "data/.. : not a regular file"},
+        {"fifo", "data/fifo : not a regular file"},
+        {"empty.bin", "data/empty.bin : empty file"},
+        {"missing.bin", "not found : missing.bin"}};
+    for (const auto& [uri, why] : cases) {
+        SCOPED_TRACE(uri);
+        Json g = testGltf();
+        g["buffers"][0]["uri"] = uri;
+        const fs::path p = write("data/uri.gltf", g.dump());
+        expectLoadError([&] { loadGltf(p); }, p, {why});
+    }
+    Json g = testGltf();
+    g["images"] = Json::array({Json{{"uri", "."}}, Json{{"uri", "fifo"}}});
+    expectTestScene(loadGltf(write("data/images.gltf", embedded(g, testBuffer()))));
 }
 
 TEST_F(GltfIo, IndexOutOfRangeIsAnError) {
