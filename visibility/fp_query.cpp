@@ -30,7 +30,7 @@ void FromPointQuery::visit(uint32_t node, std::span<const Vec3> poly, size_t dep
     // goes on, nothing is copied); recursion only where it is split in two.
     for (;;) {
         if (node == kVisibleLeaf) {
-            reachVisible(poly, 0, depth);
+            reachVisible(poly, depth);
             return;
         }
         if (node == kHiddenLeaf) return;
@@ -140,11 +140,19 @@ SplitOutcome FromPointQuery::splitBy(std::span<const Vec3> poly, const Plane& pl
     return splitConstructed(poly, plane, light_, parts, keep);
 }
 
-void FromPointQuery::reachVisible(std::span<const Vec3> poly, size_t from, size_t depth) {
+void FromPointQuery::reachVisible(std::span<const Vec3> poly, size_t depth) {
     if (!deferredPrepared_) {  // on the first visible leaf: a point in full shadow pays nothing
         deferredPrepared_ = true;
         prepareDeferred(*mesh_, *tree_);
     }
+    if (useChain()) {
+        chainCells(poly, depth, 0);
+        return;
+    }
+    clipByOccluders(poly, 0, depth);
+}
+
+void FromPointQuery::clipByOccluders(std::span<const Vec3> poly, size_t from, size_t depth) {
     // Algorithm 1 in 3D, from x: a deferred occluder blocks the lines from x that lie on its
     // blocked side of every plane through x and one of its edges. Each part split off on the
     // unblocked side of an edge goes on to the next occluder; what is left after the last edge is
@@ -192,7 +200,7 @@ void FromPointQuery::reachVisible(std::span<const Vec3> poly, size_t from, size_
                 o.blocked == Sign::Positive ? parts.negative() : parts.positive();
             current = o.blocked == Sign::Positive ? parts.positive() : parts.negative();
             split = true;
-            reachVisible(freePart, j + 1, d + 1);
+            clipByOccluders(freePart, j + 1, d + 1);
             ++d;  // `current` lives in parts_[d - 1] now
             return !limitReached_;
         });
@@ -200,12 +208,203 @@ void FromPointQuery::reachVisible(std::span<const Vec3> poly, size_t from, size_
         if (untouched && !split) continue;  // this occluder blocks none of it
         ++deferredClips_;
         if (untouched) {
-            reachVisible(current, j + 1, d);  // the rest is outside it too
+            clipByOccluders(current, j + 1, d);  // the rest is outside it too
             return;
         }
         return;  // the rest is blocked
     }
     if (limitReached_) return;
+    fragments_.add(poly);
+}
+
+// ---- The boundary chain --------------------------------------------------------------------
+//
+// What is exact here. c(y), the number of active occluders the line from x through y crosses, is
+// constant on any open convex set of lines from x that no boundary-chain edge meets
+// (boundary_chain.h). L is cut by the planes through x and the chain's edges, each only where its
+// segment may meet the cell, into cells; every decision that drops an edge for a cell (the cell
+// on one side of its plane, or the segment outside one of the cell's bounding planes) is recorded
+// as a bounding plane of the cell or made by exact signs of input points. A cell is then decided
+// by one line: a point y (the rounded centroid of its vertices, a double) is certified strictly
+// inside every bounding plane of the cell by exact orient3d signs, so c(y) is the cell's value,
+// and the line through y is tested exactly against each occluder (closed: a line along an edge
+// that cancels still sees c >= 1 on both sides of it). Where y cannot be certified (a cell
+// thinner than the rounding of its centroid), the cell is clipped by Algorithm 1 instead. The
+// cells' vertices are rounded constructions, as the fragments of Algorithm 1 are (polygon_clip.h
+// splitConstructed); no label depends on them.
+
+namespace {
+
+// The exact sign of an input point against a plane, through the filter first.
+template <class Plane>
+Sign exactSign(const Plane& plane, const Vec3& y) {
+    BoundedValue b;
+    if (plane.filtered(y, b)) return b.sign();
+    return plane.value(y).sign();
+}
+
+}  // namespace
+
+Sign FromPointQuery::refSign(uint32_t ref, const Vec3& y) const {
+    return (ref & kPencilRef) != 0 ? exactSign(activePencils_[ref & ~kPencilRef], y)
+                                   : exactSign(activePlanes_[ref], y);
+}
+
+SplitOutcome FromPointQuery::splitByRef(uint32_t ref, std::span<const Vec3> poly,
+                                        SplitParts& parts) const {
+    return (ref & kPencilRef) != 0
+               ? splitConstructed(poly, activePencils_[ref & ~kPencilRef], light_, parts)
+               : splitConstructed(poly, activePlanes_[ref], light_, parts);
+}
+
+bool FromPointQuery::useChain() {
+    if (chainOptions_.minOccluders == 0 || active_.size() < chainOptions_.minOccluders ||
+        !lightWhole_)
+        return false;
+    if (!chainBuilt_) buildChain();
+    return chainPays_;
+}
+
+void FromPointQuery::buildChain() {
+    chainBuilt_ = true;
+    chainBuilder_.clear();
+    for (const ActiveOccluder& o : active_) {
+        const int weight = o.blocked == Sign::Negative ? 1 : -1;  // x in front of the face: +1
+        for (uint32_t e = 0; e < o.planeCount; ++e) {
+            const auto& [v0, v1] = activePlaneEdges_[o.firstPlane + e];
+            chainBuilder_.add(v0, v1, weight, o.firstPlane + e);
+        }
+        // A chord is the face's own (no other face has it): it never cancels.
+        for (uint32_t e = 0; e < o.pencilCount; ++e)
+            chainBuilder_.add(kClipEdge | (o.firstPencil + e), 0, weight,
+                              kPencilRef | (o.firstPencil + e));
+    }
+    chainBuilder_.remaining(chainRefs_);
+    chainCounts_.occluderEdges = static_cast<uint32_t>(chainBuilder_.uses());
+    chainCounts_.boundaryEdges = static_cast<uint32_t>(chainRefs_.size());
+    // The cells are decided one line each but are never dropped before the chain has cut them,
+    // while Algorithm 1 drops a hidden part at once: the chain pays where most edges cancel
+    // (closed and smooth surfaces), not among separate faces (leaves), where it only adds work.
+    chainPays_ = chainRefs_.size() * chainOptions_.gain <= chainBuilder_.uses();
+    chain_.clear();
+    if (!chainPays_) return;
+    if (chainLists_.empty()) chainLists_.resize(1);
+    std::vector<uint32_t>& root = chainLists_[0];
+    root.clear();
+    for (uint32_t ref : chainRefs_) {
+        ChainEdge e;
+        e.ref = ref;
+        if ((ref & kPencilRef) == 0) {
+            e.segment = true;
+            e.a = mesh_->vertices[activePlaneEdges_[ref].first];
+            e.b = mesh_->vertices[activePlaneEdges_[ref].second];
+        }
+        // Every vertex of L on one closed side of its plane: its line misses L's open cone.
+        bool positive = false, negative = false;
+        for (const Vec3& v : light_) {
+            const Sign s = refSign(ref, v);
+            positive = positive || s == Sign::Positive;
+            negative = negative || s == Sign::Negative;
+        }
+        if (!positive || !negative) continue;
+        // Its segment outside one side plane of the pyramid over L (closed): it misses the cone.
+        bool outside = false;
+        for (size_t k = 0; e.segment && !outside && k < pyramid_.size(); ++k)
+            outside = exactSign(pyramid_[k], e.a) != Sign::Positive &&
+                      exactSign(pyramid_[k], e.b) != Sign::Positive;
+        if (outside) continue;
+        root.push_back(static_cast<uint32_t>(chain_.size()));
+        chain_.push_back(e);
+    }
+    bounds_.clear();
+}
+
+void FromPointQuery::chainCells(std::span<const Vec3> poly, size_t depth, size_t level) {
+    const size_t boundsAtEntry = bounds_.size();
+    for (size_t i = 0; i < chainLists_[level].size(); ++i) {
+        if (!spend()) return;
+        const ChainEdge& e = chain_[chainLists_[level][i]];
+        SplitOutcome outcome = splitByRef(e.ref, poly, partsAt(depth));
+        if (outcome == SplitOutcome::OnPlane) {  // a cell of zero area
+            bounds_.resize(boundsAtEntry);
+            return;
+        }
+        if (outcome != SplitOutcome::Split) {
+            bounds_.push_back(
+                {e.ref, outcome == SplitOutcome::Positive ? Sign::Positive : Sign::Negative});
+            continue;
+        }
+        // Two cells: each takes the rest of the list but the edges whose segment lies on the
+        // other side of this plane (closed; exact signs of the segment's input end points).
+        const SplitParts& parts = parts_[depth];
+        const std::span<const Vec3> sides[2] = {parts.positive(), parts.negative()};
+        if (chainLists_.size() <= level + 1) chainLists_.resize(level + 2);
+        for (int k = 0; k < 2; ++k) {
+            const Sign side = k == 0 ? Sign::Positive : Sign::Negative;
+            std::vector<uint32_t>& next = chainLists_[level + 1];
+            next.clear();
+            for (size_t j = i + 1; j < chainLists_[level].size(); ++j) {
+                const uint32_t c = chainLists_[level][j];
+                const ChainEdge& f = chain_[c];
+                if (f.segment) {
+                    if (!spend(2)) return;
+                    const Sign sa = refSign(e.ref, f.a), sb = refSign(e.ref, f.b);
+                    if (sa != side && sb != side) continue;
+                }
+                next.push_back(c);
+            }
+            bounds_.push_back({e.ref, side});
+            chainCells(sides[k], depth + 1, level + 1);
+            bounds_.pop_back();
+            if (limitReached_) return;
+        }
+        bounds_.resize(boundsAtEntry);
+        return;
+    }
+    classifyCell(poly, depth);
+    bounds_.resize(boundsAtEntry);
+}
+
+void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
+    ++chainCounts_.cells;
+    if (poly.size() < 3) return;
+    Vec3 y{};
+    for (const Vec3& v : poly) y += v;
+    y = y / static_cast<double>(poly.size());
+    bool certified = true;
+    for (const PlaneOrient& h : pyramid_) {
+        if (!spend()) return;
+        if (exactSign(h, y) != Sign::Positive) certified = false;
+    }
+    for (size_t k = 0; certified && k < bounds_.size(); ++k) {
+        if (!spend()) return;
+        certified = refSign(bounds_[k].ref, y) == bounds_[k].side;
+    }
+    if (!certified) {
+        ++chainCounts_.fallbacks;
+        clipByOccluders(poly, 0, depth);
+        return;
+    }
+    // The line through y against every occluder (closed), the last one that hid a cell first.
+    const size_t n = active_.size();
+    for (size_t t = 0; t < n; ++t) {
+        const size_t j = (lastHit_ + t) % n;
+        const ActiveOccluder& o = active_[j];
+        const Sign unblocked = o.blocked == Sign::Positive ? Sign::Negative : Sign::Positive;
+        bool inside = true;
+        for (uint32_t e = 0; inside && e < o.planeCount; ++e) {
+            if (!spend()) return;
+            inside = exactSign(activePlanes_[o.firstPlane + e], y) != unblocked;
+        }
+        for (uint32_t e = 0; inside && e < o.pencilCount; ++e) {
+            if (!spend()) return;
+            inside = exactSign(activePencils_[o.firstPencil + e], y) != unblocked;
+        }
+        if (inside) {
+            lastHit_ = static_cast<uint32_t>(j);
+            return;  // hidden
+        }
+    }
     fragments_.add(poly);
 }
 
@@ -254,6 +453,7 @@ void FromPointQuery::activateFace(const PolygonMesh& mesh, uint32_t face) {
     for (const auto& [v0, v1] : clipped_.edges()) {
         if (!isClipEdge(v0)) {
             activePlanes_.emplace_back(x_, mesh.vertices[v0], mesh.vertices[v1]);
+            activePlaneEdges_.emplace_back(v0, v1);
         } else {
             const bool onB = v1 == kReceiverPlaneEdge;
             activePencils_.emplace_back(x_, onB ? frontB_.orient : frontL_.orient,
@@ -269,6 +469,7 @@ void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree&
     active_.clear();
     activePlanes_.clear();
     activePencils_.clear();
+    activePlaneEdges_.clear();
     deferredClips_ = 0;
     if (!tree.partial()) return;
     preparePyramid();
@@ -310,6 +511,10 @@ void FromPointQuery::startRun() {
     active_.clear();
     activePlanes_.clear();
     activePencils_.clear();
+    activePlaneEdges_.clear();
+    chainBuilt_ = false;
+    chainCounts_ = {};
+    lastHit_ = 0;
     deferredClips_ = 0;
     trace_ = nullptr;
     region_ = nullptr;
@@ -332,7 +537,7 @@ void FromPointQuery::clipCandidates(const PolygonMesh& mesh) {
         activateFace(mesh, f);
     }
     deferredPrepared_ = true;
-    reachVisible(lightClipped_, 0, 0);
+    reachVisible(lightClipped_, 0);
 }
 
 const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t receiver,
@@ -382,6 +587,9 @@ void FromPointQuery::preparePair(const PolygonMesh& mesh, uint32_t receiver, uin
     frontB_ = OrientedPlane{receiverPlane_[0], receiverPlane_[1], receiverPlane_[2]};
     frontL_ = OrientedPlane{pl.a, pl.b, pl.c};
     clipConvexInto(light_, frontB_, lightClipped_, discard_);
+    // Exact: every vertex of L strictly in front of B's plane (then the clip kept L as it is).
+    lightWhole_ = true;
+    for (const Vec3& v : light_) lightWhole_ = lightWhole_ && frontB_.side(v) == Sign::Positive;
 }
 
 const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTree& tree,
@@ -423,7 +631,7 @@ const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTr
     region_ = region;
     deferredPrepared_ = !tree.partial();
     if (tree.nodes.empty())  // a partial tree with no node: one visible leaf
-        reachVisible(lightClipped_, 0, 0);
+        reachVisible(lightClipped_, 0);
     else
         visit(0, lightClipped_, 0, 0);
     trace_ = nullptr;

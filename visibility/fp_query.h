@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "visibility/boundary_chain.h"
 #include "visibility/clipped_occluder.h"
 #include "visibility/edge_line.h"
 #include "visibility/history_tree.h"
@@ -113,6 +114,25 @@ class FromPointQuery {
     uint32_t deferredActive() const { return static_cast<uint32_t>(active_.size()); }
     uint32_t deferredClips() const { return deferredClips_; }
 
+    // When the per-point occluders (a partial tree's deferred ones, or the direct path's) are
+    // clipped by their boundary chain (boundary_chain.h) instead of one by one (Mora-Aveneau
+    // Algorithm 1, whose cost follows the number of fragments): when there are at least
+    // minOccluders of them, at most 1 / gain of their edges remain after cancellation, and L lies
+    // wholly in front of B. minOccluders 0 = never; gain 0 = whatever remains. Both paths give
+    // the same answer (they differ in how L is cut into fragments).
+    struct ChainOptions {
+        uint32_t minOccluders = 24;
+        uint32_t gain = 3;
+    };
+    void setChainOptions(const ChainOptions& o) { chainOptions_ = o; }
+    // Of the last run: the edges of the occluders it clipped against (counted once per face that
+    // uses them), the edges left after cancellation (the boundary chain), the cells the chain cut
+    // L into, and those cells whose sample point could not be certified (answered by Algorithm 1).
+    struct ChainCounts {
+        uint32_t occluderEdges = 0, boundaryEdges = 0, cells = 0, fallbacks = 0;
+    };
+    const ChainCounts& chainCounts() const { return chainCounts_; }
+
   private:
     void preparePair(const PolygonMesh& mesh, uint32_t receiver, uint32_t light);
     // preparePair, then whether x sees any of the light at all (in front of L's plane, and some
@@ -139,9 +159,22 @@ class FromPointQuery {
     void traceSide(size_t index, NodeSide side) {
         if (trace_ != nullptr) (*trace_)[index].side = side;
     }
-    // What reaches a visible leaf: kept, or with deferred occluders clipped against those from
-    // active_[from] on.
-    void reachVisible(std::span<const Vec3> poly, size_t from, size_t depth);
+    // What reaches a visible leaf: kept, or with the deferred occluders clipped against it (by the
+    // boundary chain when there are many, else clipByOccluders).
+    void reachVisible(std::span<const Vec3> poly, size_t depth);
+    // Algorithm 1 in 3D from x: `poly` clipped against active_[from] on.
+    void clipByOccluders(std::span<const Vec3> poly, size_t from, size_t depth);
+    // The boundary-chain evaluation: `poly` cut by the chain's edges (those in chainLists_[level])
+    // into cells no chain edge crosses, each kept or dropped whole by one certified line.
+    bool useChain();
+    void buildChain();
+    void chainCells(std::span<const Vec3> poly, size_t depth, size_t level);
+    void classifyCell(std::span<const Vec3> poly, size_t depth);
+    // The plane through x and the active occluder edge `ref` (an index in activePlanes_, or with
+    // kPencilRef in activePencils_): its exact sign at an input point, and a split by it.
+    Sign refSign(uint32_t ref, const Vec3& y) const;
+    SplitOutcome splitByRef(uint32_t ref, std::span<const Vec3> poly, SplitParts& parts) const;
+    static constexpr uint32_t kPencilRef = 0x80000000u;
     void prepareDeferred(const PolygonMesh& mesh, const HistoryTree& tree);
     // Resets the per-run state (the answer, counters, active occluders, path and region).
     void startRun();
@@ -194,6 +227,33 @@ class FromPointQuery {
     std::vector<ActiveOccluder> active_;
     std::vector<PlaneOrient> activePlanes_;
     std::vector<PencilPlane> activePencils_;
+    // The input edge (mesh vertex ids) of each of activePlanes_, and the face weight of each
+    // active occluder (boundary_chain.h: +1 when x is in front of it).
+    std::vector<std::pair<uint32_t, uint32_t>> activePlaneEdges_;
+    // The boundary chain of a run (built at its first use): per edge, its plane (a ref) and, for
+    // an input edge, the whole input segment (which contains the clipped one).
+    struct ChainEdge {
+        uint32_t ref = 0;
+        bool segment = false;
+        Vec3 a, b;
+    };
+    std::vector<ChainEdge> chain_;
+    BoundaryChain chainBuilder_;
+    std::vector<uint32_t> chainRefs_;
+    // Per recursion level, the chain edges that may cross the cell.
+    std::vector<std::vector<uint32_t>> chainLists_;
+    // The cell's bounding planes so far (a chain edge's plane with the side the cell is on).
+    struct CellBound {
+        uint32_t ref;
+        Sign side;
+    };
+    std::vector<CellBound> bounds_;
+    ChainOptions chainOptions_;
+    bool chainBuilt_ = false;
+    bool chainPays_ = false;   // enough occluder edges cancel (buildChain)
+    bool lightWhole_ = false;  // L lies wholly in front of B: lightClipped_ is L itself
+    uint32_t lastHit_ = 0;     // the occluder that hid the last hidden cell (tried first)
+    ChainCounts chainCounts_;
     std::vector<PlaneOrient> pyramid_;  // the planes through x and L's edges, interior positive
     ClippedOccluder clipped_;           // activateFace's scratch
     std::vector<uint32_t> candidates_;

@@ -1,0 +1,308 @@
+// The boundary chain (visibility/boundary_chain.h) and FPQuery's evaluation by it: which edges
+// cancel (hand-derived), and the answers of the chain path against the exact CGAL reference on
+// meshes whose faces share their vertices: closed, open (holes), non-manifold, inconsistently
+// oriented, standing on the receiver, and two touching closed components.
+#include "visibility/boundary_chain.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "engine/scene/scene.h"
+#include "tests/support/exact_reference.h"
+#include "tests/support/random_points.h"
+#include "tests/support/test_scale.h"
+#include "visibility/box_tree.h"
+#include "visibility/form_factor.h"
+#include "visibility/fp_query.h"
+#include "visibility/history_tree_builder.h"
+
+namespace penumbra {
+namespace {
+
+using vis::Vec3;
+
+std::vector<uint32_t> remainingOf(vis::BoundaryChain& chain) {
+    std::vector<uint32_t> refs;
+    chain.remaining(refs);
+    return refs;
+}
+
+// Two triangles of one consistently oriented quad (0 1 2 3): their shared diagonal 0-2 is used
+// once each way. Both facing the point: the diagonal cancels, the four sides remain. One facing
+// it and one not (a fold seen edge-on): the diagonal is used twice the same way and remains.
+TEST(BoundaryChain, SharedEdgeCancelsOnlyBetweenFacesTurnedTheSameWay) {
+    vis::BoundaryChain chain;
+    auto quad = [&](int a, int b) {
+        chain.clear();
+        chain.add(0, 1, a, 1);  // triangle 0 1 2: refs 1..3
+        chain.add(1, 2, a, 2);
+        chain.add(2, 0, a, 3);
+        chain.add(0, 2, b, 4);  // triangle 0 2 3: refs 4..6
+        chain.add(2, 3, b, 5);
+        chain.add(3, 0, b, 6);
+        return remainingOf(chain);
+    };
+    EXPECT_EQ(quad(1, 1), (std::vector<uint32_t>{1, 2, 5, 6}));
+    EXPECT_EQ(quad(-1, -1), (std::vector<uint32_t>{1, 2, 5, 6}));
+    EXPECT_EQ(quad(1, -1), (std::vector<uint32_t>{1, 2, 3, 5, 6}));
+    EXPECT_EQ(chain.uses(), 6u);
+}
+
+// A closed tetrahedron seen from outside: the faces turned towards the point and those turned
+// away share the silhouette; every other edge is shared by two faces turned the same way.
+// Vertices 0..3 = (0,0,0), (1,0,0), (0,1,0), (0,0,1), faces oriented outwards; seen from far
+// along -z (below), only face (0 2 1) faces the point: its three edges are the silhouette.
+TEST(BoundaryChain, ClosedTetrahedronKeepsItsSilhouette) {
+    const std::vector<std::array<uint32_t, 3>> faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    const std::vector<int> seenFromBelow = {1, -1, -1, -1};
+    vis::BoundaryChain chain;
+    for (size_t f = 0; f < faces.size(); ++f)
+        for (int k = 0; k < 3; ++k)
+            chain.add(faces[f][k], faces[f][(k + 1) % 3], seenFromBelow[f],
+                      static_cast<uint32_t>(f * 3 + k));
+    EXPECT_EQ(remainingOf(chain), (std::vector<uint32_t>{0, 1, 2}));
+    // Seen from far along (1, 1, 1): only face (1 2 3) faces the point; its edges remain, the
+    // three edges at vertex 0 cancel.
+    chain.clear();
+    const std::vector<int> seenFromFar = {-1, -1, -1, 1};
+    for (size_t f = 0; f < faces.size(); ++f)
+        for (int k = 0; k < 3; ++k)
+            chain.add(faces[f][k], faces[f][(k + 1) % 3], seenFromFar[f],
+                      static_cast<uint32_t>(f * 3 + k));
+    std::vector<uint32_t> refs = remainingOf(chain);
+    ASSERT_EQ(refs.size(), 3u);
+    // The first use of each remaining edge: (2 1) of face 0, (1 3) of face 1, (3 2) of face 2.
+    EXPECT_EQ(refs, (std::vector<uint32_t>{1, 4, 7}));
+}
+
+// A non-manifold edge used by three faces turned the same way cannot cancel; by two turned
+// opposite ways with the same direction (inconsistent orientation) it does.
+TEST(BoundaryChain, NonManifoldAndInconsistentUses) {
+    vis::BoundaryChain chain;
+    chain.add(4, 7, 1, 0);
+    chain.add(7, 4, 1, 1);
+    chain.add(4, 7, 1, 2);
+    EXPECT_EQ(remainingOf(chain), (std::vector<uint32_t>{0}));
+    chain.clear();
+    chain.add(4, 7, 1, 0);
+    chain.add(4, 7, -1, 1);
+    EXPECT_TRUE(remainingOf(chain).empty());
+}
+
+// ---- Meshes with shared vertices, against the exact reference -------------------------------
+
+// A scene built vertex by vertex: face 0 the floor z = h (the receiver), face 1 the light.
+class MeshScene {
+  public:
+    explicit MeshScene(double h) : h_(h) {
+        Material white, light;
+        white.name = "white";
+        light.name = "light";
+        light.ke = {15, 15, 15};
+        s_.materials = {white, light};
+        face({vertex({-2, -2, h}), vertex({2, -2, h}), vertex({2, 2, h}), vertex({-2, 2, h})});
+        face({vertex({-0.5, -0.5, h + 2}), vertex({-0.5, 0.5, h + 2}), vertex({0.5, 0.5, h + 2}),
+              vertex({0.5, -0.5, h + 2})},
+             1);
+    }
+    uint32_t vertex(const Vec3& p) {
+        s_.mesh.vertices.push_back(p);
+        return static_cast<uint32_t>(s_.mesh.vertices.size() - 1);
+    }
+    void face(std::vector<uint32_t> ids, int material = 0) {
+        s_.mesh.faces.push_back(std::move(ids));
+        s_.faceMaterial.push_back(material);
+        s_.faceSourceLine.push_back(0);
+    }
+    // A latitude-longitude sphere of triangles, outward, with shared vertices; `skip` leaves out
+    // every skip-th face (holes; 0 = none), `flip` reverses every flip-th face (0 = none).
+    void sphere(const Vec3& c, double r, int slices, int stacks, int skip = 0, int flip = 0) {
+        const uint32_t south = vertex(c - Vec3{0, 0, r}), north = vertex(c + Vec3{0, 0, r});
+        std::vector<std::vector<uint32_t>> ring(static_cast<size_t>(stacks - 1));
+        for (int i = 1; i < stacks; ++i) {
+            const double t = std::numbers::pi * i / stacks - std::numbers::pi / 2;
+            for (int j = 0; j < slices; ++j) {
+                const double p = 2 * std::numbers::pi * j / slices;
+                ring[static_cast<size_t>(i - 1)].push_back(
+                    vertex(c + Vec3{r * std::cos(t) * std::cos(p), r * std::cos(t) * std::sin(p),
+                                    r * std::sin(t)}));
+            }
+        }
+        int count = 0;
+        auto tri = [&](uint32_t a, uint32_t b, uint32_t d) {
+            ++count;
+            if (skip != 0 && count % skip == 0) return;
+            if (flip != 0 && count % flip == 0) std::swap(b, d);
+            face({a, b, d});
+        };
+        for (int j = 0; j < slices; ++j) {
+            const size_t k = static_cast<size_t>(j), n = static_cast<size_t>((j + 1) % slices);
+            tri(south, ring[0][n], ring[0][k]);
+            for (size_t i = 0; i + 1 < ring.size(); ++i) {
+                tri(ring[i][k], ring[i][n], ring[i + 1][n]);
+                tri(ring[i][k], ring[i + 1][n], ring[i + 1][k]);
+            }
+            tri(north, ring.back()[k], ring.back()[n]);
+        }
+    }
+    // A box [lo, hi] of n x n quads per side, split into triangles, outward, shared vertices.
+    void box(const Vec3& lo, const Vec3& hi, int n) {
+        std::map<std::tuple<int, int, int>, uint32_t> ids;
+        auto at = [&](int i, int j, int k) {
+            const auto key = std::make_tuple(i, j, k);
+            auto it = ids.find(key);
+            if (it != ids.end()) return it->second;
+            const Vec3 p{lo.x + (hi.x - lo.x) * i / n, lo.y + (hi.y - lo.y) * j / n,
+                         lo.z + (hi.z - lo.z) * k / n};
+            return ids[key] = vertex(p);
+        };
+        // Each side: a fixed axis at 0 or n, the two others over the grid, oriented outwards.
+        for (int axis = 0; axis < 3; ++axis) {
+            for (int end = 0; end <= n; end += n) {
+                for (int a = 0; a < n; ++a) {
+                    for (int b = 0; b < n; ++b) {
+                        auto g = [&](int u, int v) {
+                            int c[3];
+                            c[axis] = end;
+                            c[(axis + 1) % 3] = u;
+                            c[(axis + 2) % 3] = v;
+                            return at(c[0], c[1], c[2]);
+                        };
+                        uint32_t q[4] = {g(a, b), g(a + 1, b), g(a + 1, b + 1), g(a, b + 1)};
+                        if (end == 0) std::swap(q[1], q[3]);
+                        face({q[0], q[1], q[2]});
+                        face({q[0], q[2], q[3]});
+                    }
+                }
+            }
+        }
+    }
+    Scene finish() {
+        s_.collectLights();
+        return s_;
+    }
+    double h() const { return h_; }
+
+  private:
+    double h_;
+    Scene s_;
+};
+
+struct Measured {
+    double fraction = 0, formFactor = 0;
+};
+
+Measured measure(const vis::PolygonMesh& m, const Vec3& x, const vis::FragmentList& f) {
+    Measured a;
+    const Vec3 n = vis::normalize(m.faceAreaNormal(0));
+    double area = 0;
+    for (size_t k = 0; k < f.size(); ++k) {
+        area += vis::polygonArea(f[k]);
+        a.formFactor += vis::formFactor(x, n, f[k]);
+    }
+    a.fraction = area / m.faceArea(1);
+    return a;
+}
+
+// Floor points under and around the mesh: the direct query and a partial tree's per-point
+// clipping, with the chain forced and with Algorithm 1 only, against the exact reference.
+// Returns how many points the chain actually evaluated (cells were cut).
+int checkScene(const Scene& s, const std::string& what, int points, uint64_t seed) {
+    vis::BuildOptions partialBudget;
+    partialBudget.maxLpSolves = 1;
+    const vis::HistoryTree partial = vis::buildHistoryTree(s.mesh, 0, 1, partialBudget, {});
+    std::vector<vis::Bounds3> boxes;
+    for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
+    const vis::BoxTree faces(boxes);
+    vis::FromPointQuery chain, oneByOne;
+    chain.setChainOptions({1, 0});
+    oneByOne.setChainOptions({0, 0});
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(-1.2, 1.2);
+    int used = 0, reported = 0;
+    for (int i = 0; i < points; ++i) {
+        const Vec3 x{u(rng), u(rng), s.mesh.vertices[0].z};
+        const test::ReferenceResult ref = test::exactReference(s.mesh, 0, 1, x);
+        auto compare = [&](const char* path, const Measured& a) {
+            const bool ok =
+                std::fabs(a.fraction - ref.fraction) <= 1e-9 &&
+                std::fabs(a.formFactor - ref.formFactor) <= 1e-9 * std::max(ref.formFactor, 1e-6);
+            if (!ok && reported++ < 5)
+                ADD_FAILURE() << what << ": " << path << " at x = " << vis::toString(x)
+                              << " answers fraction " << a.fraction << " form factor "
+                              << a.formFactor << ", the exact reference " << ref.fraction << " and "
+                              << ref.formFactor;
+        };
+        compare("direct, chain", measure(s.mesh, x, chain.runDirect(s.mesh, 0, 1, x, faces)));
+        used += chain.chainCounts().cells > 0;
+        compare("direct, one by one",
+                measure(s.mesh, x, oneByOne.runDirect(s.mesh, 0, 1, x, faces)));
+        compare("partial tree, chain", measure(s.mesh, x, chain.run(s.mesh, partial, x)));
+    }
+    return used;
+}
+
+TEST(BoundaryChainQuery, ClosedSphereMatchesTheExactReference) {
+    MeshScene m(0);
+    m.sphere({0.1, -0.05, 0.9}, 0.45, 16, 10);
+    const int used = checkScene(m.finish(), "sphere", test::scaled(60), 1);
+    EXPECT_GT(used, test::scaled(60) / 3);
+}
+
+TEST(BoundaryChainQuery, OpenInconsistentAndNonManifoldMeshesMatchTheExactReference) {
+    {
+        MeshScene m(0);
+        m.sphere({0, 0, 1}, 0.5, 14, 9, 7);  // holes: every 7th face left out
+        EXPECT_GT(checkScene(m.finish(), "sphere with holes", test::scaled(40), 2), 0);
+    }
+    {
+        MeshScene m(0);
+        m.sphere({0, 0.1, 1}, 0.5, 14, 9, 0, 5);  // every 5th face reversed
+        EXPECT_GT(checkScene(m.finish(), "inconsistent sphere", test::scaled(40), 3), 0);
+    }
+    {
+        // A box with a fin on its top edge: that edge has three faces.
+        MeshScene m(0);
+        m.box({-0.3, -0.3, 0.6}, {0.3, 0.3, 1.1}, 3);
+        const Scene boxOnly = m.finish();
+        uint32_t p = 0, q = 0;  // two top corners of the box
+        for (uint32_t v = 0; v < boxOnly.mesh.vertices.size(); ++v) {
+            const Vec3& c = boxOnly.mesh.vertices[v];
+            if (c.z == 1.1 && c.y == -0.3 && c.x == -0.3) p = v;
+            if (c.z == 1.1 && c.y == -0.3 && c.x == 0.3) q = v;
+        }
+        ASSERT_NE(p, q);
+        const uint32_t top = m.vertex({0, -0.6, 1.5});
+        m.face({p, q, top});
+        EXPECT_GT(checkScene(m.finish(), "box with a fin", test::scaled(40), 4), 0);
+    }
+}
+
+// Standing exactly on the receiver (its bottom in the floor's plane, its sides touching it), a
+// box and a sphere that touches it: contact, chords and two closed components.
+TEST(BoundaryChainQuery, MeshesStandingOnTheReceiverMatchTheExactReference) {
+    for (double h : {0.0, 0.1, 1e5}) {
+        MeshScene m(h);
+        m.box({-0.4, -0.3, h}, {0.2, 0.35, h + 0.7}, 4);
+        m.sphere({0.45, 0.1, h + 0.35}, 0.25, 12, 8);
+        EXPECT_GT(checkScene(m.finish(), "standing, h = " + std::to_string(h), test::scaled(40), 5),
+                  0);
+    }
+}
+
+// A mesh that crosses the light's plane and the floor's plane (clipped: chords on both).
+TEST(BoundaryChainQuery, MeshCrossingBothPlanesMatchesTheExactReference) {
+    MeshScene m(0);
+    m.box({-0.35, -0.25, -0.2}, {0.3, 0.2, 2.3}, 3);
+    checkScene(m.finish(), "crossing box", test::scaled(40), 6);
+}
+
+}  // namespace
+}  // namespace penumbra
