@@ -119,6 +119,11 @@ void addExactOptions(CLI::App& sub, ExactOptions& o, ExactOptionSet set) {
                    "Exact: plane tests one point's query may make; a point that needs more is "
                    "sampled with --light-samples rays and counted (0 = every point exact)")
         ->capture_default_str();
+    sub.add_option("--chain-min-occluders", o.chainMinOccluders,
+                   "Exact: a point clipped against at least this many occluders, most of whose "
+                   "edges cancel (closed, smooth meshes), is evaluated by their silhouette and "
+                   "border edges only (the same answer; 0 = never)")
+        ->capture_default_str();
 }
 
 }  // namespace penumbra::cli

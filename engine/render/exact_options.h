@@ -21,10 +21,14 @@ struct ExactOptions {
     // Plane tests one point's query may make before it is sampled
     // (RenderSettings::exactWorkLimit; 0 = every point exact).
     uint64_t exactWorkLimit = RenderSettings{}.exactWorkLimit;
+    // Occluders from which a point's query uses their boundary chain
+    // (RenderSettings::chainMinOccluders; 0 = never).
+    uint32_t chainMinOccluders = RenderSettings{}.chainMinOccluders;
 
     void applyTo(RenderSettings& settings) const {
         settings.minTreeSamples = minTreeSamples;
         settings.exactWorkLimit = exactWorkLimit;
+        settings.chainMinOccluders = chainMinOccluders;
     }
     void applyTo(VisibilityStore::Options& options) const {
         options.build.maxLpSolves = maxLpSolves;

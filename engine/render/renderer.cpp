@@ -109,6 +109,9 @@ class TileShader {
   public:
     TileShader(const PassInputs& in, bool buildMissing) : in_(in) {
         scratch.query.setWorkLimit(in.settings.exactWorkLimit);
+        vis::FromPointQuery::ChainOptions chain;
+        chain.minOccluders = in.settings.chainMinOccluders;
+        scratch.query.setChainOptions(chain);
         scratch.buildMissing = buildMissing;
     }
 

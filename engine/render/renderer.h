@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "engine/precompute/visibility_store.h"
+#include "visibility/fp_query.h"
 #include "engine/render/effects_summary.h"
 #include "engine/scene/camera.h"
 #include "engine/scene/scene.h"
@@ -60,6 +61,10 @@ struct RenderSettings {
     // leaves) is shaded for that light with lightSamples shadow rays instead, and the effects
     // summary counts it. 0 = no limit: every point exact, whatever it costs.
     uint64_t exactWorkLimit = 1024;
+    // Exact: a point clipped against at least this many occluders (a partial tree's deferred
+    // ones, or the direct path's) is evaluated by their boundary chain when most of their edges
+    // cancel (vis::FromPointQuery::ChainOptions; the same answer). 0 = never.
+    uint32_t chainMinOccluders = vis::FromPointQuery::ChainOptions{}.minOccluders;
     // Exact: a (receiver patch, light) pair that the image's primary samples (all passes) hit
     // fewer times than this gets no history tree; its points are evaluated directly
     // (vis::FromPointQuery::runDirect: the faces in each point's pyramid to the light, clipped
