@@ -151,6 +151,7 @@ nlohmann::json Viewer::stateJson() const {
     s["exact"] = {{"maxLpSolves", options_.exact.maxLpSolves},
                   {"minTreeSamples", options_.exact.minTreeSamples},
                   {"exactWorkLimit", options_.exact.exactWorkLimit},
+                  {"chainMinOccluders", options_.exact.chainMinOccluders},
                   {"passes", options_.previewSettings.passes},
                   {"lightSamples", options_.previewSettings.lightSamples}};
     s["preview"] = {{"mode", toString(options_.previewSettings.mode)},

@@ -31,10 +31,10 @@
 #include <vector>
 
 #include "engine/precompute/visibility_store.h"
-#include "visibility/fp_query.h"
 #include "engine/render/effects_summary.h"
 #include "engine/scene/camera.h"
 #include "engine/scene/scene.h"
+#include "visibility/fp_query.h"
 
 namespace penumbra {
 

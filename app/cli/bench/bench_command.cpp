@@ -573,6 +573,11 @@ json perPoint(const std::string& path, const BenchOptions& o) {
     for (Sample& s : samples) s.rec = &store.getOrBuild(store.keyAt(s.face, s.x, l));
     double sink = 0;
     size_t visited = 0, fragments = 0;
+    // The boundary chain (vis::FromPointQuery::ChainOptions): of the points clipped against
+    // enough occluders for it to be considered, their edges and those left after cancellation;
+    // of the points it evaluated, the cells and the fragments.
+    size_t manyOccluders = 0, occluderEdges = 0, boundaryEdges = 0, chainPoints = 0, cells = 0,
+           chainFragments = 0;
     vis::FromPointQuery query;
     const auto q0 = Clock::now();
     for (const Sample& s : samples) {
@@ -581,8 +586,25 @@ json perPoint(const std::string& path, const BenchOptions& o) {
         for (size_t i = 0; i < r.size(); ++i) sink += vis::formFactor(s.x, n, r[i]);
         visited += query.nodesVisited();
         fragments += r.size();
+        const vis::FromPointQuery::ChainCounts& c = query.chainCounts();
+        manyOccluders += c.occluderEdges > 0;
+        occluderEdges += c.occluderEdges;
+        boundaryEdges += c.boundaryEdges;
+        chainPoints += c.cells > 0;
+        cells += c.cells;
+        if (c.cells > 0) chainFragments += r.size();
     }
     const double exactUs = seconds(q0, Clock::now()) / samples.size() * 1e6;
+    // The same points with every occluder clipped one by one (Algorithm 1 only).
+    vis::FromPointQuery oneByOne;
+    oneByOne.setChainOptions({0, 0});
+    const auto o0 = Clock::now();
+    for (const Sample& s : samples) {
+        const Vec3 n = vis::normalize(mesh.faceAreaNormal(s.face));
+        const vis::FragmentList& r = oneByOne.run(mesh, s.rec->tree, s.x);
+        for (size_t i = 0; i < r.size(); ++i) sink += vis::formFactor(s.x, n, r[i]);
+    }
+    const double oneByOneUs = seconds(o0, Clock::now()) / samples.size() * 1e6;
     // The distribution: each point timed alone (the clock's own cost, some 20-40 ns, included).
     std::vector<double> eachUs;
     eachUs.reserve(samples.size());
@@ -635,6 +657,12 @@ json perPoint(const std::string& path, const BenchOptions& o) {
         static_cast<double>(visited) / samples.size(),
         static_cast<double>(fragments) / samples.size(), rays16, rays128, directQ.median,
         directQ.p99, treeQ.median, treeQ.max, sink);
+    std::printf(
+        "  boundary chain: %zu points with many occluders, %zu of their %zu edges left (%.1f%%); "
+        "%zu points by the chain, %zu cells, %zu fragments; Algorithm 1 only: %.2f us\n",
+        manyOccluders, boundaryEdges, occluderEdges,
+        occluderEdges == 0 ? 0.0 : 100.0 * static_cast<double>(boundaryEdges) / occluderEdges,
+        chainPoints, cells, chainFragments, oneByOneUs);
     std::fflush(stdout);
     return {{"scene", path},
             {"points", samples.size()},
@@ -654,6 +682,14 @@ json perPoint(const std::string& path, const BenchOptions& o) {
             {"rays16Us", rays16},
             {"rays128Us", rays128},
             {"nodesPerQuery", static_cast<double>(visited) / samples.size()},
+            {"chain",
+             {{"manyOccluderPoints", manyOccluders},
+              {"occluderEdges", occluderEdges},
+              {"boundaryEdges", boundaryEdges},
+              {"points", chainPoints},
+              {"cells", cells},
+              {"fragments", chainFragments},
+              {"oneByOneUs", oneByOneUs}}},
             {"fragmentsPerQuery", static_cast<double>(fragments) / samples.size()}};
 }
 

@@ -234,6 +234,27 @@ void writePerPoint(std::ostream& r, const json& rows) {
           << " | " << num(p.value("exactMaxUs", json())) << " | " << num(p["nodesPerQuery"], "%.1f")
           << " | " << num(p["fragmentsPerQuery"]) << " | " << num(p["rays16Us"]) << " | "
           << num(p["rays128Us"]) << " |\n";
+    r << "\n### The boundary chain\n\nOf the points clipped against at least "
+         "`ChainOptions::minOccluders` occluders per point (a partial tree's deferred ones): "
+         "their occluder edges, and the boundary edges left once edges shared by faces turned "
+         "the same way cancel (silhouettes, borders, chords). The points where few enough remain "
+         "are evaluated by the chain: the cells it cut L into and the fragments kept. Last, the "
+         "mean query with every occluder clipped one by one (Algorithm 1 only) against the "
+         "product's.\n\n"
+      << "| scene | points with many occluders | occluder edges | boundary edges | share | "
+         "points by the chain | cells | fragments | Algorithm 1 only us | with the chain us "
+         "|\n|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const json& p : rows) {
+        if (!p.contains("chain")) continue;
+        const json& c = p["chain"];
+        const double edges = c["occluderEdges"].get<double>();
+        r << "| " << sceneName(p) << " | " << c["manyOccluderPoints"] << " | " << c["occluderEdges"]
+          << " | " << c["boundaryEdges"] << " | "
+          << (edges > 0 ? fmt("%.1f%%", 100.0 * c["boundaryEdges"].get<double>() / edges)
+                        : std::string("-"))
+          << " | " << c["points"] << " | " << c["cells"] << " | " << c["fragments"] << " | "
+          << num(c["oneByOneUs"]) << " | " << num(p["exactUs"]) << " |\n";
+    }
     r << "\n### A click in the viewer\n\nEvery light at a point: the fragments from the "
          "tree-less query the viewer answers a click with (within its work budget; points over "
          "it wait for the trees), and the former click, with the pairs' history trees built and "

@@ -46,7 +46,8 @@ PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& 
         if (ImGui::SliderInt("light samples", &s.lightSamples, 1, 256)) changed = true;
         if (ImGui::SliderInt("passes (spp)", &s.passes, 1, 256)) changed = true;
         if (ImGui::TreeNode("exact options")) {
-            // The command line's --min-tree-samples, --exact-work-limit, --max-lp-solves.
+            // The command line's --min-tree-samples, --exact-work-limit, --chain-min-occluders,
+            // --max-lp-solves.
             const uint64_t step = 1;
             if (ImGui::InputScalar("min tree samples", ImGuiDataType_U64, &exact.minTreeSamples,
                                    &step))
@@ -61,6 +62,15 @@ PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& 
                 ImGui::SetTooltip(
                     "plane tests one point may make before it is sampled and counted "
                     "(0 = every point exact)");
+            const uint32_t step32 = 1;
+            if (ImGui::InputScalar("chain from", ImGuiDataType_U32, &exact.chainMinOccluders,
+                                   &step32))
+                changed = true;
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip(
+                    "a point clipped against at least this many occluders, most of whose edges "
+                    "cancel, uses their silhouette and border edges only (the same answer; 0 = "
+                    "never)");
             ImGui::InputScalar("build budget", ImGuiDataType_U64, &exact.maxLpSolves, &step);
             if (ImGui::IsItemHovered())
                 ImGui::SetTooltip(
