@@ -385,27 +385,54 @@ void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
         clipByOccluders(poly, 0, depth);
         return;
     }
-    // The line through y against every occluder (closed), the last one that hid a cell first.
+    // The line through y against the occluders (closed), the last one that hid a cell first.
     const size_t n = active_.size();
-    for (size_t t = 0; t < n; ++t) {
-        const size_t j = (lastHit_ + t) % n;
-        const ActiveOccluder& o = active_[j];
-        const Sign unblocked = o.blocked == Sign::Positive ? Sign::Negative : Sign::Positive;
-        bool inside = true;
-        for (uint32_t e = 0; inside && e < o.planeCount; ++e) {
-            if (!spend()) return;
-            inside = exactSign(activePlanes_[o.firstPlane + e], y) != unblocked;
-        }
-        for (uint32_t e = 0; inside && e < o.pencilCount; ++e) {
-            if (!spend()) return;
-            inside = exactSign(activePencils_[o.firstPencil + e], y) != unblocked;
-        }
-        if (inside) {
-            lastHit_ = static_cast<uint32_t>(j);
-            return;  // hidden
-        }
+    if (lineHits(lastHit_ % n, y)) return;  // hidden
+    if (!activeBoxesBuilt_ && scanned_ >= kScanBeforeBoxes * n) {
+        activeBoxesBuilt_ = true;
+        activeBoxList_.clear();
+        for (const ActiveOccluder& o : active_) activeBoxList_.push_back(mesh_->faceBounds(o.face));
+        activeBoxes_ = BoxTree(activeBoxList_);
     }
+    if (activeBoxesBuilt_) {
+        // A point of an occluder on the line lies in both planes through the line and two
+        // vertices of L: its box is on neither's strictly negative side, whichever way each is
+        // turned. (Planes made degenerate by collinear points cull nothing: still sound.)
+        linePlanes_.clear();
+        linePlanes_.emplace_back(x_, y, light_[0]);
+        linePlanes_.emplace_back(x_, light_[0], y);
+        linePlanes_.emplace_back(x_, y, light_[1]);
+        linePlanes_.emplace_back(x_, light_[1], y);
+        onLine_.clear();
+        if (!spend(activeBoxes_.notOutside(linePlanes_, onLine_))) return;
+        for (uint32_t j : onLine_) {
+            if (lineHits(j, y)) return;  // hidden
+            if (limitReached_) return;
+        }
+    } else {
+        for (size_t t = 1; t < n; ++t) {
+            if (lineHits((lastHit_ + t) % n, y)) return;  // hidden
+            if (limitReached_) return;
+        }
+        scanned_ += n;
+    }
+    if (limitReached_) return;
     fragments_.add(poly);
+}
+
+bool FromPointQuery::lineHits(size_t j, const Vec3& y) {
+    const ActiveOccluder& o = active_[j];
+    const Sign unblocked = o.blocked == Sign::Positive ? Sign::Negative : Sign::Positive;
+    for (uint32_t e = 0; e < o.planeCount; ++e) {
+        if (!spend()) return false;
+        if (exactSign(activePlanes_[o.firstPlane + e], y) == unblocked) return false;
+    }
+    for (uint32_t e = 0; e < o.pencilCount; ++e) {
+        if (!spend()) return false;
+        if (exactSign(activePencils_[o.firstPencil + e], y) == unblocked) return false;
+    }
+    lastHit_ = static_cast<uint32_t>(j);
+    return true;
 }
 
 void FromPointQuery::preparePyramid() {
@@ -447,6 +474,7 @@ void FromPointQuery::activateFace(const PolygonMesh& mesh, uint32_t face) {
     // through it lie on the negative side of every plane through x and an edge line a -> b:
     // orient3d(x, p, a, b) = -orient3d(p, a, b, x) for p inside it.
     ActiveOccluder a;
+    a.face = face;
     a.firstPlane = static_cast<uint32_t>(activePlanes_.size());
     a.firstPencil = static_cast<uint32_t>(activePencils_.size());
     a.blocked = side == Sign::Positive ? Sign::Negative : Sign::Positive;
@@ -515,6 +543,8 @@ void FromPointQuery::startRun() {
     chainBuilt_ = false;
     chainCounts_ = {};
     lastHit_ = 0;
+    scanned_ = 0;
+    activeBoxesBuilt_ = false;
     deferredClips_ = 0;
     trace_ = nullptr;
     region_ = nullptr;

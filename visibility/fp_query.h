@@ -223,6 +223,7 @@ class FromPointQuery {
         uint32_t firstPlane = 0, planeCount = 0;    // of its input edges, in activePlanes_
         uint32_t firstPencil = 0, pencilCount = 0;  // of its chords, in activePencils_
         Sign blocked = Sign::Zero;
+        uint32_t face = 0;
     };
     std::vector<ActiveOccluder> active_;
     std::vector<PlaneOrient> activePlanes_;
@@ -253,6 +254,18 @@ class FromPointQuery {
     bool chainPays_ = false;   // enough occluder edges cancel (buildChain)
     bool lightWhole_ = false;  // L lies wholly in front of B: lightClipped_ is L itself
     uint32_t lastHit_ = 0;     // the occluder that hid the last hidden cell (tried first)
+    // The cells' lines against the occluders: all of them in turn, until a run has tested
+    // kScanBeforeBoxes times their number; then through a hierarchy of their faces' boxes, built
+    // for the run, which returns every occluder whose box is not certainly off the line.
+    static constexpr uint64_t kScanBeforeBoxes = 4;
+    uint64_t scanned_ = 0;
+    bool activeBoxesBuilt_ = false;
+    BoxTree activeBoxes_;
+    std::vector<Bounds3> activeBoxList_;
+    std::vector<PlaneOrient> linePlanes_;
+    std::vector<uint32_t> onLine_;
+    // Whether the line through y crosses active occluder j (closed; exact signs at y).
+    bool lineHits(size_t j, const Vec3& y);
     ChainCounts chainCounts_;
     std::vector<PlaneOrient> pyramid_;  // the planes through x and L's edges, interior positive
     ClippedOccluder clipped_;           // activateFace's scratch
