@@ -117,8 +117,8 @@ class FromPointQuery {
     // When the per-point occluders (a partial tree's deferred ones, or the direct path's) are
     // clipped by their boundary chain (boundary_chain.h) instead of one by one (Mora-Aveneau
     // Algorithm 1, whose cost follows the number of fragments): when there are at least
-    // minOccluders of them, at most 1 / gain of their edges remain after cancellation, and L lies
-    // wholly in front of B. minOccluders 0 = never; gain 0 = whatever remains. Both paths give
+    // minOccluders of them and at most 1 / gain of their edges remain after cancellation.
+    // minOccluders 0 = never; gain 0 = whatever remains. Both paths give
     // the same answer (they differ in how L is cut into fragments).
     struct ChainOptions {
         uint32_t minOccluders = 24;
@@ -253,7 +253,10 @@ class FromPointQuery {
     bool chainBuilt_ = false;
     bool chainPays_ = false;   // enough occluder edges cancel (buildChain)
     bool lightWhole_ = false;  // L lies wholly in front of B: lightClipped_ is L itself
-    uint32_t lastHit_ = 0;     // the occluder that hid the last hidden cell (tried first)
+    // The planes through x and L's input edges (pyramid_ itself when lightWhole_).
+    std::vector<PlaneOrient> lightCone_;
+    const std::vector<PlaneOrient>* cone_ = &pyramid_;
+    uint32_t lastHit_ = 0;  // the occluder that hid the last hidden cell (tried first)
     // The cells' lines against the occluders: all of them in turn, until a run has tested
     // kScanBeforeBoxes times their number; then through a hierarchy of their faces' boxes, built
     // for the run, which returns every occluder whose box is not certainly off the line.

@@ -101,16 +101,24 @@ TEST(BoundaryChain, NonManifoldAndInconsistentUses) {
 // A scene built vertex by vertex: face 0 the floor z = h (the receiver), face 1 the light.
 class MeshScene {
   public:
-    explicit MeshScene(double h) : h_(h) {
+    // The light [-0.5, 0.5]^2 at z = h + 2 facing down, or (`crossing`) the light x = 1.5,
+    // |y| <= 0.5, z in [h - 0.5, h + 1.5] facing -x: cut by the floor's plane.
+    explicit MeshScene(double h, bool crossing = false) : h_(h) {
         Material white, light;
         white.name = "white";
         light.name = "light";
         light.ke = {15, 15, 15};
         s_.materials = {white, light};
         face({vertex({-2, -2, h}), vertex({2, -2, h}), vertex({2, 2, h}), vertex({-2, 2, h})});
-        face({vertex({-0.5, -0.5, h + 2}), vertex({-0.5, 0.5, h + 2}), vertex({0.5, 0.5, h + 2}),
-              vertex({0.5, -0.5, h + 2})},
-             1);
+        if (crossing) {
+            face({vertex({1.5, -0.5, h - 0.5}), vertex({1.5, -0.5, h + 1.5}),
+                  vertex({1.5, 0.5, h + 1.5}), vertex({1.5, 0.5, h - 0.5})},
+                 1);
+        } else {
+            face({vertex({-0.5, -0.5, h + 2}), vertex({-0.5, 0.5, h + 2}),
+                  vertex({0.5, 0.5, h + 2}), vertex({0.5, -0.5, h + 2})},
+                 1);
+        }
     }
     uint32_t vertex(const Vec3& p) {
         s_.mesh.vertices.push_back(p);
@@ -295,6 +303,16 @@ TEST(BoundaryChainQuery, MeshesStandingOnTheReceiverMatchTheExactReference) {
         EXPECT_GT(checkScene(m.finish(), "standing, h = " + std::to_string(h), test::scaled(40), 5),
                   0);
     }
+}
+
+// A light that the floor's plane cuts: the cells are bounded by the cone over the whole light,
+// the answer is its part in front of the floor.
+TEST(BoundaryChainQuery, LightCutByTheReceiverPlaneMatchesTheExactReference) {
+    MeshScene m(0, true);
+    m.sphere({0.8, 0.05, 0.45}, 0.3, 14, 9);
+    m.box({0.3, -0.6, 0}, {0.5, -0.2, 0.5}, 2);
+    EXPECT_GT(checkScene(m.finish(), "light cut by the floor", test::scaled(60), 7),
+              test::scaled(60) / 4);
 }
 
 // A mesh that crosses the light's plane and the floor's plane (clipped: chords on both).
