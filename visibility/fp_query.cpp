@@ -284,12 +284,7 @@ void FromPointQuery::buildChain() {
     // it. The occluders were gathered for the clipped pyramid, so c counts only them; in the
     // part of the cone beyond B's plane it is still a function constant on each cell, and on the
     // cells' part in front of B it is the answer.
-    if (lightWhole_) {
-        cone_ = &pyramid_;
-    } else {
-        pyramidPlanes(x_, light_, lightCone_);
-        cone_ = &lightCone_;
-    }
+    if (!lightWhole_) pyramidPlanes(x_, light_, lightCone_);
     chainCounts_.occluderEdges = static_cast<uint32_t>(chainBuilder_.uses());
     chainCounts_.boundaryEdges = static_cast<uint32_t>(chainRefs_.size());
     // The cells are decided one line each but are never dropped before the chain has cut them,
@@ -319,9 +314,9 @@ void FromPointQuery::buildChain() {
         if (!positive || !negative) continue;
         // Its segment outside one side plane of the pyramid over L (closed): it misses the cone.
         bool outside = false;
-        for (size_t k = 0; e.segment && !outside && k < cone_->size(); ++k)
-            outside = exactSign((*cone_)[k], e.a) != Sign::Positive &&
-                      exactSign((*cone_)[k], e.b) != Sign::Positive;
+        for (size_t k = 0; e.segment && !outside && k < cone().size(); ++k)
+            outside = exactSign(cone()[k], e.a) != Sign::Positive &&
+                      exactSign(cone()[k], e.b) != Sign::Positive;
         if (outside) continue;
         root.push_back(static_cast<uint32_t>(chain_.size()));
         chain_.push_back(e);
@@ -382,7 +377,7 @@ void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
     for (const Vec3& v : poly) y += v;
     y = y / static_cast<double>(poly.size());
     bool certified = true;
-    for (const PlaneOrient& h : *cone_) {
+    for (const PlaneOrient& h : cone()) {
         if (!spend()) return;
         if (exactSign(h, y) != Sign::Positive) certified = false;
     }

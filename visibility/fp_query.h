@@ -114,12 +114,12 @@ class FromPointQuery {
     uint32_t deferredActive() const { return static_cast<uint32_t>(active_.size()); }
     uint32_t deferredClips() const { return deferredClips_; }
 
-    // When the per-point occluders (a partial tree's deferred ones, or the direct path's) are
-    // clipped by their boundary chain (boundary_chain.h) instead of one by one (Mora-Aveneau
-    // Algorithm 1, whose cost follows the number of fragments): when there are at least
-    // minOccluders of them and at most 1 / gain of their edges remain after cancellation.
-    // minOccluders 0 = never; gain 0 = whatever remains. Both paths give
-    // the same answer (they differ in how L is cut into fragments).
+    // The per-point occluders (a partial tree's deferred ones, or the direct path's) are clipped
+    // by their boundary chain (boundary_chain.h) instead of one by one (Mora-Aveneau Algorithm
+    // 1, whose cost follows the number of fragments) when there are at least minOccluders of
+    // them and at most 1 / gain of their edges remain after cancellation. minOccluders 0 =
+    // never; gain 0 = whatever remains. Both give the same answer (they cut L into different
+    // fragments).
     struct ChainOptions {
         uint32_t minOccluders = 24;
         uint32_t gain = 3;
@@ -228,8 +228,7 @@ class FromPointQuery {
     std::vector<ActiveOccluder> active_;
     std::vector<PlaneOrient> activePlanes_;
     std::vector<PencilPlane> activePencils_;
-    // The input edge (mesh vertex ids) of each of activePlanes_, and the face weight of each
-    // active occluder (boundary_chain.h: +1 when x is in front of it).
+    // The input edge (mesh vertex ids) of each of activePlanes_.
     std::vector<std::pair<uint32_t, uint32_t>> activePlaneEdges_;
     // The boundary chain of a run (built at its first use): per edge, its plane (a ref) and, for
     // an input edge, the whole input segment (which contains the clipped one).
@@ -253,9 +252,10 @@ class FromPointQuery {
     bool chainBuilt_ = false;
     bool chainPays_ = false;   // enough occluder edges cancel (buildChain)
     bool lightWhole_ = false;  // L lies wholly in front of B: lightClipped_ is L itself
-    // The planes through x and L's input edges (pyramid_ itself when lightWhole_).
+    // The planes through x and L's input edges: pyramid_ itself when lightWhole_, else
+    // lightCone_ (buildChain).
     std::vector<PlaneOrient> lightCone_;
-    const std::vector<PlaneOrient>* cone_ = &pyramid_;
+    const std::vector<PlaneOrient>& cone() const { return lightWhole_ ? pyramid_ : lightCone_; }
     uint32_t lastHit_ = 0;  // the occluder that hid the last hidden cell (tried first)
     // The cells' lines against the occluders: all of them in turn, until a run has tested
     // kScanBeforeBoxes times their number; then through a hierarchy of their faces' boxes, built

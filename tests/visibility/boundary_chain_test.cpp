@@ -23,7 +23,8 @@
 #include "visibility/fp_query.h"
 #include "visibility/history_tree_builder.h"
 
-namespace penumbra {
+// (Its own namespace: in a unity build it shares a file with other tests.)
+namespace penumbra::boundary_chain_test {
 namespace {
 
 using vis::Vec3;
@@ -323,4 +324,4 @@ TEST(BoundaryChainQuery, MeshCrossingBothPlanesMatchesTheExactReference) {
 }
 
 }  // namespace
-}  // namespace penumbra
+}  // namespace penumbra::boundary_chain_test
