@@ -235,7 +235,8 @@ void FromPointQuery::clipByOccluders(std::span<const Vec3> poly, size_t from, si
 
 namespace {
 
-// The exact sign of an input point against a plane, through the filter first.
+// plane.sign(y) (exact for an input point y) with the filter's path inlined: sign() calls the
+// out-of-line value(), and these tests are the chain's innermost loop.
 template <class Plane>
 Sign exactSign(const Plane& plane, const Vec3& y) {
     BoundedValue b;
