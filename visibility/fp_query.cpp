@@ -285,6 +285,9 @@ void FromPointQuery::buildChain() {
     // it. The occluders were gathered for the clipped pyramid, so c counts only them; in the
     // part of the cone beyond B's plane it is still a function constant on each cell, and on the
     // cells' part in front of B it is the answer.
+    // Exact: every vertex of L strictly in front of B's plane (then the clip kept L as it is).
+    lightWhole_ = true;
+    for (const Vec3& v : light_) lightWhole_ = lightWhole_ && frontB_.side(v) == Sign::Positive;
     if (!lightWhole_) pyramidPlanes(x_, light_, lightCone_);
     chainCounts_.occluderEdges = static_cast<uint32_t>(chainBuilder_.uses());
     chainCounts_.boundaryEdges = static_cast<uint32_t>(chainRefs_.size());
@@ -623,9 +626,6 @@ void FromPointQuery::preparePair(const PolygonMesh& mesh, uint32_t receiver, uin
     frontB_ = OrientedPlane{receiverPlane_[0], receiverPlane_[1], receiverPlane_[2]};
     frontL_ = OrientedPlane{pl.a, pl.b, pl.c};
     clipConvexInto(light_, frontB_, lightClipped_, discard_);
-    // Exact: every vertex of L strictly in front of B's plane (then the clip kept L as it is).
-    lightWhole_ = true;
-    for (const Vec3& v : light_) lightWhole_ = lightWhole_ && frontB_.side(v) == Sign::Positive;
 }
 
 const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTree& tree,

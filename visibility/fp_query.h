@@ -250,8 +250,9 @@ class FromPointQuery {
     std::vector<CellBound> bounds_;
     ChainOptions chainOptions_;
     bool chainBuilt_ = false;
-    bool chainPays_ = false;   // enough occluder edges cancel (buildChain)
-    bool lightWhole_ = false;  // L lies wholly in front of B: lightClipped_ is L itself
+    bool chainPays_ = false;  // enough occluder edges cancel (buildChain)
+    // L lies wholly in front of B, lightClipped_ is L itself (buildChain: only the chain asks).
+    bool lightWhole_ = false;
     // The planes through x and L's input edges: pyramid_ itself when lightWhole_, else
     // lightCone_ (buildChain).
     std::vector<PlaneOrient> lightCone_;
