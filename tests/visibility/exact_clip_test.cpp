@@ -86,7 +86,7 @@ class Paths {
     const vis::HistoryTree& complete() const { return complete_; }
     const vis::HistoryTree& partial() const { return partial_; }
 
-    // Number of mismatches at x against the reference (0..3), with a message for the first.
+    // Number of mismatches at x against the reference (0..5), with a message for the first.
     int check(const Vec3& x, const std::string& what, test::ReferenceResult* refOut = nullptr) {
         const vis::PolygonMesh& m = scene_.mesh;
         const test::ReferenceResult ref = test::exactReference(m, 0, 1, x);
@@ -108,6 +108,9 @@ class Paths {
         compare("complete tree", measure(m, 0, 1, x, query_.run(m, complete_, x)));
         compare("partial tree", measure(m, 0, 1, x, query_.run(m, partial_, x)));
         compare("direct query", measure(m, 0, 1, x, query_.runDirect(m, 0, 1, x, faces_)));
+        // The boundary-chain evaluation (boundary_chain.h), forced for any number of occluders.
+        compare("partial tree, chain", measure(m, 0, 1, x, chain_.run(m, partial_, x)));
+        compare("direct query, chain", measure(m, 0, 1, x, chain_.runDirect(m, 0, 1, x, faces_)));
         return bad;
     }
 
@@ -121,6 +124,11 @@ class Paths {
     vis::HistoryTree complete_, partial_;
     vis::BoxTree faces_;
     vis::FromPointQuery query_;
+    vis::FromPointQuery chain_ = [] {
+        vis::FromPointQuery q;
+        q.setChainOptions({1, 0});
+        return q;
+    }();
     int reported_ = 0;
 };
 
