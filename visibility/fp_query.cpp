@@ -146,6 +146,7 @@ void FromPointQuery::reachVisible(std::span<const Vec3> poly, size_t depth) {
         prepareDeferred(*mesh_, *tree_);
     }
     if (useChain()) {
+        if (limitReached_) return;  // (the chain may be half built)
         chainCells(poly, depth, 0);
         return;
     }
@@ -259,10 +260,105 @@ SplitOutcome FromPointQuery::splitByRef(uint32_t ref, std::span<const Vec3> poly
 }
 
 bool FromPointQuery::useChain() {
+    if (surface_ != nullptr) {
+        if (!chainBuilt_) buildChain();
+        return true;
+    }
     if (chainOptions_.minOccluders == 0 || active_.size() < chainOptions_.minOccluders)
         return false;
     if (!chainBuilt_) buildChain();
     return chainPays_;
+}
+
+void FromPointQuery::prepareCone() {
+    // The cone from x over L itself, of exact planes (the pyramid over L clipped to B's front
+    // has rounded vertices where B's plane cuts L): cells and their sample lines are bounded by
+    // it. The occluders were gathered for the clipped pyramid, so c counts only them; in the
+    // part of the cone beyond B's plane it is still a function constant on each cell, and on the
+    // cells' part in front of B it is the answer.
+    // Exact: every vertex of L strictly in front of B's plane (then the clip kept L as it is).
+    lightWhole_ = true;
+    for (const Vec3& v : light_) lightWhole_ = lightWhole_ && frontB_.side(v) == Sign::Positive;
+    if (!lightWhole_) pyramidPlanes(x_, light_, lightCone_);
+}
+
+bool FromPointQuery::prepareSurface(const HistoryTree& tree) {
+    const DeferredSilhouettes& s = tree.silhouettes;
+    if (!s.usable() || chainOptions_.minOccluders == 0 ||
+        tree.deferred.size() < chainOptions_.minOccluders)
+        return false;
+    const Bounds3& q = s.region;
+    if (!(x_.x >= q.lo.x && x_.x <= q.hi.x && x_.y >= q.lo.y && x_.y <= q.hi.y && x_.z >= q.lo.z &&
+          x_.z <= q.hi.z))
+        return false;  // the sides decided for Q are not certainly x's
+    surface_ = &s;
+    surfaceActivated_ = false;
+    if (slotStamp_.size() < s.slots.size()) {
+        slotStamp_.resize(s.slots.size(), 0);
+        slotSide_.resize(s.slots.size(), 0);
+    }
+    if (++runStamp_ == 0) {  // wrapped: no stale stamp may match
+        std::fill(slotStamp_.begin(), slotStamp_.end(), 0);
+        runStamp_ = 1;
+    }
+    prepareCone();
+    for (uint32_t slot : s.clipped) {
+        if (!spend()) return true;
+        activateFace(*mesh_, tree.deferred[slot].face);
+    }
+    surfaceClipped_ = active_.size();
+    // The kept edges whose segment may meet the cone over L (which holds the clipped pyramid):
+    // the others cannot cut a cell.
+    surfaceGroups_.clear();
+    spend(s.groups.notOutside(cone(), surfaceGroups_, workBudgetLeft()));
+    std::sort(surfaceGroups_.begin(), surfaceGroups_.end());  // deterministic order
+    return true;
+}
+
+void FromPointQuery::activateSurface() {
+    if (surfaceActivated_) return;
+    surfaceActivated_ = true;
+    lineSlots_.clear();
+    if (!spend(tree_->deferredIndex.notOutside(pyramid_, lineSlots_, workBudgetLeft()))) return;
+    std::sort(lineSlots_.begin(), lineSlots_.end());
+    for (uint32_t slot : lineSlots_) {
+        if (surface_->slots[slot] != DeferredSilhouettes::Slot::Surface) continue;
+        if (!spend()) return;
+        activateFace(*mesh_, tree_->deferred[slot].face);
+    }
+}
+
+int FromPointQuery::sideAt(uint32_t slot) {
+    const int8_t decided = surface_->sides[slot];
+    if (decided != 0) return decided;  // x in Q
+    if (slotStamp_[slot] == runStamp_) return slotSide_[slot];
+    if (!spend()) return 0;
+    const auto& ids = mesh_->faces[tree_->deferred[slot].face];
+    const std::vector<Vec3>& v = mesh_->vertices;
+    const Sign s = exactSign(PlaneOrient(v[ids[0]], v[ids[1]], v[ids[2]]), x_);
+    slotStamp_[slot] = runStamp_;
+    slotSide_[slot] = static_cast<int8_t>(s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0);
+    return slotSide_[slot];
+}
+
+bool FromPointQuery::surfaceHits(uint32_t slot, const Vec3& y) {
+    const auto& ids = mesh_->faces[tree_->deferred[slot].face];
+    const std::vector<Vec3>& v = mesh_->vertices;
+    const int s = sideAt(slot);
+    if (s == 0) return false;  // x on its plane: it blocks nothing (activateFace)
+    const Sign side = s > 0 ? Sign::Positive : Sign::Negative;
+    // x in front of it: the lines through it are on the negative side of its edge planes.
+    const Sign unblocked = side;
+    for (size_t i = 0; i < ids.size(); ++i) {
+        if (!spend()) return false;
+        const PlaneOrient plane(x_, v[ids[i]], v[ids[(i + 1) % ids.size()]]);
+        if (exactSign(plane, y) == unblocked) return false;
+    }
+    if (std::find(recentHits_.begin(), recentHits_.end(), slot) == recentHits_.end()) {
+        recentHits_[recentNext_] = slot;
+        recentNext_ = (recentNext_ + 1) % kRecentHits;
+    }
+    return true;
 }
 
 void FromPointQuery::buildChain() {
@@ -279,22 +375,56 @@ void FromPointQuery::buildChain() {
             chainBuilder_.add(kClipEdge | (o.firstPencil + e), 0, weight,
                               kPencilRef | (o.firstPencil + e));
     }
+    uint32_t surfaceUses = 0;
+    surfaceRemaining_.clear();
+    if (surface_ != nullptr) {
+        // The kept edges in the cone, each use weighted by the side its face faces x (a face
+        // whose plane holds x blocks nothing and adds none). An edge only surface faces use
+        // remains where its weighted directions do not sum to zero; one a clipped face uses too
+        // goes through the chain builder with that face's uses. A ref marks the use until its
+        // edge is known to remain.
+        for (uint32_t g : surfaceGroups_) {
+            const uint32_t begin = surface_->groupBegin[g], end = surface_->groupBegin[g + 1];
+            surfaceUses += end - begin;
+            if (surface_->groupWithClipped[g]) {
+                for (uint32_t u = begin; u < end; ++u) {
+                    const DeferredSilhouettes::Use& use = surface_->uses[u];
+                    const int weight = sideAt(use.slot);
+                    if (weight != 0) chainBuilder_.add(use.v0, use.v1, weight, kSurfaceRef | u);
+                }
+                continue;
+            }
+            int sum = 0;
+            for (uint32_t u = begin; u < end; ++u) {
+                const DeferredSilhouettes::Use& use = surface_->uses[u];
+                sum += sideAt(use.slot) * (use.v0 < use.v1 ? 1 : -1);
+            }
+            if (limitReached_) return;
+            if (sum != 0) surfaceRemaining_.push_back(kSurfaceRef | begin);
+        }
+    }
     chainBuilder_.remaining(chainRefs_);
-    // The cone from x over L itself, of exact planes (the pyramid over L clipped to B's front
-    // has rounded vertices where B's plane cuts L): cells and their sample lines are bounded by
-    // it. The occluders were gathered for the clipped pyramid, so c counts only them; in the
-    // part of the cone beyond B's plane it is still a function constant on each cell, and on the
-    // cells' part in front of B it is the answer.
-    // Exact: every vertex of L strictly in front of B's plane (then the clip kept L as it is).
-    lightWhole_ = true;
-    for (const Vec3& v : light_) lightWhole_ = lightWhole_ && frontB_.side(v) == Sign::Positive;
-    if (!lightWhole_) pyramidPlanes(x_, light_, lightCone_);
-    chainCounts_.occluderEdges = static_cast<uint32_t>(chainBuilder_.uses());
+    if (surface_ != nullptr) {
+        chainRefs_.insert(chainRefs_.end(), surfaceRemaining_.begin(), surfaceRemaining_.end());
+        // The remaining kept edges get their planes through x now (the others never do).
+        for (uint32_t& ref : chainRefs_) {
+            if ((ref & kPencilRef) != 0 || (ref & kSurfaceRef) == 0) continue;
+            const DeferredSilhouettes::Use& use = surface_->uses[ref & ~kSurfaceRef];
+            ref = static_cast<uint32_t>(activePlanes_.size());
+            activePlanes_.emplace_back(x_, mesh_->vertices[use.v0], mesh_->vertices[use.v1]);
+            activePlaneEdges_.emplace_back(use.v0, use.v1);
+        }
+    } else {
+        prepareCone();
+    }
+    chainCounts_.occluderEdges = static_cast<uint32_t>(chainBuilder_.uses()) + surfaceUses;
     chainCounts_.boundaryEdges = static_cast<uint32_t>(chainRefs_.size());
     // The cells are decided one line each but are never dropped before the chain has cut them,
     // while Algorithm 1 drops a hidden part at once: the chain pays where most edges cancel
     // (closed and smooth surfaces), not among separate faces (leaves), where it only adds work.
-    chainPays_ = chainRefs_.size() * chainOptions_.gain <= chainBuilder_.uses();
+    // (The surface path was chosen for the pair: its silhouettes pay.)
+    chainPays_ =
+        surface_ != nullptr || chainRefs_.size() * chainOptions_.gain <= chainBuilder_.uses();
     chain_.clear();
     if (!chainPays_) return;
     if (chainLists_.empty()) chainLists_.resize(1);
@@ -391,12 +521,64 @@ void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
     }
     if (!certified) {
         ++chainCounts_.fallbacks;
+        if (surface_ != nullptr) activateSurface();
+        if (limitReached_) return;
         clipByOccluders(poly, 0, depth);
         return;
     }
+    if (lineBlocked(y) || limitReached_) return;
+    fragments_.add(poly);
+}
+
+bool FromPointQuery::lineBlocked(const Vec3& y) {
+    // A point of an occluder on the line lies in every plane through x and y: its box is on no
+    // such plane's strictly negative side, whichever way it is turned. Two planes at right angles
+    // about the line keep only boxes near it (two of nearly one plane would keep a whole slab):
+    // through a third point p off the line, any double (the cull is rigorous for the plane
+    // through x, y and p, which holds the line; planes made degenerate by rounding cull nothing:
+    // still sound).
+    auto setLinePlanes = [&] {
+        const Vec3 d = y - x_;
+        const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
+        const Vec3 axis = ax <= ay && ax <= az ? Vec3{1, 0, 0}
+                          : ay <= az           ? Vec3{0, 1, 0}
+                                               : Vec3{0, 0, 1};
+        const Vec3 u = cross(d, axis), v = cross(d, u);
+        const double lu = length(u), lv = length(v), ld = length(d);
+        const Vec3 p1 = lu > 0 ? y + u * (ld / lu) : light_[0];
+        const Vec3 p2 = lv > 0 ? y + v * (ld / lv) : light_[1];
+        linePlanes_.clear();
+        linePlanes_.emplace_back(x_, y, p1);
+        linePlanes_.emplace_back(x_, p1, y);
+        linePlanes_.emplace_back(x_, y, p2);
+        linePlanes_.emplace_back(x_, p2, y);
+    };
+    if (surface_ != nullptr) {
+        // The activated faces that cross B's or L's plane, then the Surface faces (not
+        // activated: tested from their input edges), the last one that hid a cell first.
+        for (size_t j = 0; j < surfaceClipped_; ++j) {
+            if (lineHits(j, y)) return true;
+            if (limitReached_) return false;
+        }
+        for (uint32_t k = 0; k < kRecentHits; ++k) {
+            const uint32_t slot = recentHits_[(recentNext_ + kRecentHits - 1 - k) % kRecentHits];
+            if (slot < surface_->slots.size() &&
+                surface_->slots[slot] == DeferredSilhouettes::Slot::Surface && surfaceHits(slot, y))
+                return true;
+        }
+        setLinePlanes();
+        lineSlots_.clear();
+        if (!spend(tree_->deferredIndex.notOutside(linePlanes_, lineSlots_))) return false;
+        for (uint32_t slot : lineSlots_) {
+            if (surface_->slots[slot] != DeferredSilhouettes::Slot::Surface) continue;
+            if (surfaceHits(slot, y)) return true;
+            if (limitReached_) return false;
+        }
+        return false;
+    }
     // The line through y against the occluders (closed), the last one that hid a cell first.
     const size_t n = active_.size();
-    if (lineHits(lastHit_ % n, y)) return;  // hidden
+    if (lineHits(lastHit_ % n, y)) return true;
     if (!activeBoxesBuilt_ && scanned_ >= kScanBeforeBoxes * n) {
         activeBoxesBuilt_ = true;
         activeBoxList_.clear();
@@ -404,29 +586,21 @@ void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
         activeBoxes_ = BoxTree(activeBoxList_);
     }
     if (activeBoxesBuilt_) {
-        // A point of an occluder on the line lies in both planes through the line and two
-        // vertices of L: its box is on neither's strictly negative side, whichever way each is
-        // turned. (Planes made degenerate by collinear points cull nothing: still sound.)
-        linePlanes_.clear();
-        linePlanes_.emplace_back(x_, y, light_[0]);
-        linePlanes_.emplace_back(x_, light_[0], y);
-        linePlanes_.emplace_back(x_, y, light_[1]);
-        linePlanes_.emplace_back(x_, light_[1], y);
+        setLinePlanes();
         onLine_.clear();
-        if (!spend(activeBoxes_.notOutside(linePlanes_, onLine_))) return;
+        if (!spend(activeBoxes_.notOutside(linePlanes_, onLine_))) return false;
         for (uint32_t j : onLine_) {
-            if (lineHits(j, y)) return;  // hidden
-            if (limitReached_) return;
+            if (lineHits(j, y)) return true;
+            if (limitReached_) return false;
         }
     } else {
         for (size_t t = 1; t < n; ++t) {
-            if (lineHits((lastHit_ + t) % n, y)) return;  // hidden
-            if (limitReached_) return;
+            if (lineHits((lastHit_ + t) % n, y)) return true;
+            if (limitReached_) return false;
         }
         scanned_ += n;
     }
-    if (limitReached_) return;
-    fragments_.add(poly);
+    return false;
 }
 
 bool FromPointQuery::lineHits(size_t j, const Vec3& y) {
@@ -510,6 +684,7 @@ void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree&
     deferredClips_ = 0;
     if (!tree.partial()) return;
     preparePyramid();
+    if (prepareSurface(tree)) return;
     // The occluders whose box may meet the pyramid, in insertion order.
     if (!tree.deferredIndex.empty()) {
         if (!findCandidates(tree.deferredIndex)) return;
@@ -554,6 +729,10 @@ void FromPointQuery::startRun() {
     lastHit_ = 0;
     scanned_ = 0;
     activeBoxesBuilt_ = false;
+    surface_ = nullptr;
+    surfaceClipped_ = 0;
+    recentHits_.fill(UINT32_MAX);
+    recentNext_ = 0;
     deferredClips_ = 0;
     trace_ = nullptr;
     region_ = nullptr;

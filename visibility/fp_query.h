@@ -6,6 +6,7 @@
 // one; after warm-up a query allocates nothing); fromPointQuery() is the one-shot convenience.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <utility>
@@ -110,7 +111,9 @@ class FromPointQuery {
     uint64_t work() const { return work_; }
     bool limitReached() const { return limitReached_; }
     // Of a partial tree's deferred occluders, those the last run clipped against (their cone from
-    // x may meet L), and the clips that changed a fragment (split or removed it).
+    // x may meet L; on the silhouette path only those that cross B's or L's plane, and the others
+    // where a cell needed Algorithm 1), and the clips that changed a fragment (split or removed
+    // it).
     uint32_t deferredActive() const { return static_cast<uint32_t>(active_.size()); }
     uint32_t deferredClips() const { return deferredClips_; }
 
@@ -132,6 +135,9 @@ class FromPointQuery {
         uint32_t occluderEdges = 0, boundaryEdges = 0, cells = 0, fallbacks = 0;
     };
     const ChainCounts& chainCounts() const { return chainCounts_; }
+    // The last run took a partial tree's silhouettes (deferred_silhouettes.h) for its deferred
+    // occluders.
+    bool usedSilhouettes() const { return surface_ != nullptr; }
 
   private:
     void preparePair(const PolygonMesh& mesh, uint32_t receiver, uint32_t light);
@@ -176,6 +182,24 @@ class FromPointQuery {
     SplitOutcome splitByRef(uint32_t ref, std::span<const Vec3> poly, SplitParts& parts) const;
     static constexpr uint32_t kPencilRef = 0x80000000u;
     void prepareDeferred(const PolygonMesh& mesh, const HistoryTree& tree);
+    // The silhouette path of a partial tree (deferred_silhouettes.h), when its silhouettes pay
+    // and x lies in their region: only the deferred faces that cross B's or L's plane are
+    // activated, the chain is built from the pair's kept edges in the cone, and a cell's line is
+    // tested against the deferred faces through the tree's hierarchy. False: not taken.
+    bool prepareSurface(const HistoryTree& tree);
+    // The line from x through y crosses Surface slot `slot`'s face (closed; exact signs at y),
+    // as lineHits() for an activated face.
+    bool surfaceHits(uint32_t slot, const Vec3& y);
+    // The side Surface slot `slot`'s face faces x: +1 (x in front of its plane), -1, 0 (x on
+    // it); decided for Q, else the exact sign, taken once per run.
+    int sideAt(uint32_t slot);
+    // Whether the line through y crosses one of the occluders (a cell's label).
+    bool lineBlocked(const Vec3& y);
+    // Surface path: activates the deferred Surface faces in the pyramid too (a cell that needs
+    // Algorithm 1), once per run.
+    void activateSurface();
+    // cone() for this run (lightWhole_, lightCone_).
+    void prepareCone();
     // Resets the per-run state (the answer, counters, active occluders, path and region).
     void startRun();
     // candidates_: the items of `index` whose box may meet pyramid_, in increasing order, each
@@ -239,6 +263,22 @@ class FromPointQuery {
     };
     std::vector<ChainEdge> chain_;
     BoundaryChain chainBuilder_;
+    // The surface path of this run (prepareSurface), or null: the tree's silhouettes, the
+    // number of activated faces that cross B's or L's plane (the first of active_), whether the
+    // Surface faces were activated too, and the kept groups in the cone.
+    const DeferredSilhouettes* surface_ = nullptr;
+    size_t surfaceClipped_ = 0;
+    bool surfaceActivated_ = false;
+    std::vector<uint32_t> surfaceGroups_, lineSlots_, surfaceRemaining_;
+    std::vector<uint32_t> slotStamp_;  // per slot: the run whose sign slotSide_ holds
+    std::vector<int8_t> slotSide_;
+    uint32_t runStamp_ = 0;
+    // The last Surface slots that hid a cell (a hidden cell's neighbour is mostly hidden by the
+    // same few faces): tried before the hierarchy.
+    static constexpr uint32_t kRecentHits = 8;
+    std::array<uint32_t, kRecentHits> recentHits_{};
+    uint32_t recentNext_ = 0;
+    static constexpr uint32_t kSurfaceRef = 0x40000000u;
     std::vector<uint32_t> chainRefs_;
     // Per recursion level, the chain edges that may cross the cell.
     std::vector<std::vector<uint32_t>> chainLists_;

@@ -37,7 +37,8 @@ PlaneOrient planeOf(const PolygonMesh& mesh, uint32_t face) {
 
 }  // namespace
 
-void prepareForQueries(const PolygonMesh& mesh, HistoryTree& tree) {
+void prepareForQueries(const PolygonMesh& mesh, HistoryTree& tree,
+                       std::span<const Vec3> receiverRegion) {
     std::vector<Bounds3> boxes;
     boxes.reserve(tree.deferred.size());
     for (DeferredOccluder& d : tree.deferred) {
@@ -46,6 +47,7 @@ void prepareForQueries(const PolygonMesh& mesh, HistoryTree& tree) {
         boxes.push_back(d.box);
     }
     tree.deferredIndex = BoxTree(boxes);
+    prepareSilhouettes(mesh, tree, receiverRegion);
     tree.contactPlanes.clear();
     if (tree.kind == PairKind::BackFacing) return;
     const PlaneOrient receiverPlane = planeOf(mesh, tree.receiver);

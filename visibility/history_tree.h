@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "visibility/box_tree.h"
+#include "visibility/deferred_silhouettes.h"
 #include "visibility/edge_line.h"
 #include "visibility/polygon_mesh.h"
 
@@ -65,9 +66,12 @@ inline constexpr std::string_view kPartial =
     "clipped from each point";
 }  // namespace reasons
 // Fills what a tree derives from its mesh for queries (not stored in files): DeferredOccluder::box
-// for every deferred occluder and HistoryTree::deferredIndex over them, and contactPlanes.
+// for every deferred occluder and HistoryTree::deferredIndex over them, HistoryTree::silhouettes,
+// and contactPlanes. `receiverRegion`: the part of the receiver the tree was built for (its patch,
+// receiver_patches.h); empty = the whole face.
 struct HistoryTree;
-void prepareForQueries(const PolygonMesh& mesh, HistoryTree& tree);
+void prepareForQueries(const PolygonMesh& mesh, HistoryTree& tree,
+                       std::span<const Vec3> receiverRegion = {});
 
 // The exact line of an edge (v0, v1) in the node encoding above, for the pair (receiver, light).
 EdgeLine edgeLine(const PolygonMesh& mesh, uint32_t receiver, uint32_t light, uint32_t v0,
@@ -107,6 +111,9 @@ struct HistoryTree {
     // Penumbra tree may have no node and only these (the budget ran out on the first occluder).
     std::vector<DeferredOccluder> deferred;
     BoxTree deferredIndex;  // over the deferred boxes (prepareForQueries), not stored in files
+    // Derived (prepareForQueries), not stored: which of the deferred occluders' edges can bound a
+    // shadow seen from B (deferred_silhouettes.h).
+    DeferredSilhouettes silhouettes;
     // The occluder faces the build inserted, in insertion order (with `deferred`: every occluder
     // of the pair). The contact rule needs them: a query point on an occluder that reaches B's
     // plane is answered from these faces directly (fp_query.h).

@@ -366,7 +366,7 @@ HistoryTree buildHistoryTree(const PolygonMesh& mesh, uint32_t receiver, uint32_
             tree.why = reasons::kPenumbra;
             builder.emit(tree);
         }
-        prepareForQueries(mesh, tree);
+        prepareForQueries(mesh, tree, receiverPatch);
     }
     stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (statsOut) *statsOut = stats;

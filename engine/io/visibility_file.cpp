@@ -382,7 +382,8 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
             "tree " + std::to_string(i) + " (byte " + std::to_string(p.offset()) + ")";
         ParsedTree pt = parseTree(p, where);
         validateTree(pt.key, pt.record.tree, store, where);
-        vis::prepareForQueries(store.scene().mesh, pt.record.tree);
+        vis::prepareForQueries(store.scene().mesh, pt.record.tree,
+                               store.patches(pt.key.receiver).patches[pt.key.patch]);
         if (!seen.insert(pt.key).second) throw Corrupt(where + ": a second tree for the same pair");
         out.push_back(std::move(pt));
     }

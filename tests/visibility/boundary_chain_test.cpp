@@ -220,10 +220,15 @@ Measured measure(const vis::PolygonMesh& m, const Vec3& x, const vis::FragmentLi
     return a;
 }
 
+// Of checkScene's points: how many the chain evaluated (cells were cut) on the direct path, and
+// how many the partial tree answered from its silhouettes (deferred_silhouettes.h).
+struct Checked {
+    int chain = 0, silhouettes = 0;
+};
+
 // Floor points under and around the mesh: the direct query and a partial tree's per-point
 // clipping, with the chain forced and with Algorithm 1 only, against the exact reference.
-// Returns how many points the chain actually evaluated (cells were cut).
-int checkScene(const Scene& s, const std::string& what, int points, uint64_t seed) {
+Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t seed) {
     vis::BuildOptions partialBudget;
     partialBudget.maxLpSolves = 1;
     const vis::HistoryTree partial = vis::buildHistoryTree(s.mesh, 0, 1, partialBudget, {});
@@ -235,7 +240,8 @@ int checkScene(const Scene& s, const std::string& what, int points, uint64_t see
     oneByOne.setChainOptions({0, 0});
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(-1.2, 1.2);
-    int used = 0, reported = 0;
+    Checked used;
+    int reported = 0;
     for (int i = 0; i < points; ++i) {
         const Vec3 x{u(rng), u(rng), s.mesh.vertices[0].z};
         const test::ReferenceResult ref = test::exactReference(s.mesh, 0, 1, x);
@@ -250,10 +256,13 @@ int checkScene(const Scene& s, const std::string& what, int points, uint64_t see
                               << ref.formFactor;
         };
         compare("direct, chain", measure(s.mesh, x, chain.runDirect(s.mesh, 0, 1, x, faces)));
-        used += chain.chainCounts().cells > 0;
+        used.chain += chain.chainCounts().cells > 0;
         compare("direct, one by one",
                 measure(s.mesh, x, oneByOne.runDirect(s.mesh, 0, 1, x, faces)));
         compare("partial tree, chain", measure(s.mesh, x, chain.run(s.mesh, partial, x)));
+        used.silhouettes += chain.usedSilhouettes();
+        compare("partial tree, one by one", measure(s.mesh, x, oneByOne.run(s.mesh, partial, x)));
+        EXPECT_FALSE(oneByOne.usedSilhouettes());  // the chain is off
     }
     return used;
 }
@@ -261,20 +270,26 @@ int checkScene(const Scene& s, const std::string& what, int points, uint64_t see
 TEST(BoundaryChainQuery, ClosedSphereMatchesTheExactReference) {
     MeshScene m(0);
     m.sphere({0.1, -0.05, 0.9}, 0.45, 16, 10);
-    const int used = checkScene(m.finish(), "sphere", test::scaled(60), 1);
-    EXPECT_GT(used, test::scaled(60) / 3);
+    const Checked used = checkScene(m.finish(), "sphere", test::scaled(60), 1);
+    EXPECT_GT(used.chain, test::scaled(60) / 3);
+    // Every point is in the face's region and the sphere's edges cancel: always the silhouettes.
+    EXPECT_EQ(used.silhouettes, test::scaled(60));
 }
 
 TEST(BoundaryChainQuery, OpenInconsistentAndNonManifoldMeshesMatchTheExactReference) {
     {
         MeshScene m(0);
         m.sphere({0, 0, 1}, 0.5, 14, 9, 7);  // holes: every 7th face left out
-        EXPECT_GT(checkScene(m.finish(), "sphere with holes", test::scaled(40), 2), 0);
+        const Checked c = checkScene(m.finish(), "sphere with holes", test::scaled(40), 2);
+        EXPECT_GT(c.chain, 0);
+        EXPECT_EQ(c.silhouettes, test::scaled(40));
     }
     {
         MeshScene m(0);
         m.sphere({0, 0.1, 1}, 0.5, 14, 9, 0, 5);  // every 5th face reversed
-        EXPECT_GT(checkScene(m.finish(), "inconsistent sphere", test::scaled(40), 3), 0);
+        const Checked c = checkScene(m.finish(), "inconsistent sphere", test::scaled(40), 3);
+        EXPECT_GT(c.chain, 0);
+        EXPECT_EQ(c.silhouettes, test::scaled(40));
     }
     {
         // A box with a fin on its top edge: that edge has three faces.
@@ -290,7 +305,9 @@ TEST(BoundaryChainQuery, OpenInconsistentAndNonManifoldMeshesMatchTheExactRefere
         ASSERT_NE(p, q);
         const uint32_t top = m.vertex({0, -0.6, 1.5});
         m.face({p, q, top});
-        EXPECT_GT(checkScene(m.finish(), "box with a fin", test::scaled(40), 4), 0);
+        const Checked c = checkScene(m.finish(), "box with a fin", test::scaled(40), 4);
+        EXPECT_GT(c.chain, 0);
+        EXPECT_EQ(c.silhouettes, test::scaled(40));
     }
 }
 
@@ -301,8 +318,10 @@ TEST(BoundaryChainQuery, MeshesStandingOnTheReceiverMatchTheExactReference) {
         MeshScene m(h);
         m.box({-0.4, -0.3, h}, {0.2, 0.35, h + 0.7}, 4);
         m.sphere({0.45, 0.1, h + 0.35}, 0.25, 12, 8);
-        EXPECT_GT(checkScene(m.finish(), "standing, h = " + std::to_string(h), test::scaled(40), 5),
-                  0);
+        const Checked c =
+            checkScene(m.finish(), "standing, h = " + std::to_string(h), test::scaled(40), 5);
+        EXPECT_GT(c.chain, 0);
+        EXPECT_EQ(c.silhouettes, test::scaled(40));
     }
 }
 
@@ -312,15 +331,182 @@ TEST(BoundaryChainQuery, LightCutByTheReceiverPlaneMatchesTheExactReference) {
     MeshScene m(0, true);
     m.sphere({0.8, 0.05, 0.45}, 0.3, 14, 9);
     m.box({0.3, -0.6, 0}, {0.5, -0.2, 0.5}, 2);
-    EXPECT_GT(checkScene(m.finish(), "light cut by the floor", test::scaled(60), 7),
-              test::scaled(60) / 4);
+    const Checked c = checkScene(m.finish(), "light cut by the floor", test::scaled(60), 7);
+    EXPECT_GT(c.chain, test::scaled(60) / 4);
+    EXPECT_EQ(c.silhouettes, test::scaled(60));
 }
 
 // A mesh that crosses the light's plane and the floor's plane (clipped: chords on both).
 TEST(BoundaryChainQuery, MeshCrossingBothPlanesMatchesTheExactReference) {
+    {
+        MeshScene m(0);
+        m.box({-0.35, -0.25, -0.2}, {0.3, 0.2, 2.3}, 3);
+        // Two thirds of its faces cross a plane: too few edges cancel for the silhouettes.
+        EXPECT_EQ(checkScene(m.finish(), "crossing box", test::scaled(40), 6).silhouettes, 0);
+    }
+    {
+        // With a sphere beside it the silhouettes pay: the box's faces that cross a plane are
+        // activated per point, the middle row is surface, and the edges between the two rows
+        // are summed from both.
+        MeshScene m(0);
+        m.box({-0.35, -0.25, -0.2}, {0.3, 0.2, 2.3}, 3);
+        m.sphere({0.6, 0.55, 1.0}, 0.25, 16, 10);
+        EXPECT_EQ(
+            checkScene(m.finish(), "crossing box and sphere", test::scaled(40), 8).silhouettes,
+            test::scaled(40));
+    }
+}
+
+// A closed box and sphere standing on a triangle of the floor, the whole scene rotated and
+// translated in doubles: the box's bottom and the contacts become hair crossings and hair gaps
+// of the floor's plane (faces on either side of it by a rounding unit: surface or clipped, and
+// sides the receiver's patch decides or not). Floor points through the partial tree's
+// silhouettes against the exact reference.
+TEST(BoundaryChainQuery, TransformedClosedMeshesThroughTheSilhouettes) {
+    std::mt19937_64 rng(21);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int silhouettes = 0, points = 0, penumbra = 0;
+    for (int i = 0; i < test::scaled(8); ++i) {
+        MeshScene m(0);
+        m.box({-0.4, -0.3, 0}, {0.2, 0.35, 0.6 + 0.1 * u(rng)}, 3);
+        m.sphere({0.45, 0.1, 0.3}, 0.25, 12, 8);
+        Scene s = m.finish();
+        s.mesh.faces[0].resize(3);  // triangles: a rotated quad would not stay planar
+        s.mesh.faces[1].resize(3);
+        const double a = 3 * u(rng), b = 3 * u(rng), c = 3 * u(rng);
+        const Vec3 t{100 * u(rng), 100 * u(rng), 100 * u(rng)};
+        for (Vec3& v : s.mesh.vertices) {
+            Vec3 p{std::cos(a) * v.x - std::sin(a) * v.y, std::sin(a) * v.x + std::cos(a) * v.y,
+                   v.z};
+            p = {p.x, std::cos(b) * p.y - std::sin(b) * p.z, std::sin(b) * p.y + std::cos(b) * p.z};
+            p = {std::cos(c) * p.x + std::sin(c) * p.z, p.y,
+                 -std::sin(c) * p.x + std::cos(c) * p.z};
+            v = p + t;
+        }
+        vis::BuildOptions partialBudget;
+        partialBudget.maxLpSolves = 1;
+        const vis::HistoryTree tree = vis::buildHistoryTree(s.mesh, 0, 1, partialBudget, {});
+        vis::FromPointQuery query;
+        query.setChainOptions({1, 0});
+        std::vector<Vec3> floor;
+        for (uint32_t v : s.mesh.faces[0]) floor.push_back(s.mesh.vertices[v]);
+        for (int k = 0; k < 6; ++k) {
+            // A point of the floor triangle (-2,-2) (2,-2) (2,2) near the meshes, from its
+            // barycentric weights on the transformed vertices (rounded: a hair off the plane).
+            double px = 0.8 * u(rng), py = 0.8 * u(rng);
+            if (py > px) std::swap(px, py);
+            const double w0 = (2 - px) / 4, w2 = (py + 2) / 4, w1 = 1 - w0 - w2;
+            const Vec3 x = floor[0] * w0 + floor[1] * w1 + floor[2] * w2;
+            const test::ReferenceResult ref = test::exactReference(s.mesh, 0, 1, x);
+            const Measured got = measure(s.mesh, x, query.run(s.mesh, tree, x));
+            silhouettes += query.usedSilhouettes();
+            ++points;
+            penumbra += ref.fraction > 0.001 && ref.fraction < 0.999;
+            EXPECT_NEAR(got.fraction, ref.fraction, 1e-9) << vis::toString(x);
+            EXPECT_NEAR(got.formFactor, ref.formFactor, 1e-9 * std::max(ref.formFactor, 1e-6))
+                << vis::toString(x);
+        }
+    }
+    EXPECT_EQ(silhouettes, points);
+    EXPECT_GT(penumbra, points / 4);
+}
+
+// ---- The pair-level silhouettes (deferred_silhouettes.h) ------------------------------------
+
+// A cube (12 triangles, shared vertices) above a small patch of the floor under its centre: from
+// every point of the patch the bottom faces face the point and the four sides and the top face
+// away (the patch lies strictly inside the sides' slabs). So every edge cancels for the whole
+// patch but the bottom's four rim edges (bottom +1, side -1: the same direction twice): four
+// groups of two uses, of 36. Hand-derived.
+TEST(DeferredSilhouettes, CubeOverASmallPatchKeepsOnlyItsBottomRim) {
     MeshScene m(0);
-    m.box({-0.35, -0.25, -0.2}, {0.3, 0.2, 2.3}, 3);
-    checkScene(m.finish(), "crossing box", test::scaled(40), 6);
+    m.box({-0.3, -0.3, 0.5}, {0.3, 0.3, 1.1}, 1);
+    const Scene s = m.finish();
+    vis::HistoryTree tree;
+    tree.receiver = 0;
+    tree.light = 1;
+    tree.kind = vis::PairKind::Penumbra;
+    for (uint32_t f = 2; f < s.faceCount(); ++f) tree.deferred.push_back({f, {}});
+    const std::vector<Vec3> patch = {{-0.1, -0.1, 0}, {0.1, -0.1, 0}, {0, 0.1, 0}};
+    vis::prepareSilhouettes(s.mesh, tree, patch);
+    const vis::DeferredSilhouettes& sil = tree.silhouettes;
+    ASSERT_TRUE(sil.usable());
+    EXPECT_EQ(sil.totalUses, 36u);
+    EXPECT_EQ(sil.loneUses, 0u);
+    ASSERT_EQ(sil.groupCount(), 4u);
+    EXPECT_EQ(sil.keptUses, 8u);
+    for (const auto& use : sil.uses) {
+        EXPECT_EQ(s.mesh.vertices[use.v0].z, 0.5);  // on the bottom rim
+        EXPECT_EQ(s.mesh.vertices[use.v1].z == 0.5, s.mesh.vertices[use.v0].z == 0.5);
+        EXPECT_NE(use.side, 0);
+    }
+    // Over the whole floor (4 x 4) the side faces' planes cross the region: nothing is decided
+    // for them, and their edges are kept.
+    vis::prepareSilhouettes(s.mesh, tree);
+    EXPECT_GT(tree.silhouettes.keptUses, 8u);
+    // Separate triangles share no edge: not worth it (nothing kept).
+    MeshScene loose(0);
+    for (int i = 0; i < 6; ++i) {
+        const double x = -0.6 + 0.2 * i;
+        loose.face(
+            {loose.vertex({x, 0, 1}), loose.vertex({x + 0.1, 0, 1}), loose.vertex({x, 0.1, 1})});
+    }
+    const Scene l = loose.finish();
+    vis::HistoryTree leaves = tree;
+    leaves.deferred.clear();
+    for (uint32_t f = 2; f < l.faceCount(); ++f) leaves.deferred.push_back({f, {}});
+    vis::prepareSilhouettes(l.mesh, leaves, patch);
+    EXPECT_FALSE(leaves.silhouettes.usable());
+    EXPECT_EQ(leaves.silhouettes.loneUses, 18u);
+}
+
+// A tree built for a patch of the floor: its silhouettes decide most faces for the patch; the
+// points in the patch (random, and on its corners) are answered from them exactly, and a point
+// of the face outside the patch's region is not (the decided sides are not its own): both
+// against the exact reference.
+TEST(BoundaryChainQuery, SilhouettesOfAPatchMatchTheExactReference) {
+    MeshScene m(0);
+    m.sphere({0.1, -0.05, 0.9}, 0.45, 16, 10);
+    m.box({0.5, 0.3, 0}, {0.8, 0.6, 0.4}, 2);  // standing on the floor beside the patch
+    const Scene s = m.finish();
+    const std::vector<Vec3> patch = {{-0.3, -0.4, 0}, {0.3, -0.4, 0}, {0.0, 0.2, 0}};
+    vis::BuildOptions partialBudget;
+    partialBudget.maxLpSolves = 1;
+    const vis::HistoryTree tree =
+        vis::buildHistoryTree(s.mesh, 0, 1, partialBudget, {}, nullptr, patch);
+    ASSERT_TRUE(tree.partial());
+    ASSERT_TRUE(tree.silhouettes.usable());
+    EXPECT_LT(tree.silhouettes.keptUses * 2, tree.silhouettes.totalUses);
+    vis::FromPointQuery query;
+    query.setChainOptions({1, 0});
+    std::vector<Vec3> points(patch.begin(), patch.end());
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int i = 0; i < test::scaled(40); ++i) {
+        double a = u(rng), b = u(rng);
+        if (a + b > 1) a = 1 - a, b = 1 - b;
+        points.push_back(patch[0] + (patch[1] - patch[0]) * a + (patch[2] - patch[0]) * b);
+    }
+    for (const Vec3& x : points) {
+        const test::ReferenceResult ref = test::exactReference(s.mesh, 0, 1, x);
+        const Measured a = measure(s.mesh, x, query.run(s.mesh, tree, x));
+        EXPECT_TRUE(query.usedSilhouettes()) << vis::toString(x);
+        EXPECT_NEAR(a.fraction, ref.fraction, 1e-9) << vis::toString(x);
+        EXPECT_NEAR(a.formFactor, ref.formFactor, 1e-9 * std::max(ref.formFactor, 1e-6))
+            << vis::toString(x);
+    }
+    // The whole face's tree, its silhouettes decided for the patch only: a point of the face
+    // outside the patch's region takes the per-point path.
+    vis::HistoryTree whole = vis::buildHistoryTree(s.mesh, 0, 1, partialBudget, {});
+    vis::prepareSilhouettes(s.mesh, whole, patch);
+    ASSERT_TRUE(whole.silhouettes.usable());
+    for (const Vec3& x : {Vec3{0, -0.1, 0}, Vec3{1.2, -0.3, 0}}) {
+        const test::ReferenceResult ref = test::exactReference(s.mesh, 0, 1, x);
+        const Measured a = measure(s.mesh, x, query.run(s.mesh, whole, x));
+        EXPECT_EQ(query.usedSilhouettes(), x.x == 0) << vis::toString(x);
+        EXPECT_NEAR(a.fraction, ref.fraction, 1e-9) << vis::toString(x);
+        EXPECT_NEAR(a.formFactor, ref.formFactor, 1e-9 * std::max(ref.formFactor, 1e-6));
+    }
 }
 
 }  // namespace

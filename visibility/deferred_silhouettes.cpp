@@ -1,0 +1,156 @@
+#include "visibility/deferred_silhouettes.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "visibility/history_tree.h"
+#include "visibility/pair_occluders.h"
+#include "visibility/polygon_clip.h"
+
+namespace penumbra::vis {
+
+size_t DeferredSilhouettes::bytes() const {
+    return uses.size() * sizeof(Use) + groupBegin.size() * sizeof(uint32_t) +
+           slots.size() * sizeof(Slot) + sides.size() + clipped.size() * sizeof(uint32_t);
+}
+
+namespace {
+
+// Q: B's box grown by a margin that holds the renderer's points on B (an Embree hit, rounded in
+// float, then projected onto B's plane in doubles). Only a size: a point outside Q is answered
+// without the silhouettes.
+Bounds3 regionBox(const PolygonMesh& mesh, uint32_t receiver, std::span<const Vec3> patch) {
+    Bounds3 box;
+    if (patch.empty())
+        for (uint32_t v : mesh.faces[receiver]) box.add(mesh.vertices[v]);
+    for (const Vec3& p : patch) box.add(p);
+    double extent = box.diagonal();
+    for (double c : {box.lo.x, box.lo.y, box.lo.z, box.hi.x, box.hi.y, box.hi.z})
+        extent = std::max(extent, std::abs(c));
+    const double margin = 1e-6 * extent;
+    box.lo = box.lo - Vec3{margin, margin, margin};
+    box.hi = box.hi + Vec3{margin, margin, margin};
+    return box;
+}
+
+// +1 or -1 when every corner of `box` lies strictly on that side of `plane` (exact signs; the
+// plane's value is affine, so then every point of the box does), else 0.
+int8_t sideOver(const PlaneOrient& plane, const Bounds3& box) {
+    int8_t side = 0;
+    for (int k = 0; k < 8; ++k) {
+        const Vec3 corner{(k & 1) != 0 ? box.hi.x : box.lo.x, (k & 2) != 0 ? box.hi.y : box.lo.y,
+                          (k & 4) != 0 ? box.hi.z : box.lo.z};
+        const Sign s = plane.sign(corner);
+        const int8_t v = s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
+        if (v == 0 || (k > 0 && v != side)) return 0;
+        side = v;
+    }
+    return side;
+}
+
+}  // namespace
+
+void prepareSilhouettes(const PolygonMesh& mesh, HistoryTree& tree,
+                        std::span<const Vec3> receiverRegion) {
+    DeferredSilhouettes& s = tree.silhouettes;
+    s = DeferredSilhouettes{};
+    if (tree.deferred.empty() || tree.kind != PairKind::Penumbra) return;
+    // B's and L's planes as the query takes them (fp_query.cpp preparePair).
+    const FacePlane pb = facePlane(mesh, tree.receiver), pl = facePlane(mesh, tree.light);
+    const PlaneOrient planes[2] = {pb.orient(), pl.orient()};
+    const Bounds3 region = regionBox(mesh, tree.receiver, receiverRegion);
+
+    // Each deferred face's kind and, for a Surface face, its side over Q and its uses.
+    std::vector<DeferredSilhouettes::Use> uses;
+    std::vector<std::pair<uint32_t, uint32_t>> clippedEdges;  // (lo, hi) of the Clipped faces
+    s.slots.assign(tree.deferred.size(), DeferredSilhouettes::Slot::Empty);
+    s.sides.assign(tree.deferred.size(), 0);
+    for (uint32_t slot = 0; slot < tree.deferred.size(); ++slot) {
+        const auto& ids = mesh.faces[tree.deferred[slot].face];
+        const size_t n = ids.size();
+        if (n < 3) continue;
+        bool front[2] = {false, false}, behind[2] = {false, false};
+        for (int k = 0; k < 2; ++k) {
+            for (uint32_t v : ids) {
+                const Sign sg = planes[k].sign(mesh.vertices[v]);
+                front[k] = front[k] || sg == Sign::Positive;
+                behind[k] = behind[k] || sg == Sign::Negative;
+            }
+        }
+        // As ClippedOccluder::clip decides it: no part of positive area in front of a plane.
+        if (!front[0] || !front[1]) continue;
+        s.totalUses += n;
+        if (behind[0] || behind[1]) {
+            s.slots[slot] = DeferredSilhouettes::Slot::Clipped;
+            s.clipped.push_back(slot);
+            for (size_t i = 0; i < n; ++i) {
+                const uint32_t a = ids[i], b = ids[(i + 1) % n];
+                clippedEdges.emplace_back(std::min(a, b), std::max(a, b));
+            }
+            continue;
+        }
+        s.slots[slot] = DeferredSilhouettes::Slot::Surface;
+        const PlaneOrient own(mesh.vertices[ids[0]], mesh.vertices[ids[1]], mesh.vertices[ids[2]]);
+        const int8_t side = sideOver(own, region);
+        s.sides[slot] = side;
+        for (size_t i = 0; i < n; ++i) uses.push_back({ids[i], ids[(i + 1) % n], slot, side});
+    }
+    std::sort(clippedEdges.begin(), clippedEdges.end());
+
+    // Group the uses by undirected edge (stable: the groups keep the slots' order) and drop the
+    // groups that cancel for every point of Q: every face's side decided, no Clipped face on the
+    // edge (its use is the query's), and the signed directions summing to zero.
+    auto key = [](const DeferredSilhouettes::Use& u) {
+        return std::pair{std::min(u.v0, u.v1), std::max(u.v0, u.v1)};
+    };
+    std::stable_sort(uses.begin(), uses.end(),
+                     [&](const auto& a, const auto& b) { return key(a) < key(b); });
+    std::vector<Bounds3> boxes;
+    s.groupBegin.push_back(0);
+    uint64_t loneUses = 0;
+    for (size_t i = 0; i < uses.size();) {
+        size_t j = i;
+        int sum = 0;
+        bool decided = true;
+        for (; j < uses.size() && key(uses[j]) == key(uses[i]); ++j) {
+            decided = decided && uses[j].side != 0;
+            sum += uses[j].side * (uses[j].v0 < uses[j].v1 ? 1 : -1);
+        }
+        const bool withClipped =
+            std::binary_search(clippedEdges.begin(), clippedEdges.end(), key(uses[i]));
+        if (!(decided && sum == 0 && !withClipped)) {
+            s.uses.insert(s.uses.end(), uses.begin() + static_cast<ptrdiff_t>(i),
+                          uses.begin() + static_cast<ptrdiff_t>(j));
+            s.groupBegin.push_back(static_cast<uint32_t>(s.uses.size()));
+            s.groupWithClipped.push_back(withClipped);
+            Bounds3 box;
+            box.add(mesh.vertices[uses[i].v0]);
+            box.add(mesh.vertices[uses[i].v1]);
+            boxes.push_back(box);
+            if (j - i == 1 && !withClipped) ++loneUses;
+        }
+        i = j;
+    }
+    s.keptUses = s.uses.size();
+    for (uint32_t slot : s.clipped) {
+        s.keptUses += mesh.faces[tree.deferred[slot].face].size();
+        loneUses += mesh.faces[tree.deferred[slot].face].size();
+    }
+    s.loneUses = loneUses;
+    // Separate faces (leaves): nothing can cancel, the per-point chain would only add work.
+    if (loneUses * kSilhouetteGain > s.totalUses) {
+        const DeferredSilhouettes totals = [&] {
+            DeferredSilhouettes t;
+            t.totalUses = s.totalUses;
+            t.keptUses = s.keptUses;
+            t.loneUses = s.loneUses;
+            return t;
+        }();
+        s = totals;
+        return;
+    }
+    s.groups = BoxTree(boxes);
+    s.region = region;
+}
+
+}  // namespace penumbra::vis
