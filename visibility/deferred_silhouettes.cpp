@@ -33,6 +33,14 @@ Bounds3 regionBox(const PolygonMesh& mesh, uint32_t receiver, std::span<const Ve
     return box;
 }
 
+// plane.sign(y) with the filter inlined (sign() calls the out-of-line value()): these run for
+// every deferred face of every partial tree.
+Sign signOf(const PlaneOrient& plane, const Vec3& y) {
+    BoundedValue b;
+    if (plane.filtered(y, b)) return b.sign();
+    return plane.value(y).sign();
+}
+
 // +1 or -1 when every corner of `box` lies strictly on that side of `plane` (exact signs; the
 // plane's value is affine, so then every point of the box does), else 0.
 int8_t sideOver(const PlaneOrient& plane, const Bounds3& box) {
@@ -40,7 +48,7 @@ int8_t sideOver(const PlaneOrient& plane, const Bounds3& box) {
     for (int k = 0; k < 8; ++k) {
         const Vec3 corner{(k & 1) != 0 ? box.hi.x : box.lo.x, (k & 2) != 0 ? box.hi.y : box.lo.y,
                           (k & 4) != 0 ? box.hi.z : box.lo.z};
-        const Sign s = plane.sign(corner);
+        const Sign s = signOf(plane, corner);
         const int8_t v = s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
         if (v == 0 || (k > 0 && v != side)) return 0;
         side = v;
@@ -72,7 +80,7 @@ void prepareSilhouettes(const PolygonMesh& mesh, HistoryTree& tree,
         bool front[2] = {false, false}, behind[2] = {false, false};
         for (int k = 0; k < 2; ++k) {
             for (uint32_t v : ids) {
-                const Sign sg = planes[k].sign(mesh.vertices[v]);
+                const Sign sg = signOf(planes[k], mesh.vertices[v]);
                 front[k] = front[k] || sg == Sign::Positive;
                 behind[k] = behind[k] || sg == Sign::Negative;
             }

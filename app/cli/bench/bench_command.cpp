@@ -577,7 +577,24 @@ json perPoint(const std::string& path, const BenchOptions& o) {
     // enough occluders for it to be considered, their edges and those left after cancellation;
     // of the points it evaluated, the cells and the fragments.
     size_t manyOccluders = 0, occluderEdges = 0, boundaryEdges = 0, chainPoints = 0, cells = 0,
-           chainFragments = 0;
+           chainFragments = 0, silhouettePoints = 0;
+    // The partial trees' silhouettes (vis::DeferredSilhouettes), once per tree the points use:
+    // the deferred faces' edge uses, and those kept (potential silhouettes relative to the patch,
+    // borders, edges of faces that cross a plane) in the trees whose silhouettes pay.
+    uint64_t pairUses = 0, pairKept = 0;
+    size_t silhouetteTrees = 0, partialTrees = 0;
+    {
+        std::set<const vis::HistoryTree*> seen;
+        for (const Sample& s : samples) {
+            const vis::HistoryTree& t = s.rec->tree;
+            if (!t.partial() || !seen.insert(&t).second) continue;
+            ++partialTrees;
+            if (!t.silhouettes.usable()) continue;
+            ++silhouetteTrees;
+            pairUses += t.silhouettes.totalUses;
+            pairKept += t.silhouettes.keptUses;
+        }
+    }
     vis::FromPointQuery query;
     // One untimed pass first: the timed loops below (the product's, then Algorithm 1 only) then
     // all start warm (the first pass over the points is some 20% slower on every scene).
@@ -595,6 +612,7 @@ json perPoint(const std::string& path, const BenchOptions& o) {
         occluderEdges += c.occluderEdges;
         boundaryEdges += c.boundaryEdges;
         chainPoints += c.cells > 0;
+        silhouettePoints += query.usedSilhouettes();
         cells += c.cells;
         if (c.cells > 0) chainFragments += r.size();
     }
@@ -667,6 +685,12 @@ json perPoint(const std::string& path, const BenchOptions& o) {
         manyOccluders, boundaryEdges, occluderEdges,
         occluderEdges == 0 ? 0.0 : 100.0 * static_cast<double>(boundaryEdges) / occluderEdges,
         chainPoints, cells, chainFragments, oneByOneUs);
+    std::printf(
+        "  silhouettes: %zu of %zu partial trees, %llu of their %llu edge uses kept (%.1f%%); %zu "
+        "points by them\n",
+        silhouetteTrees, partialTrees, static_cast<unsigned long long>(pairKept),
+        static_cast<unsigned long long>(pairUses),
+        pairUses == 0 ? 0.0 : 100.0 * static_cast<double>(pairKept) / pairUses, silhouettePoints);
     std::fflush(stdout);
     return {{"scene", path},
             {"points", samples.size()},
@@ -693,7 +717,12 @@ json perPoint(const std::string& path, const BenchOptions& o) {
               {"points", chainPoints},
               {"cells", cells},
               {"fragments", chainFragments},
-              {"oneByOneUs", oneByOneUs}}},
+              {"oneByOneUs", oneByOneUs},
+              {"partialTrees", partialTrees},
+              {"silhouetteTrees", silhouetteTrees},
+              {"silhouetteUses", pairUses},
+              {"silhouetteKept", pairKept},
+              {"silhouettePoints", silhouettePoints}}},
             {"fragmentsPerQuery", static_cast<double>(fragments) / samples.size()}};
 }
 

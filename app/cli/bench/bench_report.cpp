@@ -240,10 +240,14 @@ void writePerPoint(std::ostream& r, const json& rows) {
          "the same way cancel (silhouettes, borders, chords). The points where few enough remain "
          "are evaluated by the chain: the cells it cut L into and the fragments kept. Last, the "
          "mean query with every occluder clipped one by one (Algorithm 1 only) against the "
-         "product's.\n\n"
+         "product's. The partial trees' silhouettes (`DeferredSilhouettes`): of the partial trees "
+         "the points use, those whose deferred faces share enough edges, the share of their edge "
+         "uses kept for the patch (the others cancel for all of it), and the points answered "
+         "from them.\n\n"
       << "| scene | points with many occluders | occluder edges | boundary edges | share | "
-         "points by the chain | cells | fragments | Algorithm 1 only us | with the chain us "
-         "|\n|---|---|---|---|---|---|---|---|---|---|\n";
+         "points by the chain | cells | fragments | Algorithm 1 only us | with the chain us | "
+         "trees with silhouettes | uses kept | points by them "
+         "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const json& p : rows) {
         if (!p.contains("chain")) continue;
         const json& c = p["chain"];
@@ -253,7 +257,17 @@ void writePerPoint(std::ostream& r, const json& rows) {
           << (edges > 0 ? fmt("%.1f%%", 100.0 * c["boundaryEdges"].get<double>() / edges)
                         : std::string("-"))
           << " | " << c["points"] << " | " << c["cells"] << " | " << c["fragments"] << " | "
-          << num(c["oneByOneUs"]) << " | " << num(p["exactUs"]) << " |\n";
+          << num(c["oneByOneUs"]) << " | " << num(p["exactUs"]) << " | "
+          << (c.contains("partialTrees")
+                  ? c["silhouetteTrees"].dump() + " of " + c["partialTrees"].dump()
+                  : std::string("-"))
+          << " | "
+          << (c.value("silhouetteUses", 0.0) > 0
+                  ? fmt("%.1f%%", 100.0 * c["silhouetteKept"].get<double>() /
+                                      c["silhouetteUses"].get<double>())
+                  : std::string("-"))
+          << " | " << (c.contains("silhouettePoints") ? c["silhouettePoints"].dump() : "-")
+          << " |\n";
     }
     r << "\n### A click in the viewer\n\nEvery light at a point: the fragments from the "
          "tree-less query the viewer answers a click with (within its work budget; points over "
