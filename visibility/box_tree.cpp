@@ -8,23 +8,16 @@ namespace penumbra::vis {
 namespace {
 constexpr uint32_t kLeafSize = 4;
 
+}  // namespace
+
 // Every box of the hierarchy lies inside the root's: the planes' culling bounds are formed once
-// per query for that region (PlaneBoxCull). Queries with more planes than fit here use
+// per query for that region (PlaneBoxCull). Queries with more planes than kMaxCullPlanes use
 // boxNegative per box.
-constexpr size_t kMaxCullPlanes = 32;
-
-bool outsideOne(std::span<const PlaneBoxCull> planes, const Bounds3& box) {
-    for (const PlaneBoxCull& p : planes)
-        if (p.negative(box.lo, box.hi)) return true;
-    return false;
-}
-
-bool outsideOne(std::span<const PlaneOrient> planes, const Bounds3& box) {
+bool BoxTree::outsideOne(std::span<const PlaneOrient> planes, const Bounds3& box) {
     for (const PlaneOrient& p : planes)
         if (p.boxNegative(box.lo, box.hi)) return true;
     return false;
 }
-}  // namespace
 
 BoxTree::BoxTree(std::span<const Bounds3> boxes, const std::vector<bool>& include)
     : boxes_(boxes.begin(), boxes.end()) {

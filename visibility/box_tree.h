@@ -37,8 +37,23 @@ class BoxTree {
     // with an incomplete answer, once more than maxVisits nodes were visited (0 = no limit).
     uint32_t notOutside(std::span<const PlaneOrient> planes, std::vector<uint32_t>& out,
                         uint64_t maxVisits = 0) const;
+    // The same items, each passed to `stop(item)` as it is found (in no order) until one call
+    // returns true: then the search ends and returns true. `visited` gets the nodes visited.
+    // For "is any of them hit": the first hit ends the search. Planes beyond kMaxCullPlanes are
+    // not used (fewer skips: still sound).
+    template <class Stop>
+    bool anyNotOutside(std::span<const PlaneOrient> planes, Stop&& stop, uint32_t& visited) const;
+    static constexpr size_t kMaxCullPlanes = 32;
 
   private:
+    // Whether the box is certainly outside one of the planes (PlaneBoxCull::negative, for boxes
+    // inside the root's; PlaneOrient::boxNegative).
+    static bool outsideOne(std::span<const PlaneBoxCull> planes, const Bounds3& box) {
+        for (const PlaneBoxCull& p : planes)
+            if (p.negative(box.lo, box.hi)) return true;
+        return false;
+    }
+    static bool outsideOne(std::span<const PlaneOrient> planes, const Bounds3& box);
     struct Node {
         Bounds3 box;
         uint32_t first = 0;  // leaf: first index into items_; inner: index of the right child
@@ -54,5 +69,33 @@ class BoxTree {
     std::vector<uint32_t> items_;  // item ids, grouped by leaf
     std::vector<Bounds3> boxes_;   // per item id
 };
+
+template <class Stop>
+bool BoxTree::anyNotOutside(std::span<const PlaneOrient> planes, Stop&& stop,
+                            uint32_t& visited) const {
+    visited = 0;
+    if (nodes_.empty()) return false;
+    PlaneBoxCull cull[kMaxCullPlanes];
+    const size_t count = planes.size() < kMaxCullPlanes ? planes.size() : kMaxCullPlanes;
+    const Bounds3& region = nodes_[0].box;
+    for (size_t i = 0; i < count; ++i) cull[i] = PlaneBoxCull(planes[i], region.lo, region.hi);
+    const std::span<const PlaneBoxCull> c(cull, count);
+    uint32_t stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        const Node& n = nodes_[stack[--top]];
+        ++visited;
+        if (outsideOne(c, n.box)) continue;
+        if (n.count > 0) {
+            for (uint32_t i = n.first; i < n.first + n.count; ++i)
+                if (!outsideOne(c, boxes_[items_[i]]) && stop(items_[i])) return true;
+            continue;
+        }
+        stack[top++] = n.first;
+        stack[top++] = static_cast<uint32_t>(&n - nodes_.data()) + 1;
+    }
+    return false;
+}
 
 }  // namespace penumbra::vis

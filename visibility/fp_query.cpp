@@ -555,7 +555,7 @@ bool FromPointQuery::lineBlocked(const Vec3& y) {
     };
     if (surface_ != nullptr) {
         // The activated faces that cross B's or L's plane, then the Surface faces (not
-        // activated: tested from their input edges), the last one that hid a cell first.
+        // activated: tested from their input edges), the last few that hid a cell first.
         for (size_t j = 0; j < surfaceClipped_; ++j) {
             if (lineHits(j, y)) return true;
             if (limitReached_) return false;
@@ -566,15 +566,19 @@ bool FromPointQuery::lineBlocked(const Vec3& y) {
                 surface_->slots[slot] == DeferredSilhouettes::Slot::Surface && surfaceHits(slot, y))
                 return true;
         }
+        // Each face as the hierarchy finds it: the first hit ends the search.
         setLinePlanes();
-        lineSlots_.clear();
-        if (!spend(tree_->deferredIndex.notOutside(linePlanes_, lineSlots_))) return false;
-        for (uint32_t slot : lineSlots_) {
-            if (surface_->slots[slot] != DeferredSilhouettes::Slot::Surface) continue;
-            if (surfaceHits(slot, y)) return true;
-            if (limitReached_) return false;
-        }
-        return false;
+        uint32_t visited = 0;
+        const bool hit = tree_->deferredIndex.anyNotOutside(
+            linePlanes_,
+            [&](uint32_t slot) {
+                if (limitReached_) return true;
+                return surface_->slots[slot] == DeferredSilhouettes::Slot::Surface &&
+                       surfaceHits(slot, y);
+            },
+            visited);
+        spend(visited);
+        return hit && !limitReached_;
     }
     // The line through y against the occluders (closed), the last one that hid a cell first.
     const size_t n = active_.size();
