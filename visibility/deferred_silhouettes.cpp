@@ -62,18 +62,27 @@ void prepareSilhouettes(const PolygonMesh& mesh, HistoryTree& tree,
                         std::span<const Vec3> receiverRegion) {
     DeferredSilhouettes& s = tree.silhouettes;
     s = DeferredSilhouettes{};
-    if (tree.deferred.empty() || tree.kind != PairKind::Penumbra) return;
+    if (tree.deferred.empty() || tree.kind != PairKind::Penumbra ||
+        tree.deferred.size() > kMaxSilhouetteFaces)
+        return;
     // B's and L's planes as the query takes them (fp_query.cpp preparePair).
     const FacePlane pb = facePlane(mesh, tree.receiver), pl = facePlane(mesh, tree.light);
     const PlaneOrient planes[2] = {pb.orient(), pl.orient()};
     const Bounds3 region = regionBox(mesh, tree.receiver, receiverRegion);
 
-    // Each deferred face's kind and, for a Surface face, its side over Q and its uses.
+    // Each deferred face's kind and, for a Surface face, its uses.
     std::vector<DeferredSilhouettes::Use> uses;
     std::vector<std::pair<uint32_t, uint32_t>> clippedEdges;  // (lo, hi) of the Clipped faces
     s.slots.assign(tree.deferred.size(), DeferredSilhouettes::Slot::Empty);
     s.sides.assign(tree.deferred.size(), 0);
-    for (uint32_t slot = 0; slot < tree.deferred.size(); ++slot) {
+    // In face order (the deferred order is the insertion heuristic's: random over the mesh, and
+    // a large mesh's faces and vertices are then one cache miss each).
+    std::vector<uint32_t> order(tree.deferred.size());
+    for (uint32_t slot = 0; slot < order.size(); ++slot) order[slot] = slot;
+    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+        return tree.deferred[a].face < tree.deferred[b].face;
+    });
+    for (uint32_t slot : order) {
         const auto& ids = mesh.faces[tree.deferred[slot].face];
         const size_t n = ids.size();
         if (n < 3) continue;
@@ -98,24 +107,64 @@ void prepareSilhouettes(const PolygonMesh& mesh, HistoryTree& tree,
             continue;
         }
         s.slots[slot] = DeferredSilhouettes::Slot::Surface;
-        const PlaneOrient own(mesh.vertices[ids[0]], mesh.vertices[ids[1]], mesh.vertices[ids[2]]);
-        const int8_t side = sideOver(own, region);
-        s.sides[slot] = side;
-        for (size_t i = 0; i < n; ++i) uses.push_back({ids[i], ids[(i + 1) % n], slot, side});
+        for (size_t i = 0; i < n; ++i) uses.push_back({ids[i], ids[(i + 1) % n], slot, 0});
     }
     std::sort(clippedEdges.begin(), clippedEdges.end());
+    std::sort(s.clipped.begin(), s.clipped.end());
 
-    // Group the uses by undirected edge (stable: the groups keep the slots' order) and drop the
-    // groups that cancel for every point of Q: every face's side decided, no Clipped face on the
-    // edge (its use is the query's), and the signed directions summing to zero.
+    // First only count the lone uses (an edge no other face shares) and the Clipped faces': where
+    // they are too many (separate faces) nothing more is worth computing. (On the edges' keys
+    // alone: a CAD model's partial trees defer some 100k faces each.)
     auto key = [](const DeferredSilhouettes::Use& u) {
         return std::pair{std::min(u.v0, u.v1), std::max(u.v0, u.v1)};
     };
+    auto packed = [](std::pair<uint32_t, uint32_t> k) {
+        return (static_cast<uint64_t>(k.first) << 32) | k.second;
+    };
+    uint64_t loneUses = 0;
+    for (uint32_t slot : s.clipped) loneUses += mesh.faces[tree.deferred[slot].face].size();
+    {
+        std::vector<uint64_t> keys;
+        keys.reserve(uses.size());
+        for (const DeferredSilhouettes::Use& u : uses) keys.push_back(packed(key(u)));
+        std::sort(keys.begin(), keys.end());
+        std::vector<uint64_t> clippedKeys;
+        clippedKeys.reserve(clippedEdges.size());
+        for (const auto& e : clippedEdges) clippedKeys.push_back(packed(e));
+        for (size_t i = 0; i < keys.size();) {
+            size_t j = i + 1;
+            while (j < keys.size() && keys[j] == keys[i]) ++j;
+            if (j - i == 1 && !std::binary_search(clippedKeys.begin(), clippedKeys.end(), keys[i]))
+                ++loneUses;
+            i = j;
+        }
+    }
+    s.loneUses = loneUses;
+    if (loneUses * kSilhouetteGain > s.totalUses) {
+        // Separate faces (leaves): nothing can cancel, the per-point chain would only add work.
+        DeferredSilhouettes totals;
+        totals.totalUses = s.totalUses;
+        totals.keptUses = s.uses.size();  // (0: not computed)
+        totals.loneUses = loneUses;
+        s = std::move(totals);
+        return;
+    }
+
+    // Each Surface face's side over Q, then the groups that cancel for every point of Q dropped:
+    // every face's side decided, no Clipped face on the edge (its use is the query's), and the
+    // signed directions summing to zero.
+    for (uint32_t slot : order) {
+        if (s.slots[slot] != DeferredSilhouettes::Slot::Surface) continue;
+        const auto& ids = mesh.faces[tree.deferred[slot].face];
+        const PlaneOrient own(mesh.vertices[ids[0]], mesh.vertices[ids[1]], mesh.vertices[ids[2]]);
+        s.sides[slot] = sideOver(own, region);
+    }
+    for (DeferredSilhouettes::Use& u : uses) u.side = s.sides[u.slot];
+    // Grouped by undirected edge (stable: a group keeps its faces' order).
     std::stable_sort(uses.begin(), uses.end(),
                      [&](const auto& a, const auto& b) { return key(a) < key(b); });
     std::vector<Bounds3> boxes;
     s.groupBegin.push_back(0);
-    uint64_t loneUses = 0;
     for (size_t i = 0; i < uses.size();) {
         size_t j = i;
         int sum = 0;
@@ -135,28 +184,11 @@ void prepareSilhouettes(const PolygonMesh& mesh, HistoryTree& tree,
             box.add(mesh.vertices[uses[i].v0]);
             box.add(mesh.vertices[uses[i].v1]);
             boxes.push_back(box);
-            if (j - i == 1 && !withClipped) ++loneUses;
         }
         i = j;
     }
     s.keptUses = s.uses.size();
-    for (uint32_t slot : s.clipped) {
-        s.keptUses += mesh.faces[tree.deferred[slot].face].size();
-        loneUses += mesh.faces[tree.deferred[slot].face].size();
-    }
-    s.loneUses = loneUses;
-    // Separate faces (leaves): nothing can cancel, the per-point chain would only add work.
-    if (loneUses * kSilhouetteGain > s.totalUses) {
-        const DeferredSilhouettes totals = [&] {
-            DeferredSilhouettes t;
-            t.totalUses = s.totalUses;
-            t.keptUses = s.keptUses;
-            t.loneUses = s.loneUses;
-            return t;
-        }();
-        s = totals;
-        return;
-    }
+    for (uint32_t slot : s.clipped) s.keptUses += mesh.faces[tree.deferred[slot].face].size();
     s.groups = BoxTree(boxes);
     s.region = region;
 }

@@ -60,7 +60,8 @@ struct DeferredSilhouettes {
     std::vector<uint32_t> clipped;  // the Clipped slots, in increasing order
     // Of the uses of the non-empty deferred occluders (one per side of each face): all, those
     // kept in `uses` (with the Clipped faces'), and those no other face shares (borders of open
-    // surfaces, separate faces, faces whose neighbour the tree inserted, Clipped faces).
+    // surfaces, separate faces, faces whose neighbour the tree inserted, Clipped faces). Where
+    // it is not usable only totalUses and loneUses are computed (keptUses 0).
     uint64_t totalUses = 0, keptUses = 0, loneUses = 0;
 
     size_t groupCount() const { return groupBegin.empty() ? 0 : groupBegin.size() - 1; }
@@ -74,6 +75,11 @@ struct DeferredSilhouettes {
 // 1 / kSilhouetteGain of the uses are lone (closed and smooth surfaces); separate faces (leaves)
 // cancel nothing, and the query goes on face by face there (only the totals are kept).
 inline constexpr uint64_t kSilhouetteGain = 3;
+// Nor for trees that defer more faces than this: preparing costs some 2 us of CPU per deferred
+// face (memory-bound; exact signs for the vertices on B's plane), and on the motorbike (14
+// partial trees of 35k-240k deferred faces, 61% of its points sampled) it added 1.1 s to the
+// precompute and saved no shading time. The bunny's partial trees defer up to 23k.
+inline constexpr size_t kMaxSilhouetteFaces = 65536;
 void prepareSilhouettes(const PolygonMesh& mesh, HistoryTree& tree,
                         std::span<const Vec3> receiverRegion = {});
 
