@@ -9,11 +9,6 @@
 
 namespace penumbra::vis {
 
-size_t DeferredSilhouettes::bytes() const {
-    return uses.size() * sizeof(Use) + groupBegin.size() * sizeof(uint32_t) +
-           slots.size() * sizeof(Slot) + sides.size() + clipped.size() * sizeof(uint32_t);
-}
-
 namespace {
 
 // Q: B's box grown by a margin that holds the renderer's points on B (an Embree hit, rounded in
@@ -33,14 +28,6 @@ Bounds3 regionBox(const PolygonMesh& mesh, uint32_t receiver, std::span<const Ve
     return box;
 }
 
-// plane.sign(y) with the filter inlined (sign() calls the out-of-line value()): these run for
-// every deferred face of every partial tree.
-Sign signOf(const PlaneOrient& plane, const Vec3& y) {
-    BoundedValue b;
-    if (plane.filtered(y, b)) return b.sign();
-    return plane.value(y).sign();
-}
-
 // +1 or -1 when every corner of `box` lies strictly on that side of `plane` (exact signs; the
 // plane's value is affine, so then every point of the box does), else 0.
 int8_t sideOver(const PlaneOrient& plane, const Bounds3& box) {
@@ -48,7 +35,7 @@ int8_t sideOver(const PlaneOrient& plane, const Bounds3& box) {
     for (int k = 0; k < 8; ++k) {
         const Vec3 corner{(k & 1) != 0 ? box.hi.x : box.lo.x, (k & 2) != 0 ? box.hi.y : box.lo.y,
                           (k & 4) != 0 ? box.hi.z : box.lo.z};
-        const Sign s = signOf(plane, corner);
+        const Sign s = plane.sign(corner);
         const int8_t v = s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
         if (v == 0 || (k > 0 && v != side)) return 0;
         side = v;
@@ -89,7 +76,7 @@ void prepareSilhouettes(const PolygonMesh& mesh, HistoryTree& tree,
         bool front[2] = {false, false}, behind[2] = {false, false};
         for (int k = 0; k < 2; ++k) {
             for (uint32_t v : ids) {
-                const Sign sg = signOf(planes[k], mesh.vertices[v]);
+                const Sign sg = planes[k].sign(mesh.vertices[v]);
                 front[k] = front[k] || sg == Sign::Positive;
                 behind[k] = behind[k] || sg == Sign::Negative;
             }

@@ -67,7 +67,6 @@ struct DeferredSilhouettes {
     size_t groupCount() const { return groupBegin.empty() ? 0 : groupBegin.size() - 1; }
     // Whether the query uses it (prepareSilhouettes kept it).
     bool usable() const { return !region.empty(); }
-    size_t bytes() const;
 };
 
 // Fills tree.silhouettes for tree.deferred (prepareForQueries calls it), for the query points in

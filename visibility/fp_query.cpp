@@ -236,8 +236,9 @@ void FromPointQuery::clipByOccluders(std::span<const Vec3> poly, size_t from, si
 
 namespace {
 
-// plane.sign(y) (exact for an input point y) with the filter's path inlined: sign() calls the
-// out-of-line value(), and these tests are the chain's innermost loop.
+// plane.sign(y) (exact for an input point y) with the filter's path inlined, for both plane
+// kinds (PlaneOrient::sign does this itself; PencilPlane's calls the out-of-line value()): these
+// tests are the chain's innermost loop.
 template <class Plane>
 Sign exactSign(const Plane& plane, const Vec3& y) {
     BoundedValue b;

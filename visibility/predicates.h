@@ -67,7 +67,12 @@ struct PlaneOrient {
     PlaneOrient() = default;
     PlaneOrient(const Vec3& a, const Vec3& b, const Vec3& c);
     BoundedValue value(const Vec3& d) const;
-    Sign sign(const Vec3& d) const { return value(d).sign(); }
+    // The exact sign, with the filter inlined (the hot loops' path) before value().
+    Sign sign(const Vec3& d) const {
+        BoundedValue b;
+        if (filtered(d, b)) return b.sign();
+        return value(d).sign();
+    }
     // The filter alone: false when it cannot certify the sign (then `out` holds the rounded value
     // and its error bound, |value| <= error). Inline: FPQuery calls it per vertex per node.
     bool filtered(const Vec3& d, BoundedValue& out) const;
