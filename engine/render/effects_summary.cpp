@@ -68,8 +68,9 @@ std::string EffectsSummary::text() const {
             char share[32];
             std::snprintf(share, sizeof share, "%.2f%%", sampledPercent());
             line("points sampled: " + std::to_string(sampledEvaluations) + " of " +
-                 std::to_string(exactEvaluations) + " (" + share +
-                 ") point-light evaluations - their exact answer needed more than " +
+                 std::to_string(exactEvaluations) + " (" + share + ") point-light evaluations, " +
+                 std::to_string(sampledDirectEvaluations) +
+                 " of them without a tree - their exact answer needed more than " +
                  std::to_string(exactWorkLimit) + " plane tests: " + std::to_string(lightSamples) +
                  " shadow rays each instead (not exact; --exact-work-limit 0 makes every point "
                  "exact)");

@@ -13,11 +13,14 @@ namespace penumbra {
 // thread, summed into EffectsSummary): all of them, those over the work limit (sampled instead),
 // and those of pairs without a tree (evaluated directly).
 struct ExactEvaluations {
-    uint64_t all = 0, sampled = 0, direct = 0;
+    // Every evaluation that needed a query, those sampled (over the work limit), those of pairs
+    // without a tree (direct), and the sampled ones among them.
+    uint64_t all = 0, sampled = 0, direct = 0, sampledDirect = 0;
     ExactEvaluations& operator+=(const ExactEvaluations& o) {
         all += o.all;
         sampled += o.sampled;
         direct += o.direct;
+        sampledDirect += o.sampledDirect;
         return *this;
     }
 };
@@ -32,6 +35,8 @@ struct EffectsSummary {
     // (shading point, light) evaluations of the exact method, and those whose exact answer needed
     // more than exactWorkLimit plane tests: sampled with lightSamples shadow rays (not exact).
     uint64_t exactEvaluations = 0, sampledEvaluations = 0, exactWorkLimit = 0;
+    // Of the sampled evaluations, those of pairs without a tree (the others walked a tree).
+    uint64_t sampledDirectEvaluations = 0;
     // sampledEvaluations as a percentage of exactEvaluations (0 when there were none).
     double sampledPercent() const {
         return exactEvaluations == 0 ? 0.0

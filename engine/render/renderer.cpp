@@ -492,6 +492,7 @@ EffectsSummary ProgressiveRenderer::effects() const {
     s.lightSamples = lightSamples_;  // exact: the points over the work limit
     s.exactEvaluations = evaluations_.all;
     s.sampledEvaluations = evaluations_.sampled;
+    s.sampledDirectEvaluations = evaluations_.sampledDirect;
     s.exactWorkLimit = exactWorkLimit_;
     s.pairsDirect = directUsed_.size();
     s.directEvaluations = evaluations_.direct;

@@ -111,6 +111,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         // points skip the attempt (ExactScratch::regionOverLimit).
         auto overLimit = [&] {
             ++scratch.evaluations.sampled;
+            if (record == nullptr) ++scratch.evaluations.sampledDirect;
             if (!scratch.regionCorners.empty()) scratch.regionOverLimit[k] = scratch.regionId;
             return sampledAreaLight(light, p, fallbackSamples, rng);
         };
