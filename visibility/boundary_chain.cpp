@@ -4,8 +4,9 @@
 
 namespace penumbra::vis {
 
-void BoundaryChain::remaining(std::vector<uint32_t>& refs) {
+void BoundaryChain::remaining(std::vector<uint32_t>& refs, std::vector<int>& weights) {
     refs.clear();
+    weights.clear();
     std::sort(uses_.begin(), uses_.end(), [](const Use& a, const Use& b) {
         return a.lo != b.lo ? a.lo < b.lo : a.hi != b.hi ? a.hi < b.hi : a.order < b.order;
     });
@@ -15,11 +16,15 @@ void BoundaryChain::remaining(std::vector<uint32_t>& refs) {
         int weight = 0;
         for (; j < uses_.size() && uses_[j].lo == uses_[i].lo && uses_[j].hi == uses_[i].hi; ++j)
             weight += uses_[j].weight;
-        if (weight != 0) kept_.push_back({uses_[i].order, uses_[i].ref});
+        if (weight != 0) kept_.push_back({uses_[i].order, uses_[i].ref, weight});
         i = j;
     }
-    std::sort(kept_.begin(), kept_.end());
-    for (const auto& [order, ref] : kept_) refs.push_back(ref);
+    std::sort(kept_.begin(), kept_.end(),
+              [](const Kept& a, const Kept& b) { return a.order < b.order; });
+    for (const Kept& k : kept_) {
+        refs.push_back(k.ref);
+        weights.push_back(k.weight);
+    }
 }
 
 }  // namespace penumbra::vis

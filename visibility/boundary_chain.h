@@ -33,9 +33,11 @@ class BoundaryChain {
                          static_cast<uint32_t>(uses_.size())});
     }
     size_t uses() const { return uses_.size(); }
-    // The refs of the edges whose uses do not sum to zero, in the order of their first use.
-    // Sorts the uses: O(n log n).
-    void remaining(std::vector<uint32_t>& refs);
+    // The refs of the edges whose uses do not sum to zero, in the order of their first use,
+    // and each one's sum: the weight of the edge directed from its lower vertex id to its higher
+    // (c(y) grows by it when y passes from the positive to the negative side of the plane
+    // through x, the lower and the higher vertex, across the edge). Sorts the uses: O(n log n).
+    void remaining(std::vector<uint32_t>& refs, std::vector<int>& weights);
 
   private:
     struct Use {
@@ -44,7 +46,11 @@ class BoundaryChain {
         uint32_t ref, order;
     };
     std::vector<Use> uses_;
-    std::vector<std::pair<uint32_t, uint32_t>> kept_;  // (order, ref) of the remaining edges
+    struct Kept {
+        uint32_t order, ref;
+        int weight;
+    };
+    std::vector<Kept> kept_;  // the remaining edges
 };
 
 }  // namespace penumbra::vis

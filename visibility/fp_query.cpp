@@ -342,24 +342,27 @@ int FromPointQuery::sideAt(uint32_t slot) {
     return slotSide_[slot];
 }
 
-bool FromPointQuery::surfaceHits(uint32_t slot, const Vec3& y) {
+FromPointQuery::LineHit FromPointQuery::surfaceHitKind(uint32_t slot, const Vec3& y) {
     const auto& ids = mesh_->faces[tree_->deferred[slot].face];
     const std::vector<Vec3>& v = mesh_->vertices;
     const int s = sideAt(slot);
-    if (s == 0) return false;  // x on its plane: it blocks nothing (activateFace)
+    if (s == 0) return LineHit::Miss;  // x on its plane: it blocks nothing (activateFace)
     const Sign side = s > 0 ? Sign::Positive : Sign::Negative;
     // x in front of it: the lines through it are on the negative side of its edge planes.
     const Sign unblocked = side;
+    bool touch = false;
     for (size_t i = 0; i < ids.size(); ++i) {
-        if (!spend()) return false;
+        if (!spend()) return LineHit::Miss;
         const PlaneOrient plane(x_, v[ids[i]], v[ids[(i + 1) % ids.size()]]);
-        if (exactSign(plane, y) == unblocked) return false;
+        const Sign sign = exactSign(plane, y);
+        if (sign == unblocked) return LineHit::Miss;
+        touch = touch || sign == Sign::Zero;
     }
     if (std::find(recentHits_.begin(), recentHits_.end(), slot) == recentHits_.end()) {
         recentHits_[recentNext_] = slot;
         recentNext_ = (recentNext_ + 1) % kRecentHits;
     }
-    return true;
+    return touch ? LineHit::Touch : LineHit::Through;
 }
 
 void FromPointQuery::buildChain() {
@@ -378,6 +381,7 @@ void FromPointQuery::buildChain() {
     }
     uint32_t surfaceUses = 0;
     surfaceRemaining_.clear();
+    surfaceSums_.clear();
     if (surface_ != nullptr) {
         // The kept edges in the cone, each use weighted by the side its face faces x (a face
         // whose plane holds x blocks nothing and adds none). An edge only surface faces use
@@ -401,12 +405,16 @@ void FromPointQuery::buildChain() {
                 sum += sideAt(use.slot) * (use.v0 < use.v1 ? 1 : -1);
             }
             if (limitReached_) return;
-            if (sum != 0) surfaceRemaining_.push_back(kSurfaceRef | begin);
+            if (sum != 0) {
+                surfaceRemaining_.push_back(kSurfaceRef | begin);
+                surfaceSums_.push_back(sum);
+            }
         }
     }
-    chainBuilder_.remaining(chainRefs_);
+    chainBuilder_.remaining(chainRefs_, chainWeights_);
     if (surface_ != nullptr) {
         chainRefs_.insert(chainRefs_.end(), surfaceRemaining_.begin(), surfaceRemaining_.end());
+        chainWeights_.insert(chainWeights_.end(), surfaceSums_.begin(), surfaceSums_.end());
         // The remaining kept edges get their planes through x now (the others never do).
         for (uint32_t& ref : chainRefs_) {
             if ((ref & kPencilRef) != 0 || (ref & kSurfaceRef) == 0) continue;
@@ -428,16 +436,24 @@ void FromPointQuery::buildChain() {
         surface_ != nullptr || chainRefs_.size() * chainOptions_.gain <= chainBuilder_.uses();
     chain_.clear();
     if (!chainPays_) return;
+    // Cells may be labelled by crossings when c(y) changes only across input edges inside L: no
+    // occluder cut by L's plane (its chord lies in L's plane; one cut by B's plane has its chord
+    // seen on the line where B's plane meets L's, outside L when L lies wholly in front of B).
+    crossings_ = lightWhole_ && !lightChord_;
     if (chainLists_.empty()) chainLists_.resize(1);
     std::vector<uint32_t>& root = chainLists_[0];
     root.clear();
-    for (uint32_t ref : chainRefs_) {
+    for (size_t k = 0; k < chainRefs_.size(); ++k) {
+        const uint32_t ref = chainRefs_[k];
         ChainEdge e;
         e.ref = ref;
         if ((ref & kPencilRef) == 0) {
+            const auto [v0, v1] = activePlaneEdges_[ref];
             e.segment = true;
-            e.a = mesh_->vertices[activePlaneEdges_[ref].first];
-            e.b = mesh_->vertices[activePlaneEdges_[ref].second];
+            e.a = mesh_->vertices[v0];
+            e.b = mesh_->vertices[v1];
+            // The ref's plane is through x, v0, v1; the weight is the edge's from its lower id.
+            e.jump = v0 < v1 ? chainWeights_[k] : -chainWeights_[k];
         }
         // Every vertex of L on one closed side of its plane: its line misses L's open cone.
         bool positive = false, negative = false;
@@ -461,6 +477,10 @@ void FromPointQuery::buildChain() {
 
 void FromPointQuery::chainCells(std::span<const Vec3> poly, size_t depth, size_t level) {
     const size_t boundsAtEntry = bounds_.size();
+    if (level == 0) {  // a part of L the walk kept: any chain edge may lie between it and the last
+        crossLevel_ = 0;
+        crossIndex_ = 0;
+    }
     for (size_t i = 0; i < chainLists_[level].size(); ++i) {
         if (!spend()) return;
         const ChainEdge& e = chain_[chainLists_[level][i]];
@@ -492,6 +512,11 @@ void FromPointQuery::chainCells(std::span<const Vec3> poly, size_t depth, size_t
                     if (sa != side && sb != side) continue;
                 }
                 next.push_back(c);
+            }
+            if (k == 1 && (crossLevel_ == kNoLevel || level < crossLevel_)) {
+                // The next cell is on the other side of this split from the last counted one.
+                crossLevel_ = level;
+                crossIndex_ = i;
             }
             bounds_.push_back({e.ref, side});
             chainCells(sides[k], depth + 1, level + 1);
@@ -527,33 +552,136 @@ void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
         clipByOccluders(poly, 0, depth);
         return;
     }
+    if (crossings_) {
+        // c(y) from the last counted cell's, else from the line; the cell is seen where it is 0.
+        std::optional<int> c;
+        if (haveRef_) {
+            c = countByCrossings(y);
+            if (c) ++chainCounts_.crossingLabels;
+        }
+        if (!c && !limitReached_) c = countLine(y);
+        if (limitReached_) return;
+        if (c && *c >= 0) {
+            haveRef_ = true;
+            refY_ = y;
+            refCount_ = *c;
+            crossLevel_ = kNoLevel;
+            if (*c == 0) fragments_.add(poly);
+            return;
+        }
+        haveRef_ = false;  // (a negative count cannot be: tested on the line instead)
+    }
     if (lineBlocked(y) || limitReached_) return;
     fragments_.add(poly);
 }
 
-bool FromPointQuery::lineBlocked(const Vec3& y) {
+std::optional<int> FromPointQuery::countByCrossings(const Vec3& y) {
+    // As y moves to y' along the segment between them (inside L), the line from x sweeps the
+    // triangle (x, y, y'), and c changes by an edge's weight exactly where the triangle's
+    // interior meets the edge's segment (an edge of weight 0 changes nothing; the chain holds
+    // every edge of nonzero weight that may meet the cone over L). Exact: orient3d signs at the
+    // input end points, x, and the two sample points; any zero where it could matter (the
+    // triangle touches an edge, or an end point lies in its plane) gives up.
+    if (crossLevel_ == kNoLevel) return std::nullopt;
+    int c = refCount_;
+    const std::vector<uint32_t>& list = chainLists_[crossLevel_];
+    for (size_t j = crossIndex_; j < list.size(); ++j) {
+        const ChainEdge& e = chain_[list[j]];
+        if (!e.segment) continue;  // a chord on B's plane: seen outside L (crossings_)
+        if (!spend(2)) return std::nullopt;
+        const Sign s0 = refSign(e.ref, refY_), s1 = refSign(e.ref, y);
+        if (s0 == s1 && s0 != Sign::Zero) continue;  // both strictly on one side of its plane
+        if (!spend(5)) return std::nullopt;
+        const Sign qa = orientSign(x_, refY_, y, e.a), qb = orientSign(x_, refY_, y, e.b);
+        if (qa == qb && qa != Sign::Zero) continue;  // the segment misses the triangle's plane
+        if (qa == Sign::Zero || qb == Sign::Zero) return std::nullopt;
+        // The segment's line against the triangle's three sides.
+        const Sign t0 = orientSign(e.a, e.b, x_, refY_), t1 = orientSign(e.a, e.b, refY_, y),
+                   t2 = orientSign(e.a, e.b, y, x_);
+        if ((t0 == -t1 && t0 != Sign::Zero) || (t1 == -t2 && t1 != Sign::Zero) ||
+            (t2 == -t0 && t2 != Sign::Zero))
+            continue;  // it passes beside the triangle
+        if (t0 == Sign::Zero || t1 == Sign::Zero || t2 == Sign::Zero) return std::nullopt;
+        // Through the interior: then y and y' are strictly on either side of the edge's plane.
+        if (s0 == Sign::Zero || s1 == Sign::Zero || s0 == s1) return std::nullopt;
+        c += s0 == Sign::Positive ? e.jump : -e.jump;
+    }
+    return c;
+}
+
+std::optional<int> FromPointQuery::countLine(const Vec3& y) {
+    // Every occluder the line crosses, through its interior (a line that touches one's boundary
+    // is where c jumps: no count).
+    int c = 0;
+    bool touch = false;
+    auto add = [&](LineHit h) {
+        if (h == LineHit::Touch) touch = true;
+        if (h == LineHit::Through) ++c;
+        return touch || limitReached_;
+    };
+    if (surface_ != nullptr) {
+        for (size_t j = 0; j < surfaceClipped_; ++j)
+            if (add(lineHitKind(j, y))) return std::nullopt;
+        setLinePlanes(y);
+        uint32_t visited = 0;
+        tree_->deferredIndex.anyNotOutside(
+            linePlanes_,
+            [&](uint32_t slot) {
+                if (limitReached_) return true;
+                return surface_->slots[slot] == DeferredSilhouettes::Slot::Surface &&
+                       add(surfaceHitKind(slot, y));
+            },
+            visited);
+        spend(visited);
+        if (touch || limitReached_) return std::nullopt;
+        return c;
+    }
+    if (!activeBoxesBuilt_) {  // (as lineBlocked: a scan first, the hierarchy once it pays)
+        scanned_ += active_.size();
+        for (size_t j = 0; j < active_.size(); ++j)
+            if (add(lineHitKind(j, y))) return std::nullopt;
+        return c;
+    }
+    setLinePlanes(y);
+    onLine_.clear();
+    if (!spend(activeBoxes_.notOutside(linePlanes_, onLine_))) return std::nullopt;
+    for (uint32_t j : onLine_)
+        if (add(lineHitKind(j, y))) return std::nullopt;
+    return c;
+}
+
+void FromPointQuery::buildActiveBoxes() {
+    if (activeBoxesBuilt_) return;
+    activeBoxesBuilt_ = true;
+    activeBoxList_.clear();
+    for (const ActiveOccluder& o : active_) activeBoxList_.push_back(mesh_->faceBounds(o.face));
+    activeBoxes_ = BoxTree(activeBoxList_);
+}
+
+void FromPointQuery::setLinePlanes(const Vec3& y) {
     // A point of an occluder on the line lies in every plane through x and y: its box is on no
     // such plane's strictly negative side, whichever way it is turned. Two planes at right angles
     // about the line keep only boxes near it (two of nearly one plane would keep a whole slab):
     // through a third point p off the line, any double (the cull is rigorous for the plane
     // through x, y and p, which holds the line; planes made degenerate by rounding cull nothing:
     // still sound).
-    auto setLinePlanes = [&] {
-        const Vec3 d = y - x_;
-        const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
-        const Vec3 axis = ax <= ay && ax <= az ? Vec3{1, 0, 0}
-                          : ay <= az           ? Vec3{0, 1, 0}
-                                               : Vec3{0, 0, 1};
-        const Vec3 u = cross(d, axis), v = cross(d, u);
-        const double lu = length(u), lv = length(v), ld = length(d);
-        const Vec3 p1 = lu > 0 ? y + u * (ld / lu) : light_[0];
-        const Vec3 p2 = lv > 0 ? y + v * (ld / lv) : light_[1];
-        linePlanes_.clear();
-        linePlanes_.emplace_back(x_, y, p1);
-        linePlanes_.emplace_back(x_, p1, y);
-        linePlanes_.emplace_back(x_, y, p2);
-        linePlanes_.emplace_back(x_, p2, y);
-    };
+    const Vec3 d = y - x_;
+    const double ax = std::abs(d.x), ay = std::abs(d.y), az = std::abs(d.z);
+    const Vec3 axis = ax <= ay && ax <= az ? Vec3{1, 0, 0}
+                      : ay <= az           ? Vec3{0, 1, 0}
+                                           : Vec3{0, 0, 1};
+    const Vec3 u = cross(d, axis), v = cross(d, u);
+    const double lu = length(u), lv = length(v), ld = length(d);
+    const Vec3 p1 = lu > 0 ? y + u * (ld / lu) : light_[0];
+    const Vec3 p2 = lv > 0 ? y + v * (ld / lv) : light_[1];
+    linePlanes_.clear();
+    linePlanes_.emplace_back(x_, y, p1);
+    linePlanes_.emplace_back(x_, p1, y);
+    linePlanes_.emplace_back(x_, y, p2);
+    linePlanes_.emplace_back(x_, p2, y);
+}
+
+bool FromPointQuery::lineBlocked(const Vec3& y) {
     if (surface_ != nullptr) {
         // The activated faces that cross B's or L's plane, then the Surface faces (not
         // activated: tested from their input edges), the last few that hid a cell first.
@@ -568,7 +696,7 @@ bool FromPointQuery::lineBlocked(const Vec3& y) {
                 return true;
         }
         // Each face as the hierarchy finds it: the first hit ends the search.
-        setLinePlanes();
+        setLinePlanes(y);
         uint32_t visited = 0;
         const bool hit = tree_->deferredIndex.anyNotOutside(
             linePlanes_,
@@ -584,14 +712,9 @@ bool FromPointQuery::lineBlocked(const Vec3& y) {
     // The line through y against the occluders (closed), the last one that hid a cell first.
     const size_t n = active_.size();
     if (lineHits(lastHit_ % n, y)) return true;
-    if (!activeBoxesBuilt_ && scanned_ >= kScanBeforeBoxes * n) {
-        activeBoxesBuilt_ = true;
-        activeBoxList_.clear();
-        for (const ActiveOccluder& o : active_) activeBoxList_.push_back(mesh_->faceBounds(o.face));
-        activeBoxes_ = BoxTree(activeBoxList_);
-    }
+    if (!activeBoxesBuilt_ && scanned_ >= kScanBeforeBoxes * n) buildActiveBoxes();
     if (activeBoxesBuilt_) {
-        setLinePlanes();
+        setLinePlanes(y);
         onLine_.clear();
         if (!spend(activeBoxes_.notOutside(linePlanes_, onLine_))) return false;
         for (uint32_t j : onLine_) {
@@ -608,19 +731,24 @@ bool FromPointQuery::lineBlocked(const Vec3& y) {
     return false;
 }
 
-bool FromPointQuery::lineHits(size_t j, const Vec3& y) {
+FromPointQuery::LineHit FromPointQuery::lineHitKind(size_t j, const Vec3& y) {
     const ActiveOccluder& o = active_[j];
     const Sign unblocked = o.blocked == Sign::Positive ? Sign::Negative : Sign::Positive;
+    bool touch = false;
     for (uint32_t e = 0; e < o.planeCount; ++e) {
-        if (!spend()) return false;
-        if (exactSign(activePlanes_[o.firstPlane + e], y) == unblocked) return false;
+        if (!spend()) return LineHit::Miss;
+        const Sign s = exactSign(activePlanes_[o.firstPlane + e], y);
+        if (s == unblocked) return LineHit::Miss;
+        touch = touch || s == Sign::Zero;
     }
     for (uint32_t e = 0; e < o.pencilCount; ++e) {
-        if (!spend()) return false;
-        if (exactSign(activePencils_[o.firstPencil + e], y) == unblocked) return false;
+        if (!spend()) return LineHit::Miss;
+        const Sign s = exactSign(activePencils_[o.firstPencil + e], y);
+        if (s == unblocked) return LineHit::Miss;
+        touch = touch || s == Sign::Zero;
     }
     lastHit_ = static_cast<uint32_t>(j);
-    return true;
+    return touch ? LineHit::Touch : LineHit::Through;
 }
 
 void FromPointQuery::preparePyramid() {
@@ -672,6 +800,7 @@ void FromPointQuery::activateFace(const PolygonMesh& mesh, uint32_t face) {
             activePlaneEdges_.emplace_back(v0, v1);
         } else {
             const bool onB = v1 == kReceiverPlaneEdge;
+            lightChord_ = lightChord_ || !onB;
             activePencils_.emplace_back(x_, onB ? frontB_.orient : frontL_.orient,
                                         clipPlaneAt(onB ? 0 : 1), plane);
         }
@@ -731,6 +860,10 @@ void FromPointQuery::startRun() {
     activePlaneEdges_.clear();
     chainBuilt_ = false;
     chainCounts_ = {};
+    lightChord_ = false;
+    crossings_ = false;
+    haveRef_ = false;
+    crossLevel_ = kNoLevel;
     lastHit_ = 0;
     scanned_ = 0;
     activeBoxesBuilt_ = false;

@@ -7,7 +7,9 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <utility>
 #include <vector>
@@ -131,8 +133,11 @@ class FromPointQuery {
     // Of the last run: the edges of the occluders it clipped against (counted once per face that
     // uses them), the edges left after cancellation (the boundary chain), the cells the chain cut
     // L into, and those cells whose sample point could not be certified (answered by Algorithm 1).
+    // Of the cells, those labelled from the previous cell's count and the chain edges between
+    // the two (crossingLabels) instead of a line tested against the occluders.
     struct ChainCounts {
         uint32_t occluderEdges = 0, boundaryEdges = 0, cells = 0, fallbacks = 0;
+        uint32_t crossingLabels = 0;
     };
     const ChainCounts& chainCounts() const { return chainCounts_; }
     // The last run took a partial tree's silhouettes (deferred_silhouettes.h) for its deferred
@@ -187,14 +192,27 @@ class FromPointQuery {
     // activated, the chain is built from the pair's kept edges in the cone, and a cell's line is
     // tested against the deferred faces through the tree's hierarchy. False: not taken.
     bool prepareSurface(const HistoryTree& tree);
+    // How a line from x meets an occluder: not, through its interior, or touching its boundary
+    // (a closed hit with a zero sign).
+    enum class LineHit { Miss, Through, Touch };
     // The line from x through y crosses Surface slot `slot`'s face (closed; exact signs at y),
     // as lineHits() for an activated face.
-    bool surfaceHits(uint32_t slot, const Vec3& y);
+    bool surfaceHits(uint32_t slot, const Vec3& y) {
+        return surfaceHitKind(slot, y) != LineHit::Miss;
+    }
     // The side Surface slot `slot`'s face faces x: +1 (x in front of its plane), -1, 0 (x on
     // it); decided for Q, else the exact sign, taken once per run.
     int sideAt(uint32_t slot);
     // Whether the line through y crosses one of the occluders (a cell's label).
     bool lineBlocked(const Vec3& y);
+    // c(y), the number of occluders the line from x through y crosses (boundary_chain.h), for a
+    // certified cell point y: from the last counted cell's by the chain edges whose segments
+    // cross the triangle (x, that cell's point, y) (countByCrossings), else counted on the line
+    // (countLine). Empty where a sign is zero (the triangle or the line touches an edge): the
+    // caller then tests the line (lineBlocked).
+    std::optional<int> countByCrossings(const Vec3& y);
+    std::optional<int> countLine(const Vec3& y);
+    LineHit surfaceHitKind(uint32_t slot, const Vec3& y);
     // Surface path: activates the deferred Surface faces in the pyramid too (a cell that needs
     // Algorithm 1), once per run.
     void activateSurface();
@@ -260,6 +278,9 @@ class FromPointQuery {
         uint32_t ref = 0;
         bool segment = false;
         Vec3 a, b;
+        // How c(y) changes when y passes from the positive to the negative side of the ref's
+        // plane across the segment (the edge's weight, boundary_chain.h; 0 for a chord).
+        int jump = 0;
     };
     std::vector<ChainEdge> chain_;
     BoundaryChain chainBuilder_;
@@ -280,6 +301,20 @@ class FromPointQuery {
     uint32_t recentNext_ = 0;
     static constexpr uint32_t kSurfaceRef = 0x40000000u;
     std::vector<uint32_t> chainRefs_;
+    std::vector<int> chainWeights_;  // per chain ref, its weight from the lower vertex id
+    std::vector<int> surfaceSums_;   // per surfaceRemaining_, its weight
+    // Cell labels by crossings (classifyCell): allowed for the run (L wholly in front of B and no
+    // occluder cut by L's plane: then c(y) changes only across the occluders' input edges), the
+    // last counted cell's point and count, and the shallowest chain level (with the index of
+    // the edge that split it) passed since then: the path between the two points lies in that
+    // level's cell, which only its list's edges from that index on may cross.
+    bool lightChord_ = false;
+    bool crossings_ = false;
+    bool haveRef_ = false;
+    Vec3 refY_;
+    int refCount_ = 0;
+    static constexpr size_t kNoLevel = SIZE_MAX;
+    size_t crossLevel_ = kNoLevel, crossIndex_ = 0;
     // Per recursion level, the chain edges that may cross the cell.
     std::vector<std::vector<uint32_t>> chainLists_;
     // The cell's bounding planes so far (a chain edge's plane with the side the cell is on).
@@ -309,7 +344,12 @@ class FromPointQuery {
     std::vector<PlaneOrient> linePlanes_;
     std::vector<uint32_t> onLine_;
     // Whether the line through y crosses active occluder j (closed; exact signs at y).
-    bool lineHits(size_t j, const Vec3& y);
+    bool lineHits(size_t j, const Vec3& y) { return lineHitKind(j, y) != LineHit::Miss; }
+    LineHit lineHitKind(size_t j, const Vec3& y);
+    // The hierarchy of active_'s boxes (built once per run; lineBlocked builds it lazily).
+    void buildActiveBoxes();
+    // linePlanes_: four planes holding the line through x_ and y, at right angles.
+    void setLinePlanes(const Vec3& y);
     ChainCounts chainCounts_;
     std::vector<PlaneOrient> pyramid_;  // the planes through x and L's edges, interior positive
     ClippedOccluder clipped_;           // activateFace's scratch

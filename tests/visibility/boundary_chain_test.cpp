@@ -29,9 +29,11 @@ namespace {
 
 using vis::Vec3;
 
-std::vector<uint32_t> remainingOf(vis::BoundaryChain& chain) {
+std::vector<uint32_t> remainingOf(vis::BoundaryChain& chain, std::vector<int>* weights = nullptr) {
     std::vector<uint32_t> refs;
-    chain.remaining(refs);
+    std::vector<int> w;
+    chain.remaining(refs, w);
+    if (weights != nullptr) *weights = w;
     return refs;
 }
 
@@ -54,6 +56,12 @@ TEST(BoundaryChain, SharedEdgeCancelsOnlyBetweenFacesTurnedTheSameWay) {
     EXPECT_EQ(quad(-1, -1), (std::vector<uint32_t>{1, 2, 5, 6}));
     EXPECT_EQ(quad(1, -1), (std::vector<uint32_t>{1, 2, 3, 5, 6}));
     EXPECT_EQ(chain.uses(), 6u);
+    // The weights, each edge directed from its lower vertex id: the sides 0->1 and 1->2 of the
+    // face of weight 1, the fold 0-2 (2->0 by weight 1, 0->2 by weight -1: -2), and 2->3 and
+    // 3->0 of the face of weight -1 (-1, and +1 for 0->3).
+    std::vector<int> weights;
+    remainingOf(chain, &weights);
+    EXPECT_EQ(weights, (std::vector<int>{1, 1, -2, -1, 1}));
 }
 
 // A closed tetrahedron seen from outside: the faces turned towards the point and those turned
@@ -221,9 +229,12 @@ Measured measure(const vis::PolygonMesh& m, const Vec3& x, const vis::FragmentLi
 }
 
 // Of checkScene's points: how many the chain evaluated (cells were cut) on the direct path, and
-// how many the partial tree answered from its silhouettes (deferred_silhouettes.h).
+// how many the partial tree answered from its silhouettes (deferred_silhouettes.h); and of the
+// cells of both paths, how many were labelled by crossings (from the last counted cell's count
+// and the chain edges between them) and how many were cut in all.
 struct Checked {
     int chain = 0, silhouettes = 0;
+    int cells = 0, crossingLabels = 0;
 };
 
 // Floor points under and around the mesh: the direct query and a partial tree's per-point
@@ -257,10 +268,14 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
         };
         compare("direct, chain", measure(s.mesh, x, chain.runDirect(s.mesh, 0, 1, x, faces)));
         used.chain += chain.chainCounts().cells > 0;
+        used.cells += chain.chainCounts().cells;
+        used.crossingLabels += chain.chainCounts().crossingLabels;
         compare("direct, one by one",
                 measure(s.mesh, x, oneByOne.runDirect(s.mesh, 0, 1, x, faces)));
         compare("partial tree, chain", measure(s.mesh, x, chain.run(s.mesh, partial, x)));
         used.silhouettes += chain.usedSilhouettes();
+        used.cells += chain.chainCounts().cells;
+        used.crossingLabels += chain.chainCounts().crossingLabels;
         compare("partial tree, one by one", measure(s.mesh, x, oneByOne.run(s.mesh, partial, x)));
         EXPECT_FALSE(oneByOne.usedSilhouettes());  // the chain is off
     }
@@ -274,6 +289,8 @@ TEST(BoundaryChainQuery, ClosedSphereMatchesTheExactReference) {
     EXPECT_GT(used.chain, test::scaled(60) / 3);
     // Every point is in the face's region and the sphere's edges cancel: always the silhouettes.
     EXPECT_EQ(used.silhouettes, test::scaled(60));
+    // Most cells follow from the one before them (the first of each run is counted on its line).
+    EXPECT_GT(used.crossingLabels, used.cells / 2);
 }
 
 TEST(BoundaryChainQuery, OpenInconsistentAndNonManifoldMeshesMatchTheExactReference) {
@@ -282,6 +299,7 @@ TEST(BoundaryChainQuery, OpenInconsistentAndNonManifoldMeshesMatchTheExactRefere
         m.sphere({0, 0, 1}, 0.5, 14, 9, 7);  // holes: every 7th face left out
         const Checked c = checkScene(m.finish(), "sphere with holes", test::scaled(40), 2);
         EXPECT_GT(c.chain, 0);
+        EXPECT_GT(c.crossingLabels, c.cells / 2);
         EXPECT_EQ(c.silhouettes, test::scaled(40));
     }
     {
@@ -289,6 +307,7 @@ TEST(BoundaryChainQuery, OpenInconsistentAndNonManifoldMeshesMatchTheExactRefere
         m.sphere({0, 0.1, 1}, 0.5, 14, 9, 0, 5);  // every 5th face reversed
         const Checked c = checkScene(m.finish(), "inconsistent sphere", test::scaled(40), 3);
         EXPECT_GT(c.chain, 0);
+        EXPECT_GT(c.crossingLabels, c.cells / 2);
         EXPECT_EQ(c.silhouettes, test::scaled(40));
     }
     {
@@ -307,6 +326,7 @@ TEST(BoundaryChainQuery, OpenInconsistentAndNonManifoldMeshesMatchTheExactRefere
         m.face({p, q, top});
         const Checked c = checkScene(m.finish(), "box with a fin", test::scaled(40), 4);
         EXPECT_GT(c.chain, 0);
+        EXPECT_GT(c.crossingLabels, c.cells / 2);
         EXPECT_EQ(c.silhouettes, test::scaled(40));
     }
 }
@@ -321,6 +341,7 @@ TEST(BoundaryChainQuery, MeshesStandingOnTheReceiverMatchTheExactReference) {
         const Checked c =
             checkScene(m.finish(), "standing, h = " + std::to_string(h), test::scaled(40), 5);
         EXPECT_GT(c.chain, 0);
+        EXPECT_GT(c.crossingLabels, c.cells / 3);
         EXPECT_EQ(c.silhouettes, test::scaled(40));
     }
 }
@@ -333,6 +354,8 @@ TEST(BoundaryChainQuery, LightCutByTheReceiverPlaneMatchesTheExactReference) {
     m.box({0.3, -0.6, 0}, {0.5, -0.2, 0.5}, 2);
     const Checked c = checkScene(m.finish(), "light cut by the floor", test::scaled(60), 7);
     EXPECT_GT(c.chain, test::scaled(60) / 4);
+    // Cells beyond B's plane: no labels by crossings (each cell's line is tested).
+    EXPECT_EQ(c.crossingLabels, 0);
     EXPECT_EQ(c.silhouettes, test::scaled(60));
 }
 
