@@ -499,20 +499,29 @@ void FromPointQuery::chainCells(std::span<const Vec3> poly, size_t depth, size_t
         const SplitParts& parts = parts_[depth];
         const std::span<const Vec3> sides[2] = {parts.positive(), parts.negative()};
         if (chainLists_.size() <= level + 1) chainLists_.resize(level + 2);
+        if (chainSides_.size() <= level) chainSides_.resize(level + 1);
+        // Per remaining edge, the sides its segment reaches (bit 0: positive, bit 1: negative),
+        // taken once for both cells.
+        std::vector<uint8_t>& reach = chainSides_[level];
+        reach.clear();
+        for (size_t j = i + 1; j < chainLists_[level].size(); ++j) {
+            const ChainEdge& f = chain_[chainLists_[level][j]];
+            uint8_t r = 3;
+            if (f.segment) {
+                if (!spend(2)) return;
+                const Sign sa = refSign(e.ref, f.a), sb = refSign(e.ref, f.b);
+                r = static_cast<uint8_t>((sa == Sign::Positive || sb == Sign::Positive ? 1 : 0) |
+                                         (sa == Sign::Negative || sb == Sign::Negative ? 2 : 0));
+            }
+            reach.push_back(r);
+        }
         for (int k = 0; k < 2; ++k) {
             const Sign side = k == 0 ? Sign::Positive : Sign::Negative;
             std::vector<uint32_t>& next = chainLists_[level + 1];
             next.clear();
-            for (size_t j = i + 1; j < chainLists_[level].size(); ++j) {
-                const uint32_t c = chainLists_[level][j];
-                const ChainEdge& f = chain_[c];
-                if (f.segment) {
-                    if (!spend(2)) return;
-                    const Sign sa = refSign(e.ref, f.a), sb = refSign(e.ref, f.b);
-                    if (sa != side && sb != side) continue;
-                }
-                next.push_back(c);
-            }
+            for (size_t j = i + 1; j < chainLists_[level].size(); ++j)
+                if ((chainSides_[level][j - i - 1] & (1 << k)) != 0)
+                    next.push_back(chainLists_[level][j]);
             if (k == 1 && (crossLevel_ == kNoLevel || level < crossLevel_)) {
                 // The next cell is on the other side of this split from the last counted one.
                 crossLevel_ = level;

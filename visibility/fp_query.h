@@ -317,6 +317,7 @@ class FromPointQuery {
     size_t crossLevel_ = kNoLevel, crossIndex_ = 0;
     // Per recursion level, the chain edges that may cross the cell.
     std::vector<std::vector<uint32_t>> chainLists_;
+    std::vector<std::vector<uint8_t>> chainSides_;  // per level, chainCells' scratch
     // The cell's bounding planes so far (a chain edge's plane with the side the cell is on).
     struct CellBound {
         uint32_t ref;

@@ -577,7 +577,7 @@ json perPoint(const std::string& path, const BenchOptions& o) {
     // enough occluders for it to be considered, their edges and those left after cancellation;
     // of the points it evaluated, the cells and the fragments.
     size_t manyOccluders = 0, occluderEdges = 0, boundaryEdges = 0, chainPoints = 0, cells = 0,
-           chainFragments = 0, silhouettePoints = 0;
+           crossingLabels = 0, chainFragments = 0, silhouettePoints = 0;
     // The partial trees' silhouettes (vis::DeferredSilhouettes), once per tree the points use:
     // the deferred faces' edge uses, and those kept (potential silhouettes relative to the patch,
     // borders, edges of faces that cross a plane) in the trees whose silhouettes pay.
@@ -614,6 +614,7 @@ json perPoint(const std::string& path, const BenchOptions& o) {
         chainPoints += c.cells > 0;
         silhouettePoints += query.usedSilhouettes();
         cells += c.cells;
+        crossingLabels += c.crossingLabels;
         if (c.cells > 0) chainFragments += r.size();
     }
     const double exactUs = seconds(q0, Clock::now()) / samples.size() * 1e6;
@@ -681,10 +682,11 @@ json perPoint(const std::string& path, const BenchOptions& o) {
         directQ.p99, treeQ.median, treeQ.max, sink);
     std::printf(
         "  boundary chain: %zu points with many occluders, %zu of their %zu edges left (%.1f%%); "
-        "%zu points by the chain, %zu cells, %zu fragments; Algorithm 1 only: %.2f us\n",
+        "%zu points by the chain, %zu cells (%zu labelled by crossings), %zu fragments; "
+        "Algorithm 1 only: %.2f us\n",
         manyOccluders, boundaryEdges, occluderEdges,
         occluderEdges == 0 ? 0.0 : 100.0 * static_cast<double>(boundaryEdges) / occluderEdges,
-        chainPoints, cells, chainFragments, oneByOneUs);
+        chainPoints, cells, crossingLabels, chainFragments, oneByOneUs);
     std::printf(
         "  silhouettes: %zu of %zu partial trees, %llu of their %llu edge uses kept (%.1f%%); %zu "
         "points by them\n",
@@ -716,6 +718,7 @@ json perPoint(const std::string& path, const BenchOptions& o) {
               {"boundaryEdges", boundaryEdges},
               {"points", chainPoints},
               {"cells", cells},
+              {"crossingLabels", crossingLabels},
               {"fragments", chainFragments},
               {"oneByOneUs", oneByOneUs},
               {"partialTrees", partialTrees},

@@ -238,16 +238,18 @@ void writePerPoint(std::ostream& r, const json& rows) {
          "`ChainOptions::minOccluders` occluders per point (a partial tree's deferred ones): "
          "their occluder edges, and the boundary edges left once edges shared by faces turned "
          "the same way cancel (silhouettes, borders, chords). The points where few enough remain "
-         "are evaluated by the chain: the cells it cut L into and the fragments kept. Last, the "
+         "are evaluated by the chain: the cells it cut L into (and of them, those labelled from "
+         "the cell before by the chain edges between the two, without a line test) and the "
+         "fragments kept. Last, the "
          "mean query with every occluder clipped one by one (Algorithm 1 only) against the "
          "product's. The partial trees' silhouettes (`DeferredSilhouettes`): of the partial trees "
          "the points use, those whose deferred faces share enough edges, the share of their edge "
          "uses kept for the patch (the others cancel for all of it), and the points answered "
          "from them.\n\n"
       << "| scene | points with many occluders | occluder edges | boundary edges | share | "
-         "points by the chain | cells | fragments | Algorithm 1 only us | with the chain us | "
-         "trees with silhouettes | uses kept | points by them "
-         "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+         "points by the chain | cells | by crossings | fragments | Algorithm 1 only us | with the "
+         "chain us | trees with silhouettes | uses kept | points by them "
+         "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const json& p : rows) {
         if (!p.contains("chain")) continue;
         const json& c = p["chain"];
@@ -256,8 +258,9 @@ void writePerPoint(std::ostream& r, const json& rows) {
           << " | " << c["boundaryEdges"] << " | "
           << (edges > 0 ? fmt("%.1f%%", 100.0 * c["boundaryEdges"].get<double>() / edges)
                         : std::string("-"))
-          << " | " << c["points"] << " | " << c["cells"] << " | " << c["fragments"] << " | "
-          << num(c["oneByOneUs"]) << " | " << num(p["exactUs"]) << " | "
+          << " | " << c["points"] << " | " << c["cells"] << " | "
+          << (c.contains("crossingLabels") ? c["crossingLabels"].dump() : std::string("-")) << " | "
+          << c["fragments"] << " | " << num(c["oneByOneUs"]) << " | " << num(p["exactUs"]) << " | "
           << (c.contains("partialTrees")
                   ? c["silhouetteTrees"].dump() + " of " + c["partialTrees"].dump()
                   : std::string("-"))
