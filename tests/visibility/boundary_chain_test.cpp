@@ -239,7 +239,8 @@ struct Checked {
 
 // Floor points under and around the mesh: the direct query and a partial tree's per-point
 // clipping, with the chain forced and with Algorithm 1 only, against the exact reference.
-Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t seed) {
+Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t seed,
+                   const std::vector<Vec3>& given = {}) {
     vis::BuildOptions partialBudget;
     partialBudget.maxLpSolves = 1;
     const vis::HistoryTree partial = vis::buildHistoryTree(s.mesh, 0, 1, partialBudget, {});
@@ -254,7 +255,7 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
     Checked used;
     int reported = 0;
     for (int i = 0; i < points; ++i) {
-        const Vec3 x{u(rng), u(rng), s.mesh.vertices[0].z};
+        const Vec3 x = given.empty() ? Vec3{u(rng), u(rng), s.mesh.vertices[0].z} : given[i];
         const test::ReferenceResult ref = test::exactReference(s.mesh, 0, 1, x);
         auto compare = [&](const char* path, const Measured& a) {
             const bool ok =
@@ -378,6 +379,26 @@ TEST(BoundaryChainQuery, MeshCrossingBothPlanesMatchesTheExactReference) {
             checkScene(m.finish(), "crossing box and sphere", test::scaled(40), 8).silhouettes,
             test::scaled(40));
     }
+}
+
+// Contact lines everywhere: boxes on a dyadic grid (a stack sharing a face, one touching
+// another along an edge), the light's corners and the floor points on the same grid, so that
+// lines from x through box vertices pass exactly through the light's corners and other boxes'
+// vertices, edges of different boxes line up seen from x, and cells and sample triangles touch
+// chain edges (the crossings' zero signs, where the count is taken on the line instead).
+TEST(BoundaryChainQuery, ContactLinesOnADyadicGridMatchTheExactReference) {
+    MeshScene m(0);
+    m.box({-0.25, -0.25, 0.75}, {0.25, 0.25, 1.0}, 1);
+    m.box({-0.25, -0.25, 1.0}, {0.25, 0.25, 1.25}, 2);  // stacked: the face z = 1 twice
+    m.box({0.25, -0.25, 0.5}, {0.75, 0.25, 0.75}, 1);   // touches the first along an edge
+    m.box({-0.75, 0.25, 0.5}, {-0.25, 0.5, 1.5}, 2);
+    std::vector<Vec3> grid;
+    for (int i = -4; i <= 4; ++i)
+        for (int j = -4; j <= 4; ++j) grid.push_back({i / 4.0, j / 4.0, 0});
+    const Checked c =
+        checkScene(m.finish(), "dyadic boxes", static_cast<int>(grid.size()), 0, grid);
+    EXPECT_GT(c.chain, static_cast<int>(grid.size()) / 4);
+    EXPECT_GT(c.crossingLabels, c.cells / 3);
 }
 
 // A closed box and sphere standing on a triangle of the floor, the whole scene rotated and
