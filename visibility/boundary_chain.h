@@ -29,28 +29,29 @@ class BoundaryChain {
     // returned for the edge if it does not cancel (the first use's, in the order of add()).
     void add(uint32_t v0, uint32_t v1, int side, uint32_t ref) {
         const bool forward = v0 < v1;
-        uses_.push_back({forward ? v0 : v1, forward ? v1 : v0, forward ? side : -side, ref,
-                         static_cast<uint32_t>(uses_.size())});
+        uses_.push_back({forward ? v0 : v1, forward ? v1 : v0, forward ? side : -side, ref});
     }
     size_t uses() const { return uses_.size(); }
     // The refs of the edges whose uses do not sum to zero, in the order of their first use,
     // and each one's sum: the weight of the edge directed from its lower vertex id to its higher
     // (c(y) grows by it when y passes from the positive to the negative side of the plane
-    // through x, the lower and the higher vertex, across the edge). Sorts the uses: O(n log n).
+    // through x, the lower and the higher vertex, across the edge). The uses are summed per
+    // edge in a hash table (O(n)); only the remaining edges are sorted.
     void remaining(std::vector<uint32_t>& refs, std::vector<int>& weights);
 
   private:
     struct Use {
         uint32_t lo, hi;
         int weight;
-        uint32_t ref, order;
+        uint32_t ref;
     };
     std::vector<Use> uses_;
-    struct Kept {
-        uint32_t order, ref;
-        int weight;
-    };
-    std::vector<Kept> kept_;  // the remaining edges
+    // remaining()'s table, open addressing: per slot the edge's packed (lo, hi) key (kEmpty when
+    // free) and the index of its first use in uses_, whose weight becomes the sum (the later
+    // uses' become 0; a second call sums again to the same).
+    static constexpr uint64_t kEmpty = ~uint64_t{0};
+    std::vector<uint64_t> keys_;
+    std::vector<uint32_t> first_;
 };
 
 }  // namespace penumbra::vis
