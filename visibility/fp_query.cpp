@@ -436,10 +436,6 @@ void FromPointQuery::buildChain() {
         surface_ != nullptr || chainRefs_.size() * chainOptions_.gain <= chainBuilder_.uses();
     chain_.clear();
     if (!chainPays_) return;
-    // Cells may be labelled by crossings when c(y) changes only across input edges inside L: no
-    // occluder cut by L's plane (its chord lies in L's plane; one cut by B's plane has its chord
-    // seen on the line where B's plane meets L's, outside L when L lies wholly in front of B).
-    crossings_ = lightWhole_ && !lightChord_;
     if (chainLists_.empty()) chainLists_.resize(1);
     std::vector<uint32_t>& root = chainLists_[0];
     root.clear();
@@ -471,6 +467,18 @@ void FromPointQuery::buildChain() {
         if (outside) continue;
         root.push_back(static_cast<uint32_t>(chain_.size()));
         chain_.push_back(e);
+    }
+    // Cells may be labelled by crossings when c(y) changes only across input edges inside L: no
+    // occluder cut by L's plane (its chord lies in L's plane; one cut by B's plane has its chord
+    // seen on the line where B's plane meets L's, outside L when L lies wholly in front of B).
+    // And only for a long chain: on a short one a cell's line test, which stops at the first
+    // face that hides it, costs less than the count that starts the crossings.
+    crossings_ = lightWhole_ && !lightChord_ && chain_.size() >= chainOptions_.crossingsMinEdges;
+    if (crossings_ && sideRef_.size() < chain_.size()) {
+        sideRef_.resize(chain_.size());
+        sideY_.resize(chain_.size());
+        stampRef_.resize(chain_.size(), 0);
+        stampY_.resize(chain_.size(), 0);
     }
     bounds_.clear();
 }
@@ -563,6 +571,11 @@ void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
     }
     if (crossings_) {
         // c(y) from the last counted cell's, else from the line; the cell is seen where it is 0.
+        if (++yStamp_ == 0) {  // wrapped: no stale stamp may match
+            std::fill(stampRef_.begin(), stampRef_.end(), 0);
+            std::fill(stampY_.begin(), stampY_.end(), 0);
+            yStamp_ = 1;
+        }
         std::optional<int> c;
         if (haveRef_) {
             c = countByCrossings(y);
@@ -574,6 +587,10 @@ void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
             haveRef_ = true;
             refY_ = y;
             refCount_ = *c;
+            // The chain edges' sides taken at y are now the ref's.
+            std::swap(sideRef_, sideY_);
+            std::swap(stampRef_, stampY_);
+            refStamp_ = yStamp_;
             crossLevel_ = kNoLevel;
             if (*c == 0) fragments_.add(poly);
             return;
@@ -597,8 +614,18 @@ std::optional<int> FromPointQuery::countByCrossings(const Vec3& y) {
     for (size_t j = crossIndex_; j < list.size(); ++j) {
         const ChainEdge& e = chain_[list[j]];
         if (!e.segment) continue;  // a chord on B's plane: seen outside L (crossings_)
-        if (!spend(2)) return std::nullopt;
-        const Sign s0 = refSign(e.ref, refY_), s1 = refSign(e.ref, y);
+        const uint32_t idx = list[j];
+        Sign s0;
+        if (stampRef_[idx] == refStamp_) {
+            s0 = static_cast<Sign>(sideRef_[idx]);
+        } else {
+            if (!spend()) return std::nullopt;
+            s0 = refSign(e.ref, refY_);
+        }
+        if (!spend()) return std::nullopt;
+        const Sign s1 = refSign(e.ref, y);
+        sideY_[idx] = static_cast<int8_t>(s1);  // the ref's own side if y becomes the ref
+        stampY_[idx] = yStamp_;
         if (s0 == s1 && s0 != Sign::Zero) continue;  // both strictly on one side of its plane
         if (!spend(5)) return std::nullopt;
         const Sign qa = orientSign(x_, refY_, y, e.a), qb = orientSign(x_, refY_, y, e.b);

@@ -125,9 +125,13 @@ class FromPointQuery {
     // them and at most 1 / gain of their edges remain after cancellation. minOccluders 0 =
     // never; gain 0 = whatever remains. Both give the same answer (they cut L into different
     // fragments).
+    // Its cells are labelled by crossings (the count of the cell before and the chain edges
+    // between them) when the chain has at least crossingsMinEdges edges in L's cone; on a
+    // shorter one each cell's line is tested, which costs less there (the same answer).
     struct ChainOptions {
         uint32_t minOccluders = 24;
         uint32_t gain = 3;
+        uint32_t crossingsMinEdges = 8;
     };
     void setChainOptions(const ChainOptions& o) { chainOptions_ = o; }
     // Of the last run: the edges of the occluders it clipped against (counted once per face that
@@ -315,6 +319,12 @@ class FromPointQuery {
     int refCount_ = 0;
     static constexpr size_t kNoLevel = SIZE_MAX;
     size_t crossLevel_ = kNoLevel, crossIndex_ = 0;
+    // Per chain edge, the side of its plane the ref point lies on and the one the cell point
+    // being counted lies on, each valid where its stamp is refStamp_ (yStamp_): a cell's sides
+    // become the ref's when it is counted.
+    std::vector<int8_t> sideRef_, sideY_;
+    std::vector<uint32_t> stampRef_, stampY_;
+    uint32_t refStamp_ = 0, yStamp_ = 0;
     // Per recursion level, the chain edges that may cross the cell.
     std::vector<std::vector<uint32_t>> chainLists_;
     std::vector<std::vector<uint8_t>> chainSides_;  // per level, chainCells' scratch

@@ -248,7 +248,7 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
     for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
     const vis::BoxTree faces(boxes);
     vis::FromPointQuery chain, oneByOne;
-    chain.setChainOptions({1, 0});
+    chain.setChainOptions({1, 0, 0});  // the chain, and its labels by crossings, always
     oneByOne.setChainOptions({0, 0});
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(-1.2, 1.2);
@@ -431,7 +431,7 @@ TEST(BoundaryChainQuery, TransformedClosedMeshesThroughTheSilhouettes) {
         partialBudget.maxLpSolves = 1;
         const vis::HistoryTree tree = vis::buildHistoryTree(s.mesh, 0, 1, partialBudget, {});
         vis::FromPointQuery query;
-        query.setChainOptions({1, 0});
+        query.setChainOptions({1, 0, 0});
         std::vector<Vec3> floor;
         for (uint32_t v : s.mesh.faces[0]) floor.push_back(s.mesh.vertices[v]);
         for (int k = 0; k < 6; ++k) {
@@ -522,7 +522,7 @@ TEST(BoundaryChainQuery, SilhouettesOfAPatchMatchTheExactReference) {
     ASSERT_TRUE(tree.silhouettes.usable());
     EXPECT_LT(tree.silhouettes.keptUses * 2, tree.silhouettes.totalUses);
     vis::FromPointQuery query;
-    query.setChainOptions({1, 0});
+    query.setChainOptions({1, 0, 0});
     std::vector<Vec3> points(patch.begin(), patch.end());
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> u(0, 1);

@@ -126,7 +126,7 @@ class Paths {
     vis::FromPointQuery query_;
     vis::FromPointQuery chain_ = [] {
         vis::FromPointQuery q;
-        q.setChainOptions({1, 0});
+        q.setChainOptions({1, 0, 0});
         return q;
     }();
     int reported_ = 0;
