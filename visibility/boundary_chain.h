@@ -17,7 +17,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <utility>
 #include <vector>
 
 namespace penumbra::vis {
@@ -36,7 +35,7 @@ class BoundaryChain {
     // and each one's sum: the weight of the edge directed from its lower vertex id to its higher
     // (c(y) grows by it when y passes from the positive to the negative side of the plane
     // through x, the lower and the higher vertex, across the edge). The uses are summed per
-    // edge in a hash table (O(n)); only the remaining edges are sorted.
+    // edge in a hash table: O(n), no sort.
     void remaining(std::vector<uint32_t>& refs, std::vector<int>& weights);
 
   private:
