@@ -150,16 +150,93 @@ void FromPointQuery::reachVisible(std::span<const Vec3> poly, size_t depth) {
         chainCells(poly, depth, 0);
         return;
     }
+    if (!activeOrdered_) orderActive();
     clipByOccluders(poly, 0, depth);
 }
 
+void FromPointQuery::orderActive() {
+    // Largest first: an occluder that hides much of L removes it before the smaller ones cut it
+    // into pieces (Algorithm 1's cost follows the pieces). The key is the solid angle of the
+    // whole face from x (Van Oosterom and Strackee's formula per triangle of a fan), in doubles:
+    // it orders the occluders and decides nothing else, and every order gives the same answer.
+    activeOrdered_ = true;
+    orderKeys_.clear();
+    for (uint32_t j = 0; j < active_.size(); ++j) {
+        const auto& ids = mesh_->faces[active_[j].face];
+        const Vec3 a = mesh_->vertices[ids[0]] - x_;
+        const double la = length(a);
+        double omega = 0;
+        for (size_t i = 1; i + 1 < ids.size(); ++i) {
+            const Vec3 b = mesh_->vertices[ids[i]] - x_, c = mesh_->vertices[ids[i + 1]] - x_;
+            const double lb = length(b), lc = length(c);
+            const double den = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
+            omega += 2 * std::atan2(std::abs(dot(a, cross(b, c))), den);
+        }
+        orderKeys_.emplace_back(-omega, j);
+    }
+    std::sort(orderKeys_.begin(), orderKeys_.end());  // ties in the activation order
+    orderScratch_.clear();
+    for (const auto& [key, j] : orderKeys_) orderScratch_.push_back(active_[j]);
+    active_.swap(orderScratch_);
+    activeBoxesBuilt_ = false;  // (its items are indices into active_)
+}
+
+bool FromPointQuery::cullFor(std::span<const Vec3> poly, size_t from) {
+    // The planes through x and the polygon's edges that have no vertex of it strictly on their
+    // negative side (exact signs of its vertices, doubles: a rounded polygon that is not quite
+    // convex loses only the planes that would cut it), oriented as L is seen from x: each holds
+    // the polygon's hull, so an occluder whose box lies strictly outside one blocks none of it.
+    if (lightTurn_ == Sign::Zero)  // x strictly in front of L (startPair): not zero
+        lightTurn_ = PlaneOrient(x_, light_[0], light_[1]).sign(light_[2]);
+    hullCone_.clear();
+    const size_t n = poly.size();
+    for (size_t i = 0; i < n; ++i) {
+        const PlaneOrient h = lightTurn_ == Sign::Positive
+                                  ? PlaneOrient(x_, poly[i], poly[(i + 1) % n])
+                                  : PlaneOrient(x_, poly[(i + 1) % n], poly[i]);
+        bool holds = true, strict = false;
+        for (size_t k = 0; holds && k < n; ++k) {
+            if (k == i || k == (i + 1) % n) continue;
+            const Sign s = h.sign(poly[k]);
+            holds = s != Sign::Negative;
+            strict = strict || s == Sign::Positive;
+        }
+        if (holds && strict) hullCone_.push_back(h);
+    }
+    if (!spend(n)) return false;
+    buildActiveBoxes();
+    cullOut_.clear();
+    if (!spend(activeBoxes_.notOutside(hullCone_, cullOut_, workBudgetLeft()))) return false;
+    std::sort(cullOut_.begin(), cullOut_.end());
+    for (uint32_t j : cullOut_)
+        if (j >= from) clipList_.push_back(j);
+    return true;
+}
+
 void FromPointQuery::clipByOccluders(std::span<const Vec3> poly, size_t from, size_t depth) {
+    // The occluders to clip against: active_[from..] in order, or, where there are many, those
+    // of them whose box is not certainly outside the polygon's pyramid from x (cullFor), kept in
+    // clipList_ above the callers' lists.
+    const size_t listBase = clipList_.size();
+    const bool culled = active_.size() - std::min(from, active_.size()) >= kCullMin;
+    if (culled && !cullFor(poly, from)) {
+        clipList_.resize(listBase);
+        return;
+    }
+    const size_t count = culled ? clipList_.size() - listBase : active_.size() - from;
+    clipListed(poly, listBase, count, culled, from, depth);
+    clipList_.resize(listBase);
+}
+
+void FromPointQuery::clipListed(std::span<const Vec3> poly, size_t listBase, size_t count,
+                                bool culled, size_t from, size_t depth) {
     // Algorithm 1 in 3D, from x: a deferred occluder blocks the lines from x that lie on its
     // blocked side of every plane through x and one of its edges. Each part split off on the
     // unblocked side of an edge goes on to the next occluder; what is left after the last edge is
     // hidden. The signs are those of the walk (splitConstructed).
-    for (size_t j = from; j < active_.size(); ++j) {
+    for (size_t k = 0; k < count; ++k) {
         if (limitReached_) return;
+        const size_t j = culled ? clipList_[listBase + k] : from + k;
         const ActiveOccluder& o = active_[j];
         const SplitOutcome unblocked =
             o.blocked == Sign::Positive ? SplitOutcome::Negative : SplitOutcome::Positive;
@@ -183,9 +260,15 @@ void FromPointQuery::clipByOccluders(std::span<const Vec3> poly, size_t from, si
         });
         if (limitReached_) return;
         if (outside) continue;
+        // Split by each edge plane in turn: the part on its unblocked side is free of this
+        // occluder, the rest goes on to the next plane. The free parts are kept aside (in
+        // parts_ above `depth`) until the end: if the rest turns out wholly unblocked too, the
+        // occluder blocks none of `poly`, and `poly` goes on whole instead of in pieces (an
+        // occluder beside a corner of it would otherwise cut it for nothing: the pieces' union
+        // is `poly`, so the answer is the same, with fewer fragments for the next occluders).
         std::span<const Vec3> current = poly;
         size_t d = depth;
-        bool split = false;
+        const size_t freeBase = freeParts_.size();
         bool untouched = false;
         forEachPlane([&](const auto& plane) {
             if (!spend()) return false;
@@ -197,22 +280,30 @@ void FromPointQuery::clipByOccluders(std::span<const Vec3> poly, size_t from, si
                 return false;
             }
             if (outcome != SplitOutcome::Split) return true;  // wholly on the blocked side of it
-            const std::span<const Vec3> freePart =
-                o.blocked == Sign::Positive ? parts.negative() : parts.positive();
+            freeParts_.push_back(o.blocked == Sign::Positive ? parts.negative() : parts.positive());
             current = o.blocked == Sign::Positive ? parts.positive() : parts.negative();
-            split = true;
-            clipByOccluders(freePart, j + 1, d + 1);
             ++d;  // `current` lives in parts_[d - 1] now
-            return !limitReached_;
+            return true;
         });
-        if (limitReached_) return;
-        if (untouched && !split) continue;  // this occluder blocks none of it
-        ++deferredClips_;
-        if (untouched) {
-            clipByOccluders(current, j + 1, d);  // the rest is outside it too
-            return;
+        if (limitReached_ || untouched) {
+            freeParts_.resize(freeBase);
+            if (limitReached_) return;
+            continue;  // this occluder blocks none of it
         }
-        return;  // the rest is blocked
+        // The rest is blocked: the free parts go on to the next occluders, each from the first
+        // level none of them is stored in (deeper levels do not touch them).
+        ++deferredClips_;
+        // (A part's list is the rest of this one, or culled again for it where that is long.)
+        for (size_t f = freeBase; f < freeParts_.size(); ++f) {
+            if (count - k - 1 >= kRecullMin)
+                clipByOccluders(freeParts_[f], j + 1, d);
+            else
+                clipListed(freeParts_[f], culled ? listBase + k + 1 : listBase, count - k - 1,
+                           culled, j + 1, d);
+            if (limitReached_) break;
+        }
+        freeParts_.resize(freeBase);
+        return;
     }
     if (limitReached_) return;
     fragments_.add(poly);
@@ -687,7 +778,8 @@ std::optional<int> FromPointQuery::countLine(const Vec3& y) {
 }
 
 void FromPointQuery::buildActiveBoxes() {
-    if (activeBoxesBuilt_) return;
+    // (Rebuilt when occluders were activated since: activateSurface adds some late.)
+    if (activeBoxesBuilt_ && activeBoxList_.size() == active_.size()) return;
     activeBoxesBuilt_ = true;
     activeBoxList_.clear();
     for (const ActiveOccluder& o : active_) activeBoxList_.push_back(mesh_->faceBounds(o.face));
@@ -895,6 +987,8 @@ void FromPointQuery::startRun() {
     activePencils_.clear();
     activePlaneEdges_.clear();
     chainBuilt_ = false;
+    activeOrdered_ = false;
+    lightTurn_ = Sign::Zero;
     chainCounts_ = {};
     lightChord_ = false;
     crossings_ = false;
