@@ -35,6 +35,7 @@ void FromPointQuery::visit(uint32_t node, std::span<const Vec3> poly, size_t dep
         }
         if (node == kHiddenLeaf) return;
         if (limitReached_) return;
+        stage_ = WorkStage::Walk;
         const size_t step = trace_ != nullptr ? trace_->size() : 0;
         if (trace_ != nullptr) trace_->push_back({node, treeDepth, NodeSide::Positive});
         ++nodesVisited_;
@@ -182,6 +183,7 @@ void FromPointQuery::orderActive() {
 }
 
 bool FromPointQuery::cullFor(std::span<const Vec3> poly, size_t from) {
+    stage_ = WorkStage::ClipOccluders;
     // The planes through x and the polygon's edges that have no vertex of it strictly on their
     // negative side (exact signs of its vertices, doubles: a rounded polygon that is not quite
     // convex loses only the planes that would cut it), oriented as L is seen from x: each holds
@@ -230,6 +232,7 @@ void FromPointQuery::clipByOccluders(std::span<const Vec3> poly, size_t from, si
 
 void FromPointQuery::clipListed(std::span<const Vec3> poly, size_t listBase, size_t count,
                                 bool culled, size_t from, size_t depth) {
+    stage_ = WorkStage::ClipOccluders;
     // Algorithm 1 in 3D, from x: a deferred occluder blocks the lines from x that lie on its
     // blocked side of every plane through x and one of its edges. Each part split off on the
     // unblocked side of an edge goes on to the next occluder; what is left after the last edge is
@@ -394,11 +397,13 @@ bool FromPointQuery::prepareSurface(const HistoryTree& tree) {
         runStamp_ = 1;
     }
     prepareCone();
+    stage_ = WorkStage::ActivateOccluders;
     for (uint32_t slot : s.clipped) {
         if (!spend()) return true;
         activateFace(*mesh_, tree.deferred[slot].face);
     }
     surfaceClipped_ = active_.size();
+    stage_ = WorkStage::FindOccluders;
     // The kept edges whose segment may meet the cone over L (which holds the clipped pyramid):
     // the others cannot cut a cell.
     surfaceGroups_.clear();
@@ -410,9 +415,11 @@ bool FromPointQuery::prepareSurface(const HistoryTree& tree) {
 void FromPointQuery::activateSurface() {
     if (surfaceActivated_) return;
     surfaceActivated_ = true;
+    stage_ = WorkStage::FindOccluders;
     lineSlots_.clear();
     if (!spend(tree_->deferredIndex.notOutside(pyramid_, lineSlots_, workBudgetLeft()))) return;
     std::sort(lineSlots_.begin(), lineSlots_.end());
+    stage_ = WorkStage::ActivateOccluders;
     for (uint32_t slot : lineSlots_) {
         if (surface_->slots[slot] != DeferredSilhouettes::Slot::Surface) continue;
         if (!spend()) return;
@@ -457,6 +464,7 @@ FromPointQuery::LineHit FromPointQuery::surfaceHitKind(uint32_t slot, const Vec3
 }
 
 void FromPointQuery::buildChain() {
+    stage_ = WorkStage::BuildChain;
     chainBuilt_ = true;
     chainBuilder_.clear();
     for (const ActiveOccluder& o : active_) {
@@ -575,6 +583,7 @@ void FromPointQuery::buildChain() {
 }
 
 void FromPointQuery::chainCells(std::span<const Vec3> poly, size_t depth, size_t level) {
+    stage_ = WorkStage::CutCells;
     const size_t boundsAtEntry = bounds_.size();
     if (level == 0) {  // a part of L the walk kept: any chain edge may lie between it and the last
         crossLevel_ = 0;
@@ -639,6 +648,7 @@ void FromPointQuery::chainCells(std::span<const Vec3> poly, size_t depth, size_t
 }
 
 void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
+    stage_ = WorkStage::LabelCells;
     ++chainCounts_.cells;
     if (poly.size() < 3) return;
     Vec3 y{};
@@ -886,6 +896,7 @@ void FromPointQuery::preparePyramid() {
 }
 
 void FromPointQuery::activateFace(const PolygonMesh& mesh, uint32_t face) {
+    stage_ = WorkStage::ActivateOccluders;
     // x on the occluder's plane: every segment from x meets that plane at x only, so the
     // occluder blocks none (the contact rule: a segment that touches an occluder only at its end
     // point x is not blocked).
@@ -954,6 +965,7 @@ void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree&
         candidates_.clear();
         for (uint32_t k = 0; k < tree.deferred.size(); ++k) candidates_.push_back(k);
     }
+    stage_ = WorkStage::ActivateOccluders;
     for (uint32_t k : candidates_) {
         if (!spend()) return;
         activateFace(mesh, tree.deferred[k].face);
@@ -961,6 +973,7 @@ void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree&
 }
 
 bool FromPointQuery::findCandidates(const BoxTree& index) {
+    stage_ = WorkStage::FindOccluders;
     candidates_.clear();
     if (!spend(index.notOutside(pyramid_, candidates_, workBudgetLeft()))) return false;
     std::sort(candidates_.begin(), candidates_.end());
@@ -982,6 +995,7 @@ void FromPointQuery::startRun() {
     nodesVisited_ = 0;
     work_ = 0;
     limitReached_ = false;
+    stage_ = limitStage_ = WorkStage::Walk;
     active_.clear();
     activePlanes_.clear();
     activePencils_.clear();
@@ -1017,6 +1031,7 @@ bool FromPointQuery::startPair(const PolygonMesh& mesh, uint32_t receiver, uint3
 void FromPointQuery::clipCandidates(const PolygonMesh& mesh) {
     mesh_ = &mesh;
     tree_ = nullptr;
+    stage_ = WorkStage::ActivateOccluders;
     for (uint32_t f : candidates_) {
         if (f == preparedReceiver_ || f == preparedLight_) continue;
         if (!spend()) return;

@@ -20,6 +20,7 @@
 #include "visibility/history_tree.h"
 #include "visibility/polygon_clip.h"
 #include "visibility/region_decisions.h"
+#include "visibility/work_stage.h"
 
 namespace penumbra::vis {
 
@@ -112,6 +113,8 @@ class FromPointQuery {
     void setWorkLimit(uint64_t planeTests) { workLimit_ = planeTests; }
     uint64_t work() const { return work_; }
     bool limitReached() const { return limitReached_; }
+    // The stage the last run was in when it reached the work limit (when limitReached()).
+    WorkStage limitStage() const { return limitStage_; }
     // Of a partial tree's deferred occluders, those the last run clipped against (their cone from
     // x may meet L; on the silhouette path only those that cross B's or L's plane, and the others
     // where a cell needed Algorithm 1), and the clips that changed a fragment (split or removed
@@ -256,6 +259,7 @@ class FromPointQuery {
     uint32_t nodesVisited_ = 0;
     uint64_t workLimit_ = 0, work_ = 0;
     bool limitReached_ = false;
+    WorkStage stage_ = WorkStage::Walk, limitStage_ = WorkStage::Walk;  // (set on entering one)
     // What is left of the work limit (0 = no limit: unbounded).
     uint64_t workBudgetLeft() const {
         return workLimit_ == 0 ? 0 : (work_ < workLimit_ ? workLimit_ - work_ : 1);
@@ -264,7 +268,10 @@ class FromPointQuery {
     // reached (the run then unwinds).
     bool spend(uint64_t tests = 1) {
         work_ += tests;
-        if (workLimit_ != 0 && work_ > workLimit_) limitReached_ = true;
+        if (workLimit_ != 0 && work_ > workLimit_) {
+            if (!limitReached_) limitStage_ = stage_;
+            limitReached_ = true;
+        }
         return !limitReached_;
     }
     FragmentList fragments_;

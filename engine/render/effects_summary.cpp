@@ -1,5 +1,6 @@
 #include "engine/render/effects_summary.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -74,6 +75,18 @@ std::string EffectsSummary::text() const {
                  std::to_string(exactWorkLimit) + " plane tests: " + std::to_string(lightSamples) +
                  " shadow rays each instead (not exact; --exact-work-limit 0 makes every point "
                  "exact)");
+            uint64_t tried = 0;
+            std::string stages;
+            for (size_t i = 0; i < overLimitAt.size(); ++i) {
+                tried += overLimitAt[i];
+                if (overLimitAt[i] == 0) continue;
+                stages += (stages.empty() ? "" : ", ") +
+                          std::string(vis::toString(static_cast<vis::WorkStage>(i))) + " " +
+                          std::to_string(overLimitAt[i]);
+            }
+            line("  where they reached the limit: " + (stages.empty() ? "-" : stages) + "; " +
+                 std::to_string(sampledEvaluations - std::min(tried, sampledEvaluations)) +
+                 " more were points of a region whose query had reached it (not tried)");
         }
     }
     if (!method.empty()) {

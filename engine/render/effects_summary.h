@@ -3,9 +3,12 @@
 // Filled by the renderer and the precompute, printed by the commands, shown by the viewer.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <string>
+
+#include "visibility/work_stage.h"
 
 namespace penumbra {
 
@@ -16,11 +19,15 @@ struct ExactEvaluations {
     // Every evaluation that needed a query, those sampled (over the work limit), those of pairs
     // without a tree (direct), and the sampled ones among them.
     uint64_t all = 0, sampled = 0, direct = 0, sampledDirect = 0;
+    // Of the sampled ones, those whose query reached the limit, by the stage it was in
+    // (vis::WorkStage); the others were not tried, their region's query having reached it.
+    std::array<uint64_t, vis::kWorkStages> overLimitAt{};
     ExactEvaluations& operator+=(const ExactEvaluations& o) {
         all += o.all;
         sampled += o.sampled;
         direct += o.direct;
         sampledDirect += o.sampledDirect;
+        for (size_t i = 0; i < overLimitAt.size(); ++i) overLimitAt[i] += o.overLimitAt[i];
         return *this;
     }
 };
@@ -37,6 +44,9 @@ struct EffectsSummary {
     uint64_t exactEvaluations = 0, sampledEvaluations = 0, exactWorkLimit = 0;
     // Of the sampled evaluations, those of pairs without a tree (the others walked a tree).
     uint64_t sampledDirectEvaluations = 0;
+    // Of the sampled evaluations, those whose query reached the limit, by the stage it was in
+    // (the rest were points of a region whose query had reached it: not tried).
+    std::array<uint64_t, vis::kWorkStages> overLimitAt{};
     // sampledEvaluations as a percentage of exactEvaluations (0 when there were none).
     double sampledPercent() const {
         return exactEvaluations == 0 ? 0.0

@@ -493,6 +493,7 @@ EffectsSummary ProgressiveRenderer::effects() const {
     s.exactEvaluations = evaluations_.all;
     s.sampledEvaluations = evaluations_.sampled;
     s.sampledDirectEvaluations = evaluations_.sampledDirect;
+    s.overLimitAt = evaluations_.overLimitAt;
     s.exactWorkLimit = exactWorkLimit_;
     s.pairsDirect = directUsed_.size();
     s.directEvaluations = evaluations_.direct;

@@ -109,8 +109,11 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         }
         // Over the work limit: shadow rays instead, and the region marked so that its later
         // points skip the attempt (ExactScratch::regionOverLimit).
-        auto overLimit = [&] {
+        // `tried`: this point's query reached the limit (counted by the stage it was in).
+        auto overLimit = [&](bool tried) {
             ++scratch.evaluations.sampled;
+            if (tried)
+                ++scratch.evaluations.overLimitAt[static_cast<size_t>(scratch.query.limitStage())];
             if (record == nullptr) ++scratch.evaluations.sampledDirect;
             if (!scratch.regionCorners.empty()) scratch.regionOverLimit[k] = scratch.regionId;
             return sampledAreaLight(light, p, fallbackSamples, rng);
@@ -122,7 +125,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 scratch.regionOverLimit.assign(lights_.size(), 0);
             }
             if (scratch.regionOverLimit[k] == scratch.regionId) {
-                out += overLimit();
+                out += overLimit(false);
                 continue;
             }
         }
@@ -130,7 +133,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             const vis::FragmentList& list =
                 scratch.query.runDirect(scene_.mesh, p.face, light.face, p.x, bvh_.faceBoxes());
             out += scratch.query.limitReached()
-                       ? overLimit()
+                       ? overLimit(true)
                        : shadeFragments(p, light, list, {}, glossySamples, rng, scratch);
             continue;
         }
@@ -161,7 +164,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             }
             list = &scratch.query.run(scene_.mesh, record->tree, p.x, nullptr, region);
             if (scratch.query.limitReached()) {
-                out += overLimit();
+                out += overLimit(true);
                 continue;
             }
             if (list->empty()) continue;

@@ -264,6 +264,21 @@ TEST(Renderer, PointsOverTheWorkLimitAreSampledAndCounted) {
     EXPECT_GT(e.sampledEvaluations, e.exactEvaluations / 4);
     EXPECT_LE(e.sampledEvaluations, e.exactEvaluations);
     EXPECT_NE(e.text().find("points sampled: "), std::string::npos) << e.text();
+    // With a limit of one plane test each query stops in its first stages: the walk, or (no
+    // tree) the hierarchy query for the occluders or their activation, never later; the rest
+    // were skipped with their region.
+    uint64_t tried = 0, early = 0;
+    for (size_t i = 0; i < e.overLimitAt.size(); ++i) {
+        tried += e.overLimitAt[i];
+        const auto stage = static_cast<vis::WorkStage>(i);
+        if (stage == vis::WorkStage::Walk || stage == vis::WorkStage::FindOccluders ||
+            stage == vis::WorkStage::ActivateOccluders)
+            early += e.overLimitAt[i];
+    }
+    EXPECT_GT(tried, 0u);
+    EXPECT_LE(tried, e.sampledEvaluations);
+    EXPECT_EQ(early, tried);
+    EXPECT_NE(e.text().find("where they reached the limit: "), std::string::npos) << e.text();
     rig.renderer.resetEffects();
     s.method = DirectMethod::Sampled;
     const Film sampled = rig.renderer.render(camera, s);

@@ -249,6 +249,53 @@ TEST(FpQuery, WorkLimitStopsARunAndSaysSo) {
     EXPECT_GT(stopped, test::scaled(300) / 15);
 }
 
+// Where a run reached its work limit (FromPointQuery::limitStage): the tree-less query on the
+// table (leaves, Algorithm 1) first finds the occluders in the pyramid, then activates them,
+// then clips; as the limit grows from 1 to the run's whole work, the stage it stops in goes
+// through them in that order, never back.
+TEST(FpQuery, WorkLimitSaysWhichStageReachedIt) {
+    const Scene s = makeTable();
+    std::vector<vis::Bounds3> boxes;
+    for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
+    const vis::BoxTree faces(boxes);
+    std::mt19937_64 rng(29);
+    vis::FromPointQuery unlimited, limited;
+    unlimited.setChainOptions({0, 0, 0});
+    limited.setChainOptions({0, 0, 0});
+    const uint32_t light = s.lights[0];
+    int clipped = 0, points = 0;
+    for (int i = 0; i < test::scaled(120); ++i) {
+        const uint32_t f = static_cast<uint32_t>(rng() % s.faceCount());
+        if (f == light) continue;
+        const Vec3 x = randomPointOn(s.mesh, f, rng);
+        unlimited.runDirect(s.mesh, f, light, x, faces);
+        const uint64_t work = unlimited.work();
+        if (work < 2) continue;
+        ++points;
+        int last = -1;
+        bool sawClip = false;
+        for (uint64_t limit = 1; limit < work; limit += std::max<uint64_t>(1, work / 40)) {
+            limited.setWorkLimit(limit);
+            limited.runDirect(s.mesh, f, light, x, faces);
+            ASSERT_TRUE(limited.limitReached()) << "limit " << limit << " of " << work;
+            const vis::WorkStage stage = limited.limitStage();
+            if (limit == 1) {
+                EXPECT_EQ(stage, vis::WorkStage::FindOccluders);
+            }
+            EXPECT_TRUE(stage == vis::WorkStage::FindOccluders ||
+                        stage == vis::WorkStage::ActivateOccluders ||
+                        stage == vis::WorkStage::ClipOccluders)
+                << vis::toString(stage);
+            EXPECT_GE(static_cast<int>(stage), last) << "limit " << limit;
+            last = static_cast<int>(stage);
+            sawClip = sawClip || stage == vis::WorkStage::ClipOccluders;
+        }
+        clipped += sawClip;
+    }
+    EXPECT_GT(points, test::scaled(120) / 2);
+    EXPECT_GT(clipped, points / 10);  // the clip stage was reached too
+}
+
 // The penumbra points must actually exercise the trees: in the grids scene most receiver points
 // under the grid see a partly hidden light.
 TEST(FpQuery, GridsHaveRealPenumbrae) {

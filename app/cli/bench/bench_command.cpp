@@ -268,6 +268,11 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
             e["pairsWithoutTree"] = fx.pairsDirect;
             e["evaluations"] = fx.exactEvaluations;
             e["sampledEvaluations"] = fx.sampledEvaluations;
+            // Where the sampled points' queries reached the work limit (vis::WorkStage).
+            json stages = json::object();
+            for (size_t i = 0; i < fx.overLimitAt.size(); ++i)
+                stages[vis::toString(static_cast<vis::WorkStage>(i))] = fx.overLimitAt[i];
+            e["overLimitAt"] = stages;
             e["exactWorkLimit"] = s.exactWorkLimit;
             e["minTreeSamples"] = s.minTreeSamples;
             row["speedupWall"] = row["sampled128"]["wall"].get<double>() / (prepWall + t.total);

@@ -5,6 +5,10 @@
 #include <filesystem>
 #include <ostream>
 #include <sstream>
+#include <string>
+#include <vector>
+
+#include "visibility/work_stage.h"
 
 namespace penumbra::cli {
 namespace {
@@ -95,6 +99,39 @@ void writeTable1Row(std::ostream& r, const json& row) {
     }
 }
 
+// Of Table 1's sampled points, the stage each query was in when it reached the work limit
+// (vis::WorkStage), and those not tried: later points of a region whose query had reached it.
+void writeOverLimit(std::ostream& r, const json& rows) {
+    bool any = false;
+    for (const json& row : rows) any = any || row["exact"].contains("overLimitAt");
+    if (!any) return;
+    std::vector<std::string> stages;  // in the order a query goes through them
+    for (size_t i = 0; i < vis::kWorkStages; ++i)
+        stages.emplace_back(vis::toString(static_cast<vis::WorkStage>(i)));
+    r << "### Where the sampled points reached the work limit\n\n"
+      << "Of each scene's sampled points (Table 1), those whose query reached the limit, by the "
+         "stage it was in (`vis::WorkStage`), and those not tried: later points of a region "
+         "(one receiver patch in a few pixels of a tile) whose query had reached it.\n\n"
+      << "| scene | sampled | not tried |";
+    for (const std::string& s : stages) r << " " << s << " |";
+    r << "\n|---|---|---|";
+    for (size_t i = 0; i < stages.size(); ++i) r << "---|";
+    r << "\n";
+    for (const json& row : rows) {
+        const json& e = row["exact"];
+        if (!e.contains("overLimitAt")) continue;
+        uint64_t tried = 0;
+        for (const auto& [name, count] : e["overLimitAt"].items()) tried += count.get<uint64_t>();
+        const uint64_t sampled = e["sampledEvaluations"].get<uint64_t>();
+        r << "| " << sceneName(row) << " | " << sampled << " | "
+          << (sampled - std::min(tried, sampled)) << " |";
+        for (const std::string& s : stages)
+            r << " " << (e["overLimitAt"].contains(s) ? e["overLimitAt"][s].dump() : "-") << " |";
+        r << "\n";
+    }
+    r << "\n";
+}
+
 void writeTable1(std::ostream& r, const json& rows, const json& skipped, bool plots) {
     r << "## Table 1 re-measured\n\n"
       << "Sampled: 128 shadow rays per light per shading point. Exact: the trees the image "
@@ -119,6 +156,7 @@ void writeTable1(std::ostream& r, const json& rows, const json& skipped, bool pl
     r << "\n";
     if (plots) r << "![Table 1](table1.png)\n\n";
     writeSkipped(r, skipped);
+    writeOverLimit(r, rows);
 }
 
 // ---- The other studies ---------------------------------------------------------------------
