@@ -46,7 +46,7 @@ int8_t sideOver(const PlaneOrient& plane, const Bounds3& box) {
 }  // namespace
 
 void prepareSilhouettes(const PolygonMesh& mesh, HistoryTree& tree,
-                        std::span<const Vec3> receiverRegion) {
+                        std::span<const Vec3> receiverRegion, uint64_t maxKeptPercent) {
     DeferredSilhouettes& s = tree.silhouettes;
     s = DeferredSilhouettes{};
     if (tree.deferred.empty() || tree.kind != PairKind::Penumbra ||
@@ -176,6 +176,16 @@ void prepareSilhouettes(const PolygonMesh& mesh, HistoryTree& tree,
     }
     s.keptUses = s.uses.size();
     for (uint32_t slot : s.clipped) s.keptUses += mesh.faces[tree.deferred[slot].face].size();
+    if (s.keptUses * 100 > s.totalUses * maxKeptPercent) {
+        // Too little cancels for the whole patch: the query would look at nearly every edge
+        // anyway, and Algorithm 1 costs less (only the totals are kept).
+        DeferredSilhouettes totals;
+        totals.totalUses = s.totalUses;
+        totals.keptUses = s.keptUses;
+        totals.loneUses = loneUses;
+        s = std::move(totals);
+        return;
+    }
     s.groups = BoxTree(boxes);
     s.region = region;
 }

@@ -61,7 +61,8 @@ struct DeferredSilhouettes {
     // Of the uses of the non-empty deferred occluders (one per side of each face): all, those
     // kept in `uses` (with the Clipped faces'), and those no other face shares (borders of open
     // surfaces, separate faces, faces whose neighbour the tree inserted, Clipped faces). Where
-    // it is not usable only totalUses and loneUses are computed (keptUses 0).
+    // it is not usable only totalUses and loneUses are computed (keptUses 0), unless too many
+    // were kept (kSilhouetteMaxKeptPercent: keptUses is then the count).
     uint64_t totalUses = 0, keptUses = 0, loneUses = 0;
 
     size_t groupCount() const { return groupBegin.empty() ? 0 : groupBegin.size() - 1; }
@@ -74,12 +75,19 @@ struct DeferredSilhouettes {
 // 1 / kSilhouetteGain of the uses are lone (closed and smooth surfaces); separate faces (leaves)
 // cancel nothing, and the query goes on face by face there (only the totals are kept).
 inline constexpr uint64_t kSilhouetteGain = 3;
+// And only where at least 15% of the uses cancel for the whole patch (at most this share kept):
+// with nearly every edge kept, the chain over them costs more than clipping the faces one by one
+// (stairs: 92% kept, per-point p99 11.6 -> 8.9 us without them; the bunny's trees that pay keep
+// 55-85%).
+inline constexpr uint64_t kSilhouetteMaxKeptPercent = 85;
 // Nor for trees that defer more faces than this: preparing costs some 2 us of CPU per deferred
 // face (memory-bound; exact signs for the vertices on B's plane), and on the motorbike (14
 // partial trees of 35k-240k deferred faces, 61% of its points sampled) it added 1.1 s to the
 // precompute and saved no shading time. The bunny's partial trees defer up to 23k.
 inline constexpr size_t kMaxSilhouetteFaces = 65536;
+// `maxKeptPercent` (tests force the silhouettes with 100).
 void prepareSilhouettes(const PolygonMesh& mesh, HistoryTree& tree,
-                        std::span<const Vec3> receiverRegion = {});
+                        std::span<const Vec3> receiverRegion = {},
+                        uint64_t maxKeptPercent = kSilhouetteMaxKeptPercent);
 
 }  // namespace penumbra::vis

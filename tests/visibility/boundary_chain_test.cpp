@@ -243,7 +243,10 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
                    const std::vector<Vec3>& given = {}) {
     vis::BuildOptions partialBudget;
     partialBudget.maxLpSolves = 1;
-    const vis::HistoryTree partial = vis::buildHistoryTree(s.mesh, 0, 1, partialBudget, {});
+    vis::HistoryTree partial = vis::buildHistoryTree(s.mesh, 0, 1, partialBudget, {});
+    // The silhouettes for the whole floor even where too few edges cancel there for them to pay
+    // (kSilhouetteMaxKeptPercent): their answers are checked, whatever they cost.
+    vis::prepareSilhouettes(s.mesh, partial, {}, 100);
     std::vector<vis::Bounds3> boxes;
     for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
     const vis::BoxTree faces(boxes);
@@ -429,7 +432,8 @@ TEST(BoundaryChainQuery, TransformedClosedMeshesThroughTheSilhouettes) {
         }
         vis::BuildOptions partialBudget;
         partialBudget.maxLpSolves = 1;
-        const vis::HistoryTree tree = vis::buildHistoryTree(s.mesh, 0, 1, partialBudget, {});
+        vis::HistoryTree tree = vis::buildHistoryTree(s.mesh, 0, 1, partialBudget, {});
+        vis::prepareSilhouettes(s.mesh, tree, {}, 100);  // (as checkScene)
         vis::FromPointQuery query;
         query.setChainOptions({1, 0, 0});
         std::vector<Vec3> floor;
@@ -488,6 +492,12 @@ TEST(DeferredSilhouettes, CubeOverASmallPatchKeepsOnlyItsBottomRim) {
     // for them, and their edges are kept.
     vis::prepareSilhouettes(s.mesh, tree);
     EXPECT_GT(tree.silhouettes.keptUses, 8u);
+    // Only the top's and the bottom's diagonals cancel (4 uses): 32 of 36 kept, too few cancel for
+    // the silhouettes to pay, and the query clips the faces instead; forced, they are kept.
+    EXPECT_EQ(tree.silhouettes.keptUses, 32u);
+    EXPECT_FALSE(tree.silhouettes.usable());
+    vis::prepareSilhouettes(s.mesh, tree, {}, 100);
+    EXPECT_TRUE(tree.silhouettes.usable());
     // Separate triangles share no edge: not worth it (nothing kept).
     MeshScene loose(0);
     for (int i = 0; i < 6; ++i) {
