@@ -5,6 +5,7 @@
 // direct query) is compared with the exact CGAL reference (tests/support/exact_reference.h).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -328,6 +329,34 @@ std::array<Vec3, 3> randomRotation(std::mt19937_64& rng) {
             Vec3{2 * (a * c - b * w), 2 * (b * c + a * w), 1 - 2 * (a * a + b * b)}};
 }
 
+// A floor triangle (face 0), a light triangle two units above it facing down (face 1), and what
+// is added after them, all moved by one random rotation and translation in doubles (`moved`) or
+// left in place: moved, contacts with the floor or the light's plane become hair crossings and
+// hair gaps of either sign.
+class PlacedScene {
+  public:
+    PlacedScene(std::mt19937_64& rng, bool moved) : r_(randomRotation(rng)), moved_(moved) {
+        std::uniform_real_distribution<double> u(-1, 1);
+        t_ = {100 * u(rng), 100 * u(rng), 100 * u(rng)};
+        add({{-3, -3, 0}, {3, -3, 0}, {0, 3, 0}});
+        add({{-0.6, -0.4, 2}, {0, 0.6, 2}, {0.6, -0.4, 2}}, true);
+    }
+    Vec3 place(const Vec3& v) const {
+        return moved_ ? Vec3{vis::dot(r_[0], v), vis::dot(r_[1], v), vis::dot(r_[2], v)} + t_ : v;
+    }
+    void add(std::vector<Vec3> pts, bool emissive = false) {
+        for (Vec3& v : pts) v = place(v);
+        p_.add(pts, emissive);
+    }
+    Scene finish() { return p_.finish(); }
+
+  private:
+    std::array<Vec3, 3> r_;
+    Vec3 t_;
+    bool moved_;
+    Polygons p_;
+};
+
 TEST(ExactClip, TransformedModelsStandingOnAFloor) {
     // A floor triangle, a light triangle, a box (no bottom face) and a leaning plank standing on
     // the floor, the whole scene rotated and translated in doubles: the contacts become hair
@@ -336,18 +365,7 @@ TEST(ExactClip, TransformedModelsStandingOnAFloor) {
     std::uniform_real_distribution<double> u(-1, 1);
     int bad = 0, chordTrees = 0, blocked = 0;
     for (int i = 0; i < test::scaled(60); ++i) {
-        const auto R = randomRotation(rng);
-        const Vec3 t{100 * u(rng), 100 * u(rng), 100 * u(rng)};
-        auto place = [&](const Vec3& v) {
-            return Vec3{vis::dot(R[0], v), vis::dot(R[1], v), vis::dot(R[2], v)} + t;
-        };
-        Polygons p;
-        auto add = [&](std::vector<Vec3> pts, bool emissive = false) {
-            for (Vec3& v : pts) v = place(v);
-            p.add(pts, emissive);
-        };
-        add({{-3, -3, 0}, {3, -3, 0}, {0, 3, 0}});
-        add({{-0.6, -0.4, 2}, {0, 0.6, 2}, {0.6, -0.4, 2}}, true);
+        PlacedScene p(rng, true);
         const double x0 = -0.4 + 0.1 * u(rng), x1 = 0.3 + 0.1 * u(rng), y0 = -0.3, y1 = 0.2;
         const double top = 0.6 + 0.2 * u(rng);
         const Vec3 c[8] = {{x0, y0, 0},   {x1, y0, 0},   {x1, y1, 0},   {x0, y1, 0},
@@ -355,10 +373,10 @@ TEST(ExactClip, TransformedModelsStandingOnAFloor) {
         const int quads[5][4] = {
             {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
         for (const auto& q : quads) {
-            add({c[q[0]], c[q[1]], c[q[2]]});
-            add({c[q[0]], c[q[2]], c[q[3]]});
+            p.add({c[q[0]], c[q[1]], c[q[2]]});
+            p.add({c[q[0]], c[q[2]], c[q[3]]});
         }
-        add({{0.8, -0.5, 0}, {1.0, 0.5, 0}, {0.4, 0.1, 1.2}});  // a plank on its edge
+        p.add({{0.8, -0.5, 0}, {1.0, 0.5, 0}, {0.4, 0.1, 1.2}});  // a plank on its edge
         const Scene s = p.finish();
         Paths paths(s);
         chordTrees += hasChord(paths.complete());
@@ -469,19 +487,7 @@ TEST(ExactClip, ManyLeavesMatchTheExactReference) {
     vis::FromPointQuery direct;
     for (int i = 0; i < test::scaled(12); ++i) {
         const bool transformed = i % 2 == 1;
-        const auto R = randomRotation(rng);
-        const Vec3 t{100 * u(rng), 100 * u(rng), 100 * u(rng)};
-        auto place = [&](const Vec3& v) {
-            return transformed ? Vec3{vis::dot(R[0], v), vis::dot(R[1], v), vis::dot(R[2], v)} + t
-                               : v;
-        };
-        Polygons p;
-        auto add = [&](std::vector<Vec3> pts, bool emissive = false) {
-            for (Vec3& v : pts) v = place(v);
-            p.add(pts, emissive);
-        };
-        add({{-3, -3, 0}, {3, -3, 0}, {0, 3, 0}});
-        add({{-0.6, -0.4, 2}, {0, 0.6, 2}, {0.6, -0.4, 2}}, true);
+        PlacedScene p(rng, transformed);
         Vec3 last[3];
         for (int k = 0; k < 60; ++k) {
             Vec3 c{0.5 * u(rng), 0.5 * u(rng), 1 + 0.8 * u(rng)};
@@ -497,7 +503,7 @@ TEST(ExactClip, ManyLeavesMatchTheExactReference) {
                 b = last[2];
             }
             if (vis::length(vis::cross(b - a, d - a)) < 1e-3) continue;
-            add({a, b, d});
+            p.add({a, b, d});
             last[0] = a, last[1] = b, last[2] = d;
         }
         const Scene s = p.finish();
@@ -508,7 +514,7 @@ TEST(ExactClip, ManyLeavesMatchTheExactReference) {
         std::vector<Vec3> floor;
         for (uint32_t v : s.mesh.faces[0]) floor.push_back(s.mesh.vertices[v]);
         for (int k = 0; k < 8; ++k) {
-            const Vec3 x = place({0.8 * u(rng), 0.8 * u(rng), 0});
+            const Vec3 x = p.place({0.8 * u(rng), 0.8 * u(rng), 0});
             test::ReferenceResult ref;
             bad += paths.check(x, transformed ? "leaves, transformed" : "leaves", &ref);
             penumbra += ref.fraction > 1e-9 && ref.fraction < 0.999;
