@@ -86,7 +86,7 @@ def table1(rows, out):
         return
     names = [os.path.splitext(os.path.basename(r["scene"]))[0] for r in rows]
     x = range(len(rows))
-    fig, ax = plt.subplots(figsize=(9, 4))
+    fig, ax = plt.subplots(figsize=(max(9, 1.4 * len(rows)), 4))
     w = 0.38
     ax.bar([i - w / 2 for i in x], [r["sampled128"]["wall"] for r in rows], w,
            label="sampled, 128 rays", color="#c44e52")
@@ -97,11 +97,12 @@ def table1(rows, out):
     for i, r in enumerate(rows):
         e = r["exact"]
         share = 100.0 * e.get("sampledEvaluations", 0) / max(1, e.get("evaluations", 1))
-        ax.annotate("%.1fx%s" % (r["speedupWall"], "\n%.0f%% sampled" % share if share >= 0.5 else ""),
+        speedup = ("%.2fx" if r["speedupWall"] < 1 else "%.1fx") % r["speedupWall"]
+        ax.annotate("%s%s" % (speedup, "\n%.0f%% sampled" % share if share >= 0.5 else ""),
                     (i + w / 2, pre[i] + ren[i]), textcoords="offset points", xytext=(0, 3),
                     ha="center", fontsize=7)
     ax.set_xticks(list(x))
-    ax.set_xticklabels(["%s\n%s faces, %dx%d" % (n, r["faces"], r["width"], r["height"])
+    ax.set_xticklabels(["%s\n%s faces\n%dx%d" % (n, r["faces"], r["width"], r["height"])
                         for n, r in zip(names, rows)], fontsize=7)
     ax.set_ylabel("wall seconds")
     ax.set_title("Table 1: exact against 128-ray sampling, %d spp" % rows[0]["spp"])
