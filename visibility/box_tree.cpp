@@ -43,6 +43,8 @@ uint32_t BoxTree::build(uint32_t begin, uint32_t end, std::vector<Vec3>& centre)
         centres.add(centre[items_[i]]);
     }
     nodes_[index].box = box;
+    nodes_[index].begin = begin;
+    nodes_[index].end = end;
     if (end - begin <= kLeafSize) {
         nodes_[index].first = begin;
         nodes_[index].count = end - begin;

@@ -45,6 +45,18 @@ class BoxTree {
     bool anyNotOutside(std::span<const PlaneOrient> planes, Stop&& stop, uint32_t& visited) const;
     static constexpr size_t kMaxCullPlanes = 32;
 
+    // The hierarchy itself, for walks of its own (face_clusters.h): node 0 is the root, an inner
+    // node's children are node + 1 and rightChild(node), and every node's items (those of the
+    // leaves below it) are contiguous: nodeItems(node).
+    uint32_t nodeCount() const { return static_cast<uint32_t>(nodes_.size()); }
+    const Bounds3& nodeBox(uint32_t node) const { return nodes_[node].box; }
+    bool isLeaf(uint32_t node) const { return nodes_[node].count > 0; }
+    uint32_t rightChild(uint32_t node) const { return nodes_[node].first; }
+    std::span<const uint32_t> nodeItems(uint32_t node) const {
+        return {items_.data() + nodes_[node].begin, nodes_[node].end - nodes_[node].begin};
+    }
+    const Bounds3& itemBox(uint32_t item) const { return boxes_[item]; }
+
   private:
     // Whether the box is certainly outside one of the planes (PlaneBoxCull::negative, for boxes
     // inside the root's; PlaneOrient::boxNegative).
@@ -58,6 +70,7 @@ class BoxTree {
         Bounds3 box;
         uint32_t first = 0;  // leaf: first index into items_; inner: index of the right child
         uint32_t count = 0;  // leaf: number of items (> 0); inner: 0 (left child = this + 1)
+        uint32_t begin = 0, end = 0;  // the items below it: items_[begin, end)
     };
     uint32_t build(uint32_t begin, uint32_t end, std::vector<Vec3>& centre);
     // notOutside with PlaneOrient (boxNegative per box) or PlaneBoxCull planes.
