@@ -355,7 +355,7 @@ SplitOutcome FromPointQuery::splitByRef(uint32_t ref, std::span<const Vec3> poly
 }
 
 bool FromPointQuery::useChain() {
-    if (surface_ != nullptr) {
+    if (surface_ != nullptr || clustersActive()) {
         if (!chainBuilt_) buildChain();
         return true;
     }
@@ -441,13 +441,23 @@ int FromPointQuery::sideAt(uint32_t slot) {
 }
 
 FromPointQuery::LineHit FromPointQuery::surfaceHitKind(uint32_t slot, const Vec3& y) {
-    const auto& ids = mesh_->faces[tree_->deferred[slot].face];
-    const std::vector<Vec3>& v = mesh_->vertices;
     const int s = sideAt(slot);
     if (s == 0) return LineHit::Miss;  // x on its plane: it blocks nothing (activateFace)
-    const Sign side = s > 0 ? Sign::Positive : Sign::Negative;
-    // x in front of it: the lines through it are on the negative side of its edge planes.
-    const Sign unblocked = side;
+    const LineHit hit = faceHitKind(tree_->deferred[slot].face, s, y);
+    if (hit == LineHit::Miss) return hit;
+    if (std::find(recentHits_.begin(), recentHits_.end(), slot) == recentHits_.end()) {
+        recentHits_[recentNext_] = slot;
+        recentNext_ = (recentNext_ + 1) % kRecentHits;
+    }
+    return hit;
+}
+
+FromPointQuery::LineHit FromPointQuery::faceHitKind(uint32_t face, int side, const Vec3& y) {
+    // x in front of the face (side +1): the lines through it are on the negative side of the
+    // planes through x and its edges (activateFace), so a positive sign misses.
+    const auto& ids = mesh_->faces[face];
+    const std::vector<Vec3>& v = mesh_->vertices;
+    const Sign unblocked = side > 0 ? Sign::Positive : Sign::Negative;
     bool touch = false;
     for (size_t i = 0; i < ids.size(); ++i) {
         if (!spend()) return LineHit::Miss;
@@ -455,10 +465,6 @@ FromPointQuery::LineHit FromPointQuery::surfaceHitKind(uint32_t slot, const Vec3
         const Sign sign = exactSign(plane, y);
         if (sign == unblocked) return LineHit::Miss;
         touch = touch || sign == Sign::Zero;
-    }
-    if (std::find(recentHits_.begin(), recentHits_.end(), slot) == recentHits_.end()) {
-        recentHits_[recentNext_] = slot;
-        recentNext_ = (recentNext_ + 1) % kRecentHits;
     }
     return touch ? LineHit::Touch : LineHit::Through;
 }
@@ -510,7 +516,28 @@ void FromPointQuery::buildChain() {
             }
         }
     }
+    // The used face groups' boundaries, each edge weighted by the side x sees its group from (the
+    // group's inner edges cancel as its faces' would; its boundary edges are summed with the
+    // other uses of the same edges).
+    clusterEdges_.clear();
+    if (clustersActive()) {
+        for (const UsedCluster& c : usedClusters_) {
+            for (const FaceClusters::Use& use : clusters_->boundary(c.cluster)) {
+                chainBuilder_.add(use.lo, use.hi, c.side * use.weight,
+                                  kClusterRef | static_cast<uint32_t>(clusterEdges_.size()));
+                clusterEdges_.emplace_back(use.lo, use.hi);
+            }
+        }
+    }
     chainBuilder_.remaining(chainRefs_, chainWeights_);
+    // The remaining group edges get their planes through x now (the others never do).
+    for (uint32_t& ref : chainRefs_) {
+        if ((ref & kPencilRef) != 0 || (ref & kClusterRef) == 0) continue;
+        const auto [lo, hi] = clusterEdges_[ref & ~kClusterRef];
+        ref = static_cast<uint32_t>(activePlanes_.size());
+        activePlanes_.emplace_back(x_, mesh_->vertices[lo], mesh_->vertices[hi]);
+        activePlaneEdges_.emplace_back(lo, hi);
+    }
     if (surface_ != nullptr) {
         chainRefs_.insert(chainRefs_.end(), surfaceRemaining_.begin(), surfaceRemaining_.end());
         chainWeights_.insert(chainWeights_.end(), surfaceSums_.begin(), surfaceSums_.end());
@@ -531,8 +558,8 @@ void FromPointQuery::buildChain() {
     // while Algorithm 1 drops a hidden part at once: the chain pays where most edges cancel
     // (closed and smooth surfaces), not among separate faces (leaves), where it only adds work.
     // (The surface path was chosen for the pair: its silhouettes pay.)
-    chainPays_ =
-        surface_ != nullptr || chainRefs_.size() * chainOptions_.gain <= chainBuilder_.uses();
+    chainPays_ = surface_ != nullptr || clustersActive() ||
+                 chainRefs_.size() * chainOptions_.gain <= chainBuilder_.uses();
     chain_.clear();
     if (!chainPays_) return;
     if (chainLists_.empty()) chainLists_.resize(1);
@@ -666,6 +693,7 @@ void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
     if (!certified) {
         ++chainCounts_.fallbacks;
         if (surface_ != nullptr) activateSurface();
+        if (clustersActive()) dissolveClusters();
         if (limitReached_) return;
         clipByOccluders(poly, 0, depth);
         return;
@@ -777,13 +805,19 @@ std::optional<int> FromPointQuery::countLine(const Vec3& y) {
         scanned_ += active_.size();
         for (size_t j = 0; j < active_.size(); ++j)
             if (add(lineHitKind(j, y))) return std::nullopt;
-        return c;
+    } else {
+        setLinePlanes(y);
+        onLine_.clear();
+        if (!spend(activeBoxes_.notOutside(linePlanes_, onLine_))) return std::nullopt;
+        for (uint32_t j : onLine_)
+            if (add(lineHitKind(j, y))) return std::nullopt;
     }
-    setLinePlanes(y);
-    onLine_.clear();
-    if (!spend(activeBoxes_.notOutside(linePlanes_, onLine_))) return std::nullopt;
-    for (uint32_t j : onLine_)
-        if (add(lineHitKind(j, y))) return std::nullopt;
+    if (clustersActive()) {  // and the used groups' faces
+        setLinePlanes(y);
+        clusterFacesOnLine(
+            [&](uint32_t face, int side) { return add(faceHitKind(face, side, y)); });
+        if (touch || limitReached_) return std::nullopt;
+    }
     return c;
 }
 
@@ -849,6 +883,7 @@ bool FromPointQuery::lineBlocked(const Vec3& y) {
     }
     // The line through y against the occluders (closed), the last one that hid a cell first.
     const size_t n = active_.size();
+    if (n == 0) return clustersActive() && clusterLineBlocked(y);
     if (lineHits(lastHit_ % n, y)) return true;
     if (!activeBoxesBuilt_ && scanned_ >= kScanBeforeBoxes * n) buildActiveBoxes();
     if (activeBoxesBuilt_) {
@@ -866,7 +901,74 @@ bool FromPointQuery::lineBlocked(const Vec3& y) {
         }
         scanned_ += n;
     }
+    return clustersActive() && clusterLineBlocked(y);
+}
+
+bool FromPointQuery::clusterLineBlocked(const Vec3& y) {
+    // The group faces that hid the last cells first (a hidden cell's neighbour is mostly hidden
+    // by the same few), then each face as the walk finds it: the first hit ends it.
+    for (uint32_t k = 0; k < kRecentHits; ++k) {
+        const auto [face, side] =
+            recentClusterHits_[(recentClusterNext_ + kRecentHits - 1 - k) % kRecentHits];
+        if (side != 0 && faceHitKind(face, side, y) != LineHit::Miss) return true;
+        if (limitReached_) return false;
+    }
+    setLinePlanes(y);
+    const bool hit = clusterFacesOnLine([&](uint32_t face, int side) {
+        if (faceHitKind(face, side, y) == LineHit::Miss) return limitReached_;
+        recentClusterHits_[recentClusterNext_] = {face, side};
+        recentClusterNext_ = (recentClusterNext_ + 1) % kRecentHits;
+        return true;
+    });
+    return hit && !limitReached_;
+}
+
+template <class Visit>
+bool FromPointQuery::clusterFacesOnLine(Visit&& visit) {
+    // Down the stamped nodes to the used groups, and through each group's nodes, with the line's
+    // planes (a face on the line is on no plane's strictly negative side).
+    const BoxTree& t = *clusterTree_;
+    const Bounds3& region = t.nodeBox(0);
+    PlaneBoxCull cull[4];
+    for (size_t i = 0; i < 4; ++i) cull[i] = PlaneBoxCull(linePlanes_[i], region.lo, region.hi);
+    auto off = [&](const Bounds3& b) {
+        for (const PlaneBoxCull& c : cull)
+            if (c.negative(b.lo, b.hi)) return true;
+        return false;
+    };
+    // Each entry: a node and the side of the group it lies in (0: above the used groups).
+    std::pair<uint32_t, int> stack[160];
+    int top = 0;
+    if (nodeStamp_[0] == nodeRun_) stack[top++] = {0, 0};
+    while (top > 0) {
+        auto [node, side] = stack[--top];
+        if (side == 0) {
+            if (nodeStamp_[node] != nodeRun_) continue;
+            side = nodeSide_[node];
+        }
+        if (!spend()) return true;
+        if (off(t.nodeBox(node))) continue;
+        if (t.isLeaf(node)) {
+            if (side == 0) continue;  // (a leaf above a group: cannot be)
+            for (uint32_t face : t.nodeItems(node))
+                if (!off(t.itemBox(face)) && visit(face, side)) return true;
+            continue;
+        }
+        stack[top++] = {t.rightChild(node), side};
+        stack[top++] = {node + 1, side};
+    }
     return false;
+}
+
+void FromPointQuery::dissolveClusters() {
+    stage_ = WorkStage::ActivateOccluders;
+    for (const UsedCluster& c : usedClusters_) {
+        for (uint32_t face : clusterTree_->nodeItems(c.node)) {
+            if (!spend()) return;
+            activateFace(*mesh_, face);
+        }
+    }
+    clustersDissolved_ = true;
 }
 
 FromPointQuery::LineHit FromPointQuery::lineHitKind(size_t j, const Vec3& y) {
@@ -980,6 +1082,76 @@ bool FromPointQuery::findCandidates(const BoxTree& index) {
     return true;
 }
 
+struct FromPointQuery::ClusterWalk {
+    const BoxTree& faces;
+    const FaceClusters& clusters;
+    std::span<const PlaneBoxCull> pyramid;
+    // B's and L's planes turned around: a box strictly on their negative side lies strictly in
+    // front of B and of L (PlaneOrient::boxNegative, rigorous), so no face in it is clipped.
+    PlaneOrient behindB, behindL;
+};
+
+bool FromPointQuery::findClustered(const BoxTree& faces, const FaceClusters& clusters) {
+    stage_ = WorkStage::FindOccluders;
+    candidates_.clear();
+    usedClusters_.clear();
+    if (faces.empty()) return true;
+    if (nodeStamp_.size() < faces.nodeCount()) {
+        nodeStamp_.resize(faces.nodeCount(), 0);
+        nodeSide_.resize(faces.nodeCount(), 0);
+    }
+    if (++nodeRun_ == 0) {  // wrapped: no stale stamp may match
+        std::fill(nodeStamp_.begin(), nodeStamp_.end(), 0);
+        nodeRun_ = 1;
+    }
+    std::array<PlaneBoxCull, BoxTree::kMaxCullPlanes> cull;
+    const size_t planes = std::min(pyramid_.size(), cull.size());
+    const Bounds3& region = faces.nodeBox(0);
+    for (size_t i = 0; i < planes; ++i) cull[i] = PlaneBoxCull(pyramid_[i], region.lo, region.hi);
+    const ClusterWalk walk{faces, clusters, std::span<const PlaneBoxCull>(cull.data(), planes),
+                           PlaneOrient(frontB_.a, frontB_.c, frontB_.b),
+                           PlaneOrient(frontL_.a, frontL_.c, frontL_.b)};
+    walkClusters(0, walk);
+    if (limitReached_) return false;
+    std::sort(candidates_.begin(), candidates_.end());  // face order, as findCandidates
+    return true;
+}
+
+bool FromPointQuery::walkClusters(uint32_t node, const ClusterWalk& w) {
+    if (!spend()) return false;
+    const Bounds3& box = w.faces.nodeBox(node);
+    for (const PlaneBoxCull& p : w.pyramid)
+        if (p.negative(box.lo, box.hi)) return false;
+    const uint32_t cluster = w.clusters.clusterAt(node);
+    if (cluster != FaceClusters::kNone && w.behindB.boxNegative(box.lo, box.hi) &&
+        w.behindL.boxNegative(box.lo, box.hi)) {
+        const int side = w.clusters.facing(cluster, x_);
+        if (side != 0) {
+            usedClusters_.push_back({node, cluster, side});
+            nodeStamp_[node] = nodeRun_;
+            nodeSide_[node] = static_cast<int8_t>(side);
+            return true;
+        }
+    }
+    if (w.faces.isLeaf(node)) {
+        for (uint32_t face : w.faces.nodeItems(node)) {
+            const Bounds3& b = w.faces.itemBox(face);
+            bool outside = false;
+            for (const PlaneBoxCull& p : w.pyramid) outside = outside || p.negative(b.lo, b.hi);
+            if (!outside) candidates_.push_back(face);
+        }
+        return false;
+    }
+    const bool left = walkClusters(node + 1, w);
+    if (limitReached_) return false;
+    const bool right = walkClusters(w.faces.rightChild(node), w);
+    if (left || right) {
+        nodeStamp_[node] = nodeRun_;
+        nodeSide_[node] = 0;
+    }
+    return left || right;
+}
+
 const BoundedValue& FromPointQuery::clipPlaneAt(int which) {
     if (!clipValueKnown_[which]) {
         clipValue_[which] = (which == 0 ? frontB_ : frontL_).orient.value(x_);
@@ -1013,6 +1185,12 @@ void FromPointQuery::startRun() {
     activeBoxesBuilt_ = false;
     surface_ = nullptr;
     surfaceClipped_ = 0;
+    clusters_ = nullptr;
+    clusterTree_ = nullptr;
+    usedClusters_.clear();
+    clustersDissolved_ = false;
+    recentClusterHits_.fill({0, 0});
+    recentClusterNext_ = 0;
     recentHits_.fill(UINT32_MAX);
     recentNext_ = 0;
     deferredClips_ = 0;
@@ -1042,7 +1220,8 @@ void FromPointQuery::clipCandidates(const PolygonMesh& mesh) {
 }
 
 const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t receiver,
-                                              uint32_t light, const Vec3& x, const BoxTree& faces) {
+                                              uint32_t light, const Vec3& x, const BoxTree& faces,
+                                              const FaceClusters* clusters) {
     startRun();
     if (receiver == light) return fragments_;
     if (!startPair(mesh, receiver, light, x)) return fragments_;
@@ -1050,7 +1229,13 @@ const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t 
     preparePyramid();
     // Insertion order as the builder's (pair_occluders.h) would be costlier to find than it
     // saves; face order keeps the answer deterministic.
-    if (!findCandidates(faces)) return fragments_;
+    if (clusters != nullptr && clusters->size() > 0 && chainOptions_.minOccluders != 0) {
+        clusters_ = clusters;
+        clusterTree_ = &faces;
+        if (!findClustered(faces, *clusters)) return fragments_;
+    } else if (!findCandidates(faces)) {
+        return fragments_;
+    }
     clipCandidates(mesh);
     return fragments_;
 }

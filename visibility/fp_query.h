@@ -17,6 +17,7 @@
 #include "visibility/boundary_chain.h"
 #include "visibility/clipped_occluder.h"
 #include "visibility/edge_line.h"
+#include "visibility/face_clusters.h"
 #include "visibility/history_tree.h"
 #include "visibility/polygon_clip.h"
 #include "visibility/region_decisions.h"
@@ -100,8 +101,13 @@ class FromPointQuery {
     // x over the light clipped from x directly (as a partial tree's deferred occluders are). Exact
     // like run(); costs O(log faces + the faces in that pyramid) per point and no precompute: for
     // pairs seen by a few points only (the renderer's choice). Honours the work limit.
+    // `clusters`, when given, must have been built over `faces` (face_clusters.h): with the
+    // boundary chain on, a group of faces that x certainly sees all one way, whose box lies
+    // strictly in front of B's and L's planes, enters the chain as its boundary instead of face by
+    // face (the same answer; the cells' lines are tested against its faces through `faces`).
     const FragmentList& runDirect(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
-                                  const Vec3& x, const BoxTree& faces);
+                                  const Vec3& x, const BoxTree& faces,
+                                  const FaceClusters* clusters = nullptr);
     uint32_t nodesVisited() const { return nodesVisited_; }
     // The last run() answered by the contact rule from the pair's occluders, not by the walk.
     bool answeredOnContact() const { return contactAnswer_; }
@@ -150,6 +156,8 @@ class FromPointQuery {
     // The last run took a partial tree's silhouettes (deferred_silhouettes.h) for its deferred
     // occluders.
     bool usedSilhouettes() const { return surface_ != nullptr; }
+    // The face groups the last direct run took whole (face_clusters.h).
+    uint32_t clustersUsed() const { return static_cast<uint32_t>(usedClusters_.size()); }
 
   private:
     void preparePair(const PolygonMesh& mesh, uint32_t receiver, uint32_t light);
@@ -245,6 +253,26 @@ class FromPointQuery {
     // candidates_: the items of `index` whose box may meet pyramid_, in increasing order, each
     // node visited counted as work; false when the work limit stopped the search.
     bool findCandidates(const BoxTree& index);
+    // The same with the face groups (runDirect): a node of `faces` whose group x certainly sees
+    // one way, lying strictly in front of B's and L's planes, goes to usedClusters_ whole
+    // (stamped, with the nodes above it, for the line walks); the faces of the other nodes go to
+    // candidates_.
+    struct ClusterWalk;
+    bool findClustered(const BoxTree& faces, const FaceClusters& clusters);
+    bool walkClusters(uint32_t node, const ClusterWalk& walk);
+    bool clustersActive() const { return !usedClusters_.empty() && !clustersDissolved_; }
+    // The line from x through y against mesh face `face`, unclipped (closed; exact signs at y),
+    // x strictly in front of its plane (side +1) or behind it (-1): a surface slot's face, or a
+    // used group's.
+    LineHit faceHitKind(uint32_t face, int side, const Vec3& y);
+    // Each face of the used groups whose box is not certainly off the line through y
+    // (linePlanes_, set by the caller) passed to visit(face, side) until it returns true (then
+    // true; also when the work limit stops the walk).
+    template <class Visit>
+    bool clusterFacesOnLine(Visit&& visit);
+    bool clusterLineBlocked(const Vec3& y);
+    // A cell that needs Algorithm 1: every face of the used groups activated, once per run.
+    void dissolveClusters();
     SplitParts& partsAt(size_t depth) {
         if (parts_.size() <= depth) parts_.resize(depth + 1);
         return parts_[depth];
@@ -379,6 +407,27 @@ class FromPointQuery {
     std::vector<PlaneOrient> lightCone_;
     const std::vector<PlaneOrient>& cone() const { return lightWhole_ ? pyramid_ : lightCone_; }
     uint32_t lastHit_ = 0;  // the occluder that hid the last hidden cell (tried first)
+    // The direct path's face groups (runDirect), per run: the groups taken whole (the node of
+    // `faces`, the group, the side x sees it from), whether they were activated face by face
+    // since (a cell that needed Algorithm 1), and per node of `faces` the run that stamped it
+    // (a used group or a node above one) with the group's side (0 above one). Per used group's
+    // boundary edge in the chain builder (kClusterRef), its vertices.
+    const FaceClusters* clusters_ = nullptr;
+    const BoxTree* clusterTree_ = nullptr;
+    struct UsedCluster {
+        uint32_t node = 0, cluster = 0;
+        int side = 0;
+    };
+    std::vector<UsedCluster> usedClusters_;
+    bool clustersDissolved_ = false;
+    std::vector<uint32_t> nodeStamp_;
+    std::vector<int8_t> nodeSide_;
+    uint32_t nodeRun_ = 0;
+    std::vector<std::pair<uint32_t, uint32_t>> clusterEdges_;
+    static constexpr uint32_t kClusterRef = 0x20000000u;
+    // The last group faces that hid a cell (face, side): tried before the walk.
+    std::array<std::pair<uint32_t, int>, kRecentHits> recentClusterHits_{};
+    uint32_t recentClusterNext_ = 0;
     // The cells' lines against the occluders: all of them in turn, until a run has tested
     // kScanBeforeBoxes times their number; then through a hierarchy of their faces' boxes, built
     // for the run, which returns every occluder whose box is not certainly off the line.

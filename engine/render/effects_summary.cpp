@@ -63,6 +63,10 @@ std::string EffectsSummary::text() const {
                  std::to_string(minTreeSamples) +
                  " samples: each point clips the faces in its pyramid to the light directly (" +
                  std::to_string(directEvaluations) + " evaluations, exact, no precompute)");
+        if (directGroupedEvaluations > 0)
+            line("  of those evaluations, " + std::to_string(directGroupedEvaluations) +
+                 " took groups of faces seen all from one side whole - their shared edges cancel: "
+                 "only each group's boundary enters the boundary chain (still exact)");
         line("pairs never seen: " + std::to_string(pairsNeverSeen) +
              " - receivers (patches) no primary ray hit: not computed");
         if (sampledEvaluations > 0) {

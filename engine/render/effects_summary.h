@@ -17,8 +17,9 @@ namespace penumbra {
 // and those of pairs without a tree (evaluated directly).
 struct ExactEvaluations {
     // Every evaluation that needed a query, those sampled (over the work limit), those of pairs
-    // without a tree (direct), and the sampled ones among them.
-    uint64_t all = 0, sampled = 0, direct = 0, sampledDirect = 0;
+    // without a tree (direct), the sampled ones among them, and the direct ones that took face
+    // groups whole (vis::FaceClusters: only their boundaries entered the boundary chain).
+    uint64_t all = 0, sampled = 0, direct = 0, sampledDirect = 0, directGrouped = 0;
     // Of the sampled ones, those whose query reached the limit, by the stage it was in
     // (vis::WorkStage); the others were not tried, their region's query having reached it.
     std::array<uint64_t, vis::kWorkStages> overLimitAt{};
@@ -27,6 +28,7 @@ struct ExactEvaluations {
         sampled += o.sampled;
         direct += o.direct;
         sampledDirect += o.sampledDirect;
+        directGrouped += o.directGrouped;
         for (size_t i = 0; i < overLimitAt.size(); ++i) overLimitAt[i] += o.overLimitAt[i];
         return *this;
     }
@@ -57,6 +59,9 @@ struct EffectsSummary {
     // directly (exact), and those evaluations.
     size_t pairsDirect = 0;
     uint64_t directEvaluations = 0, minTreeSamples = 0;
+    // Of those evaluations, the ones that took groups of faces seen all one way whole
+    // (vis::FaceClusters).
+    uint64_t directGroupedEvaluations = 0;
     // Materials of the receivers by how they are shaded.
     size_t materialsAnalytic = 0;  // diffuse: form factor of the exact fragments, no samples
     size_t materialsSampled = 0;   // glossy: samples inside the visible fragments only

@@ -238,6 +238,7 @@ EmbreeScene::EmbreeScene(const vis::PolygonMesh& mesh, const Options& options)
         include[f] = faceFirstPrim_[f + 1] > faceFirstPrim_[f];
     }
     shaftTree_ = vis::BoxTree(boxes, include);
+    faceClusters_ = vis::FaceClusters(mesh, shaftTree_);
 }
 
 EmbreeScene::~EmbreeScene() = default;
@@ -247,6 +248,7 @@ EmbreeScene& EmbreeScene::operator=(EmbreeScene&& o) noexcept {
     // Release the old handles in destruction order: scene, device, then the error record the
     // old device's callback points to.
     shaftTree_ = std::move(o.shaftTree_);
+    faceClusters_ = std::move(o.faceClusters_);
     scene_ = std::move(o.scene_);
     device_ = std::move(o.device_);
     errors_ = std::move(o.errors_);

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "visibility/box_tree.h"
+#include "visibility/face_clusters.h"
 #include "visibility/polygon_mesh.h"
 
 // Embree's opaque handle types (RTCDevice = RTCDeviceTy*, RTCScene = RTCSceneTy*), declared here
@@ -124,6 +125,9 @@ class EmbreeScene {
     // That hierarchy of face boxes (faces with triangles), for the direct per-point query
     // (vis::FromPointQuery::runDirect).
     const vis::BoxTree& faceBoxes() const { return shaftTree_; }
+    // The groups of that hierarchy's faces that a point may see all one way, with their
+    // boundaries (vis::FaceClusters), for the same query.
+    const vis::FaceClusters& faceClusters() const { return faceClusters_; }
     // A face's vertices as Embree holds them (double precision, the input's), from its triangles.
     std::vector<Vec3> facePolygon(uint32_t face) const;
 
@@ -157,13 +161,14 @@ class EmbreeScene {
 
     std::vector<uint32_t> primToFace_;  // per triangle: its face
     std::vector<uint32_t>
-        faceFirstPrim_;             // faces + 1 entries: face f owns triangles [f], .. [f+1] - 1
-    std::vector<Vec3> primVertex_;  // 3 per triangle, double precision
-    std::vector<double> primArea_;  // per triangle
-    std::vector<Vec3> faceNormal_;  // per face: Newell area normal
-    std::vector<double> faceArea_;  // per face: sum of its triangles' areas
-    std::vector<Box> faceBox_;      // per face
-    vis::BoxTree shaftTree_;        // over faceBox_, for shaftCandidates
+        faceFirstPrim_;               // faces + 1 entries: face f owns triangles [f], .. [f+1] - 1
+    std::vector<Vec3> primVertex_;    // 3 per triangle, double precision
+    std::vector<double> primArea_;    // per triangle
+    std::vector<Vec3> faceNormal_;    // per face: Newell area normal
+    std::vector<double> faceArea_;    // per face: sum of its triangles' areas
+    std::vector<Box> faceBox_;        // per face
+    vis::BoxTree shaftTree_;          // over faceBox_, for shaftCandidates
+    vis::FaceClusters faceClusters_;  // over shaftTree_'s nodes
 };
 
 }  // namespace penumbra

@@ -497,6 +497,7 @@ EffectsSummary ProgressiveRenderer::effects() const {
     s.exactWorkLimit = exactWorkLimit_;
     s.pairsDirect = directUsed_.size();
     s.directEvaluations = evaluations_.direct;
+    s.directGroupedEvaluations = evaluations_.directGrouped;
     s.minTreeSamples = minTreeSamples_;
     s.glossySamples = method_ == DirectMethod::Exact ? glossySamples_ : 0;
     // Materials of the faces the image saw.

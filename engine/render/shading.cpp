@@ -130,8 +130,9 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             }
         }
         if (record == nullptr) {  // direct: the faces in the pyramid from x, clipped from x
-            const vis::FragmentList& list =
-                scratch.query.runDirect(scene_.mesh, p.face, light.face, p.x, bvh_.faceBoxes());
+            const vis::FragmentList& list = scratch.query.runDirect(
+                scene_.mesh, p.face, light.face, p.x, bvh_.faceBoxes(), &bvh_.faceClusters());
+            scratch.evaluations.directGrouped += scratch.query.clustersUsed() > 0;
             out += scratch.query.limitReached()
                        ? overLimit(true)
                        : shadeFragments(p, light, list, {}, glossySamples, rng, scratch);

@@ -19,6 +19,7 @@
 #include "tests/support/random_points.h"
 #include "tests/support/test_scale.h"
 #include "visibility/box_tree.h"
+#include "visibility/face_clusters.h"
 #include "visibility/form_factor.h"
 #include "visibility/fp_query.h"
 #include "visibility/history_tree_builder.h"
@@ -234,6 +235,7 @@ Measured measure(const vis::PolygonMesh& m, const Vec3& x, const vis::FragmentLi
 // and the chain edges between them) and how many were cut in all.
 struct Checked {
     int chain = 0, silhouettes = 0;
+    int grouped = 0;  // direct path: points that took face groups whole (face_clusters.h)
     int cells = 0, crossingLabels = 0;
 };
 
@@ -250,6 +252,7 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
     std::vector<vis::Bounds3> boxes;
     for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
     const vis::BoxTree faces(boxes);
+    const vis::FaceClusters groups(s.mesh, faces);
     vis::FromPointQuery chain, oneByOne;
     chain.setChainOptions({1, 0, 0});  // the chain, and its labels by crossings, always
     oneByOne.setChainOptions({0, 0});
@@ -276,6 +279,12 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
         used.crossingLabels += chain.chainCounts().crossingLabels;
         compare("direct, one by one",
                 measure(s.mesh, x, oneByOne.runDirect(s.mesh, 0, 1, x, faces)));
+        compare("direct, face groups",
+                measure(s.mesh, x, chain.runDirect(s.mesh, 0, 1, x, faces, &groups)));
+        used.grouped += chain.clustersUsed() > 0;
+        // (Algorithm 1 only: the groups are not taken.)
+        oneByOne.runDirect(s.mesh, 0, 1, x, faces, &groups);
+        EXPECT_EQ(oneByOne.clustersUsed(), 0u);
         compare("partial tree, chain", measure(s.mesh, x, chain.run(s.mesh, partial, x)));
         used.silhouettes += chain.usedSilhouettes();
         used.cells += chain.chainCounts().cells;
@@ -291,6 +300,8 @@ TEST(BoundaryChainQuery, ClosedSphereMatchesTheExactReference) {
     m.sphere({0.1, -0.05, 0.9}, 0.45, 16, 10);
     const Checked used = checkScene(m.finish(), "sphere", test::scaled(60), 1);
     EXPECT_GT(used.chain, test::scaled(60) / 3);
+    // Most points see groups of the sphere's faces one way: they enter the chain whole.
+    EXPECT_GT(used.grouped, test::scaled(60) / 2);
     // Every point is in the face's region and the sphere's edges cancel: always the silhouettes.
     EXPECT_EQ(used.silhouettes, test::scaled(60));
     // Most cells follow from the one before them (the first of each run is counted on its line).
@@ -384,6 +395,48 @@ TEST(BoundaryChainQuery, MeshCrossingBothPlanesMatchesTheExactReference) {
     }
 }
 
+// Flat plates of many faces, whose groups the floor points certainly see one way: a ceiling
+// above the light (every line from x through the light meets it beyond the light: a group
+// behind L's plane taken whole would hide the whole light), a wall rising through the light's
+// plane beside the light (the same for its upper part), and one going down through the floor's
+// plane. Their groups strictly between the two planes are taken whole.
+TEST(BoundaryChainQuery, GroupsBeyondAndThroughTheLightAndFloorPlanesMatchTheExactReference) {
+    MeshScene m(0);
+    // A wall x = x0 of n x n quads over y in [-1, 1], z in [z0, z1], facing -x (or +x).
+    auto wall = [&](double x0, double z0, double z1, bool towardsMinusX) {
+        const int n = 8;
+        std::vector<std::vector<uint32_t>> id(n + 1, std::vector<uint32_t>(n + 1));
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i)
+                id[j][i] = m.vertex({x0, -1 + 2.0 * j / n, z0 + (z1 - z0) * i / n});
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                uint32_t q[4] = {id[j][i], id[j + 1][i], id[j + 1][i + 1], id[j][i + 1]};
+                if (towardsMinusX) std::swap(q[1], q[3]);  // (y, z) counter-clockwise: +x
+                m.face({q[0], q[1], q[2]});
+                m.face({q[0], q[2], q[3]});
+            }
+    };
+    wall(0.7, 1.0, 3.0, true);     // through the light's plane z = 2
+    wall(-0.7, -0.5, 1.2, false);  // through the floor's plane z = 0
+    // The ceiling z = 2.5 over [-2, 2]^2, facing down (8 x 8 quads).
+    {
+        const int n = 8;
+        std::vector<std::vector<uint32_t>> id(n + 1, std::vector<uint32_t>(n + 1));
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i)
+                id[j][i] = m.vertex({-2 + 4.0 * i / n, -2 + 4.0 * j / n, 2.5});
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                // (x, y) clockwise seen from above: facing -z
+                m.face({id[j][i], id[j + 1][i + 1], id[j][i + 1]});
+                m.face({id[j][i], id[j + 1][i], id[j + 1][i + 1]});
+            }
+    }
+    const Checked c = checkScene(m.finish(), "plates", test::scaled(60), 9);
+    EXPECT_GT(c.grouped, test::scaled(60) / 8);
+}
+
 // Contact lines everywhere: boxes on a dyadic grid (a stack sharing a face, one touching
 // another along an edge), the light's corners and the floor points on the same grid, so that
 // lines from x through box vertices pass exactly through the light's corners and other boxes'
@@ -412,11 +465,12 @@ TEST(BoundaryChainQuery, ContactLinesOnADyadicGridMatchTheExactReference) {
 TEST(BoundaryChainQuery, TransformedClosedMeshesThroughTheSilhouettes) {
     std::mt19937_64 rng(21);
     std::uniform_real_distribution<double> u(-1, 1);
-    int silhouettes = 0, points = 0, penumbra = 0;
+    int silhouettes = 0, points = 0, penumbra = 0, grouped = 0;
     for (int i = 0; i < test::scaled(8); ++i) {
         MeshScene m(0);
-        m.box({-0.4, -0.3, 0}, {0.2, 0.35, 0.6 + 0.1 * u(rng)}, 3);
-        m.sphere({0.45, 0.1, 0.3}, 0.25, 12, 8);
+        // (Fine enough that groups of 16 faces lie on one side of the box.)
+        m.box({-0.4, -0.3, 0}, {0.2, 0.35, 0.6 + 0.1 * u(rng)}, 6);
+        m.sphere({0.45, 0.1, 0.3}, 0.25, 16, 10);
         Scene s = m.finish();
         s.mesh.faces[0].resize(3);  // triangles: a rotated quad would not stay planar
         s.mesh.faces[1].resize(3);
@@ -436,6 +490,13 @@ TEST(BoundaryChainQuery, TransformedClosedMeshesThroughTheSilhouettes) {
         vis::prepareSilhouettes(s.mesh, tree, {}, 100);  // (as checkScene)
         vis::FromPointQuery query;
         query.setChainOptions({1, 0, 0});
+        // The direct query with the face groups too: the box's bottom faces are a hair above or
+        // below the floor's plane, so groups that hold them are not taken whole (not strictly
+        // in front of B), the others may be.
+        std::vector<vis::Bounds3> boxes;
+        for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
+        const vis::BoxTree faces(boxes);
+        const vis::FaceClusters groups(s.mesh, faces);
         std::vector<Vec3> floor;
         for (uint32_t v : s.mesh.faces[0]) floor.push_back(s.mesh.vertices[v]);
         for (int k = 0; k < 6; ++k) {
@@ -453,8 +514,15 @@ TEST(BoundaryChainQuery, TransformedClosedMeshesThroughTheSilhouettes) {
             EXPECT_NEAR(got.fraction, ref.fraction, 1e-9) << vis::toString(x);
             EXPECT_NEAR(got.formFactor, ref.formFactor, 1e-9 * std::max(ref.formFactor, 1e-6))
                 << vis::toString(x);
+            const Measured direct =
+                measure(s.mesh, x, query.runDirect(s.mesh, 0, 1, x, faces, &groups));
+            grouped += query.clustersUsed() > 0;
+            EXPECT_NEAR(direct.fraction, ref.fraction, 1e-9) << "groups, " << vis::toString(x);
+            EXPECT_NEAR(direct.formFactor, ref.formFactor, 1e-9 * std::max(ref.formFactor, 1e-6))
+                << "groups, " << vis::toString(x);
         }
     }
+    EXPECT_GT(grouped, 0);
     EXPECT_EQ(silhouettes, points);
     EXPECT_GT(penumbra, points / 4);
 }

@@ -83,6 +83,7 @@ class Paths {
         std::vector<vis::Bounds3> boxes;
         for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
         faces_ = vis::BoxTree(boxes);
+        groups_ = vis::FaceClusters(s.mesh, faces_);
     }
     const vis::HistoryTree& complete() const { return complete_; }
     const vis::HistoryTree& partial() const { return partial_; }
@@ -112,6 +113,10 @@ class Paths {
         // The boundary-chain evaluation (boundary_chain.h), forced for any number of occluders.
         compare("partial tree, chain", measure(m, 0, 1, x, chain_.run(m, partial_, x)));
         compare("direct query, chain", measure(m, 0, 1, x, chain_.runDirect(m, 0, 1, x, faces_)));
+        // With the face groups (face_clusters.h): those x sees one way enter the chain whole.
+        compare("direct query, face groups",
+                measure(m, 0, 1, x, chain_.runDirect(m, 0, 1, x, faces_, &groups_)));
+        grouped_ += chain_.clustersUsed() > 0;
         return bad;
     }
 
@@ -124,6 +129,7 @@ class Paths {
     const Scene& scene_;
     vis::HistoryTree complete_, partial_;
     vis::BoxTree faces_;
+    vis::FaceClusters groups_;
     vis::FromPointQuery query_;
     vis::FromPointQuery chain_ = [] {
         vis::FromPointQuery q;
@@ -131,6 +137,10 @@ class Paths {
         return q;
     }();
     int reported_ = 0;
+    int grouped_ = 0;  // checks whose direct query took face groups whole
+
+  public:
+    int grouped() const { return grouped_; }
 };
 
 bool hasChord(const vis::HistoryTree& t) {

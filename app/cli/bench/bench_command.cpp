@@ -266,6 +266,9 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
             e["wall"] = prepWall + t.total;
             e["cpu"] = prepCpu + t.totalCpu;
             e["pairsWithoutTree"] = fx.pairsDirect;
+            e["directEvaluations"] = fx.directEvaluations;
+            // Of those, the ones that took face groups whole (vis::FaceClusters).
+            e["directGroupedEvaluations"] = fx.directGroupedEvaluations;
             e["evaluations"] = fx.exactEvaluations;
             e["sampledEvaluations"] = fx.sampledEvaluations;
             // Where the sampled points' queries reached the work limit (vis::WorkStage).
