@@ -102,13 +102,17 @@ int FaceClusters::facing(uint32_t cluster, const Vec3& x) const {
     const Cluster& c = clusters_[cluster];
     const Vec3& u = c.axis;
     // u.x against the box's extent along u, and |x - p| <= D for every p of the box.
-    double ux = 0, hMax = 0, hMin = 0, magnitude = 0, d2 = 0;
+    double ux = 0, hMax = 0, hMin = 0, magnitude = 0;
     for (int i = 0; i < 3; ++i) {
         const double lo = u[i] * c.box.lo[i], hi = u[i] * c.box.hi[i];
         ux += u[i] * x[i];
         hMax += std::max(lo, hi);
         hMin += std::min(lo, hi);
         magnitude += std::abs(u[i] * x[i]) + std::max(std::abs(lo), std::abs(hi));
+    }
+    if (!(ux - hMax > 0) && !(hMin - ux > 0)) return 0;  // (the usual answer, without a root)
+    double d2 = 0;
+    for (int i = 0; i < 3; ++i) {
         const double far = std::max(std::abs(x[i] - c.box.lo[i]), std::abs(x[i] - c.box.hi[i]));
         d2 += far * far;
     }

@@ -1087,8 +1087,9 @@ struct FromPointQuery::ClusterWalk {
     const FaceClusters& clusters;
     std::span<const PlaneBoxCull> pyramid;
     // B's and L's planes turned around: a box strictly on their negative side lies strictly in
-    // front of B and of L (PlaneOrient::boxNegative, rigorous), so no face in it is clipped.
-    PlaneOrient behindB, behindL;
+    // front of B and of L (PlaneBoxCull over the hierarchy's root box, rigorous), so no face in
+    // it is clipped.
+    PlaneBoxCull behindB, behindL;
 };
 
 bool FromPointQuery::findClustered(const BoxTree& faces, const FaceClusters& clusters) {
@@ -1108,9 +1109,10 @@ bool FromPointQuery::findClustered(const BoxTree& faces, const FaceClusters& clu
     const size_t planes = std::min(pyramid_.size(), cull.size());
     const Bounds3& region = faces.nodeBox(0);
     for (size_t i = 0; i < planes; ++i) cull[i] = PlaneBoxCull(pyramid_[i], region.lo, region.hi);
-    const ClusterWalk walk{faces, clusters, std::span<const PlaneBoxCull>(cull.data(), planes),
-                           PlaneOrient(frontB_.a, frontB_.c, frontB_.b),
-                           PlaneOrient(frontL_.a, frontL_.c, frontL_.b)};
+    const ClusterWalk walk{
+        faces, clusters, std::span<const PlaneBoxCull>(cull.data(), planes),
+        PlaneBoxCull(PlaneOrient(frontB_.a, frontB_.c, frontB_.b), region.lo, region.hi),
+        PlaneBoxCull(PlaneOrient(frontL_.a, frontL_.c, frontL_.b), region.lo, region.hi)};
     walkClusters(0, walk);
     if (limitReached_) return false;
     std::sort(candidates_.begin(), candidates_.end());  // face order, as findCandidates
@@ -1123,8 +1125,8 @@ bool FromPointQuery::walkClusters(uint32_t node, const ClusterWalk& w) {
     for (const PlaneBoxCull& p : w.pyramid)
         if (p.negative(box.lo, box.hi)) return false;
     const uint32_t cluster = w.clusters.clusterAt(node);
-    if (cluster != FaceClusters::kNone && w.behindB.boxNegative(box.lo, box.hi) &&
-        w.behindL.boxNegative(box.lo, box.hi)) {
+    if (cluster != FaceClusters::kNone && w.behindB.negative(box.lo, box.hi) &&
+        w.behindL.negative(box.lo, box.hi)) {
         const int side = w.clusters.facing(cluster, x_);
         if (side != 0) {
             usedClusters_.push_back({node, cluster, side});
@@ -1214,6 +1216,15 @@ void FromPointQuery::clipCandidates(const PolygonMesh& mesh) {
         if (f == preparedReceiver_ || f == preparedLight_) continue;
         if (!spend()) return;
         activateFace(mesh, f);
+    }
+    if (clustersActive()) {
+        // Fewer faces in all than the chain is for (ChainOptions::minOccluders): the groups'
+        // faces are activated and the usual rule chooses between the chain and Algorithm 1.
+        size_t grouped = 0;
+        for (const UsedCluster& c : usedClusters_)
+            grouped += clusterTree_->nodeItems(c.node).size();
+        if (grouped + active_.size() < chainOptions_.minOccluders) dissolveClusters();
+        if (limitReached_) return;
     }
     deferredPrepared_ = true;
     reachVisible(lightClipped_, 0);

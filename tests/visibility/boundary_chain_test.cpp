@@ -253,7 +253,7 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
     for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
     const vis::BoxTree faces(boxes);
     const vis::FaceClusters groups(s.mesh, faces);
-    vis::FromPointQuery chain, oneByOne;
+    vis::FromPointQuery chain, oneByOne, defaults;
     chain.setChainOptions({1, 0, 0});  // the chain, and its labels by crossings, always
     oneByOne.setChainOptions({0, 0});
     std::mt19937_64 rng(seed);
@@ -282,6 +282,8 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
         compare("direct, face groups",
                 measure(s.mesh, x, chain.runDirect(s.mesh, 0, 1, x, faces, &groups)));
         used.grouped += chain.clustersUsed() > 0;
+        compare("direct, face groups, default options",
+                measure(s.mesh, x, defaults.runDirect(s.mesh, 0, 1, x, faces, &groups)));
         // (Algorithm 1 only: the groups are not taken.)
         oneByOne.runDirect(s.mesh, 0, 1, x, faces, &groups);
         EXPECT_EQ(oneByOne.clustersUsed(), 0u);

@@ -116,6 +116,8 @@ class Paths {
         // With the face groups (face_clusters.h): those x sees one way enter the chain whole.
         compare("direct query, face groups",
                 measure(m, 0, 1, x, chain_.runDirect(m, 0, 1, x, faces_, &groups_)));
+        compare("direct query, face groups, default options",
+                measure(m, 0, 1, x, query_.runDirect(m, 0, 1, x, faces_, &groups_)));
         grouped_ += chain_.clustersUsed() > 0;
         return bad;
     }
