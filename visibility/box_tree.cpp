@@ -45,11 +45,7 @@ uint32_t BoxTree::build(uint32_t begin, uint32_t end, std::vector<Vec3>& centre)
     nodes_[index].box = box;
     nodes_[index].begin = begin;
     nodes_[index].end = end;
-    if (end - begin <= kLeafSize) {
-        nodes_[index].first = begin;
-        nodes_[index].count = end - begin;
-        return index;
-    }
+    if (end - begin <= kLeafSize) return index;  // a leaf (right stays 0)
     const Vec3 extent = centres.hi - centres.lo;
     const int axis =
         extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
@@ -58,7 +54,7 @@ uint32_t BoxTree::build(uint32_t begin, uint32_t end, std::vector<Vec3>& centre)
                      [&](uint32_t a, uint32_t b) { return centre[a][axis] < centre[b][axis]; });
     build(begin, mid, centre);  // the left child is index + 1
     const uint32_t right = build(mid, end, centre);
-    nodes_[index].first = right;
+    nodes_[index].right = right;
     return index;
 }
 
@@ -70,13 +66,13 @@ void BoxTree::overlapping(const Bounds3& query, std::vector<uint32_t>& out) cons
     while (top > 0) {
         const Node& n = nodes_[stack[--top]];
         if (!n.box.overlaps(query)) continue;
-        if (n.count > 0) {
-            for (uint32_t i = n.first; i < n.first + n.count; ++i)
+        if (n.leaf()) {
+            for (uint32_t i = n.begin; i < n.end; ++i)
                 if (boxes_[items_[i]].overlaps(query)) out.push_back(items_[i]);
             continue;
         }
         // Depth is at most log2(faces / kLeafSize) + 1 (median splits): 64 levels suffice.
-        stack[top++] = n.first;
+        stack[top++] = n.right;
         stack[top++] = static_cast<uint32_t>(&n - nodes_.data()) + 1;
     }
 }
@@ -86,11 +82,7 @@ uint32_t BoxTree::notOutside(std::span<const PlaneOrient> planes, std::vector<ui
     if (nodes_.empty()) return 0;
     if (planes.size() <= kMaxCullPlanes) {
         std::array<PlaneBoxCull, kMaxCullPlanes> cull;
-        const Bounds3& region = nodes_[0].box;
-        for (size_t i = 0; i < planes.size(); ++i)
-            cull[i] = PlaneBoxCull(planes[i], region.lo, region.hi);
-        return notOutsideWith(std::span<const PlaneBoxCull>(cull.data(), planes.size()), out,
-                              maxVisits);
+        return notOutsideWith(cullPlanes(planes, cull), out, maxVisits);
     }
     return notOutsideWith(planes, out, maxVisits);
 }
@@ -107,12 +99,12 @@ uint32_t BoxTree::notOutsideWith(std::span<const Plane> planes, std::vector<uint
         const Node& n = nodes_[stack[--top]];
         ++visited;
         if (outsideOne(planes, n.box)) continue;
-        if (n.count > 0) {
-            for (uint32_t i = n.first; i < n.first + n.count; ++i)
+        if (n.leaf()) {
+            for (uint32_t i = n.begin; i < n.end; ++i)
                 if (!outsideOne(planes, boxes_[items_[i]])) out.push_back(items_[i]);
             continue;
         }
-        stack[top++] = n.first;
+        stack[top++] = n.right;
         stack[top++] = static_cast<uint32_t>(&n - nodes_.data()) + 1;
     }
     return visited;

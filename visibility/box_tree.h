@@ -12,6 +12,8 @@
 // the reported items are clustered.
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -50,27 +52,37 @@ class BoxTree {
     // leaves below it) are contiguous: nodeItems(node).
     uint32_t nodeCount() const { return static_cast<uint32_t>(nodes_.size()); }
     const Bounds3& nodeBox(uint32_t node) const { return nodes_[node].box; }
-    bool isLeaf(uint32_t node) const { return nodes_[node].count > 0; }
-    uint32_t rightChild(uint32_t node) const { return nodes_[node].first; }
+    bool isLeaf(uint32_t node) const { return nodes_[node].leaf(); }
+    uint32_t rightChild(uint32_t node) const { return nodes_[node].right; }
     std::span<const uint32_t> nodeItems(uint32_t node) const {
         return {items_.data() + nodes_[node].begin, nodes_[node].end - nodes_[node].begin};
     }
     const Bounds3& itemBox(uint32_t item) const { return boxes_[item]; }
-
-  private:
-    // Whether the box is certainly outside one of the planes (PlaneBoxCull::negative, for boxes
-    // inside the root's; PlaneOrient::boxNegative).
+    // The first N of `planes` as culling bounds over the root's box, in `out` (planes left out
+    // cull nothing: still sound). The hierarchy must not be empty.
+    template <size_t N>
+    std::span<const PlaneBoxCull> cullPlanes(std::span<const PlaneOrient> planes,
+                                             std::array<PlaneBoxCull, N>& out) const {
+        const size_t count = std::min(planes.size(), N);
+        const Bounds3& region = nodes_[0].box;
+        for (size_t i = 0; i < count; ++i) out[i] = PlaneBoxCull(planes[i], region.lo, region.hi);
+        return {out.data(), count};
+    }
+    // Whether a box of the hierarchy (inside the root's) is certainly outside one of them.
     static bool outsideOne(std::span<const PlaneBoxCull> planes, const Bounds3& box) {
         for (const PlaneBoxCull& p : planes)
             if (p.negative(box.lo, box.hi)) return true;
         return false;
     }
+
+  private:
+    // The same with PlaneOrient::boxNegative per box.
     static bool outsideOne(std::span<const PlaneOrient> planes, const Bounds3& box);
     struct Node {
         Bounds3 box;
-        uint32_t first = 0;  // leaf: first index into items_; inner: index of the right child
-        uint32_t count = 0;  // leaf: number of items (> 0); inner: 0 (left child = this + 1)
+        uint32_t right = 0;           // inner: the right child (the left one is this + 1); leaf: 0
         uint32_t begin = 0, end = 0;  // the items below it: items_[begin, end)
+        bool leaf() const { return right == 0; }  // (the root is no node's child)
     };
     uint32_t build(uint32_t begin, uint32_t end, std::vector<Vec3>& centre);
     // notOutside with PlaneOrient (boxNegative per box) or PlaneBoxCull planes.
@@ -88,11 +100,8 @@ bool BoxTree::anyNotOutside(std::span<const PlaneOrient> planes, Stop&& stop,
                             uint32_t& visited) const {
     visited = 0;
     if (nodes_.empty()) return false;
-    PlaneBoxCull cull[kMaxCullPlanes];
-    const size_t count = planes.size() < kMaxCullPlanes ? planes.size() : kMaxCullPlanes;
-    const Bounds3& region = nodes_[0].box;
-    for (size_t i = 0; i < count; ++i) cull[i] = PlaneBoxCull(planes[i], region.lo, region.hi);
-    const std::span<const PlaneBoxCull> c(cull, count);
+    std::array<PlaneBoxCull, kMaxCullPlanes> cull;
+    const std::span<const PlaneBoxCull> c = cullPlanes(planes, cull);
     uint32_t stack[64];
     int top = 0;
     stack[top++] = 0;
@@ -100,12 +109,12 @@ bool BoxTree::anyNotOutside(std::span<const PlaneOrient> planes, Stop&& stop,
         const Node& n = nodes_[stack[--top]];
         ++visited;
         if (outsideOne(c, n.box)) continue;
-        if (n.count > 0) {
-            for (uint32_t i = n.first; i < n.first + n.count; ++i)
+        if (n.leaf()) {
+            for (uint32_t i = n.begin; i < n.end; ++i)
                 if (!outsideOne(c, boxes_[items_[i]]) && stop(items_[i])) return true;
             continue;
         }
-        stack[top++] = n.first;
+        stack[top++] = n.right;
         stack[top++] = static_cast<uint32_t>(&n - nodes_.data()) + 1;
     }
     return false;

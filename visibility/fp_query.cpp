@@ -928,14 +928,9 @@ bool FromPointQuery::clusterFacesOnLine(Visit&& visit) {
     // Down the stamped nodes to the used groups, and through each group's nodes, with the line's
     // planes (a face on the line is on no plane's strictly negative side).
     const BoxTree& t = *clusterTree_;
-    const Bounds3& region = t.nodeBox(0);
-    PlaneBoxCull cull[4];
-    for (size_t i = 0; i < 4; ++i) cull[i] = PlaneBoxCull(linePlanes_[i], region.lo, region.hi);
-    auto off = [&](const Bounds3& b) {
-        for (const PlaneBoxCull& c : cull)
-            if (c.negative(b.lo, b.hi)) return true;
-        return false;
-    };
+    std::array<PlaneBoxCull, 4> planes;
+    const std::span<const PlaneBoxCull> cull = t.cullPlanes(linePlanes_, planes);
+    auto off = [&](const Bounds3& b) { return BoxTree::outsideOne(cull, b); };
     // Each entry: a node and the side of the group it lies in (0: above the used groups).
     std::pair<uint32_t, int> stack[160];
     int top = 0;
@@ -1106,11 +1101,9 @@ bool FromPointQuery::findClustered(const BoxTree& faces, const FaceClusters& clu
         nodeRun_ = 1;
     }
     std::array<PlaneBoxCull, BoxTree::kMaxCullPlanes> cull;
-    const size_t planes = std::min(pyramid_.size(), cull.size());
     const Bounds3& region = faces.nodeBox(0);
-    for (size_t i = 0; i < planes; ++i) cull[i] = PlaneBoxCull(pyramid_[i], region.lo, region.hi);
     const ClusterWalk walk{
-        faces, clusters, std::span<const PlaneBoxCull>(cull.data(), planes),
+        faces, clusters, faces.cullPlanes(pyramid_, cull),
         PlaneBoxCull(PlaneOrient(frontB_.a, frontB_.c, frontB_.b), region.lo, region.hi),
         PlaneBoxCull(PlaneOrient(frontL_.a, frontL_.c, frontL_.b), region.lo, region.hi)};
     walkClusters(0, walk);
@@ -1122,8 +1115,7 @@ bool FromPointQuery::findClustered(const BoxTree& faces, const FaceClusters& clu
 bool FromPointQuery::walkClusters(uint32_t node, const ClusterWalk& w) {
     if (!spend()) return false;
     const Bounds3& box = w.faces.nodeBox(node);
-    for (const PlaneBoxCull& p : w.pyramid)
-        if (p.negative(box.lo, box.hi)) return false;
+    if (BoxTree::outsideOne(w.pyramid, box)) return false;
     const uint32_t cluster = w.clusters.clusterAt(node);
     if (cluster != FaceClusters::kNone && w.behindB.negative(box.lo, box.hi) &&
         w.behindL.negative(box.lo, box.hi)) {
@@ -1136,12 +1128,8 @@ bool FromPointQuery::walkClusters(uint32_t node, const ClusterWalk& w) {
         }
     }
     if (w.faces.isLeaf(node)) {
-        for (uint32_t face : w.faces.nodeItems(node)) {
-            const Bounds3& b = w.faces.itemBox(face);
-            bool outside = false;
-            for (const PlaneBoxCull& p : w.pyramid) outside = outside || p.negative(b.lo, b.hi);
-            if (!outside) candidates_.push_back(face);
-        }
+        for (uint32_t face : w.faces.nodeItems(node))
+            if (!BoxTree::outsideOne(w.pyramid, w.faces.itemBox(face))) candidates_.push_back(face);
         return false;
     }
     const bool left = walkClusters(node + 1, w);
