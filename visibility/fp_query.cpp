@@ -1156,6 +1156,7 @@ void FromPointQuery::startRun() {
     fragments_.clear();
     nodesVisited_ = 0;
     work_ = 0;
+    stageWork_.fill(0);
     limitReached_ = false;
     stage_ = limitStage_ = WorkStage::Walk;
     active_.clear();

@@ -121,6 +121,8 @@ class FromPointQuery {
     bool limitReached() const { return limitReached_; }
     // The stage the last run was in when it reached the work limit (when limitReached()).
     WorkStage limitStage() const { return limitStage_; }
+    // The last run's work by the stage it was spent in (indexed by WorkStage; the sum is work()).
+    const std::array<uint64_t, kWorkStages>& stageWork() const { return stageWork_; }
     // Of a partial tree's deferred occluders, those the last run clipped against (their cone from
     // x may meet L; on the silhouette path only those that cross B's or L's plane, and the others
     // where a cell needed Algorithm 1), and the clips that changed a fragment (split or removed
@@ -288,6 +290,7 @@ class FromPointQuery {
     uint64_t workLimit_ = 0, work_ = 0;
     bool limitReached_ = false;
     WorkStage stage_ = WorkStage::Walk, limitStage_ = WorkStage::Walk;  // (set on entering one)
+    std::array<uint64_t, kWorkStages> stageWork_{};
     // What is left of the work limit (0 = no limit: unbounded).
     uint64_t workBudgetLeft() const {
         return workLimit_ == 0 ? 0 : (work_ < workLimit_ ? workLimit_ - work_ : 1);
@@ -296,6 +299,7 @@ class FromPointQuery {
     // reached (the run then unwinds).
     bool spend(uint64_t tests = 1) {
         work_ += tests;
+        stageWork_[static_cast<size_t>(stage_)] += tests;
         if (workLimit_ != 0 && work_ > workLimit_) {
             if (!limitReached_) limitStage_ = stage_;
             limitReached_ = true;

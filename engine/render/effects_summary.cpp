@@ -79,18 +79,33 @@ std::string EffectsSummary::text() const {
                  std::to_string(exactWorkLimit) + " plane tests: " + std::to_string(lightSamples) +
                  " shadow rays each instead (not exact; --exact-work-limit 0 makes every point "
                  "exact)");
-            uint64_t tried = 0;
             std::string stages;
             for (size_t i = 0; i < overLimitAt.size(); ++i) {
-                tried += overLimitAt[i];
                 if (overLimitAt[i] == 0) continue;
                 stages += (stages.empty() ? "" : ", ") +
                           std::string(vis::toString(static_cast<vis::WorkStage>(i))) + " " +
                           std::to_string(overLimitAt[i]);
             }
             line("  where they reached the limit: " + (stages.empty() ? "-" : stages) + "; " +
-                 std::to_string(sampledEvaluations - std::min(tried, sampledEvaluations)) +
+                 std::to_string(notTriedEvaluations()) +
                  " more were points of a region whose query had reached it (not tried)");
+        }
+        for (size_t path = 0; path < workAt.size(); ++path) {
+            uint64_t total = 0;
+            for (uint64_t w : workAt[path]) total += w;
+            if (total == 0) continue;
+            std::string stages;
+            for (size_t i = 0; i < vis::kWorkStages; ++i) {
+                if (workAt[path][i] == 0) continue;
+                char share[32];
+                std::snprintf(
+                    share, sizeof share, " %.1f%%",
+                    100.0 * static_cast<double>(workAt[path][i]) / static_cast<double>(total));
+                stages += (stages.empty() ? "" : ", ") +
+                          std::string(vis::toString(static_cast<vis::WorkStage>(i))) + share;
+            }
+            line(std::string(path == 0 ? "work walking trees: " : "work without a tree: ") +
+                 std::to_string(total) + " plane tests - " + stages);
         }
     }
     if (!method.empty()) {

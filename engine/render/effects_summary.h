@@ -3,6 +3,7 @@
 // Filled by the renderer and the precompute, printed by the commands, shown by the viewer.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -23,6 +24,9 @@ struct ExactEvaluations {
     // Of the sampled ones, those whose query reached the limit, by the stage it was in
     // (vis::WorkStage); the others were not tried, their region's query having reached it.
     std::array<uint64_t, vis::kWorkStages> overLimitAt{};
+    // The queries' work in plane tests (vis::FromPointQuery::stageWork), by the stage it was
+    // spent in: [0] the tree pairs', [1] the direct ones' (those over the limit included).
+    std::array<std::array<uint64_t, vis::kWorkStages>, 2> workAt{};
     ExactEvaluations& operator+=(const ExactEvaluations& o) {
         all += o.all;
         sampled += o.sampled;
@@ -30,6 +34,8 @@ struct ExactEvaluations {
         sampledDirect += o.sampledDirect;
         directGrouped += o.directGrouped;
         for (size_t i = 0; i < overLimitAt.size(); ++i) overLimitAt[i] += o.overLimitAt[i];
+        for (size_t p = 0; p < workAt.size(); ++p)
+            for (size_t i = 0; i < vis::kWorkStages; ++i) workAt[p][i] += o.workAt[p][i];
         return *this;
     }
 };
@@ -49,6 +55,16 @@ struct EffectsSummary {
     // Of the sampled evaluations, those whose query reached the limit, by the stage it was in
     // (the rest were points of a region whose query had reached it: not tried).
     std::array<uint64_t, vis::kWorkStages> overLimitAt{};
+    // The exact queries' work in plane tests by stage: [0] walking trees, [1] without a tree
+    // (ExactEvaluations::workAt).
+    std::array<std::array<uint64_t, vis::kWorkStages>, 2> workAt{};
+    // Of the sampled evaluations, those not tried (a point of a region whose query had reached
+    // the limit): the ones no stage of overLimitAt counts.
+    uint64_t notTriedEvaluations() const {
+        uint64_t tried = 0;
+        for (uint64_t n : overLimitAt) tried += n;
+        return sampledEvaluations - std::min(tried, sampledEvaluations);
+    }
     // sampledEvaluations as a percentage of exactEvaluations (0 when there were none).
     double sampledPercent() const {
         return exactEvaluations == 0 ? 0.0

@@ -494,6 +494,7 @@ EffectsSummary ProgressiveRenderer::effects() const {
     s.sampledEvaluations = evaluations_.sampled;
     s.sampledDirectEvaluations = evaluations_.sampledDirect;
     s.overLimitAt = evaluations_.overLimitAt;
+    s.workAt = evaluations_.workAt;
     s.exactWorkLimit = exactWorkLimit_;
     s.pairsDirect = directUsed_.size();
     s.directEvaluations = evaluations_.direct;

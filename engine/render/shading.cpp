@@ -118,6 +118,11 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             if (!scratch.regionCorners.empty()) scratch.regionOverLimit[k] = scratch.regionId;
             return sampledAreaLight(light, p, fallbackSamples, rng);
         };
+        // The query's work by stage, on the tree pairs' (0) or the direct ones' (1) account.
+        auto countWork = [&](size_t path) {
+            const auto& work = scratch.query.stageWork();
+            for (size_t i = 0; i < work.size(); ++i) scratch.evaluations.workAt[path][i] += work[i];
+        };
         if (queried && !scratch.regionCorners.empty()) {
             if (scratch.regions.size() != lights_.size()) {
                 scratch.regions.assign(lights_.size(), vis::RegionDecisions{});
@@ -133,6 +138,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             const vis::FragmentList& list = scratch.query.runDirect(
                 scene_.mesh, p.face, light.face, p.x, bvh_.faceBoxes(), &bvh_.faceClusters());
             scratch.evaluations.directGrouped += scratch.query.clustersUsed() > 0;
+            countWork(1);
             out += scratch.query.limitReached()
                        ? overLimit(true)
                        : shadeFragments(p, light, list, {}, glossySamples, rng, scratch);
@@ -164,6 +170,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 }
             }
             list = &scratch.query.run(scene_.mesh, record->tree, p.x, nullptr, region);
+            countWork(0);
             if (scratch.query.limitReached()) {
                 out += overLimit(true);
                 continue;

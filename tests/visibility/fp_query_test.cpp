@@ -275,6 +275,22 @@ TEST(FpQuery, WorkLimitSaysWhichStageReachedIt) {
         const uint64_t work = unlimited.work();
         if (work < 2) continue;
         ++points;
+        // The run's work by stage adds up to its work; the stages run in WorkStage's order
+        // (checked below), so a limit is reached in the first stage whose running total of the
+        // unlimited run's work exceeds it.
+        const auto& byStage = unlimited.stageWork();
+        uint64_t sum = 0;
+        for (uint64_t w : byStage) sum += w;
+        ASSERT_EQ(sum, work);
+        const auto byStageCopy = byStage;
+        auto predictedStage = [&](uint64_t limit) {
+            uint64_t total = 0;
+            for (size_t i = 0; i < byStageCopy.size(); ++i) {
+                total += byStageCopy[i];
+                if (total > limit) return static_cast<vis::WorkStage>(i);
+            }
+            return vis::WorkStage::Walk;
+        };
         int last = -1;
         bool sawClip = false;
         for (uint64_t limit = 1; limit < work; limit += std::max<uint64_t>(1, work / 40)) {
@@ -282,6 +298,7 @@ TEST(FpQuery, WorkLimitSaysWhichStageReachedIt) {
             limited.runDirect(s.mesh, f, light, x, faces);
             ASSERT_TRUE(limited.limitReached()) << "limit " << limit << " of " << work;
             const vis::WorkStage stage = limited.limitStage();
+            EXPECT_EQ(stage, predictedStage(limit)) << "limit " << limit << " of " << work;
             if (limit == 1) {
                 EXPECT_EQ(stage, vis::WorkStage::FindOccluders);
             }

@@ -84,6 +84,20 @@ double seconds(Clock::time_point a, Clock::time_point b) {
     return std::chrono::duration<double>(b - a).count();
 }
 
+// The exact queries' work in plane tests by the stage it went to (vis::FromPointQuery::
+// stageWork), for the tree pairs and for those without a tree.
+json workJson(const EffectsSummary& fx) {
+    json w = json::object();
+    const char* const paths[] = {"trees", "direct"};
+    for (size_t p = 0; p < fx.workAt.size(); ++p) {
+        json stages = json::object();
+        for (size_t i = 0; i < vis::kWorkStages; ++i)
+            stages[vis::toString(static_cast<vis::WorkStage>(i))] = fx.workAt[p][i];
+        w[paths[p]] = stages;
+    }
+    return w;
+}
+
 json kindsJson(const VisibilityStore& store) {
     const std::array<size_t, vis::kPairKindCount> k = store.kindCounts();
     return {{"backFacing", k[0]},
@@ -276,6 +290,8 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
             for (size_t i = 0; i < fx.overLimitAt.size(); ++i)
                 stages[vis::toString(static_cast<vis::WorkStage>(i))] = fx.overLimitAt[i];
             e["overLimitAt"] = stages;
+            e["notTried"] = fx.notTriedEvaluations();
+            e["workAt"] = workJson(fx);
             e["exactWorkLimit"] = s.exactWorkLimit;
             e["minTreeSamples"] = s.minTreeSamples;
             row["speedupWall"] = row["sampled128"]["wall"].get<double>() / (prepWall + t.total);
@@ -295,11 +311,13 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
                 all.exactWorkLimit = 0;
                 RenderTimes ta;
                 std::atomic<bool> stop{false};
+                r.resetEffects();
                 const bool done =
                     runWithLimit(o.limit, stop, [&] { r.render(camera, all, &ta, &stop); });
                 e["everyPointExact"] = {{"complete", done},
                                         {"renderWall", done ? ta.total : o.limit},
                                         {"renderCpu", ta.totalCpu}};
+                if (done) e["everyPointExact"]["workAt"] = workJson(r.effects());
                 std::printf("  every point exact: render %s%.2f s wall\n", done ? "" : "over ",
                             done ? ta.total : o.limit);
             }

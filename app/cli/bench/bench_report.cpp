@@ -120,14 +120,57 @@ void writeOverLimit(std::ostream& r, const json& rows) {
     for (const json& row : rows) {
         const json& e = row["exact"];
         if (!e.contains("overLimitAt")) continue;
-        uint64_t tried = 0;
-        for (const auto& [name, count] : e["overLimitAt"].items()) tried += count.get<uint64_t>();
-        const uint64_t sampled = e["sampledEvaluations"].get<uint64_t>();
-        r << "| " << sceneName(row) << " | " << sampled << " | "
-          << (sampled - std::min(tried, sampled)) << " |";
+        r << "| " << sceneName(row) << " | " << e["sampledEvaluations"] << " | "
+          << e.value("notTried", json("-")) << " |";
         for (const std::string& s : stages)
             r << " " << (e["overLimitAt"].contains(s) ? e["overLimitAt"][s].dump() : "-") << " |";
         r << "\n";
+    }
+    r << "\n";
+}
+
+// Of Table 1's exact renders, where the queries' plane tests went (vis::WorkStage): per scene
+// and path (walking trees, without a tree), at the default work limit and, where the bench ran
+// it, with every point exact.
+void writeWork(std::ostream& r, const json& rows) {
+    bool any = false;
+    for (const json& row : rows) any = any || row["exact"].contains("workAt");
+    if (!any) return;
+    r << "### Where the exact work goes\n\n"
+      << "The plane tests of Table 1's exact renders (the unit of the work limit; "
+         "`FromPointQuery::stageWork`), by the stage they went to: walking history trees and "
+         "evaluating pairs without a tree, at the default work limit and, for the scenes the "
+         "bench also renders with every point exact, without a limit. Tests per evaluation: "
+         "all of that path's tests over all the exact evaluations.\n\n"
+      << "| scene | work limit | path | tests per evaluation |";
+    for (size_t i = 0; i < vis::kWorkStages; ++i)
+        r << " " << vis::toString(static_cast<vis::WorkStage>(i)) << " |";
+    r << "\n|---|---|---|---|";
+    for (size_t i = 0; i < vis::kWorkStages; ++i) r << "---|";
+    r << "\n";
+    auto rowsOf = [&](const json& row, const json& work, const std::string& limit) {
+        const double evaluations = row["exact"]["evaluations"].get<double>();
+        for (const char* path : {"trees", "direct"}) {
+            double total = 0;
+            for (const auto& [stage, n] : work[path].items()) total += n.get<double>();
+            if (total == 0) continue;
+            r << "| " << sceneName(row) << " | " << limit << " | "
+              << (std::string(path) == "trees" ? "trees" : "without a tree") << " | "
+              << fmt("%.1f", evaluations > 0 ? total / evaluations : 0.0) << " |";
+            for (size_t i = 0; i < vis::kWorkStages; ++i) {
+                const std::string stage = vis::toString(static_cast<vis::WorkStage>(i));
+                const double n = work[path].value(stage, 0.0);
+                r << " " << (n > 0 ? fmt("%.1f%%", 100.0 * n / total) : "-") << " |";
+            }
+            r << "\n";
+        }
+    };
+    for (const json& row : rows) {
+        const json& e = row["exact"];
+        if (!e.contains("workAt")) continue;
+        rowsOf(row, e["workAt"], std::to_string(e["exactWorkLimit"].get<uint64_t>()));
+        if (e.contains("everyPointExact") && e["everyPointExact"].contains("workAt"))
+            rowsOf(row, e["everyPointExact"]["workAt"], "none");
     }
     r << "\n";
 }
@@ -157,6 +200,7 @@ void writeTable1(std::ostream& r, const json& rows, const json& skipped, bool pl
     if (plots) r << "![Table 1](table1.png)\n\n";
     writeSkipped(r, skipped);
     writeOverLimit(r, rows);
+    writeWork(r, rows);
 }
 
 // ---- The other studies ---------------------------------------------------------------------
