@@ -625,8 +625,9 @@ void FromPointQuery::chainCells(std::span<const Vec3> poly, size_t depth, size_t
             return;
         }
         if (outcome != SplitOutcome::Split) {
-            bounds_.push_back(
-                {e.ref, outcome == SplitOutcome::Positive ? Sign::Positive : Sign::Negative});
+            bounds_.push_back({e.ref,
+                               outcome == SplitOutcome::Positive ? Sign::Positive : Sign::Negative,
+                               chainLists_[level][i]});
             continue;
         }
         // Two cells: each takes the rest of the list but the edges whose segment lies on the
@@ -662,7 +663,7 @@ void FromPointQuery::chainCells(std::span<const Vec3> poly, size_t depth, size_t
                 crossLevel_ = level;
                 crossIndex_ = i;
             }
-            bounds_.push_back({e.ref, side});
+            bounds_.push_back({e.ref, side, chainLists_[level][i]});
             chainCells(sides[k], depth + 1, level + 1);
             bounds_.pop_back();
             if (limitReached_) return;
@@ -686,9 +687,19 @@ void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
         if (!spend()) return;
         if (exactSign(h, y) != Sign::Positive) certified = false;
     }
+    if (crossings_ && ++yStamp_ == 0) {  // wrapped: no stale stamp may match
+        std::fill(stampRef_.begin(), stampRef_.end(), 0);
+        std::fill(stampY_.begin(), stampY_.end(), 0);
+        yStamp_ = 1;
+    }
     for (size_t k = 0; certified && k < bounds_.size(); ++k) {
         if (!spend()) return;
-        certified = refSign(bounds_[k].ref, y) == bounds_[k].side;
+        const Sign s = refSign(bounds_[k].ref, y);
+        certified = s == bounds_[k].side;
+        if (crossings_) {  // the side of y the crossings count needs too (countByCrossings)
+            sideY_[bounds_[k].edge] = static_cast<int8_t>(s);
+            stampY_[bounds_[k].edge] = yStamp_;
+        }
     }
     if (!certified) {
         ++chainCounts_.fallbacks;
@@ -700,11 +711,6 @@ void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
     }
     if (crossings_) {
         // c(y) from the last counted cell's, else from the line; the cell is seen where it is 0.
-        if (++yStamp_ == 0) {  // wrapped: no stale stamp may match
-            std::fill(stampRef_.begin(), stampRef_.end(), 0);
-            std::fill(stampY_.begin(), stampY_.end(), 0);
-            yStamp_ = 1;
-        }
         std::optional<int> c;
         if (haveRef_) {
             c = countByCrossings(y);
@@ -751,10 +757,15 @@ std::optional<int> FromPointQuery::countByCrossings(const Vec3& y) {
             if (!spend()) return std::nullopt;
             s0 = refSign(e.ref, refY_);
         }
-        if (!spend()) return std::nullopt;
-        const Sign s1 = refSign(e.ref, y);
-        sideY_[idx] = static_cast<int8_t>(s1);  // the ref's own side if y becomes the ref
-        stampY_[idx] = yStamp_;
+        Sign s1;
+        if (stampY_[idx] == yStamp_) {  // a bound of y's cell: taken when it was certified
+            s1 = static_cast<Sign>(sideY_[idx]);
+        } else {
+            if (!spend()) return std::nullopt;
+            s1 = refSign(e.ref, y);
+            sideY_[idx] = static_cast<int8_t>(s1);  // the ref's own side if y becomes the ref
+            stampY_[idx] = yStamp_;
+        }
         if (s0 == s1 && s0 != Sign::Zero) continue;  // both strictly on one side of its plane
         if (!spend(5)) return std::nullopt;
         const Sign qa = orientSign(x_, refY_, y, e.a), qb = orientSign(x_, refY_, y, e.b);

@@ -384,10 +384,12 @@ class FromPointQuery {
     // Per recursion level, the chain edges that may cross the cell.
     std::vector<std::vector<uint32_t>> chainLists_;
     std::vector<std::vector<uint8_t>> chainSides_;  // per level, chainCells' scratch
-    // The cell's bounding planes so far (a chain edge's plane with the side the cell is on).
+    // The cell's bounding planes so far (a chain edge's plane with the side the cell is on, and
+    // the edge's index in chain_).
     struct CellBound {
         uint32_t ref;
         Sign side;
+        uint32_t edge;
     };
     std::vector<CellBound> bounds_;
     ChainOptions chainOptions_;
