@@ -231,6 +231,21 @@ class MeshScene {
                 face({id[j][i], id[j + 1][i], id[j + 1][i + 1]});
             }
     }
+    // A horizontal plate z = z0 over [x0, x1] x [y0, y1] of 8 x 8 quads, facing down (or up).
+    void plate(double x0, double x1, double y0, double y1, double z0, bool facingDown) {
+        const int n = 8;
+        std::vector<std::vector<uint32_t>> id(n + 1, std::vector<uint32_t>(n + 1));
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i)
+                id[j][i] = vertex({x0 + (x1 - x0) * i / n, y0 + (y1 - y0) * j / n, z0});
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                uint32_t a = id[j][i], b = id[j][i + 1], c = id[j + 1][i + 1], d = id[j + 1][i];
+                if (facingDown) std::swap(b, d);  // (x, y) counter-clockwise from above: up
+                face({a, b, c});
+                face({a, c, d});
+            }
+    }
     Scene finish() {
         s_.collectLights();
         return s_;
@@ -458,6 +473,28 @@ TEST(BoundaryChainQuery, ContactLinesOnADyadicGridMatchTheExactReference) {
         checkScene(m.finish(), "dyadic boxes", static_cast<int>(grid.size()), 0, grid);
     EXPECT_GT(c.chain, static_cast<int>(grid.size()) / 4);
     EXPECT_GT(c.crossingLabels, c.cells / 3);
+}
+
+// The face groups at contact lines: flat plates of many faces on the dyadic grid of the floor
+// points and the light's corners (lines from x through plate vertices pass exactly through the
+// light's corners and through the vertices of the plate above), two coplanar plates touching
+// along an edge, one facing up among those facing down, and a wall standing on the floor with
+// floor points on its foot. The groups strictly between the two planes are taken whole; their
+// answers, and the others', against the exact reference.
+TEST(BoundaryChainQuery, GroupsAtContactLinesOnADyadicGridMatchTheExactReference) {
+    MeshScene m(0);
+    m.plate(-0.5, 0.0, -0.5, 0.5, 1.0, true);
+    m.plate(0.0, 0.5, -0.5, 0.5, 1.0, true);        // coplanar, touching the first along x = 0
+    m.plate(-0.25, 0.25, -0.25, 0.25, 1.5, false);  // above them, facing up (away from x)
+    m.plate(-1.0, -0.5, 0.0, 0.5, 0.5, true);       // its edge under the first plate's
+    m.wall(0.75, 0.0, 0.5, true);                   // its foot on the floor, at x = 0.75
+    std::vector<Vec3> grid;
+    for (int i = -4; i <= 4; ++i)
+        for (int j = -4; j <= 4; ++j) grid.push_back({i / 4.0, j / 4.0, 0});
+    const Checked c =
+        checkScene(m.finish(), "dyadic plates", static_cast<int>(grid.size()), 0, grid);
+    EXPECT_GT(c.grouped, static_cast<int>(grid.size()) / 2);
+    EXPECT_GT(c.chain, static_cast<int>(grid.size()) / 2);
 }
 
 // A closed box and sphere standing on a triangle of the floor, the whole scene rotated and
