@@ -37,9 +37,9 @@ const PixelReport* PixelInspector::inspect(const LoadedScene& scene, const Camer
         report_.y = y;
         report_.hit = pickSurface(scene.scene, *scene.bvh, camera, view, px, py);
         if (report_.hit)
-            report_.lights =
-                queryPointDirect(scene.scene, scene.bvh->faceBoxes(), report_.hit->face,
-                                 report_.hit->point, std::nullopt, kHoverWork);
+            report_.lights = queryPointDirect(scene.scene, scene.bvh->faceBoxes(),
+                                              report_.hit->face, report_.hit->point, std::nullopt,
+                                              kHoverWork, &scene.bvh->faceClusters());
     }
     // The radiance follows the preview's passes (the image refines under a still mouse).
     const int h = image.height;

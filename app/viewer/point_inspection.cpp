@@ -54,8 +54,8 @@ PointInspection inspectPoint(VisibilityStore& store, uint32_t face, const Vec3& 
 }
 
 std::optional<PointInspection> inspectPointDirect(const Scene& scene, const vis::BoxTree& faces,
-                                                  uint32_t face, const Vec3& x,
-                                                  uint64_t workLimit) {
+                                                  uint32_t face, const Vec3& x, uint64_t workLimit,
+                                                  const vis::FaceClusters* groups) {
     PointInspection out;
     out.face = face;
     out.point = x;
@@ -64,7 +64,7 @@ std::optional<PointInspection> inspectPointDirect(const Scene& scene, const vis:
     for (uint32_t k = 0; k < scene.lights.size(); ++k) {
         LightInspection li;
         const auto start = std::chrono::steady_clock::now();
-        std::vector<LightAtPoint> r = queryPointDirect(scene, faces, face, x, k, workLimit);
+        std::vector<LightAtPoint> r = queryPointDirect(scene, faces, face, x, k, workLimit, groups);
         li.seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (!r.front().complete) return std::nullopt;

@@ -51,11 +51,13 @@ struct PointInspection {
 PointInspection inspectPoint(VisibilityStore& store, uint32_t face, const Vec3& x);
 
 // The fragments and numbers of every light at x without history trees (queryPointDirect over
-// `faces`): cheap enough for the UI thread, so that a click answers in the frame it happens.
-// treesPending is set, no light has a tree or a path. nullopt when a light's query reached
-// `workLimit` plane tests (0 = none): then only the full inspection can answer.
+// `faces`, with its face `groups` when given, as the renderer): cheap enough for the UI thread,
+// so that a click answers in the frame it happens. treesPending is set, no light has a tree or
+// a path. nullopt when a light's query reached `workLimit` plane tests (0 = none): then only the
+// full inspection can answer.
 std::optional<PointInspection> inspectPointDirect(const Scene& scene, const vis::BoxTree& faces,
-                                                  uint32_t face, const Vec3& x, uint64_t workLimit);
+                                                  uint32_t face, const Vec3& x, uint64_t workLimit,
+                                                  const vis::FaceClusters* groups = nullptr);
 
 // The debugger's rows for a query's trace on `tree`: each step with its node's edge, a segment of
 // it and its occluder face.

@@ -24,7 +24,8 @@ bool Selection::select(std::shared_ptr<LoadedScene> scene, uint32_t face, const 
         if (scene->bvh)
             inspection_ =
                 inspectPointDirect(scene->scene, scene->bvh->faceBoxes(), face, x,
-                                   kClickWork / std::max<size_t>(1, scene->scene.lights.size()));
+                                   kClickWork / std::max<size_t>(1, scene->scene.lights.size()),
+                                   &scene->bvh->faceClusters());
     } catch (const std::exception&) {
         inspection_.reset();  // the full inspection reports it
     }

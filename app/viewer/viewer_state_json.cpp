@@ -58,6 +58,7 @@ nlohmann::json pointJson(const Selection& selection) {
              {"fragments", fragments},
              {"answeredOnContact", li.result.answeredOnContact},
              {"fromTree", li.result.fromTree},
+             {"faceGroups", li.result.faceGroups},
              {"path", path}});
     }
     point["lights"] = lights;

@@ -193,14 +193,16 @@ std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, cons
 
 std::vector<LightAtPoint> queryPointDirect(const Scene& scene, const vis::BoxTree& faces,
                                            uint32_t face, const Vec3& x,
-                                           std::optional<uint32_t> onlyLight, uint64_t workLimit) {
+                                           std::optional<uint32_t> onlyLight, uint64_t workLimit,
+                                           const vis::FaceClusters* groups) {
     vis::FromPointQuery query;
     query.setWorkLimit(workLimit);
     return forEachLight(scene, face, x, onlyLight, [&](LightAtPoint& r) {
         r.fromTree = false;
         const vis::FragmentList& fragments =
-            query.runDirect(scene.mesh, face, r.lightFace, x, faces);
+            query.runDirect(scene.mesh, face, r.lightFace, x, faces, groups);
         r.complete = !query.limitReached();
+        r.faceGroups = query.clustersUsed();
         r.fragments.reserve(fragments.size());
         for (size_t i = 0; i < fragments.size(); ++i)
             r.fragments.emplace_back(fragments[i].begin(), fragments[i].end());

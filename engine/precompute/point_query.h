@@ -13,6 +13,7 @@
 
 #include "engine/precompute/visibility_store.h"
 #include "engine/scene/scene.h"
+#include "visibility/face_clusters.h"
 #include "visibility/fp_query.h"
 #include "visibility/history_tree.h"
 #include "visibility/history_tree_builder.h"
@@ -69,6 +70,9 @@ struct LightAtPoint {
     // Answered through the pair's history tree (queryPoint), or without one (queryPointDirect:
     // no kind, path or counters then; the same fragments).
     bool fromTree = true;
+    // queryPointDirect with face groups: the groups of faces seen all from one side that the
+    // query took whole (vis::FaceClusters: only their boundaries entered its boundary chain).
+    uint32_t faceGroups = 0;
     // False only for a direct answer stopped by its work limit: the fragments are incomplete.
     bool complete = true;
 };
@@ -86,11 +90,14 @@ std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, cons
 // x directly (vis::FromPointQuery::runDirect), exact like the tree's walk. No tree is built or
 // read, so it costs no precompute: what the viewer shows the moment a point is clicked, while the
 // pair's tree is built in the background. `workLimit` bounds each light's query in plane tests
-// (0 = none); a light that reaches it has complete = false and incomplete fragments. Throws what
+// (0 = none); a light that reaches it has complete = false and incomplete fragments. `groups`,
+// when given, must have been built over `faces` (EmbreeScene::faceClusters): the groups of faces
+// x sees all from one side enter whole, as in the renderer (the same answer). Throws what
 // queryPoint throws.
 std::vector<LightAtPoint> queryPointDirect(const Scene& scene, const vis::BoxTree& faces,
                                            uint32_t face, const Vec3& x,
                                            std::optional<uint32_t> onlyLight,
-                                           uint64_t workLimit = 0);
+                                           uint64_t workLimit = 0,
+                                           const vis::FaceClusters* groups = nullptr);
 
 }  // namespace penumbra

@@ -377,6 +377,48 @@ TEST(PointQuery, DirectQueryMatchesTheExactReference) {
     }
 }
 
+// The tree-less query with face groups, as the viewer's click and hover run it: a plate of 128
+// triangles under half of the light forms a group, which the floor points beneath it take whole;
+// their answers against the exact reference, and the same as without the groups.
+TEST(PointQuery, DirectQueryWithFaceGroupsMatchesTheExactReference) {
+    std::string obj = kSceneObj;
+    const int n = 8;  // the plate z = 0.5 over [-1.5, 0] x [-1, 1], facing the floor
+    for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i)
+            obj += "v " + std::to_string(-1.5 + 1.5 * i / n) + " " +
+                   std::to_string(-1 + 2.0 * j / n) + " 0.5\n";
+    auto id = [&](int i, int j) { return std::to_string(17 + j * (n + 1) + i); };
+    for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+            obj += "f " + id(i, j) + " " + id(i, j + 1) + " " + id(i + 1, j + 1) + "\n";
+            obj += "f " + id(i, j) + " " + id(i + 1, j + 1) + " " + id(i + 1, j) + "\n";
+        }
+    const Scene scene = loadObjFromString(obj, kSceneMtl, "plate.obj");
+    ASSERT_EQ(scene.faceCount(), 4u + 2 * n * n);
+    std::vector<vis::Bounds3> boxes(scene.faceCount());
+    for (uint32_t f = 0; f < scene.faceCount(); ++f) boxes[f] = scene.mesh.faceBounds(f);
+    const vis::BoxTree faces(boxes);
+    const vis::FaceClusters groups(scene.mesh, faces);
+    int grouped = 0, partlyLit = 0;
+    // Beneath the plate, and near the lines x = 0 and x = -2 where its edges cut the light.
+    for (const Vec3& x : {Vec3{-0.75, 0, 0}, Vec3{-0.1, 0.3, 0}, Vec3{0.05, -0.6, 0},
+                          Vec3{-1.95, 0.9, 0}, Vec3{0.3, 0.2, 0}, Vec3{-0.5, 0.5, 0}}) {
+        SCOPED_TRACE(vis::toString(x));
+        const LightAtPoint with = queryPointDirect(scene, faces, 0, x, 0u, 0, &groups)[0];
+        const LightAtPoint without = queryPointDirect(scene, faces, 0, x, 0u)[0];
+        const test::ReferenceResult ref = test::exactReference(scene.mesh, 0, 1, x);
+        EXPECT_TRUE(with.complete);
+        EXPECT_NEAR(with.fraction, ref.fraction, 1e-12);
+        EXPECT_NEAR(with.formFactor, ref.formFactor, 1e-12);
+        EXPECT_NEAR(without.formFactor, ref.formFactor, 1e-12);
+        EXPECT_EQ(without.faceGroups, 0u);
+        grouped += with.faceGroups > 0;
+        partlyLit += ref.fraction > 0 && ref.fraction < 1;
+    }
+    EXPECT_GE(grouped, 4);  // the points beneath the plate take its group
+    EXPECT_GE(partlyLit, 3);
+}
+
 TEST(PointQuery, BehindTheLightAndOnTheLight) {
     const Scene scene = testScene();
     VisibilityStore store(scene);

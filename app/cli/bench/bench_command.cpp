@@ -676,8 +676,9 @@ json perPoint(const std::string& path, const BenchOptions& o) {
         viewer::Selection::kClickWork / std::max<size_t>(1, scene.lights.size());
     for (size_t i = 0; i < clicks; ++i) {
         const auto a = Clock::now();
-        const std::optional<viewer::PointInspection> p = viewer::inspectPointDirect(
-            scene, embree.faceBoxes(), samples[i].face, samples[i].x, clickWork);
+        const std::optional<viewer::PointInspection> p =
+            viewer::inspectPointDirect(scene, embree.faceBoxes(), samples[i].face, samples[i].x,
+                                       clickWork, &embree.faceClusters());
         directMs.push_back(seconds(a, Clock::now()) * 1e3);
         overBudget += !p.has_value();
     }

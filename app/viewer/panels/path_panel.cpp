@@ -15,6 +15,11 @@ void PathPanel::draw(const PanelRect& rect, const Selection& selection) {
         } else if (!li->result.fromTree) {
             ImGui::Text("light %u: building the pair's history tree; its path follows.",
                         li->result.light);
+            if (li->result.faceGroups > 0)
+                ImGui::TextWrapped(
+                    "answered without the tree: %u groups of faces seen all from one side were "
+                    "taken whole (only their boundaries were clipped)",
+                    li->result.faceGroups);
         } else {
             ImGui::Text("light %u, tree %s: %zu nodes visited (L cycles lights)", li->result.light,
                         std::string(vis::toString(li->result.kind)).c_str(), li->steps.size());
