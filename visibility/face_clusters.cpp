@@ -95,6 +95,8 @@ FaceClusters::FaceClusters(const PolygonMesh& mesh, const BoxTree& faces) {
         }
         clusterOfNode_[node] = static_cast<uint32_t>(clusters_.size());
         clusters_.push_back(c);
+        if (groupedFace_.empty()) groupedFace_.assign(mesh.faces.size(), 0);
+        for (uint32_t f : items) groupedFace_[f] = 1;
     }
 }
 

@@ -60,9 +60,11 @@ class FaceClusters {
         return {uses_.data() + c.firstUse, c.useCount};
     }
     size_t size() const { return clusters_.size(); }
+    // Whether mesh face `face` lies in some group (a point may take it whole with its group).
+    bool grouped(uint32_t face) const { return face < groupedFace_.size() && groupedFace_[face]; }
     size_t bytes() const {
         return clusterOfNode_.size() * sizeof(uint32_t) + clusters_.size() * sizeof(Cluster) +
-               uses_.size() * sizeof(Use);
+               uses_.size() * sizeof(Use) + groupedFace_.size();
     }
 
   private:
@@ -75,6 +77,7 @@ class FaceClusters {
     std::vector<uint32_t> clusterOfNode_;
     std::vector<Cluster> clusters_;
     std::vector<Use> uses_;
+    std::vector<uint8_t> groupedFace_;
 };
 
 }  // namespace penumbra::vis

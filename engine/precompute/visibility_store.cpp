@@ -84,6 +84,12 @@ VisibilityStore::Entry& VisibilityStore::entryFor(const PairKey& key) {
 }
 
 void VisibilityStore::publish(Entry& entry, std::unique_ptr<PairRecord> record) {
+    if (bvh_ != nullptr) {
+        const vis::FaceClusters& groups = bvh_->faceClusters();
+        record->deferredGrouped = 0;
+        for (const vis::DeferredOccluder& d : record->tree.deferred)
+            record->deferredGrouped += groups.grouped(d.face);
+    }
     const PairRecord* raw = record.get();
     bytes_.fetch_add(raw->tree.bytes() + raw->tree.nodeOccluder.size() * sizeof(uint32_t),
                      std::memory_order_relaxed);

@@ -48,6 +48,10 @@ struct PairKeyHash {
 struct PairRecord {
     vis::HistoryTree tree;
     vis::BuildStats stats;
+    // Of a partial tree's deferred occluders, those that lie in a face group of the store's BVH
+    // (vis::FaceClusters::grouped), counted when the record is published (0 without a BVH): the
+    // renderer answers such a tree's points without it when they are many (shading.cpp).
+    size_t deferredGrouped = 0;
 };
 
 class VisibilityStore {

@@ -58,6 +58,11 @@ std::string EffectsSummary::text() const {
                  " - the build budget stopped the tree, its other " +
                  plural(deferredOccluders, "occluder is", "occluders are") +
                  " clipped from each point (still exact)");
+        if (partialByGroupsEvaluations > 0)
+            line("    of their evaluations, " + std::to_string(partialByGroupsEvaluations) +
+                 " answered without the tree - at least a quarter of its deferred occluders lie "
+                 "in groups of faces seen all from one side, which the direct path takes whole "
+                 "(cheaper than clipping them one by one; still exact)");
         if (pairsDirect > 0)
             line("pairs without a tree: " + std::to_string(pairsDirect) + " - seen by fewer than " +
                  std::to_string(minTreeSamples) +

@@ -21,6 +21,9 @@ struct ExactEvaluations {
     // without a tree (direct), the sampled ones among them, and the direct ones that took face
     // groups whole (vis::FaceClusters: only their boundaries entered the boundary chain).
     uint64_t all = 0, sampled = 0, direct = 0, sampledDirect = 0, directGrouped = 0;
+    // The evaluations of partial trees answered by the direct path with face groups instead of
+    // the tree (answeredByGroups, shading.h).
+    uint64_t partialByGroups = 0;
     // Of the sampled ones, those whose query reached the limit, by the stage it was in
     // (vis::WorkStage); the others were not tried, their region's query having reached it.
     std::array<uint64_t, vis::kWorkStages> overLimitAt{};
@@ -33,6 +36,7 @@ struct ExactEvaluations {
         direct += o.direct;
         sampledDirect += o.sampledDirect;
         directGrouped += o.directGrouped;
+        partialByGroups += o.partialByGroups;
         for (size_t i = 0; i < overLimitAt.size(); ++i) overLimitAt[i] += o.overLimitAt[i];
         for (size_t p = 0; p < workAt.size(); ++p)
             for (size_t i = 0; i < vis::kWorkStages; ++i) workAt[p][i] += o.workAt[p][i];
@@ -47,6 +51,9 @@ struct EffectsSummary {
     // Of the penumbra pairs, those with a partial tree (the build budget stopped it: the
     // occluders it left, deferredOccluders in all, are clipped from each shading point, exact).
     size_t pairsPartial = 0, deferredOccluders = 0;
+    // The evaluations of partial trees answered without the tree, by the direct path with face
+    // groups (most of their deferred occluders lie in groups: answeredByGroups, shading.h).
+    uint64_t partialByGroupsEvaluations = 0;
     // (shading point, light) evaluations of the exact method, and those whose exact answer needed
     // more than exactWorkLimit plane tests: sampled with lightSamples shadow rays (not exact).
     uint64_t exactEvaluations = 0, sampledEvaluations = 0, exactWorkLimit = 0;

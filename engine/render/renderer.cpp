@@ -499,6 +499,7 @@ EffectsSummary ProgressiveRenderer::effects() const {
     s.pairsDirect = directUsed_.size();
     s.directEvaluations = evaluations_.direct;
     s.directGroupedEvaluations = evaluations_.directGrouped;
+    s.partialByGroupsEvaluations = evaluations_.partialByGroups;
     s.minTreeSamples = minTreeSamples_;
     s.glossySamples = method_ == DirectMethod::Exact ? glossySamples_ : 0;
     // Materials of the faces the image saw.

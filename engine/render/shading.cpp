@@ -60,6 +60,12 @@ Vec3 TriangleSampler::sample(double u, double v) const {
     return tri.a + (tri.b - tri.a) * (s * (1 - v)) + (tri.c - tri.a) * (s * v);
 }
 
+bool answeredByGroups(const PairRecord& record) {
+    const vis::HistoryTree& tree = record.tree;
+    return tree.kind == vis::PairKind::Penumbra && tree.partial() &&
+           4 * record.deferredGrouped >= tree.deferred.size();
+}
+
 DirectLighting::DirectLighting(const Scene& scene, const EmbreeScene& bvh, VisibilityStore* store)
     : scene_(scene), bvh_(bvh), store_(store) {
     for (uint32_t face : scene.lights) {
@@ -134,10 +140,16 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 continue;
             }
         }
-        if (record == nullptr) {  // direct: the faces in the pyramid from x, clipped from x
+        // A partial tree whose deferred occluders lie mostly in face groups: its points are
+        // answered without it (the same exact answer; see answeredByGroups).
+        const bool byGroups = record != nullptr && answeredByGroups(*record);
+        if (record == nullptr || byGroups) {  // the faces in the pyramid from x, clipped from x
             const vis::FragmentList& list = scratch.query.runDirect(
                 scene_.mesh, p.face, light.face, p.x, bvh_.faceBoxes(), &bvh_.faceClusters());
-            scratch.evaluations.directGrouped += scratch.query.clustersUsed() > 0;
+            if (record == nullptr)
+                scratch.evaluations.directGrouped += scratch.query.clustersUsed() > 0;
+            else
+                ++scratch.evaluations.partialByGroups;
             countWork(1);
             out += scratch.query.limitReached()
                        ? overLimit(true)

@@ -143,6 +143,8 @@ TEST(FaceClusters, AFlatGridIsOneGroupWithItsRimAsBoundary) {
         EXPECT_TRUE(ccw) << vis::toString(a) << " - " << vis::toString(b) << " " << u.weight;
     }
     expectBoundariesAreTheFacesSums(m, t, c, "flat grid");
+    for (uint32_t f = 0; f < m.faces.size(); ++f) EXPECT_TRUE(c.grouped(f)) << "face " << f;
+    EXPECT_FALSE(c.grouped(static_cast<uint32_t>(m.faces.size())));
     // Above the plane every face is seen from the front, below from the back, in the plane
     // (beside the grid, or on it) from neither: not certain.
     EXPECT_EQ(c.facing(root, {2, 2, 1}), 1);
@@ -164,7 +166,9 @@ TEST(FaceClusters, LooseFacesMakeNoGroup) {
         m.faces.push_back({v, v + 1, v + 2});
     }
     const vis::BoxTree t = faceTree(m);
-    EXPECT_EQ(vis::FaceClusters(m, t).size(), 0u);
+    const vis::FaceClusters c(m, t);
+    EXPECT_EQ(c.size(), 0u);
+    for (uint32_t f = 0; f < m.faces.size(); ++f) EXPECT_FALSE(c.grouped(f)) << "face " << f;
 }
 
 // Random points against every group of the mesh: a side it certifies is the exact side of

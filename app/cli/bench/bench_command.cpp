@@ -283,6 +283,7 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
             e["directEvaluations"] = fx.directEvaluations;
             // Of those, the ones that took face groups whole (vis::FaceClusters).
             e["directGroupedEvaluations"] = fx.directGroupedEvaluations;
+            e["partialByGroupsEvaluations"] = fx.partialByGroupsEvaluations;
             e["evaluations"] = fx.exactEvaluations;
             e["sampledEvaluations"] = fx.sampledEvaluations;
             // Where the sampled points' queries reached the work limit (vis::WorkStage).
