@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -31,16 +30,21 @@ namespace {
 
 using namespace penumbra;
 
+// A face over existing vertices (counter-clockwise seen from its front).
+uint32_t addIndexedFace(Scene& s, std::vector<uint32_t> ids, int32_t material) {
+    s.mesh.faces.push_back(std::move(ids));
+    s.faceMaterial.push_back(material);
+    s.faceSourceLine.push_back(0);
+    return s.faceCount() - 1;
+}
+
 uint32_t addFace(Scene& s, std::initializer_list<Vec3> ccwFromFront, int32_t material) {
     std::vector<uint32_t> idx;
     for (const Vec3& p : ccwFromFront) {
         idx.push_back(static_cast<uint32_t>(s.mesh.vertices.size()));
         s.mesh.vertices.push_back(p);
     }
-    s.mesh.faces.push_back(std::move(idx));
-    s.faceMaterial.push_back(material);
-    s.faceSourceLine.push_back(0);
-    return s.faceCount() - 1;
+    return addIndexedFace(s, std::move(idx), material);
 }
 
 // Axis-aligned rectangle at height z, facing up (+z) or down (-z).
@@ -323,12 +327,8 @@ void addGridBox(Scene& s, Vec3 lo, Vec3 hi, int n, int32_t material) {
         auto at = [&](int i, int j) { return base + static_cast<uint32_t>(j * (n + 1) + i); };
         for (int j = 0; j < n; ++j) {
             for (int i = 0; i < n; ++i) {
-                for (auto tri : {std::array{at(i, j), at(i + 1, j), at(i + 1, j + 1)},
-                                 std::array{at(i, j), at(i + 1, j + 1), at(i, j + 1)}}) {
-                    s.mesh.faces.push_back({tri.begin(), tri.end()});
-                    s.faceMaterial.push_back(material);
-                    s.faceSourceLine.push_back(0);
-                }
+                addIndexedFace(s, {at(i, j), at(i + 1, j), at(i + 1, j + 1)}, material);
+                addIndexedFace(s, {at(i, j), at(i + 1, j + 1), at(i, j + 1)}, material);
             }
         }
     }
