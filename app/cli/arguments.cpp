@@ -115,6 +115,11 @@ void addExactOptions(CLI::App& sub, ExactOptions& o, ExactOptionSet set) {
                    "Exact: a pair the image samples fewer times gets no history tree, its points "
                    "are evaluated directly (the same answer; 0 = a tree for every pair)")
         ->capture_default_str();
+    sub.add_option("--grouped-shaft-min", o.groupedShaftMin,
+                   "Exact: a pair whose shaft holds at least this many faces, a quarter of them "
+                   "in face groups, gets no history tree: its points take the direct path with "
+                   "the groups, as its partial tree's would (the same answer; 0 = build it)")
+        ->capture_default_str();
     sub.add_option("--exact-work-limit", o.exactWorkLimit,
                    "Exact: plane tests one point's query may make; a point that needs more is "
                    "sampled with --light-samples rays and counted (0 = every point exact)")

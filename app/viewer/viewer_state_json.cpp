@@ -151,6 +151,7 @@ nlohmann::json Viewer::stateJson() const {
     // The settings that shape the answer, as the command line names them.
     s["exact"] = {{"maxLpSolves", options_.exact.maxLpSolves},
                   {"minTreeSamples", options_.exact.minTreeSamples},
+                  {"groupedShaftMin", options_.exact.groupedShaftMin},
                   {"exactWorkLimit", options_.exact.exactWorkLimit},
                   {"chainMinOccluders", options_.exact.chainMinOccluders},
                   {"passes", options_.previewSettings.passes},

@@ -100,8 +100,7 @@ void VisibilityStore::publish(Entry& entry, std::unique_ptr<PairRecord> record) 
     entry.ready.store(raw, std::memory_order_release);
 }
 
-std::unique_ptr<PairRecord> VisibilityStore::build(const PairKey& key,
-                                                   const std::atomic<bool>* cancel) const {
+std::vector<uint32_t> VisibilityStore::shaftCandidates(const PairKey& key) const {
     if (key.receiver >= scene_.faceCount() || key.lightFace >= scene_.faceCount())
         throw std::out_of_range("pair (" + std::to_string(key.receiver) + ", " +
                                 std::to_string(key.lightFace) + ") out of range");
@@ -110,16 +109,32 @@ std::unique_ptr<PairRecord> VisibilityStore::build(const PairKey& key,
         throw std::out_of_range("patch " + std::to_string(key.patch) + " of face " +
                                 std::to_string(key.receiver) + " out of range");
     std::vector<uint32_t> candidates;
-    const bool whole = p.patches.size() <= 1;
     if (bvh_ != nullptr) {
         // The patch's own shaft: a floor patch far from the scene's clutter sees none of it.
-        candidates = whole
+        candidates = p.patches.size() <= 1
                          ? bvh_->shaftCandidates(key.receiver, key.lightFace)
                          : bvh_->shaftCandidates(key.receiver, p.patches[key.patch], key.lightFace);
         // An empty candidate list means "all faces" to the builder; the receiver alone never
         // occludes its own pair, so it stands for "none".
         if (candidates.empty()) candidates.push_back(key.receiver);
     }
+    return candidates;
+}
+
+VisibilityStore::ShaftCount VisibilityStore::shaftCount(const PairKey& key) const {
+    const std::vector<uint32_t> candidates = shaftCandidates(key);
+    if (bvh_ == nullptr) return {scene_.faceCount(), 0};
+    ShaftCount count{candidates.size(), 0};
+    const vis::FaceClusters& groups = bvh_->faceClusters();
+    for (uint32_t f : candidates) count.grouped += groups.grouped(f);
+    return count;
+}
+
+std::unique_ptr<PairRecord> VisibilityStore::build(const PairKey& key,
+                                                   const std::atomic<bool>* cancel) const {
+    const std::vector<uint32_t> candidates = shaftCandidates(key);
+    const vis::ReceiverPatches& p = patches(key.receiver);
+    const bool whole = p.patches.size() <= 1;
     auto record = std::make_unique<PairRecord>();
     vis::BuildOptions buildOptions = options_.build;
     if (cancel != nullptr) buildOptions.cancel = cancel;

@@ -88,6 +88,14 @@ class VisibilityStore {
     // built again later (by this or another caller). A thread waiting for another's build of the
     // same key that gets cancelled takes the build over (with its own flag).
     const PairRecord& getOrBuild(const PairKey& key, const std::atomic<bool>* cancel);
+    // The faces in a pair's shaft (the occluder candidates its tree is built from) and how many
+    // of them lie in face groups of the BVH (vis::FaceClusters::grouped): what a tree would cost
+    // and what the groups would spare, known before building it (an O(log n + faces) shaft
+    // query). Without a BVH, every face is a candidate and none is grouped.
+    struct ShaftCount {
+        size_t faces = 0, grouped = 0;
+    };
+    ShaftCount shaftCount(const PairKey& key) const;
     // Adds a tree built elsewhere (e.g. read from a visibility file). Returns false (and keeps the
     // existing one) when the key is already present.
     bool insert(const PairKey& key, PairRecord record);
@@ -120,6 +128,9 @@ class VisibilityStore {
     Entry& entryFor(const PairKey& key);
     void publish(Entry& entry, std::unique_ptr<PairRecord> record);
     std::unique_ptr<PairRecord> build(const PairKey& key, const std::atomic<bool>* cancel) const;
+    // The pair's shaft candidates from the BVH (a non-empty list; the receiver alone stands for
+    // "none"), or an empty list without a BVH (every face). Checks the key.
+    std::vector<uint32_t> shaftCandidates(const PairKey& key) const;
 
     const Scene& scene_;
     const EmbreeScene* bvh_;

@@ -66,8 +66,17 @@ std::string EffectsSummary::text() const {
         if (pairsDirect > 0)
             line("pairs without a tree: " + std::to_string(pairsDirect) + " - seen by fewer than " +
                  std::to_string(minTreeSamples) +
-                 " samples: each point clips the faces in its pyramid to the light directly (" +
+                 " samples, or answered by face groups (below): each point clips the faces in its "
+                 "pyramid to the light directly (" +
                  std::to_string(directEvaluations) + " evaluations, exact, no precompute)");
+        if (pairsGroupedNoTree > 0)
+            line(
+                "  of those pairs, " + std::to_string(pairsGroupedNoTree) +
+                " seen often enough for a tree but left without one - their shafts hold at least " +
+                std::to_string(groupedShaftMin) + " faces (" + std::to_string(groupedNoTreeFaces) +
+                " in all), a quarter or more of them in groups of faces seen all from one side: "
+                "a tree's build budget would defer nearly all of them, and its points would take "
+                "the groups anyway (the same exact answer, no precompute)");
         if (directGroupedEvaluations > 0)
             line("  of those evaluations, " + std::to_string(directGroupedEvaluations) +
                  " took groups of faces seen all from one side whole - their shared edges cancel: "

@@ -82,6 +82,12 @@ struct EffectsSummary {
     // directly (exact), and those evaluations.
     size_t pairsDirect = 0;
     uint64_t directEvaluations = 0, minTreeSamples = 0;
+    // Of those pairs, the ones seen often enough for a tree but left without one because their
+    // shaft holds at least groupedShaftMin faces, a quarter of them in face groups (their partial
+    // tree would be answered by the groups: RenderSettings::groupedShaftMin), and the faces in
+    // those shafts.
+    size_t pairsGroupedNoTree = 0;
+    uint64_t groupedNoTreeFaces = 0, groupedShaftMin = 0;
     // Of those evaluations, the ones that took groups of faces seen all one way whole
     // (vis::FaceClusters).
     uint64_t directGroupedEvaluations = 0;

@@ -18,6 +18,9 @@ struct ExactOptions {
     uint64_t maxLpSolves = vis::BuildOptions{}.maxLpSolves;
     // A pair the image samples fewer times gets no tree (RenderSettings::minTreeSamples).
     uint64_t minTreeSamples = RenderSettings{}.minTreeSamples;
+    // A pair whose shaft holds this many faces, a quarter in face groups, gets no tree
+    // (RenderSettings::groupedShaftMin; 0 = build it).
+    uint32_t groupedShaftMin = RenderSettings{}.groupedShaftMin;
     // Plane tests one point's query may make before it is sampled
     // (RenderSettings::exactWorkLimit; 0 = every point exact).
     uint64_t exactWorkLimit = RenderSettings{}.exactWorkLimit;
@@ -27,6 +30,7 @@ struct ExactOptions {
 
     void applyTo(RenderSettings& settings) const {
         settings.minTreeSamples = minTreeSamples;
+        settings.groupedShaftMin = groupedShaftMin;
         settings.exactWorkLimit = exactWorkLimit;
         settings.chainMinOccluders = chainMinOccluders;
     }

@@ -301,6 +301,8 @@ void ProgressiveRenderer::resetEffects() {
     rendered_ = false;
     evaluations_ = {};
     directUsed_.clear();
+    groupedNoTree_.clear();
+    groupedNoTreeFaces_ = 0;
 }
 
 double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& settings,
@@ -361,13 +363,31 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
         const uint64_t estimate = count * static_cast<uint64_t>(settings.spp) / passesTraced;
         if (estimate >= settings.minTreeSamples || store_.find(key) != nullptr) keys.push_back(key);
     }
+    // Of those, a pair whose shaft is large and mostly in face groups gets no tree either: its
+    // partial tree would be answered by the direct path with the groups (groupsWillAnswer).
+    const bool skipGrouped = settings.minTreeSamples > 0 && settings.groupedShaftMin > 0;
+    std::vector<std::pair<PairKey, size_t>> grouped;  // by mutex: the pairs left, their shafts
     tbb::parallel_for(tbb::blocked_range<size_t>(0, keys.size(), 1),
                       [&](const tbb::blocked_range<size_t>& range) {
                           for (size_t i = range.begin(); i != range.end(); ++i) {
                               if (cancelled()) return;
+                              if (skipGrouped && store_.find(keys[i]) == nullptr) {
+                                  const auto shaft = store_.shaftCount(keys[i]);
+                                  if (groupsWillAnswer(shaft, settings.groupedShaftMin)) {
+                                      std::lock_guard lock(mutex);
+                                      grouped.emplace_back(keys[i], shaft.faces);
+                                      continue;
+                                  }
+                              }
                               store_.getOrBuild(keys[i]);
                           }
                       });
+    {
+        std::lock_guard lock(mutex_);
+        groupedShaftMin_ = settings.groupedShaftMin;
+        for (const auto& [key, faces] : grouped)
+            if (groupedNoTree_.insert(key).second) groupedNoTreeFaces_ += faces;
+    }
     recordUse(all, facesSeen, settings);
     directMissing_ = settings.minTreeSamples > 0;
     return seconds(t0, Clock::now());
@@ -501,6 +521,9 @@ EffectsSummary ProgressiveRenderer::effects() const {
     s.directGroupedEvaluations = evaluations_.directGrouped;
     s.partialByGroupsEvaluations = evaluations_.partialByGroups;
     s.minTreeSamples = minTreeSamples_;
+    s.pairsGroupedNoTree = groupedNoTree_.size();
+    s.groupedNoTreeFaces = groupedNoTreeFaces_;
+    s.groupedShaftMin = groupedShaftMin_;
     s.glossySamples = method_ == DirectMethod::Exact ? glossySamples_ : 0;
     // Materials of the faces the image saw.
     std::vector<char> materialSeen(scene_.materials.size() + 1, 0);  // last slot: the default

@@ -73,6 +73,11 @@ struct RenderSettings {
     // every pair. Only prepare() decides this (a pass alone, without prepare, builds what it
     // needs); it counts the samples of the first two passes.
     uint64_t minTreeSamples = 64;
+    // Exact, with minTreeSamples > 0: a pair seen often enough for a tree, whose shaft holds at
+    // least this many faces with a quarter of them in face groups, gets no tree either: its
+    // partial tree would be answered by the direct path with the groups (groupsWillAnswer,
+    // shading.h), so building it would be wasted. 0 = build them.
+    uint32_t groupedShaftMin = 1024;
 };
 
 // Linear radiance, accumulated over passes. A pass adds one jittered sample per pixel; the jitter
@@ -153,6 +158,11 @@ class ProgressiveRenderer {
     ExactEvaluations evaluations_;
     uint64_t minTreeSamples_ = 0;
     std::set<PairKey> directUsed_;
+    // The pairs prepare() left without a tree because the groups answer them (groupedShaftMin),
+    // with the faces in their shafts.
+    std::set<PairKey> groupedNoTree_;
+    uint64_t groupedNoTreeFaces_ = 0;
+    uint32_t groupedShaftMin_ = 0;
     // Set by prepare() with minTreeSamples > 0: the passes evaluate the pairs without a tree
     // point by point instead of building them (written by prepare, read by the passes, never at
     // the same time).

@@ -60,10 +60,20 @@ Vec3 TriangleSampler::sample(double u, double v) const {
     return tri.a + (tri.b - tri.a) * (s * (1 - v)) + (tri.c - tri.a) * (s * v);
 }
 
+namespace {
+// answeredByGroups' share: at least one in kGroupedShare of the faces in groups.
+constexpr size_t kGroupedShare = 4;
+}  // namespace
+
 bool answeredByGroups(const PairRecord& record) {
     const vis::HistoryTree& tree = record.tree;
     return tree.kind == vis::PairKind::Penumbra && tree.partial() &&
-           4 * record.deferredGrouped >= tree.deferred.size();
+           kGroupedShare * record.deferredGrouped >= tree.deferred.size();
+}
+
+bool groupsWillAnswer(const VisibilityStore::ShaftCount& shaft, size_t minFaces) {
+    return minFaces > 0 && shaft.faces >= minFaces && shaft.grouped > 0 &&
+           kGroupedShare * shaft.grouped >= shaft.faces;
 }
 
 DirectLighting::DirectLighting(const Scene& scene, const EmbreeScene& bvh, VisibilityStore* store)

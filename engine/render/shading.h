@@ -98,6 +98,13 @@ struct SurfacePoint {
 // 282 / 111, bunny 1.24 / 1.13; the table's partial trees (leaves: 0% grouped) keep their tree,
 // where the groups would cost more (0.67 / 0.82). The same exact answer either way.
 bool answeredByGroups(const PairRecord& record);
+// The same decision before building the tree, from the pair's shaft: at least minFaces faces
+// (a tree's build budget inserts some hundreds of occluders and defers the rest: measured on the
+// bunny, motorbike and dragon, every pair with 800 or more candidates came out partial with over
+// 95% of them deferred), at least a quarter of them in face groups. Such a pair gets no tree: its
+// points take the direct path with the groups, as its partial tree's would (the same exact
+// answer), and the precompute is spared (RenderSettings::groupedShaftMin). 0 = never.
+bool groupsWillAnswer(const VisibilityStore::ShaftCount& shaft, size_t minFaces);
 
 // Per-thread (per-tile) state of the exact estimator: the last tree used per light (neighbouring
 // pixels hit the same receiver patch, so most lookups skip the store), the keys the tile needed,

@@ -17,11 +17,13 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/io/image_io.h"
 #include "engine/precompute/visibility_store.h"
 #include "engine/render/embree_scene.h"
+#include "engine/render/shading.h"
 #include "tests/support/closed_forms.h"
 #include "tests/support/read_pfm.h"
 #include "tests/support/test_scale.h"
@@ -65,16 +67,23 @@ int32_t addMaterial(Scene& s, Vec3 kd, Vec3 ks = {}, double ns = 0, Vec3 ke = {}
     return static_cast<int32_t>(s.materials.size() - 1);
 }
 
-// A floor (face 0, [-2,2]^2 at z=0, facing up), a light [-0.5,0.5]^2 at z=2 facing down (face 1),
-// a back wall at y=2 facing the camera, and a tilted triangle floating between floor and light
-// (its shadow on the floor has a wide penumbra). `floorMaterial` lets tests make the floor glossy.
-Scene penumbraScene(const Material& floorMaterial) {
-    Scene s;
+// A floor (face 0, [-2,2]^2 at z=0, facing up, material 0: `floorMaterial`) and a light
+// [-0.5,0.5]^2 at z=2 facing down (face 1). Returns a grey material for the occluders.
+int32_t addFloorAndLight(Scene& s, const Material& floorMaterial = {}) {
     s.materials.push_back(floorMaterial);
     const int32_t light = addMaterial(s, {0.2, 0.2, 0.2}, {}, 0, {6, 5, 4});
     const int32_t grey = addMaterial(s, {0.6, 0.6, 0.6});
     addRect(s, -2, 2, -2, 2, 0, true, 0);
     addRect(s, -0.5, 0.5, -0.5, 0.5, 2, false, light);
+    return grey;
+}
+
+// The floor and the light, a back wall at y=2 facing the camera, and a tilted triangle floating
+// between floor and light (its shadow on the floor has a wide penumbra). `floorMaterial` lets
+// tests make the floor glossy.
+Scene penumbraScene(const Material& floorMaterial) {
+    Scene s;
+    const int32_t grey = addFloorAndLight(s, floorMaterial);
     addFace(s, {{-2, 2, 0}, {2, 2, 0}, {2, 2, 2.5}, {-2, 2, 2.5}}, grey);  // facing -y
     addFace(s, {{-0.8, -0.6, 1.0}, {0.3, -0.2, 1.2}, {-0.2, 0.7, 0.9}}, grey);
     s.collectLights();
@@ -230,11 +239,7 @@ TEST(Renderer, ExactDiffuseAgreesWithConvergedShadowRays) {
 TEST(Renderer, HairCrossingOccludersKeepTheirShadows) {
     auto scene = [] {
         Scene s;
-        s.materials.push_back(Material{});
-        const int32_t light = addMaterial(s, {0.2, 0.2, 0.2}, {}, 0, {6, 5, 4});
-        const int32_t grey = addMaterial(s, {0.6, 0.6, 0.6});
-        addRect(s, -2, 2, -2, 2, 0, true, 0);
-        addRect(s, -0.5, 0.5, -0.5, 0.5, 2, false, light);
+        const int32_t grey = addFloorAndLight(s);
         addFace(s, {{-2, 2, 0}, {2, 2, 0}, {2, 2, 2.5}, {-2, 2, 2.5}}, grey);
         addFace(s, {{-0.9, -0.5, -0x1p-60}, {-0.2, -0.6, 1.1}, {-0.5, 0.1, 0.9}}, grey);
         addFace(s, {{0.2, -0.3, 0.1 * 3 - 0.3}, {0.5, 0.4, 1.0}, {0.9, -0.2, 1.2}}, grey);
@@ -334,49 +339,96 @@ void addGridBox(Scene& s, Vec3 lo, Vec3 hi, int n, int32_t material) {
     }
 }
 
-TEST(Renderer, PartialTreesOverFaceGroupsAreAnsweredByTheGroupsWithTheSameImage) {
-    // A box of 768 triangles between the floor and the light, and a build budget of a few linear
-    // programs: the floor's trees are partial, their deferred occluders the box's faces, all in
-    // groups (flat sides). The renderer answers those points by the direct path with the groups
-    // (answeredByGroups); a store without the BVH knows no groups, so the same render walks the
-    // partial trees. Two different exact computations: the same image up to rounding.
+// The floor and the light with a box of 768 triangles between them (flat sides: its faces make
+// face groups).
+Scene gridBoxScene() {
     Scene scene;
-    scene.materials.push_back(Material{});
-    const int32_t light = addMaterial(scene, {0.2, 0.2, 0.2}, {}, 0, {6, 5, 4});
-    const int32_t grey = addMaterial(scene, {0.6, 0.6, 0.6});
-    addRect(scene, -2, 2, -2, 2, 0, true, 0);
-    addRect(scene, -0.5, 0.5, -0.5, 0.5, 2, false, light);
+    const int32_t grey = addFloorAndLight(scene);
     addGridBox(scene, {-0.35, -0.3, 0.7}, {0.3, 0.4, 1.3}, 8, grey);
     scene.collectLights();
+    return scene;
+}
+
+// Renders `scene` twice, with a store over the BVH (which knows the face groups) and a store
+// without one (which knows none, so every pair seen gets its tree, walked per point), and
+// expects the same image up to rounding: two different exact computations. Returns the two
+// renders' effects.
+std::pair<EffectsSummary, EffectsSummary> expectGroupsAgreeWithTrees(
+    const Scene& scene, const RenderSettings& s, const VisibilityStore::Options& options,
+    size_t* treesWithGroups = nullptr, size_t* treesWithout = nullptr) {
     const EmbreeScene bvh(scene.mesh);
-    ASSERT_GT(bvh.faceClusters().size(), 0u);
-    VisibilityStore::Options options;
-    options.build.maxLpSolves = 20;
+    EXPECT_GT(bvh.faceClusters().size(), 0u);
     VisibilityStore grouped(scene, &bvh, options), plain(scene, nullptr, options);
     ProgressiveRenderer byGroups(scene, bvh, grouped), byTrees(scene, bvh, plain);
+    const Camera camera = penumbraCamera();
+    const Film a = byGroups.render(camera, s);
+    const Film b = byTrees.render(camera, s);
+    EXPECT_EQ(a.sum.size(), b.sum.size());
+    size_t lit = 0;
+    for (size_t i = 0; i < std::min(a.sum.size(), b.sum.size()); ++i) {
+        const double va = channelSum(a.sum[i]), vb = channelSum(b.sum[i]);
+        EXPECT_NEAR(va, vb, 1e-9 * std::max(1.0, std::fabs(vb))) << "pixel " << i;
+        lit += va > 0;
+    }
+    EXPECT_GT(lit, a.sum.size() / 4);
+    if (treesWithGroups != nullptr) *treesWithGroups = grouped.treeCount();
+    if (treesWithout != nullptr) *treesWithout = plain.treeCount();
+    return {byGroups.effects(), byTrees.effects()};
+}
+
+TEST(Renderer, PartialTreesOverFaceGroupsAreAnsweredByTheGroupsWithTheSameImage) {
+    // A build budget of a few linear programs: the floor's trees are partial, their deferred
+    // occluders the box's faces, all in groups. The renderer answers those points by the direct
+    // path with the groups (answeredByGroups); the store without the BVH walks the partial trees.
+    VisibilityStore::Options options;
+    options.build.maxLpSolves = 20;
     RenderSettings s;
     s.width = s.height = 24;
     s.spp = 2;
     s.exactWorkLimit = 0;
-    s.minTreeSamples = 1;  // every pair seen gets a tree
-    const Camera camera = penumbraCamera();
-    const Film a = byGroups.render(camera, s);
-    const Film b = byTrees.render(camera, s);
-    const EffectsSummary ea = byGroups.effects(), eb = byTrees.effects();
+    s.minTreeSamples = 1;   // every pair seen gets a tree
+    s.groupedShaftMin = 0;  // even over a large grouped shaft (the next test)
+    const auto [ea, eb] = expectGroupsAgreeWithTrees(gridBoxScene(), s, options);
     EXPECT_GT(ea.pairsPartial, 0u);  // (partial trees are penumbra pairs: the box shadows them)
     EXPECT_GT(eb.pairsPartial, 0u);
     EXPECT_GT(ea.partialByGroupsEvaluations, 0u) << ea.text();
     EXPECT_NE(ea.text().find("answered without the tree"), std::string::npos) << ea.text();
     EXPECT_EQ(eb.partialByGroupsEvaluations, 0u);
     EXPECT_EQ(ea.sampledEvaluations, 0u);
-    ASSERT_EQ(a.sum.size(), b.sum.size());
-    size_t lit = 0;
-    for (size_t i = 0; i < a.sum.size(); ++i) {
-        const double va = channelSum(a.sum[i]), vb = channelSum(b.sum[i]);
-        EXPECT_NEAR(va, vb, 1e-9 * std::max(1.0, std::fabs(vb))) << "pixel " << i;
-        lit += va > 0;
-    }
-    EXPECT_GT(lit, a.sum.size() / 4);
+    EXPECT_EQ(ea.pairsGroupedNoTree, 0u);
+}
+
+TEST(Renderer, PairsWhoseShaftTheGroupsAnswerGetNoTreeAndTheSameImage) {
+    // The same scene with the product's build budget: a floor patch under the box has its box
+    // faces in the shaft, all in groups. With groupedShaftMin below that count the renderer
+    // builds no tree for those pairs (groupsWillAnswer) and answers their points by the direct
+    // path; the store without the BVH builds and walks them. The same image, fewer trees.
+    RenderSettings s;
+    s.width = s.height = 24;
+    s.spp = 2;
+    s.exactWorkLimit = 0;
+    s.minTreeSamples = 1;
+    s.groupedShaftMin = 64;
+    size_t withGroups = 0, without = 0;
+    const auto [ea, eb] = expectGroupsAgreeWithTrees(gridBoxScene(), s, VisibilityStore::Options{},
+                                                     &withGroups, &without);
+    EXPECT_GT(ea.pairsGroupedNoTree, 0u) << ea.text();
+    EXPECT_GE(ea.groupedNoTreeFaces, 64 * ea.pairsGroupedNoTree);
+    EXPECT_NE(ea.text().find("left without one"), std::string::npos) << ea.text();
+    EXPECT_EQ(eb.pairsGroupedNoTree, 0u);
+    EXPECT_EQ(withGroups + ea.pairsGroupedNoTree, without);
+    EXPECT_GT(eb.pairsPenumbra, ea.pairsPenumbra);
+    EXPECT_EQ(ea.sampledEvaluations, 0u);
+}
+
+TEST(Renderer, GroupsAnswerAShaftOfAtLeastTheMinimumWithAQuarterGrouped) {
+    // groupsWillAnswer's rule, by hand: at least minFaces faces, at least a quarter grouped.
+    EXPECT_TRUE(groupsWillAnswer({1024, 256}, 1024));
+    EXPECT_FALSE(groupsWillAnswer({1024, 255}, 1024));
+    EXPECT_FALSE(groupsWillAnswer({1023, 1023}, 1024));
+    EXPECT_TRUE(groupsWillAnswer({5000, 5000}, 1024));
+    EXPECT_FALSE(groupsWillAnswer({5000, 5000}, 0));  // 0 = never
+    EXPECT_FALSE(groupsWillAnswer({0, 0}, 1));
 }
 
 TEST(Renderer, GlossyExactAgreesWithReference) {

@@ -280,6 +280,9 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
             e["wall"] = prepWall + t.total;
             e["cpu"] = prepCpu + t.totalCpu;
             e["pairsWithoutTree"] = fx.pairsDirect;
+            // Of those, the ones seen often enough for a tree that the face groups answer
+            // (RenderSettings::groupedShaftMin).
+            e["pairsGroupedNoTree"] = fx.pairsGroupedNoTree;
             e["directEvaluations"] = fx.directEvaluations;
             // Of those, the ones that took face groups whole (vis::FaceClusters).
             e["directGroupedEvaluations"] = fx.directGroupedEvaluations;

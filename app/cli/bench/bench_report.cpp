@@ -72,7 +72,11 @@ void writeTable1Row(std::ostream& r, const json& row) {
               ? num(row["speedupWall"]) + "x (" + num(row["speedupRenderOnlyWall"]) + "x)"
               : std::string("-"))
       << " | " << e["trees"] << " (" << e["kinds"]["partial"] << ") | "
-      << (e.contains("pairsWithoutTree") ? e["pairsWithoutTree"].dump() : "-") << " | ";
+      << (e.contains("pairsWithoutTree") ? e["pairsWithoutTree"].dump() : "-")
+      << (e.value("pairsGroupedNoTree", 0) > 0
+              ? " (" + e["pairsGroupedNoTree"].dump() + " by groups)"
+              : std::string())
+      << " | ";
     if (e.contains("evaluations"))
         r << num(100.0 * e["sampledEvaluations"].get<double>() /
                      std::max(1.0, e["evaluations"].get<double>()),
@@ -182,7 +186,10 @@ void writeTable1(std::ostream& r, const json& rows, const json& skipped, bool pl
          "defaults: a build budget of `BuildOptions::maxLpSolves` linear programs per tree "
          "(a tree that reaches it is *partial*: its other occluders are clipped by each "
          "point's query, still exact), no tree for a pair the image samples fewer than "
-         "`RenderSettings::minTreeSamples` times (its points are evaluated directly, exact), "
+         "`RenderSettings::minTreeSamples` times (its points are evaluated directly, exact) "
+         "nor for one whose shaft holds `RenderSettings::groupedShaftMin` faces or more, a "
+         "quarter of them in face groups (*by groups*: the direct path with the groups answers "
+         "its points, as it would its partial tree's), "
          "and a work limit of `RenderSettings::exactWorkLimit` plane tests per query: a "
          "point whose exact answer needs more is sampled with 128 rays (the *sampled "
          "points* column; not exact). *Every point exact*: the same render with no work "

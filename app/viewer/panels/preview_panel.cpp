@@ -46,8 +46,8 @@ PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& 
         if (ImGui::SliderInt("light samples", &s.lightSamples, 1, 256)) changed = true;
         if (ImGui::SliderInt("passes (spp)", &s.passes, 1, 256)) changed = true;
         if (ImGui::TreeNode("exact options")) {
-            // The command line's --min-tree-samples, --exact-work-limit, --chain-min-occluders,
-            // --max-lp-solves.
+            // The command line's --min-tree-samples, --grouped-shaft-min, --exact-work-limit,
+            // --chain-min-occluders, --max-lp-solves.
             const uint64_t step = 1;
             if (ImGui::InputScalar("min tree samples", ImGuiDataType_U64, &exact.minTreeSamples,
                                    &step))
@@ -56,13 +56,21 @@ PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& 
                 ImGui::SetTooltip(
                     "a pair the image samples fewer times gets no history tree (the "
                     "same answer; 0 = a tree for every pair)");
+            const uint32_t step32 = 1;
+            if (ImGui::InputScalar("grouped shaft from", ImGuiDataType_U32, &exact.groupedShaftMin,
+                                   &step32))
+                changed = true;
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip(
+                    "a pair whose shaft holds at least this many faces, a quarter of them in "
+                    "face groups, gets no history tree: the groups answer its points (the same "
+                    "answer; 0 = build it)");
             if (ImGui::InputScalar("work limit", ImGuiDataType_U64, &exact.exactWorkLimit, &step))
                 changed = true;
             if (ImGui::IsItemHovered())
                 ImGui::SetTooltip(
                     "plane tests one point may make before it is sampled and counted "
                     "(0 = every point exact)");
-            const uint32_t step32 = 1;
             if (ImGui::InputScalar("chain from", ImGuiDataType_U32, &exact.chainMinOccluders,
                                    &step32))
                 changed = true;
