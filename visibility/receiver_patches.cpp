@@ -14,6 +14,13 @@ double diameter(std::span<const Vec3> p) {
     return d;
 }
 
+// k, the cells per side of each fan triangle's grid: 1 (no subdivision) for a face of diameter
+// d <= maxDiameter.
+int cellsPerSide(double d, double maxDiameter) {
+    if (maxDiameter <= 0 || d <= maxDiameter) return 1;
+    return 1 << std::min(8, static_cast<int>(std::ceil(std::log2(d / maxDiameter))));
+}
+
 struct P2 {
     double u, v;
 };
@@ -65,13 +72,11 @@ ReceiverPatches subdivideReceiver(std::span<const Vec3> face, double maxDiameter
     const double ax = std::fabs(n.x), ay = std::fabs(n.y), az = std::fabs(n.z);
     out.dropAxis = ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
     out.face.assign(face.begin(), face.end());
-    const double d = diameter(face);
-    if (maxDiameter <= 0 || d <= maxDiameter) {
+    const int k = cellsPerSide(diameter(face), maxDiameter);  // each fan triangle: k*k triangles
+    if (k == 1) {
         out.patches.emplace_back(face.begin(), face.end());
         return out;
     }
-    const int levels = std::min(8, static_cast<int>(std::ceil(std::log2(d / maxDiameter))));
-    const int k = 1 << levels;  // each fan triangle becomes k*k triangles
     out.cellsPerSide = k;
     for (size_t t = 1; t + 1 < face.size(); ++t) {
         const Vec3 a = face[0], b = face[t], c = face[t + 1];
@@ -92,6 +97,11 @@ ReceiverPatches subdivideReceiver(std::span<const Vec3> face, double maxDiameter
             }
     }
     return out;
+}
+
+size_t receiverPatchCount(std::span<const Vec3> face, double maxDiameter) {
+    const size_t k = static_cast<size_t>(cellsPerSide(diameter(face), maxDiameter));
+    return k == 1 ? 1 : (face.size() >= 3 ? face.size() - 2 : 0) * k * k;
 }
 
 }  // namespace penumbra::vis

@@ -9,6 +9,7 @@
 // patch's tree is exact for every line through the patch, so for every x inside it.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -31,5 +32,7 @@ struct ReceiverPatches {
 // Subdivides until every patch has a diameter <= maxDiameter (a face already that small is one
 // patch: itself, unchanged). maxDiameter <= 0 means no subdivision.
 ReceiverPatches subdivideReceiver(std::span<const Vec3> face, double maxDiameter);
+// The number of patches subdivideReceiver makes, without making them (1 for a small face).
+size_t receiverPatchCount(std::span<const Vec3> face, double maxDiameter);
 
 }  // namespace penumbra::vis

@@ -54,6 +54,14 @@ const vis::ReceiverPatches& VisibilityStore::patches(uint32_t face) const {
     return slot.patches;
 }
 
+size_t VisibilityStore::patchCount(uint32_t face) const {
+    if (face >= patchSlots_.size())
+        throw std::out_of_range("face " + std::to_string(face) + " out of range");
+    std::vector<Vec3> polygon;
+    for (uint32_t v : scene_.mesh.faces[face]) polygon.push_back(scene_.mesh.vertices[v]);
+    return std::max<size_t>(1, vis::receiverPatchCount(polygon, maxPatchDiameter_));
+}
+
 PairKey VisibilityStore::keyAt(uint32_t face, const Vec3& x, uint32_t lightFace) const {
     const vis::ReceiverPatches& p = patches(face);
     return {face, p.patches.size() <= 1 ? 0u : p.find(x), lightFace};

@@ -76,6 +76,9 @@ class VisibilityStore {
 
     // The patches of a receiver face (computed on first use, thread-safe).
     const vis::ReceiverPatches& patches(uint32_t face) const;
+    // How many patches a receiver face has (at least 1), without making them: what counting
+    // every pair of a large scene needs (patches() keeps each face's patches once made).
+    size_t patchCount(uint32_t face) const;
     // The key of the tree serving point x on `face` for light face `lightFace`.
     PairKey keyAt(uint32_t face, const Vec3& x, uint32_t lightFace) const;
 

@@ -567,7 +567,7 @@ EffectsSummary ProgressiveRenderer::effects() const {
     // Every (receiver patch, light) pair of the scene that no image needed.
     size_t total = 0;
     for (uint32_t f = 0; f < scene_.faceCount(); ++f) {
-        const size_t patches = std::max<size_t>(1, store_.patches(f).patches.size());
+        const size_t patches = store_.patchCount(f);
         for (uint32_t lf : scene_.lights)
             if (lf != f) total += patches;
     }
