@@ -11,6 +11,14 @@ std::string plural(size_t n, const char* one, const char* many) {
     return std::to_string(n) + " " + (n == 1 ? one : many);
 }
 
+// "median M us, 99th percentile P us, mean A us" of a histogram in nanoseconds.
+std::string costText(const CostHistogram& ns) {
+    char cost[160];
+    std::snprintf(cost, sizeof cost, "median %.2f us, 99th percentile %.2f us, mean %.2f us",
+                  ns.quantile(0.5) * 1e-3, ns.quantile(0.99) * 1e-3, ns.mean() * 1e-3);
+    return cost;
+}
+
 }  // namespace
 
 std::string EffectsSummary::text() const {
@@ -121,7 +129,25 @@ std::string EffectsSummary::text() const {
             line(std::string(path == 0 ? "work walking trees: " : "work without a tree: ") +
                  std::to_string(total) + " plane tests - " + stages);
         }
+        if (exactNs.count() > 0)
+            line("cost per exact evaluation: " + costText(exactNs) + " (" +
+                 std::to_string(exactNs.count()) +
+                 " evaluations answered exactly, query and shading, timed each)");
+        if (sampledNs.count() > 0) line("  the sampled ones' shadow rays: " + costText(sampledNs));
+        if (chainEvaluations > 0) {
+            char per[96];
+            std::snprintf(per, sizeof per, "%.1f chain edges and %.1f fragments",
+                          static_cast<double>(chainBoundaryEdges) / chainEvaluations,
+                          static_cast<double>(chainFragments) / chainEvaluations);
+            line("  of them by the boundary chain: " + std::to_string(chainEvaluations) +
+                 " - per evaluation " + per +
+                 " (the silhouette and border edges that bound the shadow, against the convex "
+                 "pieces of the visible region)");
+        }
     }
+    if (!exact && sampledNs.count() > 0)
+        line("cost per shading point's shadow rays: " + costText(sampledNs) + " (" +
+             std::to_string(sampledNs.count()) + " points, every light, timed each)");
     if (!method.empty()) {
         if (materialsAnalytic > 0)
             line("materials analytic: " + plural(materialsAnalytic, "material", "materials") +

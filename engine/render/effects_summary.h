@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <string>
 
+#include "engine/render/cost_histogram.h"
 #include "visibility/work_stage.h"
 
 namespace penumbra {
@@ -30,7 +31,19 @@ struct ExactEvaluations {
     // The queries' work in plane tests (vis::FromPointQuery::stageWork), by the stage it was
     // spent in: [0] the tree pairs', [1] the direct ones' (those over the limit included).
     std::array<std::array<uint64_t, vis::kWorkStages>, 2> workAt{};
+    // Per evaluation answered exactly, its time in nanoseconds (the query and the shading of its
+    // fragments); per sampled one, the time of its shadow rays alone (the exact method's points
+    // over the work limit, per light; the sampled method's points, all lights).
+    CostHistogram exactNs, sampledNs;
+    // The exact evaluations the boundary chain answered (vis::FromPointQuery::ChainCounts: it cut
+    // L into cells), their chain edges and the fragments they kept, summed.
+    uint64_t chainEvaluations = 0, chainBoundaryEdges = 0, chainFragments = 0;
     ExactEvaluations& operator+=(const ExactEvaluations& o) {
+        exactNs += o.exactNs;
+        sampledNs += o.sampledNs;
+        chainEvaluations += o.chainEvaluations;
+        chainBoundaryEdges += o.chainBoundaryEdges;
+        chainFragments += o.chainFragments;
         all += o.all;
         sampled += o.sampled;
         direct += o.direct;
@@ -65,6 +78,10 @@ struct EffectsSummary {
     // The exact queries' work in plane tests by stage: [0] walking trees, [1] without a tree
     // (ExactEvaluations::workAt).
     std::array<std::array<uint64_t, vis::kWorkStages>, 2> workAt{};
+    // The cost of each evaluation (ExactEvaluations::exactNs, sampledNs) and the boundary
+    // chain's evaluations with their edges and fragments (ExactEvaluations::chain*).
+    CostHistogram exactNs, sampledNs;
+    uint64_t chainEvaluations = 0, chainBoundaryEdges = 0, chainFragments = 0;
     // Of the sampled evaluations, those not tried (a point of a region whose query had reached
     // the limit): the ones no stage of overLimitAt counts.
     uint64_t notTriedEvaluations() const {

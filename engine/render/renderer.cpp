@@ -212,8 +212,13 @@ class TileShader {
             if (in_.exact)
                 radiance += in_.lighting.exactAreaLights(p, settings.glossySamples,
                                                          settings.lightSamples, rng, scratch);
-            else
+            else {
+                // Timed per point, as exact evaluations are (ExactEvaluations::sampledNs).
+                const auto start = Clock::now();
                 radiance += in_.lighting.sampledAreaLights(p, in_.samples, rng);
+                scratch.evaluations.sampledNs.add(
+                    std::chrono::duration<double, std::nano>(Clock::now() - start).count());
+            }
             radiance += in_.lighting.pointLights(p);
             image[static_cast<size_t>(y) * settings.width + x] = radiance;
         }
@@ -520,6 +525,11 @@ EffectsSummary ProgressiveRenderer::effects() const {
     s.directEvaluations = evaluations_.direct;
     s.directGroupedEvaluations = evaluations_.directGrouped;
     s.partialByGroupsEvaluations = evaluations_.partialByGroups;
+    s.exactNs = evaluations_.exactNs;
+    s.sampledNs = evaluations_.sampledNs;
+    s.chainEvaluations = evaluations_.chainEvaluations;
+    s.chainBoundaryEdges = evaluations_.chainBoundaryEdges;
+    s.chainFragments = evaluations_.chainFragments;
     s.minTreeSamples = minTreeSamples_;
     s.pairsGroupedNoTree = groupedNoTree_.size();
     s.groupedNoTreeFaces = groupedNoTreeFaces_;

@@ -1,6 +1,7 @@
 #include "engine/render/shading.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numbers>
 
@@ -61,6 +62,10 @@ Vec3 TriangleSampler::sample(double u, double v) const {
 }
 
 namespace {
+using Clock = std::chrono::steady_clock;
+double nanoseconds(Clock::time_point since) {
+    return std::chrono::duration<double, std::nano>(Clock::now() - since).count();
+}
 // answeredByGroups' share: at least one in kGroupedShare of the faces in groups.
 constexpr size_t kGroupedShare = 4;
 }  // namespace
@@ -132,7 +137,20 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 ++scratch.evaluations.overLimitAt[static_cast<size_t>(scratch.query.limitStage())];
             if (record == nullptr) ++scratch.evaluations.sampledDirect;
             if (!scratch.regionCorners.empty()) scratch.regionOverLimit[k] = scratch.regionId;
-            return sampledAreaLight(light, p, fallbackSamples, rng);
+            const auto raysStart = Clock::now();
+            const Vec3 v = sampledAreaLight(light, p, fallbackSamples, rng);
+            scratch.evaluations.sampledNs.add(nanoseconds(raysStart));
+            return v;
+        };
+        // An evaluation answered exactly: its time since evalStart, and its chain's size.
+        const auto evalStart = queried ? Clock::now() : Clock::time_point{};
+        auto exactDone = [&](size_t fragments) {
+            scratch.evaluations.exactNs.add(nanoseconds(evalStart));
+            const vis::FromPointQuery::ChainCounts& chain = scratch.query.chainCounts();
+            if (chain.cells == 0) return;
+            ++scratch.evaluations.chainEvaluations;
+            scratch.evaluations.chainBoundaryEdges += chain.boundaryEdges;
+            scratch.evaluations.chainFragments += fragments;
         };
         // The query's work by stage, on the tree pairs' (0) or the direct ones' (1) account.
         auto countWork = [&](size_t path) {
@@ -161,9 +179,12 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             else
                 ++scratch.evaluations.partialByGroups;
             countWork(1);
-            out += scratch.query.limitReached()
-                       ? overLimit(true)
-                       : shadeFragments(p, light, list, {}, glossySamples, rng, scratch);
+            if (scratch.query.limitReached()) {
+                out += overLimit(true);
+                continue;
+            }
+            out += shadeFragments(p, light, list, {}, glossySamples, rng, scratch);
+            exactDone(list.size());
             continue;
         }
         const vis::PairKind kind = record->tree.kind;
@@ -197,13 +218,17 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 out += overLimit(true);
                 continue;
             }
-            if (list->empty()) continue;
+            if (list->empty()) {
+                exactDone(0);
+                continue;
+            }
         }
         if (list == nullptr && fragments.empty()) continue;
         static const vis::FragmentList kNone;  // immutable: shared by every thread
         out += list != nullptr
                    ? shadeFragments(p, light, *list, {}, glossySamples, rng, scratch)
                    : shadeFragments(p, light, kNone, fragments, glossySamples, rng, scratch);
+        if (queried) exactDone(list != nullptr ? list->size() : fragments.size());
     }
     return out;
 }

@@ -251,7 +251,13 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
         RenderTimes t;
         std::atomic<bool> never{false};
         runWithLimit(INFINITY, never, [&] { r.render(camera, s, &t); });
-        row["sampled128"] = {{"wall", t.total}, {"cpu", t.totalCpu}};
+        const EffectsSummary fx = r.effects();
+        row["sampled128"] = {{"wall", t.total},
+                             {"cpu", t.totalCpu},
+                             {"points", fx.sampledNs.count()},
+                             {"pointMedianUs", fx.sampledNs.quantile(0.5) * 1e-3},
+                             {"pointP99Us", fx.sampledNs.quantile(0.99) * 1e-3},
+                             {"pointMeanUs", fx.sampledNs.mean() * 1e-3}};
         std::printf("  sampled 128: %.2f s wall, %.2f s cpu\n", t.total, t.totalCpu);
     }
     {
@@ -296,6 +302,16 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
             e["overLimitAt"] = stages;
             e["notTried"] = fx.notTriedEvaluations();
             e["workAt"] = workJson(fx);
+            // Each exact evaluation timed (the query and its shading), and the boundary chain's
+            // evaluations with their chain edges and fragments (must-have 5 of issue 13).
+            e["cost"] = {{"evaluations", fx.exactNs.count()},
+                         {"medianUs", fx.exactNs.quantile(0.5) * 1e-3},
+                         {"p99Us", fx.exactNs.quantile(0.99) * 1e-3},
+                         {"meanUs", fx.exactNs.mean() * 1e-3},
+                         {"sampledMedianUs", fx.sampledNs.quantile(0.5) * 1e-3},
+                         {"chainEvaluations", fx.chainEvaluations},
+                         {"chainEdges", fx.chainBoundaryEdges},
+                         {"chainFragments", fx.chainFragments}};
             e["exactWorkLimit"] = s.exactWorkLimit;
             e["minTreeSamples"] = s.minTreeSamples;
             row["speedupWall"] = row["sampled128"]["wall"].get<double>() / (prepWall + t.total);
