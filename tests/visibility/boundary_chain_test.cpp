@@ -23,6 +23,7 @@
 #include "visibility/form_factor.h"
 #include "visibility/fp_query.h"
 #include "visibility/history_tree_builder.h"
+#include "visibility/pair_occluders.h"
 
 // (Its own namespace: in a unity build it shares a file with other tests.)
 namespace penumbra::boundary_chain_test {
@@ -246,6 +247,23 @@ class MeshScene {
                 face({a, c, d});
             }
     }
+    // A steep bowl z = z0 + 3 (x^2 + y^2) over [-0.5, 0.5]^2 of n x n quads, facing up (inward):
+    // each face's neighbours rise in front of its plane (valleys everywhere).
+    void bowl(double z0, int n) {
+        std::vector<std::vector<uint32_t>> id(n + 1, std::vector<uint32_t>(n + 1));
+        for (int j = 0; j <= n; ++j)
+            for (int i = 0; i <= n; ++i) {
+                const double x = -0.5 + 1.0 * i / n, y = -0.5 + 1.0 * j / n;
+                id[j][i] = vertex({x, y, z0 + 3 * (x * x + y * y)});
+            }
+        for (int j = 0; j < n; ++j)
+            for (int i = 0; i < n; ++i) {
+                const uint32_t a = id[j][i], b = id[j][i + 1], c = id[j + 1][i + 1],
+                               d = id[j + 1][i];  // (x, y) counter-clockwise from above: up
+                face({a, b, c});
+                face({a, c, d});
+            }
+    }
     Scene finish() {
         s_.collectLights();
         return s_;
@@ -418,6 +436,72 @@ TEST(BoundaryChainQuery, LightCutByTheReceiverPlaneMatchesTheExactReference) {
     // Cells beyond B's plane: no labels by crossings (each cell's line is tested).
     EXPECT_EQ(c.crossingLabels, 0);
     EXPECT_EQ(c.silhouettes, test::scaled(60));
+}
+
+// Points on the faces of a bowl, many of whose planes cut the light: x is a rounded point of its
+// face, off the face's exact plane by a rounding, and the face's own edges belong to its
+// neighbours, occluders that rise in front of it, so the plane through x and such an edge is not
+// the face's plane (a cell near the line where the face's plane cuts the light may lie between
+// the two). Against the exact reference, the chain forced, with and without groups.
+TEST(BoundaryChainQuery, PointsOnBowlFacesWhosePlanesCutTheLightMatchTheExactReference) {
+    MeshScene m(0, true);  // the light upright at x = 1.5, facing the bowl
+    m.bowl(0.2, 12);
+    const Scene s = m.finish();
+    std::vector<vis::Bounds3> boxes;
+    for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
+    const vis::BoxTree faces(boxes);
+    const vis::FaceClusters groups(s.mesh, faces);
+    vis::FromPointQuery chain, defaults;
+    chain.setChainOptions({1, 0, 0});
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(0.02, 1.0);
+    int checked = 0, cut = 0, cells = 0, reported = 0;
+    for (uint32_t f = 2; f < s.faceCount() && checked < test::scaled(240); ++f) {
+        const vis::FacePlane plane = vis::facePlane(s.mesh, f);
+        bool front = false, behind = false;  // the light's corners against the face's plane
+        for (uint32_t v : s.mesh.faces[1]) {
+            const vis::Sign side = plane.side(s.mesh.vertices[v]);
+            front = front || side == vis::Sign::Positive;
+            behind = behind || side == vis::Sign::Negative;
+        }
+        if (!front) continue;
+        cut += behind;
+        const Vec3 n = vis::normalize(s.mesh.faceAreaNormal(f));
+        for (int k = 0; k < 2; ++k, ++checked) {
+            Vec3 x{};
+            double w = 0;
+            for (uint32_t v : s.mesh.faces[f]) {
+                const double a = u(rng);
+                x += s.mesh.vertices[v] * a;
+                w += a;
+            }
+            x = x / w;
+            const test::ReferenceResult ref = test::exactReference(s.mesh, f, 1, x);
+            auto compare = [&](const char* path, const vis::FragmentList& list) {
+                double area = 0, formFactor = 0;
+                for (size_t i = 0; i < list.size(); ++i) {
+                    area += vis::polygonArea(list[i]);
+                    formFactor += vis::formFactor(x, n, list[i]);
+                }
+                const double fraction = area / s.mesh.faceArea(1);
+                const bool ok =
+                    std::fabs(fraction - ref.fraction) <= 1e-9 &&
+                    std::fabs(formFactor - ref.formFactor) <= 1e-9 * std::max(ref.formFactor, 1e-6);
+                if (!ok && reported++ < 5)
+                    ADD_FAILURE() << path << " on face " << f << " at x = " << vis::toString(x)
+                                  << " answers fraction " << fraction << " form factor "
+                                  << formFactor << ", the exact reference " << ref.fraction
+                                  << " and " << ref.formFactor;
+            };
+            compare("chain", chain.runDirect(s.mesh, f, 1, x, faces));
+            cells += chain.chainCounts().cells;
+            compare("chain, face groups", chain.runDirect(s.mesh, f, 1, x, faces, &groups));
+            compare("defaults, face groups", defaults.runDirect(s.mesh, f, 1, x, faces, &groups));
+        }
+    }
+    EXPECT_GE(checked, test::scaled(240) / 2);
+    EXPECT_GT(cut, checked / 8);  // faces whose plane cuts the light
+    EXPECT_GT(cells, checked);
 }
 
 // A mesh that crosses the light's plane and the floor's plane (clipped: chords on both).
