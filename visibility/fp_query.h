@@ -208,7 +208,9 @@ class FromPointQuery {
     // costs a hierarchy walk; 64 measured fastest on the table scene, 16 to 128 tried).
     static constexpr size_t kCullMin = 16, kRecullMin = 64;
     // The boundary-chain evaluation: `poly` cut by the chain's edges (those in chainLists_[level])
-    // into cells no chain edge crosses, each kept or dropped whole by one certified line.
+    // into cells no chain edge crosses, each kept or dropped whole by one certified line. A chain
+    // of kLongestFirstMin edges or more cuts along its longest edges first (buildChain).
+    static constexpr size_t kLongestFirstMin = 32;
     bool useChain();
     void buildChain();
     void chainCells(std::span<const Vec3> poly, size_t depth, size_t level);
@@ -399,6 +401,7 @@ class FromPointQuery {
     // seen from x; cullFor).
     bool activeOrdered_ = false;
     Sign lightTurn_ = Sign::Zero;
+    // Sort keys with indices: orderActive's, and buildChain's longest-first order.
     std::vector<std::pair<double, uint32_t>> orderKeys_;
     std::vector<ActiveOccluder> orderScratch_;
     std::vector<PlaneOrient> hullCone_;
