@@ -110,7 +110,8 @@ std::string EffectsSummary::text() const {
             }
             line("  where they reached the limit: " + (stages.empty() ? "-" : stages) + "; " +
                  std::to_string(notTriedEvaluations()) +
-                 " more were points of a region whose query had reached it (not tried)");
+                 " more were points of a region, or of a pixel in a later pass, whose query had "
+                 "reached it (not tried)");
         }
         for (size_t path = 0; path < workAt.size(); ++path) {
             uint64_t total = 0;

@@ -26,7 +26,8 @@ struct ExactEvaluations {
     // the tree (answeredByGroups, shading.h).
     uint64_t partialByGroups = 0;
     // Of the sampled ones, those whose query reached the limit, by the stage it was in
-    // (vis::WorkStage); the others were not tried, their region's query having reached it.
+    // (vis::WorkStage); the others were not tried, their region's (or their pixel's, in an
+    // earlier pass) query having reached it.
     std::array<uint64_t, vis::kWorkStages> overLimitAt{};
     // The queries' work in plane tests (vis::FromPointQuery::stageWork), by the stage it was
     // spent in: [0] the tree pairs', [1] the direct ones' (those over the limit included).
@@ -73,7 +74,8 @@ struct EffectsSummary {
     // Of the sampled evaluations, those of pairs without a tree (the others walked a tree).
     uint64_t sampledDirectEvaluations = 0;
     // Of the sampled evaluations, those whose query reached the limit, by the stage it was in
-    // (the rest were points of a region whose query had reached it: not tried).
+    // (the rest were points of a region, or of a pixel in a later pass, whose query had reached
+    // it: not tried).
     std::array<uint64_t, vis::kWorkStages> overLimitAt{};
     // The exact queries' work in plane tests by stage: [0] walking trees, [1] without a tree
     // (ExactEvaluations::workAt).
@@ -82,8 +84,8 @@ struct EffectsSummary {
     // chain's evaluations with their edges and fragments (ExactEvaluations::chain*).
     CostHistogram exactNs, sampledNs;
     uint64_t chainEvaluations = 0, chainBoundaryEdges = 0, chainFragments = 0;
-    // Of the sampled evaluations, those not tried (a point of a region whose query had reached
-    // the limit): the ones no stage of overLimitAt counts.
+    // Of the sampled evaluations, those not tried (a point of a region, or of a pixel in a later
+    // pass, whose query had reached the limit): the ones no stage of overLimitAt counts.
     uint64_t notTriedEvaluations() const {
         uint64_t tried = 0;
         for (uint64_t n : overLimitAt) tried += n;

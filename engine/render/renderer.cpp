@@ -100,6 +100,9 @@ struct PassInputs {
     int pass = 0;
     int samples = 0;  // shadow rays per light of the sampled and reference methods
     bool exact = false;
+    // The pixel cells whose query reached the work limit in the film's earlier passes
+    // (ExactScratch::overLimitBefore).
+    const std::unordered_set<uint64_t>* overLimitBefore = nullptr;
 };
 
 // One thread's share of a pass: per tile, traces the primary rays, then shades the hits into the
@@ -109,6 +112,7 @@ class TileShader {
   public:
     TileShader(const PassInputs& in, bool buildMissing) : in_(in) {
         scratch.query.setWorkLimit(in.settings.exactWorkLimit);
+        scratch.overLimitBefore = in.overLimitBefore;
         vis::FromPointQuery::ChainOptions chain;
         chain.minOccluders = in.settings.chainMinOccluders;
         scratch.query.setChainOptions(chain);
@@ -209,10 +213,12 @@ class TileShader {
                 {kLightStream, settings.lightSeed, static_cast<uint64_t>(in_.pass),
                  static_cast<uint64_t>(y) * static_cast<uint64_t>(settings.width) +
                      static_cast<uint64_t>(x)});
-            if (in_.exact)
+            if (in_.exact) {
+                scratch.pixel = static_cast<uint64_t>(y) * static_cast<uint64_t>(settings.width) +
+                                static_cast<uint64_t>(x);
                 radiance += in_.lighting.exactAreaLights(p, settings.glossySamples,
                                                          settings.lightSamples, rng, scratch);
-            else {
+            } else {
                 // Timed per point, as exact evaluations are (ExactEvaluations::sampledNs).
                 const auto start = Clock::now();
                 radiance += in_.lighting.sampledAreaLights(p, in_.samples, rng);
@@ -418,8 +424,12 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     std::mutex mutex;
     std::vector<PairKey> usedKeys;
     std::vector<uint32_t> facesSeen;
-    ExactEvaluations evaluations;     // by mutex
-    std::vector<PairKey> directKeys;  // by mutex
+    ExactEvaluations evaluations;        // by mutex
+    std::vector<PairKey> directKeys;     // by mutex
+    std::vector<uint64_t> overLimitNow;  // by mutex
+    // The cells of the film's earlier passes, for this film and work limit only.
+    if (pass == 0 || overLimitCellsLimit_ != settings.exactWorkLimit) overLimitCells_.clear();
+    overLimitCellsLimit_ = settings.exactWorkLimit;
     const CameraRays rays(camera, w, h);
     const PassInputs in{scene_,
                         bvh_,
@@ -432,7 +442,8 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                         pass,
                         settings.method == DirectMethod::Reference ? settings.referenceSamples
                                                                    : settings.lightSamples,
-                        settings.method == DirectMethod::Exact};
+                        settings.method == DirectMethod::Exact,
+                        &overLimitCells_};
 
     tbb::parallel_for(
         tbb::blocked_range<int>(0, tileCount(settings), 1),
@@ -465,9 +476,12 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
             evaluations += scratch.evaluations;
             directKeys.insert(directKeys.end(), scratch.usedDirect.begin(),
                               scratch.usedDirect.end());
+            overLimitNow.insert(overLimitNow.end(), scratch.overLimitNow.begin(),
+                                scratch.overLimitNow.end());
         });
     if (cancelled.load()) return false;
 
+    overLimitCells_.insert(overLimitNow.begin(), overLimitNow.end());
     if (pass == 0) film.reset(w, h);
     for (size_t i = 0; i < image.size(); ++i) film.sum[i] += image[i];
     ++film.passes;

@@ -163,6 +163,11 @@ class ProgressiveRenderer {
     std::set<PairKey> groupedNoTree_;
     uint64_t groupedNoTreeFaces_ = 0;
     uint32_t groupedShaftMin_ = 0;
+    // The (pixel, light) cells of the film being accumulated whose exact query reached the work
+    // limit (ExactScratch::overLimitBefore), and the limit they were for:
+    // written between passes, read by a pass's tiles.
+    std::unordered_set<uint64_t> overLimitCells_;
+    uint64_t overLimitCellsLimit_ = 0;
     // Set by prepare() with minTreeSamples > 0: the passes evaluate the pairs without a tree
     // point by point instead of building them (written by prepare, read by the passes, never at
     // the same time).

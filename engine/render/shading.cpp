@@ -128,8 +128,11 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             ++scratch.evaluations.all;
             if (record == nullptr) ++scratch.evaluations.direct;
         }
+        // This pixel's cell for this light (ExactScratch::overLimitBefore).
+        const uint64_t cell = scratch.pixel * lights_.size() + k;
         // Over the work limit: shadow rays instead, and the region marked so that its later
-        // points skip the attempt (ExactScratch::regionOverLimit).
+        // points skip the attempt (ExactScratch::regionOverLimit), and the pixel for the later
+        // passes (overLimitNow).
         // `tried`: this point's query reached the limit (counted by the stage it was in).
         auto overLimit = [&](bool tried) {
             ++scratch.evaluations.sampled;
@@ -137,6 +140,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 ++scratch.evaluations.overLimitAt[static_cast<size_t>(scratch.query.limitStage())];
             if (record == nullptr) ++scratch.evaluations.sampledDirect;
             if (!scratch.regionCorners.empty()) scratch.regionOverLimit[k] = scratch.regionId;
+            if (tried) scratch.overLimitNow.push_back(cell);
             const auto raysStart = Clock::now();
             const Vec3 v = sampledAreaLight(light, p, fallbackSamples, rng);
             scratch.evaluations.sampledNs.add(nanoseconds(raysStart));
@@ -164,6 +168,13 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 scratch.regionOverLimit.assign(lights_.size(), 0);
             }
             if (scratch.regionOverLimit[k] == scratch.regionId) {
+                out += overLimit(false);
+                continue;
+            }
+        }
+        if (queried && scratch.overLimitBefore != nullptr) {
+            const auto it = scratch.overLimitBefore->find(cell);
+            if (it != scratch.overLimitBefore->end()) {
                 out += overLimit(false);
                 continue;
             }

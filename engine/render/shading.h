@@ -139,6 +139,19 @@ struct ExactScratch {
     // region (in the caller's order) are sampled without trying: their neighbours' answer is as
     // complex, and the attempt would be wasted work.
     std::vector<uint64_t> regionOverLimit;
+    // Across passes: the (pixel, light) cells whose query reached the work limit in an earlier
+    // pass of the film (the renderer's, read-only during a pass; null = none), each pixel's
+    // index times the light count plus the light's index. The later points of such a pixel are
+    // sampled for that light without trying: a jittered sample of the same pixel (on a finely
+    // tessellated mesh, mostly another face of the same surface) is as complex, and the attempt
+    // would be wasted work. Measured, dragon 256x256, 16 spp: the attempts that reached the limit
+    // cost 60 us each, more than the 128 rays that then answer them; this rule made the render 4.6
+    // -> 3.1 s wall and sampled 43.7% of the evaluations instead of 39.2%. `pixel` is the index of
+    // the pixel of the next point; the cells whose query reached the limit in this pass go to
+    // overLimitNow (the renderer adds them after the pass).
+    const std::unordered_set<uint64_t>* overLimitBefore = nullptr;
+    uint64_t pixel = 0;
+    std::vector<uint64_t> overLimitNow;
 };
 
 class DirectLighting {
@@ -154,7 +167,8 @@ class DirectLighting {
     // scratch.query's work limit (FromPointQuery::setWorkLimit) has no exact answer: that light
     // is estimated with `fallbackSamples` stratified shadow rays, counted in
     // scratch.evaluations.sampled (.all counts every point-light pair that needed a query); so
-    // are the later points of the same region (ExactScratch::regionOverLimit).
+    // are the later points of the same region (ExactScratch::regionOverLimit) and of the same
+    // pixel in later passes (ExactScratch::overLimitBefore).
     Vec3 exactAreaLights(const SurfacePoint& p, int glossySamples, int fallbackSamples,
                          SplitMix64& rng, ExactScratch& scratch) const;
     // The same with `samples` stratified shadow rays per light.

@@ -308,6 +308,35 @@ TEST(Renderer, PointsOverTheWorkLimitAreSampledAndCounted) {
     EXPECT_LT(unlike, limited.sum.size() / 4);
 }
 
+// A pixel whose point reached the work limit in one pass has its later passes' points sampled
+// for that light without trying (ExactScratch::overLimitBefore): over four passes the queries
+// tried are far fewer than four times one pass's, and a new film tries again.
+TEST(Renderer, PixelsOverTheWorkLimitAreNotTriedAgainInLaterPasses) {
+    Rig rig(penumbraScene(Material{}));
+    const Camera camera = penumbraCamera();
+    RenderSettings s;
+    s.width = s.height = 24;
+    s.lightSamples = 8;
+    s.exactWorkLimit = 1;
+    auto triedIn = [&](int spp, uint64_t* notTried = nullptr) {
+        s.spp = spp;
+        rig.renderer.resetEffects();
+        rig.renderer.render(camera, s);
+        const EffectsSummary e = rig.renderer.effects();
+        uint64_t tried = 0;
+        for (uint64_t n : e.overLimitAt) tried += n;
+        if (notTried != nullptr) *notTried = e.notTriedEvaluations();
+        return tried;
+    };
+    const uint64_t one = triedIn(1);
+    ASSERT_GT(one, 20u);
+    EXPECT_EQ(triedIn(1), one);  // a new film: nothing remembered from the last one
+    uint64_t notTried = 0;
+    const uint64_t four = triedIn(4, &notTried);
+    EXPECT_LT(four, 3 * one) << "passes 2 to 4 tried again the pixels pass 1 found over the limit";
+    EXPECT_GT(notTried, 2 * one);
+}
+
 // A closed box of 6 x 2 n^2 triangles, [x0, x1] x [y0, y1] x [z0, z1], facing out: each side a
 // flat n x n grid of quads (its faces make groups: vis::FaceClusters).
 void addGridBox(Scene& s, Vec3 lo, Vec3 hi, int n, int32_t material) {
