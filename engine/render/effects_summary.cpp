@@ -136,9 +136,14 @@ std::string EffectsSummary::text() const {
                  " evaluations answered exactly, query and shading, timed each)");
         if (sampledNs.count() > 0) line("  the sampled ones' shadow rays: " + costText(sampledNs));
         if (chainEvaluations > 0) {
-            char per[96];
-            std::snprintf(per, sizeof per, "%.1f chain edges and %.1f fragments",
+            char per[160];
+            std::snprintf(per, sizeof per,
+                          "%.1f chain edges (%.1f%% of their occluders' %.1f edges) and %.1f "
+                          "fragments",
                           static_cast<double>(chainBoundaryEdges) / chainEvaluations,
+                          100.0 * static_cast<double>(chainBoundaryEdges) /
+                              static_cast<double>(std::max<uint64_t>(chainOccluderEdges, 1)),
+                          static_cast<double>(chainOccluderEdges) / chainEvaluations,
                           static_cast<double>(chainFragments) / chainEvaluations);
             line("  of them by the boundary chain: " + std::to_string(chainEvaluations) +
                  " - per evaluation " + per +

@@ -37,9 +37,12 @@ struct ExactEvaluations {
     // over the work limit, per light; the sampled method's points, all lights).
     CostHistogram exactNs, sampledNs;
     // The exact evaluations the boundary chain answered (vis::FromPointQuery::ChainCounts: it cut
-    // L into cells), their chain edges and the fragments they kept, summed.
-    uint64_t chainEvaluations = 0, chainBoundaryEdges = 0, chainFragments = 0;
+    // L into cells), their occluders' edges (each use by a face; a face group taken whole counts
+    // its boundary only), the chain edges left of them and the fragments they kept, summed.
+    uint64_t chainEvaluations = 0, chainOccluderEdges = 0, chainBoundaryEdges = 0,
+             chainFragments = 0;
     ExactEvaluations& operator+=(const ExactEvaluations& o) {
+        chainOccluderEdges += o.chainOccluderEdges;
         exactNs += o.exactNs;
         sampledNs += o.sampledNs;
         chainEvaluations += o.chainEvaluations;
@@ -83,7 +86,8 @@ struct EffectsSummary {
     // The cost of each evaluation (ExactEvaluations::exactNs, sampledNs) and the boundary
     // chain's evaluations with their edges and fragments (ExactEvaluations::chain*).
     CostHistogram exactNs, sampledNs;
-    uint64_t chainEvaluations = 0, chainBoundaryEdges = 0, chainFragments = 0;
+    uint64_t chainEvaluations = 0, chainOccluderEdges = 0, chainBoundaryEdges = 0,
+             chainFragments = 0;
     // Of the sampled evaluations, those not tried (a point of a region, or of a pixel in a later
     // pass, whose query had reached the limit): the ones no stage of overLimitAt counts.
     uint64_t notTriedEvaluations() const {

@@ -542,6 +542,7 @@ EffectsSummary ProgressiveRenderer::effects() const {
     s.exactNs = evaluations_.exactNs;
     s.sampledNs = evaluations_.sampledNs;
     s.chainEvaluations = evaluations_.chainEvaluations;
+    s.chainOccluderEdges = evaluations_.chainOccluderEdges;
     s.chainBoundaryEdges = evaluations_.chainBoundaryEdges;
     s.chainFragments = evaluations_.chainFragments;
     s.minTreeSamples = minTreeSamples_;

@@ -153,6 +153,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             const vis::FromPointQuery::ChainCounts& chain = scratch.query.chainCounts();
             if (chain.cells == 0) return;
             ++scratch.evaluations.chainEvaluations;
+            scratch.evaluations.chainOccluderEdges += chain.occluderEdges;
             scratch.evaluations.chainBoundaryEdges += chain.boundaryEdges;
             scratch.evaluations.chainFragments += fragments;
         };

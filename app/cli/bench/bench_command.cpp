@@ -310,6 +310,7 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
                          {"meanUs", fx.exactNs.mean() * 1e-3},
                          {"sampledMedianUs", fx.sampledNs.quantile(0.5) * 1e-3},
                          {"chainEvaluations", fx.chainEvaluations},
+                         {"chainOccluderEdges", fx.chainOccluderEdges},
                          {"chainEdges", fx.chainBoundaryEdges},
                          {"chainFragments", fx.chainFragments}};
             e["exactWorkLimit"] = s.exactWorkLimit;
