@@ -130,30 +130,31 @@ std::string EffectsSummary::text() const {
             line(std::string(path == 0 ? "work walking trees: " : "work without a tree: ") +
                  std::to_string(total) + " plane tests - " + stages);
         }
-        if (exactNs.count() > 0)
-            line("cost per exact evaluation: " + costText(exactNs) + " (" +
-                 std::to_string(exactNs.count()) +
+        if (costs.exactNs.count() > 0)
+            line("cost per exact evaluation: " + costText(costs.exactNs) + " (" +
+                 std::to_string(costs.exactNs.count()) +
                  " evaluations answered exactly, query and shading, timed each)");
-        if (sampledNs.count() > 0) line("  the sampled ones' shadow rays: " + costText(sampledNs));
-        if (chainEvaluations > 0) {
+        if (costs.sampledNs.count() > 0)
+            line("  the sampled ones' shadow rays: " + costText(costs.sampledNs));
+        if (costs.chainEvaluations > 0) {
             char per[160];
             std::snprintf(per, sizeof per,
                           "%.1f chain edges (%.1f%% of their occluders' %.1f edges) and %.1f "
                           "fragments",
-                          static_cast<double>(chainBoundaryEdges) / chainEvaluations,
-                          100.0 * static_cast<double>(chainBoundaryEdges) /
-                              static_cast<double>(std::max<uint64_t>(chainOccluderEdges, 1)),
-                          static_cast<double>(chainOccluderEdges) / chainEvaluations,
-                          static_cast<double>(chainFragments) / chainEvaluations);
-            line("  of them by the boundary chain: " + std::to_string(chainEvaluations) +
+                          static_cast<double>(costs.chainBoundaryEdges) / costs.chainEvaluations,
+                          100.0 * static_cast<double>(costs.chainBoundaryEdges) /
+                              static_cast<double>(std::max<uint64_t>(costs.chainOccluderEdges, 1)),
+                          static_cast<double>(costs.chainOccluderEdges) / costs.chainEvaluations,
+                          static_cast<double>(costs.chainFragments) / costs.chainEvaluations);
+            line("  of them by the boundary chain: " + std::to_string(costs.chainEvaluations) +
                  " - per evaluation " + per +
                  " (the silhouette and border edges that bound the shadow, against the convex "
                  "pieces of the visible region)");
         }
     }
-    if (!exact && sampledNs.count() > 0)
-        line("cost per shading point's shadow rays: " + costText(sampledNs) + " (" +
-             std::to_string(sampledNs.count()) + " points, every light, timed each)");
+    if (!exact && costs.sampledNs.count() > 0)
+        line("cost per shading point's shadow rays: " + costText(costs.sampledNs) + " (" +
+             std::to_string(costs.sampledNs.count()) + " points, every light, timed each)");
     if (!method.empty()) {
         if (materialsAnalytic > 0)
             line("materials analytic: " + plural(materialsAnalytic, "material", "materials") +

@@ -14,6 +14,29 @@
 
 namespace penumbra {
 
+// What the renderer's evaluations cost, summed over threads and passes (ExactEvaluations and
+// EffectsSummary hold it alike).
+struct EvaluationCosts {
+    // Per evaluation answered exactly, its time in nanoseconds (the query and the shading of its
+    // fragments); per sampled one, the time of its shadow rays alone (the exact method's points
+    // over the work limit, per light; the sampled method's points, all lights).
+    CostHistogram exactNs, sampledNs;
+    // The exact evaluations the boundary chain answered (vis::FromPointQuery::ChainCounts: it cut
+    // L into cells), their occluders' edges (each use by a face; a face group taken whole counts
+    // its boundary only), the chain edges left of them and the fragments they kept, summed.
+    uint64_t chainEvaluations = 0, chainOccluderEdges = 0, chainBoundaryEdges = 0,
+             chainFragments = 0;
+    EvaluationCosts& operator+=(const EvaluationCosts& o) {
+        exactNs += o.exactNs;
+        sampledNs += o.sampledNs;
+        chainEvaluations += o.chainEvaluations;
+        chainOccluderEdges += o.chainOccluderEdges;
+        chainBoundaryEdges += o.chainBoundaryEdges;
+        chainFragments += o.chainFragments;
+        return *this;
+    }
+};
+
 // The exact method's (point, light) evaluations that needed a query (counted per renderer
 // thread, summed into EffectsSummary): all of them, those over the work limit (sampled instead),
 // and those of pairs without a tree (evaluated directly).
@@ -32,22 +55,9 @@ struct ExactEvaluations {
     // The queries' work in plane tests (vis::FromPointQuery::stageWork), by the stage it was
     // spent in: [0] the tree pairs', [1] the direct ones' (those over the limit included).
     std::array<std::array<uint64_t, vis::kWorkStages>, 2> workAt{};
-    // Per evaluation answered exactly, its time in nanoseconds (the query and the shading of its
-    // fragments); per sampled one, the time of its shadow rays alone (the exact method's points
-    // over the work limit, per light; the sampled method's points, all lights).
-    CostHistogram exactNs, sampledNs;
-    // The exact evaluations the boundary chain answered (vis::FromPointQuery::ChainCounts: it cut
-    // L into cells), their occluders' edges (each use by a face; a face group taken whole counts
-    // its boundary only), the chain edges left of them and the fragments they kept, summed.
-    uint64_t chainEvaluations = 0, chainOccluderEdges = 0, chainBoundaryEdges = 0,
-             chainFragments = 0;
+    EvaluationCosts costs;
     ExactEvaluations& operator+=(const ExactEvaluations& o) {
-        chainOccluderEdges += o.chainOccluderEdges;
-        exactNs += o.exactNs;
-        sampledNs += o.sampledNs;
-        chainEvaluations += o.chainEvaluations;
-        chainBoundaryEdges += o.chainBoundaryEdges;
-        chainFragments += o.chainFragments;
+        costs += o.costs;
         all += o.all;
         sampled += o.sampled;
         direct += o.direct;
@@ -83,17 +93,19 @@ struct EffectsSummary {
     // The exact queries' work in plane tests by stage: [0] walking trees, [1] without a tree
     // (ExactEvaluations::workAt).
     std::array<std::array<uint64_t, vis::kWorkStages>, 2> workAt{};
-    // The cost of each evaluation (ExactEvaluations::exactNs, sampledNs) and the boundary
-    // chain's evaluations with their edges and fragments (ExactEvaluations::chain*).
-    CostHistogram exactNs, sampledNs;
-    uint64_t chainEvaluations = 0, chainOccluderEdges = 0, chainBoundaryEdges = 0,
-             chainFragments = 0;
+    // The cost of each evaluation and the boundary chain's evaluations (ExactEvaluations::costs).
+    EvaluationCosts costs;
     // Of the sampled evaluations, those not tried (a point of a region, or of a pixel in a later
     // pass, whose query had reached the limit): the ones no stage of overLimitAt counts.
     uint64_t notTriedEvaluations() const {
+        return sampledEvaluations - std::min(triedEvaluations(), sampledEvaluations);
+    }
+    // Of the sampled evaluations, those whose query reached the limit (every stage of
+    // overLimitAt).
+    uint64_t triedEvaluations() const {
         uint64_t tried = 0;
         for (uint64_t n : overLimitAt) tried += n;
-        return sampledEvaluations - std::min(tried, sampledEvaluations);
+        return tried;
     }
     // sampledEvaluations as a percentage of exactEvaluations (0 when there were none).
     double sampledPercent() const {

@@ -219,10 +219,10 @@ class TileShader {
                 radiance += in_.lighting.exactAreaLights(p, settings.glossySamples,
                                                          settings.lightSamples, rng, scratch);
             } else {
-                // Timed per point, as exact evaluations are (ExactEvaluations::sampledNs).
+                // Timed per point, as exact evaluations are (EvaluationCosts::sampledNs).
                 const auto start = Clock::now();
                 radiance += in_.lighting.sampledAreaLights(p, in_.samples, rng);
-                scratch.evaluations.sampledNs.add(
+                scratch.evaluations.costs.sampledNs.add(
                     std::chrono::duration<double, std::nano>(Clock::now() - start).count());
             }
             radiance += in_.lighting.pointLights(p);
@@ -539,12 +539,7 @@ EffectsSummary ProgressiveRenderer::effects() const {
     s.directEvaluations = evaluations_.direct;
     s.directGroupedEvaluations = evaluations_.directGrouped;
     s.partialByGroupsEvaluations = evaluations_.partialByGroups;
-    s.exactNs = evaluations_.exactNs;
-    s.sampledNs = evaluations_.sampledNs;
-    s.chainEvaluations = evaluations_.chainEvaluations;
-    s.chainOccluderEdges = evaluations_.chainOccluderEdges;
-    s.chainBoundaryEdges = evaluations_.chainBoundaryEdges;
-    s.chainFragments = evaluations_.chainFragments;
+    s.costs = evaluations_.costs;
     s.minTreeSamples = minTreeSamples_;
     s.pairsGroupedNoTree = groupedNoTree_.size();
     s.groupedNoTreeFaces = groupedNoTreeFaces_;

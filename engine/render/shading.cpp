@@ -143,19 +143,19 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             if (tried) scratch.overLimitNow.push_back(cell);
             const auto raysStart = Clock::now();
             const Vec3 v = sampledAreaLight(light, p, fallbackSamples, rng);
-            scratch.evaluations.sampledNs.add(nanoseconds(raysStart));
+            scratch.evaluations.costs.sampledNs.add(nanoseconds(raysStart));
             return v;
         };
         // An evaluation answered exactly: its time since evalStart, and its chain's size.
         const auto evalStart = queried ? Clock::now() : Clock::time_point{};
         auto exactDone = [&](size_t fragments) {
-            scratch.evaluations.exactNs.add(nanoseconds(evalStart));
+            scratch.evaluations.costs.exactNs.add(nanoseconds(evalStart));
             const vis::FromPointQuery::ChainCounts& chain = scratch.query.chainCounts();
             if (chain.cells == 0) return;
-            ++scratch.evaluations.chainEvaluations;
-            scratch.evaluations.chainOccluderEdges += chain.occluderEdges;
-            scratch.evaluations.chainBoundaryEdges += chain.boundaryEdges;
-            scratch.evaluations.chainFragments += fragments;
+            ++scratch.evaluations.costs.chainEvaluations;
+            scratch.evaluations.costs.chainOccluderEdges += chain.occluderEdges;
+            scratch.evaluations.costs.chainBoundaryEdges += chain.boundaryEdges;
+            scratch.evaluations.costs.chainFragments += fragments;
         };
         // The query's work by stage, on the tree pairs' (0) or the direct ones' (1) account.
         auto countWork = [&](size_t path) {

@@ -254,10 +254,10 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
         const EffectsSummary fx = r.effects();
         row["sampled128"] = {{"wall", t.total},
                              {"cpu", t.totalCpu},
-                             {"points", fx.sampledNs.count()},
-                             {"pointMedianUs", fx.sampledNs.quantile(0.5) * 1e-3},
-                             {"pointP99Us", fx.sampledNs.quantile(0.99) * 1e-3},
-                             {"pointMeanUs", fx.sampledNs.mean() * 1e-3}};
+                             {"points", fx.costs.sampledNs.count()},
+                             {"pointMedianUs", fx.costs.sampledNs.quantile(0.5) * 1e-3},
+                             {"pointP99Us", fx.costs.sampledNs.quantile(0.99) * 1e-3},
+                             {"pointMeanUs", fx.costs.sampledNs.mean() * 1e-3}};
         std::printf("  sampled 128: %.2f s wall, %.2f s cpu\n", t.total, t.totalCpu);
     }
     {
@@ -304,15 +304,15 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
             e["workAt"] = workJson(fx);
             // Each exact evaluation timed (the query and its shading), and the boundary chain's
             // evaluations with their chain edges and fragments (must-have 5 of issue 13).
-            e["cost"] = {{"evaluations", fx.exactNs.count()},
-                         {"medianUs", fx.exactNs.quantile(0.5) * 1e-3},
-                         {"p99Us", fx.exactNs.quantile(0.99) * 1e-3},
-                         {"meanUs", fx.exactNs.mean() * 1e-3},
-                         {"sampledMedianUs", fx.sampledNs.quantile(0.5) * 1e-3},
-                         {"chainEvaluations", fx.chainEvaluations},
-                         {"chainOccluderEdges", fx.chainOccluderEdges},
-                         {"chainEdges", fx.chainBoundaryEdges},
-                         {"chainFragments", fx.chainFragments}};
+            e["cost"] = {{"evaluations", fx.costs.exactNs.count()},
+                         {"medianUs", fx.costs.exactNs.quantile(0.5) * 1e-3},
+                         {"p99Us", fx.costs.exactNs.quantile(0.99) * 1e-3},
+                         {"meanUs", fx.costs.exactNs.mean() * 1e-3},
+                         {"sampledMedianUs", fx.costs.sampledNs.quantile(0.5) * 1e-3},
+                         {"chainEvaluations", fx.costs.chainEvaluations},
+                         {"chainOccluderEdges", fx.costs.chainOccluderEdges},
+                         {"chainEdges", fx.costs.chainBoundaryEdges},
+                         {"chainFragments", fx.costs.chainFragments}};
             e["exactWorkLimit"] = s.exactWorkLimit;
             e["minTreeSamples"] = s.minTreeSamples;
             row["speedupWall"] = row["sampled128"]["wall"].get<double>() / (prepWall + t.total);
