@@ -133,7 +133,7 @@ std::string EffectsSummary::text() const {
         if (costs.exactNs.count() > 0)
             line("cost per exact evaluation: " + costText(costs.exactNs) + " (" +
                  std::to_string(costs.exactNs.count()) +
-                 " evaluations answered exactly, query and shading, timed each)");
+                 " timed: one in 8 of the evaluations answered exactly, query and shading)");
         if (costs.sampledNs.count() > 0)
             line("  the sampled ones' shadow rays: " + costText(costs.sampledNs));
         if (costs.chainEvaluations > 0) {
@@ -154,7 +154,7 @@ std::string EffectsSummary::text() const {
     }
     if (!exact && costs.sampledNs.count() > 0)
         line("cost per shading point's shadow rays: " + costText(costs.sampledNs) + " (" +
-             std::to_string(costs.sampledNs.count()) + " points, every light, timed each)");
+             std::to_string(costs.sampledNs.count()) + " points timed, one in 8, every light)");
     if (!method.empty()) {
         if (materialsAnalytic > 0)
             line("materials analytic: " + plural(materialsAnalytic, "material", "materials") +

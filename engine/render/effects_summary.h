@@ -17,9 +17,10 @@ namespace penumbra {
 // What the renderer's evaluations cost, summed over threads and passes (ExactEvaluations and
 // EffectsSummary hold it alike).
 struct EvaluationCosts {
-    // Per evaluation answered exactly, its time in nanoseconds (the query and the shading of its
-    // fragments); per sampled one, the time of its shadow rays alone (the exact method's points
-    // over the work limit, per light; the sampled method's points, all lights).
+    // Of one evaluation in ExactScratch::kTimedEvery: per evaluation answered exactly, its time
+    // in nanoseconds (the query and the shading of its fragments); per sampled one, the time of
+    // its shadow rays alone (the exact method's points over the work limit, per light; the
+    // sampled method's points, all lights).
     CostHistogram exactNs, sampledNs;
     // The exact evaluations the boundary chain answered (vis::FromPointQuery::ChainCounts: it cut
     // L into cells), their occluders' edges (each use by a face; a face group taken whole counts

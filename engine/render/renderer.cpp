@@ -219,11 +219,14 @@ class TileShader {
                 radiance += in_.lighting.exactAreaLights(p, settings.glossySamples,
                                                          settings.lightSamples, rng, scratch);
             } else {
-                // Timed per point, as exact evaluations are (EvaluationCosts::sampledNs).
-                const auto start = Clock::now();
+                // One point in ExactScratch::kTimedEvery timed, as exact evaluations are
+                // (EvaluationCosts::sampledNs).
+                const bool timed = scratch.timeNext();
+                const auto start = timed ? Clock::now() : Clock::time_point{};
                 radiance += in_.lighting.sampledAreaLights(p, in_.samples, rng);
-                scratch.evaluations.costs.sampledNs.add(
-                    std::chrono::duration<double, std::nano>(Clock::now() - start).count());
+                if (timed)
+                    scratch.evaluations.costs.sampledNs.add(
+                        std::chrono::duration<double, std::nano>(Clock::now() - start).count());
             }
             radiance += in_.lighting.pointLights(p);
             image[static_cast<size_t>(y) * settings.width + x] = radiance;

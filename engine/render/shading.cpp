@@ -130,6 +130,8 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         }
         // This pixel's cell for this light (ExactScratch::overLimitBefore).
         const uint64_t cell = scratch.pixel * lights_.size() + k;
+        // This evaluation is timed (ExactScratch::timeNext; only those that need a query).
+        const bool timed = queried && scratch.timeNext();
         // Over the work limit: shadow rays instead, and the region marked so that its later
         // points skip the attempt (ExactScratch::regionOverLimit), and the pixel for the later
         // passes (overLimitNow).
@@ -141,15 +143,17 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             if (record == nullptr) ++scratch.evaluations.sampledDirect;
             if (!scratch.regionCorners.empty()) scratch.regionOverLimit[k] = scratch.regionId;
             if (tried) scratch.overLimitNow.push_back(cell);
+            if (!timed) return sampledAreaLight(light, p, fallbackSamples, rng);
             const auto raysStart = Clock::now();
             const Vec3 v = sampledAreaLight(light, p, fallbackSamples, rng);
             scratch.evaluations.costs.sampledNs.add(nanoseconds(raysStart));
             return v;
         };
-        // An evaluation answered exactly: its time since evalStart, and its chain's size.
-        const auto evalStart = queried ? Clock::now() : Clock::time_point{};
+        // An evaluation answered exactly: its time since evalStart (when timed), and its chain's
+        // size.
+        const auto evalStart = timed ? Clock::now() : Clock::time_point{};
         auto exactDone = [&](size_t fragments) {
-            scratch.evaluations.costs.exactNs.add(nanoseconds(evalStart));
+            if (timed) scratch.evaluations.costs.exactNs.add(nanoseconds(evalStart));
             const vis::FromPointQuery::ChainCounts& chain = scratch.query.chainCounts();
             if (chain.cells == 0) return;
             ++scratch.evaluations.costs.chainEvaluations;

@@ -152,6 +152,15 @@ struct ExactScratch {
     const std::unordered_set<uint64_t>* overLimitBefore = nullptr;
     uint64_t pixel = 0;
     std::vector<uint64_t> overLimitNow;
+    // Whether to time the next evaluation (EvaluationCosts): one in kTimedEvery, in this
+    // scratch's order. Reading the clock twice per evaluation cost the Cornell box's exact render
+    // 4.7% of its time (its median evaluation takes 0.17 us); a systematic sample keeps the
+    // distribution and spares the hot path.
+    static constexpr uint32_t kTimedEvery = 8;
+    bool timeNext() { return timingTick_++ % kTimedEvery == 0; }
+
+  private:
+    uint32_t timingTick_ = 0;
 };
 
 class DirectLighting {

@@ -187,7 +187,7 @@ void writeCost(std::ostream& r, const json& rows) {
     for (const json& row : rows) any = any || row["exact"].contains("cost");
     if (!any) return;
     r << "### Cost per evaluation\n\n"
-      << "Each evaluation of Table 1's renders timed alone (wall, one thread; the clock's own "
+      << "One evaluation in 8 of Table 1's renders timed alone (wall, one thread; the clock's own "
          "cost, some 20-40 ns, included): the exact render's (point, light) evaluations that "
          "needed a query and were answered exactly (the query and the shading of its fragments; "
          "the points over the work limit are not among them: their 128 rays are the last "
@@ -197,7 +197,8 @@ void writeCost(std::ostream& r, const json& rows) {
          "edges of the occluders they came from (each use by a face; a face group taken whole "
          "counts its boundary only, so the share understates what groups save), and the convex "
          "fragments kept, per evaluation.\n\n"
-      << "| scene | exact evaluations | median us | p99 us | mean us | sampled points | 128 "
+      << "| scene | exact evaluations timed | median us | p99 us | mean us | sampled points timed "
+         "| 128 "
          "rays median us | p99 us | by the chain | chain edges | of the occluders' edges | "
          "fragments | over the limit: 128 rays median us "
          "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
