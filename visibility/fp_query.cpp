@@ -636,6 +636,14 @@ void FromPointQuery::chainCells(std::span<const Vec3> poly, size_t depth, size_t
         crossLevel_ = 0;
         crossIndex_ = 0;
     }
+    if (wholeTriedAt_.size() <= level) wholeTriedAt_.resize(level + 1);
+    const size_t listSize = chainLists_[level].size();
+    wholeTriedAt_[level] = level == 0 ? SIZE_MAX : wholeTriedAt_[level - 1];
+    if (crossings_ && level > 0 && listSize <= kWholeMax && listSize > 1 &&
+        2 * listSize <= wholeTriedAt_[level]) {
+        wholeTriedAt_[level] = listSize;
+        if (decideCellWhole(poly, level)) return;
+    }
     for (size_t i = 0; i < chainLists_[level].size(); ++i) {
         if (!spend()) return;
         const ChainEdge& e = chain_[chainLists_[level][i]];
@@ -707,11 +715,7 @@ void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
         if (!spend()) return;
         if (exactSign(h, y) != Sign::Positive) certified = false;
     }
-    if (crossings_ && ++yStamp_ == 0) {  // wrapped: no stale stamp may match
-        std::fill(stampRef_.begin(), stampRef_.end(), 0);
-        std::fill(stampY_.begin(), stampY_.end(), 0);
-        yStamp_ = 1;
-    }
+    if (crossings_) nextYStamp();
     for (size_t k = 0; certified && k < bounds_.size(); ++k) {
         if (!spend()) return;
         const Sign s = refSign(bounds_[k].ref, y);
@@ -754,6 +758,93 @@ void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
     }
     if (lineBlocked(y) || limitReached_) return;
     fragments_.add(poly);
+}
+
+void FromPointQuery::nextYStamp() {
+    if (++yStamp_ == 0) {  // wrapped: no stale stamp may match
+        std::fill(stampRef_.begin(), stampRef_.end(), 0);
+        std::fill(stampY_.begin(), stampY_.end(), 0);
+        yStamp_ = 1;
+    }
+}
+
+bool FromPointQuery::decideCellWhole(std::span<const Vec3> poly, size_t level) {
+    // Exact, with crossings_ (c changes only across the chain's segments, by their weights):
+    // every point z of the open cell is reached from y along the segment y -> z inside the
+    // (convex) cell, which crosses each chain segment at most once, and only those left in this
+    // level's list can meet the cell (the others were put on one side of a plane bounding it).
+    // Leaving y's side of an edge's plane changes c by +jump from its positive side and -jump
+    // from its negative side; so c(z) lies between c(y) - down and c(y) + up, the sums of the
+    // decreases and increases the list's edges could bring (an edge whose plane holds y counts
+    // both ways). c >= 1 on the whole cell when c(y) > down; c = 0 on it when c(y) = 0 and
+    // up = 0 (c is never negative). y is certified as a leaf's point is; the sides are exact.
+    stage_ = WorkStage::LabelCells;
+    if (poly.size() < 3) return false;
+    Vec3 y{};
+    for (const Vec3& v : poly) y += v;
+    y = y / static_cast<double>(poly.size());
+    for (const PlaneOrient& h : cone()) {
+        if (!spend()) return true;
+        if (exactSign(h, y) != Sign::Positive) return false;
+    }
+    nextYStamp();
+    for (const CellBound& b : bounds_) {
+        if (!spend()) return true;
+        const Sign s = refSign(b.ref, y);
+        if (s != b.side) return false;
+        sideY_[b.edge] = static_cast<int8_t>(s);
+        stampY_[b.edge] = yStamp_;
+    }
+    std::optional<int> c;
+    if (haveRef_) c = countByCrossings(y);
+    if (!c && !limitReached_) c = countLine(y);
+    if (limitReached_) return true;
+    if (!c || *c < 0) return false;
+    int down = 0, up = 0;
+    for (uint32_t idx : chainLists_[level]) {
+        const ChainEdge& e = chain_[idx];
+        if (!e.segment) continue;  // a chord on B's plane: outside L (crossings_)
+        Sign s;
+        if (stampY_[idx] == yStamp_) {
+            s = static_cast<Sign>(sideY_[idx]);
+        } else {
+            if (!spend()) return true;
+            s = refSign(e.ref, y);
+            sideY_[idx] = static_cast<int8_t>(s);
+            stampY_[idx] = yStamp_;
+        }
+        const int toNegative = e.jump, toPositive = -e.jump;
+        if (s != Sign::Negative) {  // may leave the positive side (or the plane)
+            down += std::max(0, -toNegative);
+            up += std::max(0, toNegative);
+        }
+        if (s != Sign::Positive) {
+            down += std::max(0, -toPositive);
+            up += std::max(0, toPositive);
+        }
+    }
+    // y is the ref from now on; the path from it to any later cell point inside this cell lies
+    // in this cell, which only this level's list may cross.
+    haveRef_ = true;
+    refY_ = y;
+    refCount_ = *c;
+    std::swap(sideRef_, sideY_);
+    std::swap(stampRef_, stampY_);
+    refStamp_ = yStamp_;
+    crossLevel_ = level;
+    crossIndex_ = 0;
+    if (*c > down) {
+        ++chainCounts_.cells;
+        ++chainCounts_.hiddenWhole;
+        return true;
+    }
+    if (*c == 0 && up == 0) {
+        ++chainCounts_.cells;
+        ++chainCounts_.seenWhole;
+        fragments_.add(poly);
+        return true;
+    }
+    return false;
 }
 
 std::optional<int> FromPointQuery::countByCrossings(const Vec3& y) {

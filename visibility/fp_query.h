@@ -153,6 +153,9 @@ class FromPointQuery {
     struct ChainCounts {
         uint32_t occluderEdges = 0, boundaryEdges = 0, cells = 0, fallbacks = 0;
         uint32_t crossingLabels = 0;
+        // Cells decided whole before the chain's edges left in them were cut
+        // (decideCellWhole), hidden or seen.
+        uint32_t hiddenWhole = 0, seenWhole = 0;
     };
     const ChainCounts& chainCounts() const { return chainCounts_; }
     // The last run took a partial tree's silhouettes (deferred_silhouettes.h) for its deferred
@@ -215,6 +218,17 @@ class FromPointQuery {
     void buildChain();
     void chainCells(std::span<const Vec3> poly, size_t depth, size_t level);
     void classifyCell(std::span<const Vec3> poly, size_t depth);
+    // A cell of the chain's cutting, before it is cut further: labelled by its point y as a leaf
+    // is, and decided whole where the edges left to cut it cannot change the answer (c(y) above
+    // what crossing them all could take away: hidden; c(y) = 0 and none can add: seen). True:
+    // decided (or the work limit reached), nothing more to cut.
+    bool decideCellWhole(std::span<const Vec3> poly, size_t level);
+    // Where chainCells tries that: a list of kWholeMax edges or fewer, half or less of the one
+    // the last try on its path had (a try costs about as much as one more cut of the cell).
+    static constexpr size_t kWholeMax = 64;
+    std::vector<size_t> wholeTriedAt_;  // per level: the list size of the last try on its path
+    // Advances yStamp_ (every cached side of the previous y becomes stale).
+    void nextYStamp();
     // The plane through x and the active occluder edge `ref` (an index in activePlanes_, or with
     // kPencilRef in activePencils_): its exact sign at an input point, and a split by it.
     Sign refSign(uint32_t ref, const Vec3& y) const;

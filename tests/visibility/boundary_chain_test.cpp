@@ -299,6 +299,8 @@ struct Checked {
     int chain = 0, silhouettes = 0;
     int grouped = 0;  // direct path: points that took face groups whole (face_clusters.h)
     int cells = 0, crossingLabels = 0;
+    // Cells decided whole before the edges left in them were cut (FromPointQuery::ChainCounts).
+    int hiddenWhole = 0, seenWhole = 0;
 };
 
 // Floor points under and around the mesh: the direct query and a partial tree's per-point
@@ -339,6 +341,8 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
         used.chain += chain.chainCounts().cells > 0;
         used.cells += chain.chainCounts().cells;
         used.crossingLabels += chain.chainCounts().crossingLabels;
+        used.hiddenWhole += chain.chainCounts().hiddenWhole;
+        used.seenWhole += chain.chainCounts().seenWhole;
         compare("direct, one by one",
                 measure(s.mesh, x, oneByOne.runDirect(s.mesh, 0, 1, x, faces)));
         compare("direct, face groups",
@@ -353,6 +357,8 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
         used.silhouettes += chain.usedSilhouettes();
         used.cells += chain.chainCounts().cells;
         used.crossingLabels += chain.chainCounts().crossingLabels;
+        used.hiddenWhole += chain.chainCounts().hiddenWhole;
+        used.seenWhole += chain.chainCounts().seenWhole;
         compare("partial tree, one by one", measure(s.mesh, x, oneByOne.run(s.mesh, partial, x)));
         EXPECT_FALSE(oneByOne.usedSilhouettes());  // the chain is off
     }
@@ -370,6 +376,22 @@ TEST(BoundaryChainQuery, ClosedSphereMatchesTheExactReference) {
     EXPECT_EQ(used.silhouettes, test::scaled(60));
     // Most cells follow from the one before them (the first of each run is counted on its line).
     EXPECT_GT(used.crossingLabels, used.cells / 2);
+}
+
+// Three closed spheres that overlap as seen from the floor: where their shadows overlap a line
+// crosses four faces or six, more than the few silhouette edges left in a small cell can take
+// away, so cells are decided hidden before those edges cut them (decideCellWhole); the answers
+// still match the exact reference.
+TEST(BoundaryChainQuery, CellsDecidedWholeUnderOverlappingSpheresMatchTheExactReference) {
+    MeshScene m(0);
+    m.sphere({0.1, -0.05, 0.7}, 0.4, 16, 10);
+    m.sphere({-0.15, 0.1, 1.15}, 0.3, 16, 10);
+    m.sphere({0.05, 0.2, 1.55}, 0.2, 12, 8);
+    const Checked used = checkScene(m.finish(), "overlapping spheres", test::scaled(60), 5);
+    EXPECT_GT(used.chain, test::scaled(60) / 3);
+    EXPECT_GT(used.hiddenWhole, 0);
+    // Decided whole, a cell is not cut further: fewer cells than the leaves would be.
+    EXPECT_LT(used.hiddenWhole + used.seenWhole, used.cells);
 }
 
 TEST(BoundaryChainQuery, OpenInconsistentAndNonManifoldMeshesMatchTheExactReference) {
