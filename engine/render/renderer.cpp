@@ -2,6 +2,7 @@
 
 #include <sys/resource.h>
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -110,7 +111,10 @@ struct PassInputs {
 // (pairs, evaluations) and `faces`.
 class TileShader {
   public:
-    TileShader(const PassInputs& in, bool buildMissing) : in_(in) {
+    // `pooled`: this thread's query workspace, lent to scratch.query for the shader's life.
+    TileShader(const PassInputs& in, bool buildMissing, vis::FromPointQuery& pooled)
+        : in_(in), pooled_(pooled) {
+        std::swap(scratch.query, pooled_);
         scratch.query.setWorkLimit(in.settings.exactWorkLimit);
         scratch.overLimitBefore = in.overLimitBefore;
         vis::FromPointQuery::ChainOptions chain;
@@ -118,6 +122,9 @@ class TileShader {
         scratch.query.setChainOptions(chain);
         scratch.buildMissing = buildMissing;
     }
+    ~TileShader() { std::swap(scratch.query, pooled_); }
+    TileShader(const TileShader&) = delete;
+    TileShader& operator=(const TileShader&) = delete;
 
     void trace(const Tile& tile) {
         hits_.clear();
@@ -234,6 +241,7 @@ class TileShader {
     }
 
     const PassInputs& in_;
+    vis::FromPointQuery& pooled_;
     std::vector<PrimaryHit> hits_;
     std::vector<TilePoint> points_;
     uint64_t regionCounter_ = 0;
@@ -271,12 +279,17 @@ struct ProgressiveRenderer::PassTimes {
     double wall = 0;
 };
 
+struct ProgressiveRenderer::QueryPool {
+    tbb::enumerable_thread_specific<vis::FromPointQuery> perThread;
+};
+
 ProgressiveRenderer::ProgressiveRenderer(const Scene& scene, const EmbreeScene& bvh,
                                          VisibilityStore& store)
     : scene_(scene),
       bvh_(bvh),
       store_(store),
-      lighting_(std::make_unique<DirectLighting>(scene, bvh, &store)) {
+      lighting_(std::make_unique<DirectLighting>(scene, bvh, &store)),
+      queries_(std::make_unique<QueryPool>()) {
     faceNormal_.reserve(scene.faceCount());
     faceOrigin_.reserve(scene.faceCount());
     for (uint32_t f = 0; f < scene.faceCount(); ++f) {
@@ -451,7 +464,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     tbb::parallel_for(
         tbb::blocked_range<int>(0, tileCount(settings), 1),
         [&](const tbb::blocked_range<int>& range) {
-            TileShader shader(in, !directMissing_);
+            TileShader shader(in, !directMissing_, queries_->perThread.local());
             for (int t = range.begin(); t != range.end(); ++t) {
                 if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) {
                     cancelled.store(true, std::memory_order_relaxed);

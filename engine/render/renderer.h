@@ -168,6 +168,11 @@ class ProgressiveRenderer {
     // written between passes, read by a pass's tiles.
     std::unordered_set<uint64_t> overLimitCells_;
     uint64_t overLimitCellsLimit_ = 0;
+    // The from-point query workspaces, one per worker thread, kept across passes and films
+    // (QueryPool in renderer.cpp): a fresh one sizes its per-mesh tables (the face hierarchy's
+    // node stamps: 2 MB on the 871k dragon) on its first point.
+    struct QueryPool;
+    std::unique_ptr<QueryPool> queries_;
     // Set by prepare() with minTreeSamples > 0: the passes evaluate the pairs without a tree
     // point by point instead of building them (written by prepare, read by the passes, never at
     // the same time).
