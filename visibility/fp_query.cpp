@@ -1195,7 +1195,6 @@ bool FromPointQuery::findCandidates(const BoxTree& index) {
     stage_ = WorkStage::FindOccluders;
     candidates_.clear();
     if (!spend(index.notOutside(pyramid_, candidates_, workBudgetLeft()))) return false;
-    std::sort(candidates_.begin(), candidates_.end());
     return true;
 }
 
@@ -1230,7 +1229,6 @@ bool FromPointQuery::findClustered(const BoxTree& faces, const FaceClusters& clu
         PlaneBoxCull(PlaneOrient(frontL_.a, frontL_.c, frontL_.b), region.lo, region.hi)};
     walkClusters(0, walk);
     if (limitReached_) return false;
-    std::sort(candidates_.begin(), candidates_.end());  // face order, as findCandidates
     return true;
 }
 
@@ -1349,8 +1347,10 @@ const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t 
     if (!startPair(mesh, receiver, light, x)) return fragments_;
     x_ = x;
     preparePyramid();
-    // Insertion order as the builder's (pair_occluders.h) would be costlier to find than it
-    // saves; face order keeps the answer deterministic.
+    // The candidates in the order the hierarchy's walk finds them (a function of the mesh alone:
+    // the answer is deterministic). Insertion order as the builder's (pair_occluders.h) would be
+    // costlier to find than it saves; sorting them into face order cost the bunny's penumbra
+    // points 4.6% of their time.
     if (clusters != nullptr && clusters->size() > 0 && chainOptions_.minOccluders != 0) {
         clusters_ = clusters;
         clusterTree_ = &faces;
