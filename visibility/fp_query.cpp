@@ -1212,6 +1212,7 @@ bool FromPointQuery::findClustered(const BoxTree& faces, const FaceClusters& clu
     stage_ = WorkStage::FindOccluders;
     candidates_.clear();
     usedClusters_.clear();
+    clustersByExactSides_ = 0;
     if (faces.empty()) return true;
     if (nodeStamp_.size() < faces.nodeCount()) {
         nodeStamp_.resize(faces.nodeCount(), 0);
@@ -1232,6 +1233,24 @@ bool FromPointQuery::findClustered(const BoxTree& faces, const FaceClusters& clu
     return true;
 }
 
+int FromPointQuery::exactFacing(std::span<const uint32_t> faces) {
+    // Exact: each face's plane (through its first three vertices, as activateFace takes it) at
+    // x; the first face that disagrees, or has x on its plane, ends the test.
+    int side = 0;
+    for (uint32_t face : faces) {
+        if (!spend()) return 0;
+        const PolygonMesh& mesh = *preparedMesh_;
+        const auto& ids = mesh.faces[face];
+        const Sign s =
+            PlaneOrient(mesh.vertices[ids[0]], mesh.vertices[ids[1]], mesh.vertices[ids[2]])
+                .sign(x_);
+        const int f = s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
+        if (f == 0 || (side != 0 && f != side)) return 0;
+        side = f;
+    }
+    return side;
+}
+
 bool FromPointQuery::walkClusters(uint32_t node, const ClusterWalk& w) {
     if (!spend()) return false;
     const Bounds3& box = w.faces.nodeBox(node);
@@ -1239,7 +1258,12 @@ bool FromPointQuery::walkClusters(uint32_t node, const ClusterWalk& w) {
     const uint32_t cluster = w.clusters.clusterAt(node);
     if (cluster != FaceClusters::kNone && w.behindB.negative(box.lo, box.hi) &&
         w.behindL.negative(box.lo, box.hi)) {
-        const int side = w.clusters.facing(cluster, x_);
+        int side = w.clusters.facing(cluster, x_);
+        if (side == 0 && w.faces.nodeItems(node).size() <= kExactFacingMax) {
+            side = exactFacing(w.faces.nodeItems(node));
+            clustersByExactSides_ += side != 0 ? 1 : 0;
+        }
+        if (limitReached_) return false;
         if (side != 0) {
             usedClusters_.push_back({node, cluster, side});
             nodeStamp_[node] = nodeRun_;
@@ -1299,6 +1323,7 @@ void FromPointQuery::startRun() {
     clusters_ = nullptr;
     clusterTree_ = nullptr;
     usedClusters_.clear();
+    clustersByExactSides_ = 0;
     clustersDissolved_ = false;
     recentClusterHits_.fill({0, 0});
     recentClusterNext_ = 0;

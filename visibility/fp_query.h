@@ -163,6 +163,8 @@ class FromPointQuery {
     bool usedSilhouettes() const { return surface_ != nullptr; }
     // The face groups the last direct run took whole (face_clusters.h).
     uint32_t clustersUsed() const { return static_cast<uint32_t>(usedClusters_.size()); }
+    // Of them, those decided by every face's exact side (exactFacing), not the cone test.
+    uint32_t clustersUsedByExactSides() const { return clustersByExactSides_; }
 
   private:
     void preparePair(const PolygonMesh& mesh, uint32_t receiver, uint32_t light);
@@ -278,6 +280,13 @@ class FromPointQuery {
     struct ClusterWalk;
     bool findClustered(const BoxTree& faces, const FaceClusters& clusters);
     bool walkClusters(uint32_t node, const ClusterWalk& walk);
+    // A group whose cone test is not certain (near x, the test's usual answer) and that holds
+    // kExactFacingMax faces or fewer: +1 or -1 when x lies strictly on that side of every one of
+    // `faces` (exact signs), else 0. Such a group enters the chain by its boundary, as a group
+    // the cone test decides, instead of activating its faces one by one.
+    static constexpr size_t kExactFacingMax = 64;
+    int exactFacing(std::span<const uint32_t> faces);
+    uint32_t clustersByExactSides_ = 0;
     bool clustersActive() const { return !usedClusters_.empty() && !clustersDissolved_; }
     // The line from x through y against mesh face `face`, unclipped (closed; exact signs at y),
     // x strictly in front of its plane (side +1) or behind it (-1): a surface slot's face, or a

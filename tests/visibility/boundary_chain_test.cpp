@@ -298,6 +298,8 @@ Measured measure(const vis::PolygonMesh& m, const Vec3& x, const vis::FragmentLi
 struct Checked {
     int chain = 0, silhouettes = 0;
     int grouped = 0;  // direct path: points that took face groups whole (face_clusters.h)
+    // Of them, points that took a group its cone test left undecided, by its faces' exact sides.
+    int groupedByExactSides = 0;
     int cells = 0, crossingLabels = 0;
     // Cells decided whole before the edges left in them were cut (FromPointQuery::ChainCounts).
     int hiddenWhole = 0, seenWhole = 0;
@@ -348,6 +350,7 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
         compare("direct, face groups",
                 measure(s.mesh, x, chain.runDirect(s.mesh, 0, 1, x, faces, &groups)));
         used.grouped += chain.clustersUsed() > 0;
+        used.groupedByExactSides += chain.clustersUsedByExactSides() > 0;
         compare("direct, face groups, default options",
                 measure(s.mesh, x, defaults.runDirect(s.mesh, 0, 1, x, faces, &groups)));
         // (Algorithm 1 only: the groups are not taken.)
@@ -372,6 +375,8 @@ TEST(BoundaryChainQuery, ClosedSphereMatchesTheExactReference) {
     EXPECT_GT(used.chain, test::scaled(60) / 3);
     // Most points see groups of the sphere's faces one way: they enter the chain whole.
     EXPECT_GT(used.grouped, test::scaled(60) / 2);
+    // Near the sphere the cone test of a group is not certain; its faces' exact sides decide.
+    EXPECT_GT(used.groupedByExactSides, test::scaled(60) / 4);
     // Every point is in the face's region and the sphere's edges cancel: always the silhouettes.
     EXPECT_EQ(used.silhouettes, test::scaled(60));
     // Most cells follow from the one before them (the first of each run is counted on its line).
