@@ -1177,7 +1177,7 @@ void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree&
     if (!tree.partial()) return;
     preparePyramid();
     if (prepareSurface(tree)) return;
-    // The occluders whose box may meet the pyramid, in insertion order.
+    // The occluders whose box may meet the pyramid, in the order the hierarchy finds them.
     if (!tree.deferredIndex.empty()) {
         if (!findCandidates(tree.deferredIndex)) return;
     } else {
