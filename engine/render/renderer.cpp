@@ -444,8 +444,15 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     std::vector<PairKey> directKeys;     // by mutex
     std::vector<uint64_t> overLimitNow;  // by mutex
     // The cells of the film's earlier passes, for this film and work limit only.
-    if (pass == 0 || overLimitCellsLimit_ != settings.exactWorkLimit) overLimitCells_.clear();
+    // Trees added to the store since (the viewer's background precompute): a remembered pixel's
+    // pair may have one now, whose walk is far cheaper than the direct path that reached the
+    // limit; every pixel is tried again.
+    const size_t trees = store_.treeCount();
+    if (pass == 0 || overLimitCellsLimit_ != settings.exactWorkLimit ||
+        overLimitCellsTrees_ != trees)
+        overLimitCells_.clear();
     overLimitCellsLimit_ = settings.exactWorkLimit;
+    overLimitCellsTrees_ = trees;
     const CameraRays rays(camera, w, h);
     const PassInputs in{scene_,
                         bvh_,

@@ -164,10 +164,11 @@ class ProgressiveRenderer {
     uint64_t groupedNoTreeFaces_ = 0;
     uint32_t groupedShaftMin_ = 0;
     // The (pixel, light) cells of the film being accumulated whose exact query reached the work
-    // limit (ExactScratch::overLimitBefore), and the limit they were for:
-    // written between passes, read by a pass's tiles.
+    // limit (ExactScratch::overLimitBefore), the limit they were for and the store's tree count
+    // then (cleared when either changes): written between passes, read by a pass's tiles.
     std::unordered_set<uint64_t> overLimitCells_;
     uint64_t overLimitCellsLimit_ = 0;
+    size_t overLimitCellsTrees_ = 0;
     // The from-point query workspaces, one per worker thread, kept across passes and films
     // (QueryPool in renderer.cpp): a fresh one sizes its per-mesh tables (the face hierarchy's
     // node stamps: 2 MB on the 871k dragon) on its first point.

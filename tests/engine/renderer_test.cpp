@@ -335,6 +335,39 @@ TEST(Renderer, PixelsOverTheWorkLimitAreNotTriedAgainInLaterPasses) {
     EXPECT_GT(notTried, 2 * one);
 }
 
+// The viewer's preview keeps adding passes while its background precompute adds trees: a pixel
+// remembered over the limit on the direct path is tried again once the store holds more trees
+// (its pair may have one now).
+TEST(Renderer, PixelsOverTheWorkLimitAreTriedAgainOnceTreesAreAdded) {
+    Rig rig(penumbraScene(Material{}));
+    const Camera camera = penumbraCamera();
+    RenderSettings s;
+    s.width = s.height = 24;
+    s.spp = 1;
+    s.lightSamples = 8;
+    s.exactWorkLimit = 1;
+    s.minTreeSamples = 1u << 30;  // no tree from prepare: every pair on the direct path
+    rig.renderer.prepare(camera, s);
+    ASSERT_EQ(rig.store.treeCount(), 0u);
+    Film film;
+    auto triedInPass = [&] {
+        rig.renderer.resetEffects();
+        EXPECT_TRUE(rig.renderer.renderPass(camera, s, film));
+        return rig.renderer.effects().triedEvaluations();
+    };
+    // (Measured: 51 tried in the first pass, 29 in the second, 54 after the tree, then 33.)
+    const uint64_t first = triedInPass();
+    ASSERT_GT(first, 20u);
+    const uint64_t second = triedInPass();
+    EXPECT_LT(4 * second, 3 * first);        // remembered: sampled without trying
+    rig.store.getOrBuild(PairKey{0, 0, 1});  // the floor's first patch and the light
+    ASSERT_EQ(rig.store.treeCount(), 1u);
+    const uint64_t third = triedInPass();
+    EXPECT_GT(2 * third, first + second)
+        << "a tree was added, yet the remembered pixels were not tried again";
+    EXPECT_LT(2 * triedInPass(), first + second);  // and remembered again
+}
+
 // A closed box of 6 x 2 n^2 triangles, [x0, x1] x [y0, y1] x [z0, z1], facing out: each side a
 // flat n x n grid of quads (its faces make groups: vis::FaceClusters).
 void addGridBox(Scene& s, Vec3 lo, Vec3 hi, int n, int32_t material) {
