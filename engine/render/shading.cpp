@@ -132,16 +132,17 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         const uint64_t cell = scratch.pixel * lights_.size() + k;
         // This evaluation is timed (ExactScratch::timeNext; only those that need a query).
         const bool timed = queried && scratch.timeNext();
-        // Over the work limit: shadow rays instead, and the region marked so that its later
-        // points skip the attempt (ExactScratch::regionOverLimit), and the pixel for the later
-        // passes (overLimitNow).
+        // Over the work limit: shadow rays instead, and the pixel marked for the later passes
+        // (overLimitNow), and on a tree's walk the region, so that its later points skip the
+        // attempt (ExactScratch::regionOverLimit).
         // `tried`: this point's query reached the limit (counted by the stage it was in).
         auto overLimit = [&](bool tried) {
             ++scratch.evaluations.sampled;
             if (tried)
                 ++scratch.evaluations.overLimitAt[static_cast<size_t>(scratch.query.limitStage())];
             if (record == nullptr) ++scratch.evaluations.sampledDirect;
-            if (!scratch.regionCorners.empty()) scratch.regionOverLimit[k] = scratch.regionId;
+            if (!scratch.regionCorners.empty() && record != nullptr)
+                scratch.regionOverLimit[k] = scratch.regionId;
             if (tried) scratch.overLimitNow.push_back(cell);
             if (!timed) return sampledAreaLight(light, p, fallbackSamples, rng);
             const auto raysStart = Clock::now();

@@ -335,6 +335,30 @@ TEST(Renderer, PixelsOverTheWorkLimitAreNotTriedAgainInLaterPasses) {
     EXPECT_GT(notTried, 2 * one);
 }
 
+// Within a pass, a region's later points skip the attempt after one reached the limit on a
+// tree's walk, but not on the direct path (a pair without a tree): there each point is tried.
+TEST(Renderer, OnlyTreeWalksOverTheWorkLimitSkipTheirRegionsLaterPoints) {
+    const Camera camera = penumbraCamera();
+    RenderSettings s;
+    s.width = s.height = 24;
+    s.spp = 1;
+    s.lightSamples = 8;
+    s.exactWorkLimit = 1;
+    auto notTriedWith = [&](uint64_t minTreeSamples, uint64_t* sampled) {
+        Rig rig(penumbraScene(Material{}));
+        s.minTreeSamples = minTreeSamples;
+        rig.renderer.render(camera, s);
+        const EffectsSummary e = rig.renderer.effects();
+        *sampled = e.sampledEvaluations;
+        return e.notTriedEvaluations();
+    };
+    uint64_t sampled = 0;
+    EXPECT_EQ(notTriedWith(1u << 30, &sampled), 0u);  // every pair direct
+    EXPECT_GT(sampled, 20u);
+    EXPECT_GT(notTriedWith(0, &sampled), 0u);  // a tree for every pair
+    EXPECT_GT(sampled, 20u);
+}
+
 // The viewer's preview keeps adding passes while its background precompute adds trees: a pixel
 // remembered over the limit on the direct path is tried again once the store holds more trees
 // (its pair may have one now).
