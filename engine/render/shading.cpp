@@ -133,8 +133,8 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         // This evaluation is timed (ExactScratch::timeNext; only those that need a query).
         const bool timed = queried && scratch.timeNext();
         // Over the work limit: shadow rays instead, and the pixel marked for the later passes
-        // (overLimitNow), and on a tree's walk the region, so that its later points skip the
-        // attempt (ExactScratch::regionOverLimit).
+        // (overLimitNow), and for a pair with a tree the region, so that its later points skip
+        // the attempt (ExactScratch::regionOverLimit).
         // `tried`: this point's query reached the limit (counted by the stage it was in).
         auto overLimit = [&](bool tried) {
             ++scratch.evaluations.sampled;
