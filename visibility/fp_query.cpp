@@ -743,14 +743,7 @@ void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
         if (!c && !limitReached_) c = countLine(y);
         if (limitReached_) return;
         if (c && *c >= 0) {
-            haveRef_ = true;
-            refY_ = y;
-            refCount_ = *c;
-            // The chain edges' sides taken at y are now the ref's.
-            std::swap(sideRef_, sideY_);
-            std::swap(stampRef_, stampY_);
-            refStamp_ = yStamp_;
-            crossLevel_ = kNoLevel;
+            takeRef(y, *c, kNoLevel);
             if (*c == 0) fragments_.add(poly);
             return;
         }
@@ -758,6 +751,18 @@ void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
     }
     if (lineBlocked(y) || limitReached_) return;
     fragments_.add(poly);
+}
+
+void FromPointQuery::takeRef(const Vec3& y, int count, size_t level) {
+    haveRef_ = true;
+    refY_ = y;
+    refCount_ = count;
+    // The chain edges' sides taken at y are now the ref's.
+    std::swap(sideRef_, sideY_);
+    std::swap(stampRef_, stampY_);
+    refStamp_ = yStamp_;
+    crossLevel_ = level;
+    crossIndex_ = 0;
 }
 
 void FromPointQuery::nextYStamp() {
@@ -825,14 +830,7 @@ bool FromPointQuery::decideCellWhole(std::span<const Vec3> poly, size_t level) {
     }
     // y is the ref from now on; the path from it to any later cell point inside this cell lies
     // in this cell, which only this level's list may cross.
-    haveRef_ = true;
-    refY_ = y;
-    refCount_ = *c;
-    std::swap(sideRef_, sideY_);
-    std::swap(stampRef_, stampY_);
-    refStamp_ = yStamp_;
-    crossLevel_ = level;
-    crossIndex_ = 0;
+    takeRef(y, *c, level);
     if (*c > down) {
         ++chainCounts_.cells;
         ++chainCounts_.hiddenWhole;

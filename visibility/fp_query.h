@@ -231,6 +231,10 @@ class FromPointQuery {
     std::vector<size_t> wholeTriedAt_;  // per level: the list size of the last try on its path
     // Advances yStamp_ (every cached side of the previous y becomes stale).
     void nextYStamp();
+    // y, counted c(y) = count, becomes the point later cells are counted from (countByCrossings);
+    // `level`: the chain level whose list (from its first edge) holds every edge that may lie
+    // between y and the next cell point, or kNoLevel when the next split sets it.
+    void takeRef(const Vec3& y, int count, size_t level);
     // The plane through x and the active occluder edge `ref` (an index in activePlanes_, or with
     // kPencilRef in activePencils_): its exact sign at an input point, and a split by it.
     Sign refSign(uint32_t ref, const Vec3& y) const;
