@@ -254,17 +254,23 @@ TEST(Renderer, HairCrossingOccludersKeepTheirShadows) {
     expectExactPathsAgreeWithShadowRays(scene(), penumbraCamera(), s);
 }
 
+// The work-limit tests' render: 24x24 pixels, 8 shadow rays for a sampled point.
+RenderSettings workLimitSettings(int spp, uint64_t exactWorkLimit) {
+    RenderSettings s;
+    s.width = s.height = 24;
+    s.spp = spp;
+    s.lightSamples = 8;
+    s.exactWorkLimit = exactWorkLimit;
+    return s;
+}
+
 // A point whose exact query needs more plane tests than RenderSettings::exactWorkLimit is shaded
 // by the sampled estimator with the point's own random numbers: such pixels come out bit for bit
 // as in the sampled render, the effects summary counts them, and without a limit none is sampled.
 TEST(Renderer, PointsOverTheWorkLimitAreSampledAndCounted) {
     Rig rig(penumbraScene(Material{}));
     const Camera camera = penumbraCamera();
-    RenderSettings s;
-    s.width = s.height = 24;
-    s.spp = 2;
-    s.lightSamples = 8;
-    s.exactWorkLimit = 0;
+    RenderSettings s = workLimitSettings(2, 0);
     const Film exact = rig.renderer.render(camera, s);
     EXPECT_EQ(rig.renderer.effects().sampledEvaluations, 0u);
     EXPECT_GT(rig.renderer.effects().exactEvaluations, 0u);
@@ -314,10 +320,7 @@ TEST(Renderer, PointsOverTheWorkLimitAreSampledAndCounted) {
 TEST(Renderer, PixelsOverTheWorkLimitAreNotTriedAgainInLaterPasses) {
     Rig rig(penumbraScene(Material{}));
     const Camera camera = penumbraCamera();
-    RenderSettings s;
-    s.width = s.height = 24;
-    s.lightSamples = 8;
-    s.exactWorkLimit = 1;
+    RenderSettings s = workLimitSettings(1, 1);
     auto triedIn = [&](int spp, uint64_t* notTried = nullptr) {
         s.spp = spp;
         rig.renderer.resetEffects();
@@ -339,11 +342,7 @@ TEST(Renderer, PixelsOverTheWorkLimitAreNotTriedAgainInLaterPasses) {
 // tree's walk, but not on the direct path (a pair without a tree): there each point is tried.
 TEST(Renderer, OnlyTreeWalksOverTheWorkLimitSkipTheirRegionsLaterPoints) {
     const Camera camera = penumbraCamera();
-    RenderSettings s;
-    s.width = s.height = 24;
-    s.spp = 1;
-    s.lightSamples = 8;
-    s.exactWorkLimit = 1;
+    RenderSettings s = workLimitSettings(1, 1);
     auto notTriedWith = [&](uint64_t minTreeSamples, uint64_t* sampled) {
         Rig rig(penumbraScene(Material{}));
         s.minTreeSamples = minTreeSamples;
@@ -365,11 +364,7 @@ TEST(Renderer, OnlyTreeWalksOverTheWorkLimitSkipTheirRegionsLaterPoints) {
 TEST(Renderer, PixelsOverTheWorkLimitAreTriedAgainOnceTreesAreAdded) {
     Rig rig(penumbraScene(Material{}));
     const Camera camera = penumbraCamera();
-    RenderSettings s;
-    s.width = s.height = 24;
-    s.spp = 1;
-    s.lightSamples = 8;
-    s.exactWorkLimit = 1;
+    RenderSettings s = workLimitSettings(1, 1);
     s.minTreeSamples = 1u << 30;  // no tree from prepare: every pair on the direct path
     rig.renderer.prepare(camera, s);
     ASSERT_EQ(rig.store.treeCount(), 0u);
