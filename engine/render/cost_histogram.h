@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -22,6 +23,11 @@ class CostHistogram {
         ++buckets_[bucketOf(cost)];
         ++count_;
         sum_ += cost;
+    }
+    // The nanoseconds elapsed since `start` (steady clock), as one cost.
+    void addSince(std::chrono::steady_clock::time_point start) {
+        add(std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start)
+                .count());
     }
     CostHistogram& operator+=(const CostHistogram& o) {
         for (size_t i = 0; i < kBuckets; ++i) buckets_[i] += o.buckets_[i];

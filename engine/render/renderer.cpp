@@ -231,9 +231,7 @@ class TileShader {
                 const bool timed = scratch.timeNext();
                 const auto start = timed ? Clock::now() : Clock::time_point{};
                 radiance += in_.lighting.sampledAreaLights(p, in_.samples, rng);
-                if (timed)
-                    scratch.evaluations.costs.sampledNs.add(
-                        std::chrono::duration<double, std::nano>(Clock::now() - start).count());
+                if (timed) scratch.evaluations.costs.sampledNs.addSince(start);
             }
             radiance += in_.lighting.pointLights(p);
             image[static_cast<size_t>(y) * settings.width + x] = radiance;
@@ -443,10 +441,10 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     ExactEvaluations evaluations;        // by mutex
     std::vector<PairKey> directKeys;     // by mutex
     std::vector<uint64_t> overLimitNow;  // by mutex
-    // The cells of the film's earlier passes, for this film and work limit only.
-    // Trees added to the store since (the viewer's background precompute): a remembered pixel's
-    // pair may have one now, whose walk is far cheaper than the direct path that reached the
-    // limit; every pixel is tried again.
+    // The cells of the film's earlier passes, for this film, work limit and store only: with
+    // trees added since (the viewer's background precompute) a remembered pixel's pair may have
+    // one now, whose walk is far cheaper than the direct path that reached the limit, so every
+    // pixel is tried again.
     const size_t trees = store_.treeCount();
     if (pass == 0 || overLimitCellsLimit_ != settings.exactWorkLimit ||
         overLimitCellsTrees_ != trees)

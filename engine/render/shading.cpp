@@ -63,9 +63,6 @@ Vec3 TriangleSampler::sample(double u, double v) const {
 
 namespace {
 using Clock = std::chrono::steady_clock;
-double nanoseconds(Clock::time_point since) {
-    return std::chrono::duration<double, std::nano>(Clock::now() - since).count();
-}
 // answeredByGroups' share: at least one in kGroupedShare of the faces in groups.
 constexpr size_t kGroupedShare = 4;
 }  // namespace
@@ -147,14 +144,14 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             if (!timed) return sampledAreaLight(light, p, fallbackSamples, rng);
             const auto raysStart = Clock::now();
             const Vec3 v = sampledAreaLight(light, p, fallbackSamples, rng);
-            scratch.evaluations.costs.sampledNs.add(nanoseconds(raysStart));
+            scratch.evaluations.costs.sampledNs.addSince(raysStart);
             return v;
         };
         // An evaluation answered exactly: its time since evalStart (when timed), and its chain's
         // size.
         const auto evalStart = timed ? Clock::now() : Clock::time_point{};
         auto exactDone = [&](size_t fragments) {
-            if (timed) scratch.evaluations.costs.exactNs.add(nanoseconds(evalStart));
+            if (timed) scratch.evaluations.costs.exactNs.addSince(evalStart);
             const vis::FromPointQuery::ChainCounts& chain = scratch.query.chainCounts();
             if (chain.cells == 0) return;
             ++scratch.evaluations.costs.chainEvaluations;
