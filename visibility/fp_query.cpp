@@ -707,24 +707,9 @@ void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
     stage_ = WorkStage::LabelCells;
     ++chainCounts_.cells;
     if (poly.size() < 3) return;
-    Vec3 y{};
-    for (const Vec3& v : poly) y += v;
-    y = y / static_cast<double>(poly.size());
-    bool certified = true;
-    for (const PlaneOrient& h : cone()) {
-        if (!spend()) return;
-        if (exactSign(h, y) != Sign::Positive) certified = false;
-    }
-    if (crossings_) nextYStamp();
-    for (size_t k = 0; certified && k < bounds_.size(); ++k) {
-        if (!spend()) return;
-        const Sign s = refSign(bounds_[k].ref, y);
-        certified = s == bounds_[k].side;
-        if (crossings_) {  // the side of y the crossings count needs too (countByCrossings)
-            sideY_[bounds_[k].edge] = static_cast<int8_t>(s);
-            stampY_[bounds_[k].edge] = yStamp_;
-        }
-    }
+    Vec3 y;
+    const bool certified = certifiedPoint(poly, y);
+    if (limitReached_) return;
     if (!certified) {
         ++chainCounts_.fallbacks;
         if (surface_ != nullptr) activateSurface();
@@ -751,6 +736,28 @@ void FromPointQuery::classifyCell(std::span<const Vec3> poly, size_t depth) {
     }
     if (lineBlocked(y) || limitReached_) return;
     fragments_.add(poly);
+}
+
+bool FromPointQuery::certifiedPoint(std::span<const Vec3> poly, Vec3& y) {
+    y = Vec3{};
+    for (const Vec3& v : poly) y += v;
+    y = y / static_cast<double>(poly.size());
+    bool certified = true;
+    for (const PlaneOrient& h : cone()) {
+        if (!spend()) return false;
+        if (exactSign(h, y) != Sign::Positive) certified = false;
+    }
+    if (crossings_) nextYStamp();
+    for (size_t k = 0; certified && k < bounds_.size(); ++k) {
+        if (!spend()) return false;
+        const Sign s = refSign(bounds_[k].ref, y);
+        certified = s == bounds_[k].side;
+        if (crossings_) {  // the side of y the crossings count needs too (countByCrossings)
+            sideY_[bounds_[k].edge] = static_cast<int8_t>(s);
+            stampY_[bounds_[k].edge] = yStamp_;
+        }
+    }
+    return certified;
 }
 
 void FromPointQuery::takeRef(const Vec3& y, int count, size_t level) {
@@ -785,21 +792,10 @@ bool FromPointQuery::decideCellWhole(std::span<const Vec3> poly, size_t level) {
     // up = 0 (c is never negative). y is certified as a leaf's point is; the sides are exact.
     stage_ = WorkStage::LabelCells;
     if (poly.size() < 3) return false;
-    Vec3 y{};
-    for (const Vec3& v : poly) y += v;
-    y = y / static_cast<double>(poly.size());
-    for (const PlaneOrient& h : cone()) {
-        if (!spend()) return true;
-        if (exactSign(h, y) != Sign::Positive) return false;
-    }
-    nextYStamp();
-    for (const CellBound& b : bounds_) {
-        if (!spend()) return true;
-        const Sign s = refSign(b.ref, y);
-        if (s != b.side) return false;
-        sideY_[b.edge] = static_cast<int8_t>(s);
-        stampY_[b.edge] = yStamp_;
-    }
+    Vec3 y;
+    const bool certified = certifiedPoint(poly, y);
+    if (limitReached_) return true;
+    if (!certified) return false;
     std::optional<int> c;
     if (haveRef_) c = countByCrossings(y);
     if (!c && !limitReached_) c = countLine(y);

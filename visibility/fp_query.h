@@ -229,6 +229,11 @@ class FromPointQuery {
     // the last try on its path had (a try costs about as much as one more cut of the cell).
     static constexpr size_t kWholeMax = 64;
     std::vector<size_t> wholeTriedAt_;  // per level: the list size of the last try on its path
+    // A cell's point y, the rounded centroid of `poly` (a cell the chain cut), and whether it is
+    // certified strictly inside the cone and every bound of the cell (exact signs), so that c(y)
+    // is the cell's value; with crossings_, the sides of y taken on the way are kept in sideY_
+    // (a new yStamp_). False also when the work limit is reached (limitReached_).
+    bool certifiedPoint(std::span<const Vec3> poly, Vec3& y);
     // Advances yStamp_ (every cached side of the previous y becomes stale).
     void nextYStamp();
     // y, counted c(y) = count, becomes the point later cells are counted from (countByCrossings);
