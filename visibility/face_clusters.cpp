@@ -36,7 +36,7 @@ FaceNormal faceNormal(const PolygonMesh& mesh, uint32_t face) {
 
 }  // namespace
 
-FaceClusters::FaceClusters(const PolygonMesh& mesh, const BoxTree& faces) {
+FaceClusters::FaceClusters(const PolygonMesh& mesh, const BoxTree& faces) : surfaces_(mesh) {
     const uint32_t nodes = faces.nodeCount();
     clusterOfNode_.assign(nodes, kNone);
     std::vector<FaceNormal> normals(mesh.faces.size());
@@ -89,6 +89,9 @@ FaceClusters::FaceClusters(const PolygonMesh& mesh, const BoxTree& faces) {
         c.sinBound = std::min(1.0, std::sqrt(std::max(0.0, 1 - cosMin * cosMin)) + 1e-12);
         c.firstUse = static_cast<uint32_t>(uses_.size());
         c.useCount = static_cast<uint32_t>(refs.size());
+        c.component = surfaces_.componentOf(items[0]);
+        for (uint32_t f : items)
+            if (surfaces_.componentOf(f) != c.component) c.component = kNone;
         for (size_t k = 0; k < refs.size(); ++k) {
             const auto [a, b] = edges[refs[k]];
             uses_.push_back({std::min(a, b), std::max(a, b), weights[k]});

@@ -22,6 +22,10 @@
 // made in doubles with a margin of 1e-12 of the magnitudes involved, far above their rounding
 // error (some 1e-15): a filter without an exact stage, whose "not certain" the caller answers
 // face by face, exactly.
+//
+// With the groups, the mesh's closed surfaces (closed_surfaces.h) and per group the component
+// all its faces belong to: where a point may take a closed component as a solid, a group of it
+// that the point sees from behind is left out whole.
 #pragma once
 
 #include <cstddef>
@@ -31,6 +35,7 @@
 
 #include "visibility/bounds3.h"
 #include "visibility/box_tree.h"
+#include "visibility/closed_surfaces.h"
 #include "visibility/polygon_mesh.h"
 
 namespace penumbra::vis {
@@ -60,11 +65,15 @@ class FaceClusters {
         return {uses_.data() + c.firstUse, c.useCount};
     }
     size_t size() const { return clusters_.size(); }
+    // The component (closed_surfaces.h) of every face of the group, or kNone when they lie in
+    // several.
+    uint32_t componentOf(uint32_t cluster) const { return clusters_[cluster].component; }
+    const ClosedSurfaces& surfaces() const { return surfaces_; }
     // Whether mesh face `face` lies in some group (a point may take it whole with its group).
     bool grouped(uint32_t face) const { return face < groupedFace_.size() && groupedFace_[face]; }
     size_t bytes() const {
         return clusterOfNode_.size() * sizeof(uint32_t) + clusters_.size() * sizeof(Cluster) +
-               uses_.size() * sizeof(Use) + groupedFace_.size();
+               uses_.size() * sizeof(Use) + groupedFace_.size() + surfaces_.bytes();
     }
 
   private:
@@ -73,7 +82,9 @@ class FaceClusters {
         Vec3 axis;
         double sinBound = 1;  // an upper bound on sin of the cone's half angle
         uint32_t firstUse = 0, useCount = 0;
+        uint32_t component = kNone;
     };
+    ClosedSurfaces surfaces_;
     std::vector<uint32_t> clusterOfNode_;
     std::vector<Cluster> clusters_;
     std::vector<Use> uses_;

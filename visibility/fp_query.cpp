@@ -1117,6 +1117,13 @@ void FromPointQuery::activateFace(const PolygonMesh& mesh, uint32_t face) {
     const PlaneOrient plane(mesh.vertices[ids[0]], mesh.vertices[ids[1]], mesh.vertices[ids[2]]);
     const Sign side = plane.sign(x_);
     if (side == Sign::Zero) return;
+    // Seen from behind on a closed surface taken as a solid: the faces seen from the front block
+    // every segment that this one would (prepareSolids).
+    if (side == Sign::Negative && solidState_ == SolidState::Ready &&
+        solidComponent(clusters_->surfaces().componentOf(face))) {
+        ++solidFacesLeft_;
+        return;
+    }
     // Outside the pyramid from x over L as a whole face: its clipped part is too (a subset). The
     // cheap rejection, before any clip: most candidates of the box hierarchy end here.
     for (const PlaneOrient& h : pyramid_) {
@@ -1280,6 +1287,171 @@ bool FromPointQuery::walkClusters(uint32_t node, const ClusterWalk& w) {
     return left || right;
 }
 
+bool FromPointQuery::worthSolids() const {
+    // The checks cost a few hierarchy walks (some hundred tests on a dense mesh): taken where a
+    // group seen from behind, or enough single faces, may be left out.
+    for (const UsedCluster& c : usedClusters_)
+        if (c.side < 0 && clusters_->componentOf(c.cluster) != FaceClusters::kNone) return true;
+    return candidates_.size() >= kSolidCandidatesMin;
+}
+
+std::optional<int> FromPointQuery::segmentCrossing(uint32_t face, const Vec3& v) {
+    const PolygonMesh& mesh = *preparedMesh_;
+    const auto& ids = mesh.faces[face];
+    const PlaneOrient plane(mesh.vertices[ids[0]], mesh.vertices[ids[1]], mesh.vertices[ids[2]]);
+    const Sign sx = plane.sign(x_), sv = plane.sign(v);
+    // x in its plane: the segment meets it at x only (the contact rule; a face through x is no
+    // solid's, prepareSolids); v in it: at v only, and a face that holds v reaches L's plane.
+    if (sx == Sign::Zero || sv == Sign::Zero || sx == sv) return 0;
+    // Through the face's interior: the line on one strict side of every edge line.
+    bool positive = false, negative = false, zero = false;
+    for (size_t i = 0; i < ids.size(); ++i) {
+        const Sign s =
+            orientSign(x_, v, mesh.vertices[ids[i]], mesh.vertices[ids[(i + 1) % ids.size()]]);
+        positive = positive || s == Sign::Positive;
+        negative = negative || s == Sign::Negative;
+        zero = zero || s == Sign::Zero;
+    }
+    if (positive && negative) return 0;
+    if (zero) return std::nullopt;
+    return sx == Sign::Positive ? 1 : -1;
+}
+
+bool FromPointQuery::prepareSolids() {
+    if (solidState_ != SolidState::Unknown) return solidState_ == SolidState::Ready;
+    solidState_ = SolidState::Off;
+    const ClosedSurfaces& surfaces = clusters_->surfaces();
+    const PolygonMesh& mesh = *preparedMesh_;
+    const uint32_t n = surfaces.componentCount();
+    if (n == 0 || clusterTree_->empty()) return false;
+    stage_ = WorkStage::FindOccluders;
+    if (componentStamp_.size() < n) {
+        componentStamp_.resize(n, 0);
+        componentWinding_.resize(n, 0);
+        windingStamp_.resize(n, 0);
+    }
+    if (++solidRun_ == 0) {  // wrapped: no stale stamp may match
+        std::fill(componentStamp_.begin(), componentStamp_.end(), 0);
+        std::fill(windingStamp_.begin(), windingStamp_.end(), 0);
+        solidRun_ = 1;
+    }
+    auto notSolid = [&](uint32_t component) { componentStamp_[component] = solidRun_; };
+    auto solid = [&](uint32_t component) { return componentStamp_[component] != solidRun_; };
+    const Sign xB = frontB_.orient.sign(x_);
+    notSolid(surfaces.componentOf(preparedLight_));
+    if (xB == Sign::Negative) notSolid(surfaces.componentOf(preparedReceiver_));
+    // Open edges in the pyramid (closed: an edge on its boundary counts).
+    solidFound_.clear();
+    if (!surfaces.openEdgeTree().empty() &&
+        !spend(surfaces.openEdgeTree().notOutside(pyramid_, solidFound_, workBudgetLeft())))
+        return false;
+    for (uint32_t e : solidFound_) {
+        const ClosedSurfaces::OpenEdge& o = surfaces.openEdges()[e];
+        if (!solid(o.component)) continue;
+        bool outside = false;
+        for (const PlaneOrient& h : pyramid_) {
+            if (!spend(2)) return false;
+            if (h.sign(mesh.vertices[o.lo]) == Sign::Negative &&
+                h.sign(mesh.vertices[o.hi]) == Sign::Negative) {
+                outside = true;
+                break;
+            }
+        }
+        if (!outside) notSolid(o.component);
+    }
+    // The faces in the pyramid are the walk's: its candidates, and the used groups' faces (a
+    // group lies strictly in front of B's and L's planes, and x sees each of its faces strictly
+    // from one side). Candidates that reach L's plane (or, x behind B's plane, B's) or pass
+    // through x (x on the surface: its plane holds x, its box x; unless that is B's plane with
+    // x on it) make their component no solid.
+    const Bounds3& root = clusterTree_->nodeBox(0);
+    const PlaneBoxCull inFrontOfL(PlaneOrient(frontL_.a, frontL_.c, frontL_.b), root.lo, root.hi);
+    const PlaneBoxCull inFrontOfB(PlaneOrient(frontB_.a, frontB_.c, frontB_.b), root.lo, root.hi);
+    auto reaches = [&](const OrientedPlane& plane, const std::vector<uint32_t>& ids) {
+        for (uint32_t v : ids)
+            if (plane.orient.sign(mesh.vertices[v]) != Sign::Positive) return true;
+        return false;
+    };
+    for (uint32_t f : candidates_) {
+        if (f == preparedReceiver_ || f == preparedLight_ || !solid(surfaces.componentOf(f)))
+            continue;
+        if (!spend()) return false;
+        const Bounds3& box = clusterTree_->itemBox(f);
+        const auto& ids = mesh.faces[f];
+        if ((!inFrontOfL.negative(box.lo, box.hi) && reaches(frontL_, ids)) ||
+            (xB == Sign::Negative && !inFrontOfB.negative(box.lo, box.hi) &&
+             reaches(frontB_, ids))) {
+            notSolid(surfaces.componentOf(f));
+            continue;
+        }
+        if (!(box.lo.x <= x_.x && x_.x <= box.hi.x && box.lo.y <= x_.y && x_.y <= box.hi.y &&
+              box.lo.z <= x_.z && x_.z <= box.hi.z))
+            continue;
+        if (PlaneOrient(mesh.vertices[ids[0]], mesh.vertices[ids[1]], mesh.vertices[ids[2]])
+                .sign(x_) != Sign::Zero)
+            continue;
+        bool inB = xB == Sign::Zero;
+        for (size_t i = 0; inB && i < ids.size(); ++i)
+            inB = frontB_.orient.sign(mesh.vertices[ids[i]]) == Sign::Zero;
+        if (!inB) notSolid(surfaces.componentOf(f));
+    }
+    // Each remaining component's winding along the segment from x to a vertex of L in front of
+    // B's plane (one exists: L has area in front of it). The segment lies on the pyramid's
+    // boundary, so the faces it crosses are among the walk's (their boxes touch the pyramid).
+    const Vec3* v = nullptr;
+    for (const Vec3& p : light_)
+        if (v == nullptr && frontB_.orient.sign(p) == Sign::Positive) v = &p;
+    if (v == nullptr) return false;
+    windingComponents_.clear();
+    auto count = [&](uint32_t f) {
+        const uint32_t component = surfaces.componentOf(f);
+        if (f == preparedReceiver_ || f == preparedLight_ || !solid(component)) return;
+        if (!spend(mesh.faces[f].size() + 2)) return;
+        const std::optional<int> crossing = segmentCrossing(f, *v);
+        if (!crossing) {
+            notSolid(component);  // through an edge of it: the count would not be its winding
+        } else if (*crossing != 0) {
+            if (windingStamp_[component] != solidRun_) {
+                windingStamp_[component] = solidRun_;
+                componentWinding_[component] = 0;
+                windingComponents_.push_back(component);
+            }
+            componentWinding_[component] += *crossing;
+        }
+    };
+    setLinePlanes(*v);
+    std::array<PlaneBoxCull, 4> lineCull;
+    const std::span<const PlaneBoxCull> onLine = clusterTree_->cullPlanes(linePlanes_, lineCull);
+    for (uint32_t f : candidates_) {
+        if (!BoxTree::outsideOne(onLine, clusterTree_->itemBox(f))) count(f);
+        if (limitReached_) return false;
+    }
+    if (!usedClusters_.empty()) {
+        clusterFacesOnLine([&](uint32_t f, int) {
+            count(f);
+            return limitReached_;
+        });
+    }
+    if (limitReached_) return false;
+    for (uint32_t component : windingComponents_)
+        if (solid(component) && componentWinding_[component] != 0) solidHidden_ = true;
+    solidState_ = SolidState::Ready;
+    return true;
+}
+
+void FromPointQuery::leaveOutSolidBacks() {
+    size_t kept = 0;
+    for (const UsedCluster& c : usedClusters_) {
+        if (c.side < 0 && solidComponent(clusters_->componentOf(c.cluster))) {
+            nodeStamp_[c.node] = nodeRun_ - 1;  // (no longer a used group for the line walks)
+            ++solidGroupsLeft_;
+            continue;
+        }
+        usedClusters_[kept++] = c;
+    }
+    usedClusters_.resize(kept);
+}
+
 const BoundedValue& FromPointQuery::clipPlaneAt(int which) {
     if (!clipValueKnown_[which]) {
         clipValue_[which] = (which == 0 ? frontB_ : frontL_).orient.value(x_);
@@ -1319,6 +1491,9 @@ void FromPointQuery::startRun() {
     usedClusters_.clear();
     clustersByExactSides_ = 0;
     clustersDissolved_ = false;
+    solidState_ = SolidState::Unknown;
+    solidHidden_ = false;
+    solidGroupsLeft_ = solidFacesLeft_ = 0;
     recentClusterHits_.fill({0, 0});
     recentClusterNext_ = 0;
     recentHits_.fill(UINT32_MAX);
@@ -1340,6 +1515,10 @@ void FromPointQuery::clipCandidates(const PolygonMesh& mesh) {
     mesh_ = &mesh;
     tree_ = nullptr;
     stage_ = WorkStage::ActivateOccluders;
+    if (clusters_ != nullptr && worthSolids()) {
+        if (prepareSolids()) leaveOutSolidBacks();
+        if (limitReached_ || solidHidden_) return;  // (hidden: no fragment)
+    }
     for (uint32_t f : candidates_) {
         if (f == preparedReceiver_ || f == preparedLight_) continue;
         if (!spend()) return;

@@ -165,6 +165,12 @@ class FromPointQuery {
     uint32_t clustersUsed() const { return static_cast<uint32_t>(usedClusters_.size()); }
     // Of them, those decided by every face's exact side (exactFacing), not the cone test.
     uint32_t clustersUsedByExactSides() const { return clustersByExactSides_; }
+    // Closed surfaces taken as solids by the last direct run (closed_surfaces.h): the face groups
+    // and the faces it left out as seen from behind, and whether such a surface blocked every
+    // segment from x to L (x inside it, the light outside, or the other way round).
+    uint32_t solidGroupsLeftOut() const { return solidGroupsLeft_; }
+    uint32_t solidFacesLeftOut() const { return solidFacesLeft_; }
+    bool hiddenBySolid() const { return solidHidden_; }
 
   private:
     void preparePair(const PolygonMesh& mesh, uint32_t receiver, uint32_t light);
@@ -296,6 +302,46 @@ class FromPointQuery {
     static constexpr size_t kExactFacingMax = 64;
     int exactFacing(std::span<const uint32_t> faces);
     uint32_t clustersByExactSides_ = 0;
+    // Closed surfaces as solids (runDirect with groups). For a component S of the mesh whose
+    // open edges lie outside the pyramid, the count of S's faces a segment from x to L crosses
+    // seen from the front, minus those seen from behind, is the winding number of S's faces'
+    // boundaries seen from x, the same for every segment in the open cone when nothing else of
+    // that sum lies in it (closed_surfaces.h): the chords where B's or L's plane cuts S's faces
+    // and the edges of B and L themselves, left out as occluders. With x on or in front of B's
+    // plane, what lies in B's plane is seen outside the open cone; what lies in L's plane is
+    // not, so a component with a face reaching L's plane in the pyramid is no solid for x, nor,
+    // when x is behind B's plane by a rounding, one with a face reaching behind B's, nor L's
+    // or (then) B's own component, nor one with a face through x (x on its surface: the
+    // winding changes across that face's plane, unless it is B's plane with x on it). Each
+    // remaining component's winding is counted once along the segment from x to a vertex of L
+    // (exact signs; a segment through an edge of S makes S no solid): 0 and a segment that
+    // crosses S's faces crosses one seen from the front, so those seen from behind are left
+    // out; not 0 and every segment is blocked. Decided once per run (prepareSolids), after the
+    // walk, where enough is to be left out (worthSolids).
+    enum class SolidState : uint8_t { Unknown, Ready, Off };
+    SolidState solidState_ = SolidState::Unknown;
+    bool solidHidden_ = false;
+    uint32_t solidGroupsLeft_ = 0, solidFacesLeft_ = 0;
+    bool worthSolids() const;
+    static constexpr size_t kSolidCandidatesMin = 16;
+    // False: no component is a solid for x (or the work limit was reached).
+    bool prepareSolids();
+    // Whether x may take `component` (FaceClusters::kNone: none) as a solid (prepareSolids).
+    bool solidComponent(uint32_t component) const {
+        return solidState_ == SolidState::Ready && component != FaceClusters::kNone &&
+               componentStamp_[component] != solidRun_;
+    }
+    // The used groups x sees from behind, of components taken as solids, left out (unstamped).
+    void leaveOutSolidBacks();
+    // Whether the segment from x to v crosses `face`'s interior: +1 seen from the front, -1 from
+    // behind, 0 not; nullopt where a sign is zero on its boundary (the segment touches an edge).
+    std::optional<int> segmentCrossing(uint32_t face, const Vec3& v);
+    std::vector<uint32_t> componentStamp_;  // per component: solidRun_ when it is no solid
+    std::vector<int32_t> componentWinding_;
+    std::vector<uint32_t> windingStamp_;  // per component: solidRun_ when its winding is set
+    std::vector<uint32_t> windingComponents_;
+    std::vector<uint32_t> solidFound_;
+    uint32_t solidRun_ = 0;
     bool clustersActive() const { return !usedClusters_.empty() && !clustersDissolved_; }
     // The line from x through y against mesh face `face`, unclipped (closed; exact signs at y),
     // x strictly in front of its plane (side +1) or behind it (-1): a surface slot's face, or a

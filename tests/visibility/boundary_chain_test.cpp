@@ -264,6 +264,13 @@ class MeshScene {
                 face({a, c, d});
             }
     }
+    // Removes face f (a hole where it was).
+    void dropFace(size_t f) {
+        s_.mesh.faces.erase(s_.mesh.faces.begin() + static_cast<std::ptrdiff_t>(f));
+        s_.faceMaterial.erase(s_.faceMaterial.begin() + static_cast<std::ptrdiff_t>(f));
+        s_.faceSourceLine.erase(s_.faceSourceLine.begin() + static_cast<std::ptrdiff_t>(f));
+    }
+    size_t faceCount() const { return s_.mesh.faces.size(); }
     Scene finish() {
         s_.collectLights();
         return s_;
@@ -303,6 +310,9 @@ struct Checked {
     int cells = 0, crossingLabels = 0;
     // Cells decided whole before the edges left in them were cut (FromPointQuery::ChainCounts).
     int hiddenWhole = 0, seenWhole = 0;
+    // Points that left out faces of a closed surface seen from behind (closed_surfaces.h), and
+    // points that such a surface hid whole.
+    int solid = 0, hiddenBySolid = 0;
 };
 
 // Floor points under and around the mesh: the direct query and a partial tree's per-point
@@ -349,8 +359,11 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
                 measure(s.mesh, x, oneByOne.runDirect(s.mesh, 0, 1, x, faces)));
         compare("direct, face groups",
                 measure(s.mesh, x, chain.runDirect(s.mesh, 0, 1, x, faces, &groups)));
-        used.grouped += chain.clustersUsed() > 0;
+        // (A group seen from behind on a surface taken as a solid is left out whole.)
+        used.grouped += chain.clustersUsed() > 0 || chain.solidGroupsLeftOut() > 0;
         used.groupedByExactSides += chain.clustersUsedByExactSides() > 0;
+        used.solid += chain.solidGroupsLeftOut() + chain.solidFacesLeftOut() > 0;
+        used.hiddenBySolid += chain.hiddenBySolid();
         compare("direct, face groups, default options",
                 measure(s.mesh, x, defaults.runDirect(s.mesh, 0, 1, x, faces, &groups)));
         // (Algorithm 1 only: the groups are not taken.)
@@ -397,6 +410,113 @@ TEST(BoundaryChainQuery, CellsDecidedWholeUnderOverlappingSpheresMatchTheExactRe
     EXPECT_GT(used.hiddenWhole, 0);
     // Decided whole, a cell is not cut further: fewer cells than the leaves would be.
     EXPECT_LT(used.hiddenWhole + used.seenWhole, used.cells);
+}
+
+// Closed surfaces taken as solids (closed_surfaces.h): a floor point leaves out the faces of a
+// closed mesh it sees from behind, where nothing of the mesh's open edges, nothing that reaches
+// L's plane and nothing through x lies in its pyramid, and the mesh's winding along one segment
+// to L is 0; where that winding is not 0 (x inside the mesh) it sees nothing. A sphere sunk into
+// the floor (points inside it), a box standing on the floor (points under it, on its bottom's
+// plane, and on the foot of its sides: x on their planes, their component is then no solid),
+// and a box that crosses the floor (points on its contact lines).
+TEST(BoundaryChainQuery, ClosedSurfacesTakenAsSolidsMatchTheExactReference) {
+    MeshScene m(0);
+    m.sphere({-0.5, 0.5, 0.1}, 0.45, 14, 9);
+    m.box({0.25, -0.75, 0}, {0.75, -0.25, 0.5}, 3);
+    m.box({-0.75, -0.75, -0.25}, {-0.25, -0.25, 0.75}, 2);
+    std::vector<Vec3> points;
+    std::mt19937_64 rng(31);
+    std::uniform_real_distribution<double> u(-1.2, 1.2);
+    for (int i = 0; i < test::scaled(40); ++i) points.push_back({u(rng), u(rng), 0});
+    for (int i = 0; i <= 8; ++i) {
+        const double t = i / 8.0;
+        points.push_back({0.25 + 0.5 * t, -0.75, 0});   // on a side of the standing box
+        points.push_back({0.25 + 0.25 * t, -0.5, 0});   // under it
+        points.push_back({-0.25, -0.75 + 0.5 * t, 0});  // on a side of the crossing box
+        points.push_back({-0.5, 0.5 + 0.5 * t, 0});     // inside the sphere, and out of it
+    }
+    const Checked c = checkScene(m.finish(), "solids", static_cast<int>(points.size()), 0, points);
+    EXPECT_GT(c.solid, static_cast<int>(points.size()) / 4);
+    EXPECT_GT(c.hiddenBySolid, 4);
+}
+
+// Where a closed mesh's winding is not constant over the cone, the mesh is no solid: a hole in
+// a sphere's underside (a segment through it crosses only a face seen from behind), and a box
+// that holds part of the floor and part of the light (segments from inside it reach the part of
+// the light inside without crossing any face, the others cross a face seen from behind; from
+// outside, a segment to a corner inside crosses one seen from the front, the others none).
+TEST(BoundaryChainQuery, ClosedSurfacesWhoseWindingChangesInTheConeAreNoSolids) {
+    {
+        MeshScene m(0);
+        const size_t first = m.faceCount();
+        m.sphere({0.1, -0.05, 1.0}, 0.5, 14, 9);
+        m.dropFace(first + 16 * 3);  // the face at the south pole of the fourth slice
+        std::vector<Vec3> points;
+        for (int i = -4; i <= 4; ++i)
+            for (int j = -4; j <= 4; ++j) points.push_back({i / 4.0, j / 4.0, 0});
+        const Checked c =
+            checkScene(m.finish(), "sphere, one hole", static_cast<int>(points.size()), 0, points);
+        EXPECT_GT(c.solid, 0);  // where the hole is out of the pyramid
+        EXPECT_EQ(c.hiddenBySolid, 0);
+    }
+    {
+        MeshScene m(0);
+        m.box({-3, -3, -1}, {0.25, 3, 2.5}, 8);  // (fine enough for face groups)
+        const Checked c = checkScene(m.finish(), "box around the light", test::scaled(40), 33);
+        EXPECT_EQ(c.hiddenBySolid, 0);
+    }
+}
+
+// Receivers on a closed mesh: points on the faces of a sphere, shaded by a second sphere above
+// it; x is a rounded point of its face, off its plane by a rounding either way (behind it, the
+// receiver's own component is no solid: what lies in its plane may then reach into the cone).
+TEST(BoundaryChainQuery, PointsOnAClosedMeshUnderAnotherMatchTheExactReference) {
+    MeshScene m(0);
+    const uint32_t first = static_cast<uint32_t>(m.faceCount());
+    m.sphere({0, 0, 0.6}, 0.5, 16, 10);
+    m.sphere({0.3, 0.1, 1.45}, 0.25, 12, 8);
+    const Scene s = m.finish();
+    std::vector<vis::Bounds3> boxes;
+    for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
+    const vis::BoxTree faces(boxes);
+    const vis::FaceClusters groups(s.mesh, faces);
+    vis::FromPointQuery query;
+    std::mt19937_64 rng(41);
+    std::uniform_real_distribution<double> u(0.02, 1.0);
+    int checked = 0, solid = 0, penumbra = 0, reported = 0;
+    for (uint32_t f = first; f < first + 16 * 10 && checked < test::scaled(120); ++f) {
+        if (vis::normalize(s.mesh.faceAreaNormal(f)).z < 0.3) continue;  // facing the light
+        Vec3 x{};
+        double w = 0;
+        for (uint32_t v : s.mesh.faces[f]) {
+            const double a = u(rng);
+            x += s.mesh.vertices[v] * a;
+            w += a;
+        }
+        x = x / w;
+        ++checked;
+        const test::ReferenceResult ref = test::exactReference(s.mesh, f, 1, x);
+        penumbra += ref.fraction > 0.001 && ref.fraction < 0.999;
+        const vis::FragmentList& list = query.runDirect(s.mesh, f, 1, x, faces, &groups);
+        solid += query.solidGroupsLeftOut() + query.solidFacesLeftOut() > 0;
+        const Vec3 n = vis::normalize(s.mesh.faceAreaNormal(f));
+        double area = 0, formFactor = 0;
+        for (size_t i = 0; i < list.size(); ++i) {
+            area += vis::polygonArea(list[i]);
+            formFactor += vis::formFactor(x, n, list[i]);
+        }
+        const double fraction = area / s.mesh.faceArea(1);
+        const bool ok =
+            std::fabs(fraction - ref.fraction) <= 1e-9 &&
+            std::fabs(formFactor - ref.formFactor) <= 1e-9 * std::max(ref.formFactor, 1e-6);
+        if (!ok && reported++ < 5)
+            ADD_FAILURE() << "face " << f << " at x = " << vis::toString(x) << " answers fraction "
+                          << fraction << " form factor " << formFactor << ", the exact reference "
+                          << ref.fraction << " and " << ref.formFactor;
+    }
+    EXPECT_GE(checked, test::scaled(120) / 2);
+    EXPECT_GT(penumbra, checked / 8);
+    EXPECT_GT(solid, 0);
 }
 
 TEST(BoundaryChainQuery, OpenInconsistentAndNonManifoldMeshesMatchTheExactReference) {
