@@ -102,6 +102,7 @@ ClosedSurfaces::ClosedSurfaces(const PolygonMesh& mesh) {
     }
     closedCount_ =
         componentCount_ - static_cast<uint32_t>(std::count(hasOpen.begin(), hasOpen.end(), 1));
+    for (uint32_t f = 0; f < faceCount; ++f) closedFaces_ += hasOpen[faceComponent_[f]] == 0;
     openEdgeTree_ = BoxTree(boxes);
 }
 

@@ -41,8 +41,9 @@ class ClosedSurfaces {
     std::span<const OpenEdge> openEdges() const { return openEdges_; }
     // Over the open edges' boxes (item i = openEdges()[i]).
     const BoxTree& openEdgeTree() const { return openEdgeTree_; }
-    // Of the components, those with no open edge (closed everywhere).
+    // Of the components, those with no open edge (closed everywhere), and their faces.
     uint32_t closedCount() const { return closedCount_; }
+    size_t closedFaces() const { return closedFaces_; }
     size_t bytes() const {
         return faceComponent_.size() * sizeof(uint32_t) + openEdges_.size() * sizeof(OpenEdge) +
                openEdges_.size() * (2 * sizeof(Bounds3) + sizeof(uint32_t));
@@ -50,6 +51,7 @@ class ClosedSurfaces {
 
   private:
     uint32_t componentCount_ = 0, closedCount_ = 0;
+    size_t closedFaces_ = 0;
     std::vector<uint32_t> faceComponent_;
     std::vector<OpenEdge> openEdges_;
     BoxTree openEdgeTree_;

@@ -59,6 +59,9 @@ nlohmann::json pointJson(const Selection& selection) {
              {"answeredOnContact", li.result.answeredOnContact},
              {"fromTree", li.result.fromTree},
              {"faceGroups", li.result.faceGroups},
+             {"solidGroupsLeftOut", li.result.solidGroupsLeftOut},
+             {"solidFacesLeftOut", li.result.solidFacesLeftOut},
+             {"hiddenBySolid", li.result.hiddenBySolid},
              {"path", path}});
     }
     point["lights"] = lights;

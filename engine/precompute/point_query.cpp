@@ -203,6 +203,9 @@ std::vector<LightAtPoint> queryPointDirect(const Scene& scene, const vis::BoxTre
             query.runDirect(scene.mesh, face, r.lightFace, x, faces, groups);
         r.complete = !query.limitReached();
         r.faceGroups = query.clustersUsed();
+        r.solidGroupsLeftOut = query.solidGroupsLeftOut();
+        r.solidFacesLeftOut = query.solidFacesLeftOut();
+        r.hiddenBySolid = query.hiddenBySolid();
         r.fragments.reserve(fragments.size());
         for (size_t i = 0; i < fragments.size(); ++i)
             r.fragments.emplace_back(fragments[i].begin(), fragments[i].end());

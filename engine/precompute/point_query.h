@@ -73,6 +73,10 @@ struct LightAtPoint {
     // queryPointDirect with face groups: the groups of faces seen all from one side that the
     // query took whole (vis::FaceClusters: only their boundaries entered its boundary chain).
     uint32_t faceGroups = 0;
+    // The groups and faces it left out as the back of a closed surface taken as a solid
+    // (vis::ClosedSurfaces), and whether such a surface hid the whole light (x inside it).
+    uint32_t solidGroupsLeftOut = 0, solidFacesLeftOut = 0;
+    bool hiddenBySolid = false;
     // False only for a direct answer stopped by its work limit: the fragments are incomplete.
     bool complete = true;
 };

@@ -52,6 +52,15 @@ std::string EffectsSummary::text() const {
     else
         line("point lights: " + std::to_string(pointLights) +
              " - one shadow ray each (a point light casts hard shadows: no tree needed)");
+    if (exact && areaLights > 0 && components > 0) {
+        char share[32];
+        std::snprintf(share, sizeof share, "%.1f%%",
+                      faces > 0 ? 100.0 * static_cast<double>(closedFaces) / faces : 0.0);
+        line("mesh components: " + std::to_string(components) + ", " +
+             std::to_string(closedComponents) + " of them closed surfaces (" + share +
+             " of the faces) - a point whose pyramid holds none of a component's open edges "
+             "takes it as a solid and leaves out its faces seen from behind");
+    }
     if (exact && areaLights > 0) {
         line("pairs with a tree walked per point (penumbra): " + std::to_string(pairsPenumbra) +
              " - partly blocked, the tree decides per point");
@@ -89,6 +98,12 @@ std::string EffectsSummary::text() const {
             line("  of those evaluations, " + std::to_string(directGroupedEvaluations) +
                  " took groups of faces seen all from one side whole - their shared edges cancel: "
                  "only each group's boundary enters the boundary chain (still exact)");
+        if (directSolidEvaluations + directHiddenBySolidEvaluations > 0)
+            line("  of those evaluations, " + std::to_string(directSolidEvaluations) +
+                 " left out the faces of closed surfaces (solids) seen from behind, and " +
+                 std::to_string(directHiddenBySolidEvaluations) +
+                 " lay inside one - a segment that crosses a closed surface crosses it from the "
+                 "front, where its boundary is out of the point's pyramid (still exact)");
         line("pairs never seen: " + std::to_string(pairsNeverSeen) +
              " - receivers (patches) no primary ray hit: not computed");
         if (sampledEvaluations > 0) {

@@ -46,6 +46,9 @@ struct ExactEvaluations {
     // without a tree (direct), the sampled ones among them, and the direct ones that took face
     // groups whole (vis::FaceClusters: only their boundaries entered the boundary chain).
     uint64_t all = 0, sampled = 0, direct = 0, sampledDirect = 0, directGrouped = 0;
+    // The direct ones that left out faces of closed surfaces seen from behind, and those that
+    // such a surface hid whole (x inside it; vis::ClosedSurfaces).
+    uint64_t directSolid = 0, directHiddenBySolid = 0;
     // The evaluations of partial trees answered by the direct path with face groups instead of
     // the tree (answeredByGroups, shading.h).
     uint64_t partialByGroups = 0;
@@ -64,6 +67,8 @@ struct ExactEvaluations {
         direct += o.direct;
         sampledDirect += o.sampledDirect;
         directGrouped += o.directGrouped;
+        directSolid += o.directSolid;
+        directHiddenBySolid += o.directHiddenBySolid;
         partialByGroups += o.partialByGroups;
         for (size_t i = 0; i < overLimitAt.size(); ++i) overLimitAt[i] += o.overLimitAt[i];
         for (size_t p = 0; p < workAt.size(); ++p)
@@ -127,6 +132,11 @@ struct EffectsSummary {
     // Of those evaluations, the ones that took groups of faces seen all one way whole
     // (vis::FaceClusters).
     uint64_t directGroupedEvaluations = 0;
+    // Of those evaluations, the ones that left out faces of closed surfaces seen from behind, and
+    // the ones such a surface hid whole; the mesh's closed components and their faces
+    // (vis::ClosedSurfaces).
+    uint64_t directSolidEvaluations = 0, directHiddenBySolidEvaluations = 0;
+    size_t closedComponents = 0, components = 0, closedFaces = 0, faces = 0;
     // Materials of the receivers by how they are shaded.
     size_t materialsAnalytic = 0;  // diffuse: form factor of the exact fragments, no samples
     size_t materialsSampled = 0;   // glossy: samples inside the visible fragments only

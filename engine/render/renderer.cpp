@@ -546,6 +546,11 @@ EffectsSummary ProgressiveRenderer::effects() const {
     EffectsSummary s;
     s.areaLights = scene_.lights.size();
     s.pointLights = scene_.pointLights.size();
+    const vis::ClosedSurfaces& surfaces = bvh_.faceClusters().surfaces();
+    s.components = surfaces.componentCount();
+    s.closedComponents = surfaces.closedCount();
+    s.closedFaces = surfaces.closedFaces();
+    s.faces = scene_.faceCount();
     std::lock_guard lock(mutex_);
     if (!rendered_) return s;
     s.method = toString(method_);
@@ -559,6 +564,8 @@ EffectsSummary ProgressiveRenderer::effects() const {
     s.pairsDirect = directUsed_.size();
     s.directEvaluations = evaluations_.direct;
     s.directGroupedEvaluations = evaluations_.directGrouped;
+    s.directSolidEvaluations = evaluations_.directSolid;
+    s.directHiddenBySolidEvaluations = evaluations_.directHiddenBySolid;
     s.partialByGroupsEvaluations = evaluations_.partialByGroups;
     s.costs = evaluations_.costs;
     s.minTreeSamples = minTreeSamples_;

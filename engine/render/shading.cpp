@@ -188,9 +188,13 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         if (record == nullptr || byGroups) {  // the faces in the pyramid from x, clipped from x
             const vis::FragmentList& list = scratch.query.runDirect(
                 scene_.mesh, p.face, light.face, p.x, bvh_.faceBoxes(), &bvh_.faceClusters());
-            if (record == nullptr)
-                scratch.evaluations.directGrouped += scratch.query.clustersUsed() > 0;
-            else
+            if (record == nullptr) {
+                const vis::FromPointQuery& q = scratch.query;
+                scratch.evaluations.directGrouped += q.clustersUsed() > 0;
+                scratch.evaluations.directSolid +=
+                    q.solidGroupsLeftOut() + q.solidFacesLeftOut() > 0;
+                scratch.evaluations.directHiddenBySolid += q.hiddenBySolid();
+            } else
                 ++scratch.evaluations.partialByGroups;
             countWork(1);
             if (scratch.query.limitReached()) {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <sstream>
@@ -498,6 +500,65 @@ TEST(Renderer, PairsWhoseShaftTheGroupsAnswerGetNoTreeAndTheSameImage) {
     EXPECT_EQ(withGroups + ea.pairsGroupedNoTree, without);
     EXPECT_GT(eb.pairsPenumbra, ea.pairsPenumbra);
     EXPECT_EQ(ea.sampledEvaluations, 0u);
+}
+
+// A closed box of n^3 lattice cells' outer quads, split into triangles, facing out, its sides
+// sharing their edges' vertices (one closed surface: vis::ClosedSurfaces).
+void addClosedGridBox(Scene& s, Vec3 lo, Vec3 hi, int n, int32_t material) {
+    std::map<std::array<int, 3>, uint32_t> ids;
+    auto at = [&](std::array<int, 3> c) {
+        auto [it, added] = ids.try_emplace(c, static_cast<uint32_t>(s.mesh.vertices.size()));
+        if (added) {
+            double p[3];
+            for (int k = 0; k < 3; ++k)
+                p[k] = c[k] == n ? hi[k] : lo[k] + (hi[k] - lo[k]) * c[k] / n;
+            s.mesh.vertices.push_back({p[0], p[1], p[2]});
+        }
+        return it->second;
+    };
+    for (int axis = 0; axis < 3; ++axis) {
+        for (int end = 0; end <= n; end += n) {
+            for (int a = 0; a < n; ++a) {
+                for (int b = 0; b < n; ++b) {
+                    auto g = [&](int u, int v) {
+                        std::array<int, 3> c{};
+                        c[axis] = end;
+                        c[(axis + 1) % 3] = u;
+                        c[(axis + 2) % 3] = v;
+                        return at(c);
+                    };
+                    uint32_t q[4] = {g(a, b), g(a + 1, b), g(a + 1, b + 1), g(a, b + 1)};
+                    if (end == 0) std::swap(q[1], q[3]);
+                    addIndexedFace(s, {q[0], q[1], q[2]}, material);
+                    addIndexedFace(s, {q[0], q[2], q[3]}, material);
+                }
+            }
+        }
+    }
+}
+
+TEST(Renderer, ClosedBoxLeavesOutItsBackFacesWithTheSameImage) {
+    // Each box's sides share their vertices: a closed surface. The floor points whose pairs the
+    // groups answer take them as solids (their faces seen from behind left out; the second box
+    // stands on the floor, its bottom in the floor's plane); the store without the BVH walks
+    // trees over all their faces.
+    Scene scene;
+    const int32_t grey = addFloorAndLight(scene);
+    addClosedGridBox(scene, {-0.35, -0.3, 0.7}, {0.3, 0.4, 1.3}, 8, grey);
+    addClosedGridBox(scene, {0.6, -0.9, 0}, {1.0, -0.5, 0.4}, 6, grey);  // on the floor
+    scene.collectLights();
+    RenderSettings s;
+    s.width = s.height = 24;
+    s.spp = 2;
+    s.exactWorkLimit = 0;
+    s.minTreeSamples = 1;
+    s.groupedShaftMin = 64;
+    const auto [ea, eb] = expectGroupsAgreeWithTrees(scene, s, VisibilityStore::Options{});
+    EXPECT_EQ(ea.closedComponents, 2u);
+    EXPECT_GT(ea.directSolidEvaluations, 0u) << ea.text();
+    EXPECT_NE(ea.text().find("closed surfaces (solids) seen from behind"), std::string::npos)
+        << ea.text();
+    EXPECT_EQ(eb.directSolidEvaluations, 0u);
 }
 
 TEST(Renderer, GroupsAnswerAShaftOfAtLeastTheMinimumWithAQuarterGrouped) {

@@ -292,6 +292,10 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
             e["directEvaluations"] = fx.directEvaluations;
             // Of those, the ones that took face groups whole (vis::FaceClusters).
             e["directGroupedEvaluations"] = fx.directGroupedEvaluations;
+            // Of those, the ones that left out back faces of closed surfaces, and the ones a
+            // closed surface hid whole (vis::ClosedSurfaces).
+            e["directSolidEvaluations"] = fx.directSolidEvaluations;
+            e["directHiddenBySolidEvaluations"] = fx.directHiddenBySolidEvaluations;
             e["partialByGroupsEvaluations"] = fx.partialByGroupsEvaluations;
             e["evaluations"] = fx.exactEvaluations;
             e["sampledEvaluations"] = fx.sampledEvaluations;

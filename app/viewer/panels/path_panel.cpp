@@ -20,6 +20,15 @@ void PathPanel::draw(const PanelRect& rect, const Selection& selection) {
                     "answered without the tree: %u groups of faces seen all from one side were "
                     "taken whole (only their boundaries were clipped)",
                     li->result.faceGroups);
+            if (li->result.hiddenBySolid)
+                ImGui::TextWrapped(
+                    "the point lies inside a closed surface (or the light does): no segment to "
+                    "the light leaves it");
+            else if (li->result.solidGroupsLeftOut + li->result.solidFacesLeftOut > 0)
+                ImGui::TextWrapped(
+                    "closed surfaces taken as solids: %u groups and %u faces seen from behind "
+                    "left out (a segment that crosses such a surface crosses it from the front)",
+                    li->result.solidGroupsLeftOut, li->result.solidFacesLeftOut);
         } else {
             ImGui::Text("light %u, tree %s: %zu nodes visited (L cycles lights)", li->result.light,
                         std::string(vis::toString(li->result.kind)).c_str(), li->steps.size());
