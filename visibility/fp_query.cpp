@@ -1339,7 +1339,18 @@ bool FromPointQuery::prepareSolids() {
     auto solid = [&](uint32_t component) { return componentStamp_[component] != solidRun_; };
     const Sign xB = frontB_.orient.sign(x_);
     notSolid(surfaces.componentOf(preparedLight_));
-    if (xB == Sign::Negative) notSolid(surfaces.componentOf(preparedReceiver_));
+    // x behind B's plane by a rounding: what lies in B's plane (B's own edges, the chords where
+    // it cuts faces) may reach into the open cone near x; each such element must be shown to
+    // miss it (missesCone), else its component is no solid.
+    if (xB == Sign::Negative) {
+        const auto& ids = mesh.faces[preparedReceiver_];
+        for (size_t i = 0; i < ids.size(); ++i) {
+            if (!spend(light_.size())) return false;
+            if (lightSideOf(mesh.vertices[ids[i]], mesh.vertices[ids[(i + 1) % ids.size()]]) ==
+                Sign::Zero)
+                notSolid(surfaces.componentOf(preparedReceiver_));
+        }
+    }
     // Open edges in the pyramid (closed: an edge on its boundary counts).
     solidFound_.clear();
     if (!surfaces.openEdgeTree().empty() &&
@@ -1380,7 +1391,7 @@ bool FromPointQuery::prepareSolids() {
         const auto& ids = mesh.faces[f];
         if ((!inFrontOfL.negative(box.lo, box.hi) && reaches(frontL_, ids)) ||
             (xB == Sign::Negative && !inFrontOfB.negative(box.lo, box.hi) &&
-             reaches(frontB_, ids))) {
+             reaches(frontB_, ids) && !missesCone(ids))) {
             notSolid(surfaces.componentOf(f));
             continue;
         }
@@ -1437,6 +1448,41 @@ bool FromPointQuery::prepareSolids() {
         if (solid(component) && componentWinding_[component] != 0) solidHidden_ = true;
     solidState_ = SolidState::Ready;
     return true;
+}
+
+Sign FromPointQuery::lightSideOf(const Vec3& a, const Vec3& b) const {
+    // (The whole light: its cone holds the cone over the part in front of B.)
+    const PlaneOrient plane(x_, a, b);
+    Sign side = Sign::Zero;
+    for (const Vec3& p : light_) {
+        const Sign s = plane.sign(p);
+        if (s == Sign::Zero || (side != Sign::Zero && s != side)) return Sign::Zero;
+        side = s;
+    }
+    return side;
+}
+
+bool FromPointQuery::missesCone(const std::vector<uint32_t>& ids) {
+    const std::vector<Vec3>& v = preparedMesh_->vertices;
+    // Strictly outside one side plane of the pyramid.
+    for (const PlaneOrient& h : pyramid_) {
+        bool outside = true;
+        for (size_t i = 0; outside && i < ids.size(); ++i)
+            outside = h.sign(v[ids[i]]) == Sign::Negative;
+        if (outside) return true;
+    }
+    // Or on the closed other side of a plane through x and one of its edges from the light.
+    for (size_t i = 0; i < ids.size(); ++i) {
+        const Vec3& a = v[ids[i]];
+        const Vec3& b = v[ids[(i + 1) % ids.size()]];
+        const Sign light = lightSideOf(a, b);
+        if (light == Sign::Zero) continue;
+        const PlaneOrient plane(x_, a, b);
+        bool apart = true;
+        for (size_t k = 0; apart && k < ids.size(); ++k) apart = plane.sign(v[ids[k]]) != light;
+        if (apart) return true;
+    }
+    return false;
 }
 
 void FromPointQuery::leaveOutSolidBacks() {

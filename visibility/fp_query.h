@@ -336,6 +336,13 @@ class FromPointQuery {
     // Whether the segment from x to v crosses `face`'s interior: +1 seen from the front, -1 from
     // behind, 0 not; nullopt where a sign is zero on its boundary (the segment touches an edge).
     std::optional<int> segmentCrossing(uint32_t face, const Vec3& v);
+    // The side of the plane through x, a and b that every vertex of L lies strictly on, or Zero
+    // when they do not (exact signs).
+    Sign lightSideOf(const Vec3& a, const Vec3& b) const;
+    // Whether the convex face on vertex ids `ids` certainly misses the open cone from x over L:
+    // strictly outside one of the pyramid's planes, or on the closed side of a plane through x
+    // and one of its edges that L lies strictly off (exact signs).
+    bool missesCone(const std::vector<uint32_t>& ids);
     std::vector<uint32_t> componentStamp_;  // per component: solidRun_ when it is no solid
     std::vector<int32_t> componentWinding_;
     std::vector<uint32_t> windingStamp_;  // per component: solidRun_ when its winding is set
