@@ -479,17 +479,24 @@ TEST(Renderer, PartialTreesOverFaceGroupsAreAnsweredByTheGroupsWithTheSameImage)
     EXPECT_EQ(ea.pairsGroupedNoTree, 0u);
 }
 
-TEST(Renderer, PairsWhoseShaftTheGroupsAnswerGetNoTreeAndTheSameImage) {
-    // The same scene with the product's build budget: a floor patch under the box has its box
-    // faces in the shaft, all in groups. With groupedShaftMin below that count the renderer
-    // builds no tree for those pairs (groupsWillAnswer) and answers their points by the direct
-    // path; the store without the BVH builds and walks them. The same image, fewer trees.
+// A small image, every point exact, a tree for every pair seen except those whose shaft holds
+// 64 faces or more, a quarter of them in face groups: those the direct path answers.
+RenderSettings groupedShaftSettings() {
     RenderSettings s;
     s.width = s.height = 24;
     s.spp = 2;
     s.exactWorkLimit = 0;
     s.minTreeSamples = 1;
     s.groupedShaftMin = 64;
+    return s;
+}
+
+TEST(Renderer, PairsWhoseShaftTheGroupsAnswerGetNoTreeAndTheSameImage) {
+    // The same scene with the product's build budget: a floor patch under the box has its box
+    // faces in the shaft, all in groups. With groupedShaftMin below that count the renderer
+    // builds no tree for those pairs (groupsWillAnswer) and answers their points by the direct
+    // path; the store without the BVH builds and walks them. The same image, fewer trees.
+    const RenderSettings s = groupedShaftSettings();
     size_t withGroups = 0, without = 0;
     const auto [ea, eb] = expectGroupsAgreeWithTrees(gridBoxScene(), s, VisibilityStore::Options{},
                                                      &withGroups, &without);
@@ -547,12 +554,7 @@ TEST(Renderer, ClosedBoxLeavesOutItsBackFacesWithTheSameImage) {
     addClosedGridBox(scene, {-0.35, -0.3, 0.7}, {0.3, 0.4, 1.3}, 8, grey);
     addClosedGridBox(scene, {0.6, -0.9, 0}, {1.0, -0.5, 0.4}, 6, grey);  // on the floor
     scene.collectLights();
-    RenderSettings s;
-    s.width = s.height = 24;
-    s.spp = 2;
-    s.exactWorkLimit = 0;
-    s.minTreeSamples = 1;
-    s.groupedShaftMin = 64;
+    const RenderSettings s = groupedShaftSettings();
     const auto [ea, eb] = expectGroupsAgreeWithTrees(scene, s, VisibilityStore::Options{});
     EXPECT_EQ(ea.closedComponents, 2u);
     EXPECT_GT(ea.directSolidEvaluations, 0u) << ea.text();

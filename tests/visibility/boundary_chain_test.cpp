@@ -298,6 +298,27 @@ Measured measure(const vis::PolygonMesh& m, const Vec3& x, const vis::FragmentLi
     return a;
 }
 
+// The fragments answered for x on receiver face f against the exact reference: false, and the
+// first five failures reported (counted in `reported`), where they differ.
+bool matchesOnFace(const vis::PolygonMesh& m, uint32_t f, const Vec3& x,
+                   const vis::FragmentList& list, const test::ReferenceResult& ref,
+                   const std::string& what, int& reported) {
+    const Vec3 n = vis::normalize(m.faceAreaNormal(f));
+    double area = 0, formFactor = 0;
+    for (size_t i = 0; i < list.size(); ++i) {
+        area += vis::polygonArea(list[i]);
+        formFactor += vis::formFactor(x, n, list[i]);
+    }
+    const double fraction = area / m.faceArea(1);
+    const bool ok = std::fabs(fraction - ref.fraction) <= 1e-9 &&
+                    std::fabs(formFactor - ref.formFactor) <= 1e-9 * std::max(ref.formFactor, 1e-6);
+    if (!ok && reported++ < 5)
+        ADD_FAILURE() << what << " on face " << f << " at x = " << vis::toString(x)
+                      << " answers fraction " << fraction << " form factor " << formFactor
+                      << ", the exact reference " << ref.fraction << " and " << ref.formFactor;
+    return ok;
+}
+
 // Of checkScene's points: how many the chain evaluated (cells were cut) on the direct path, and
 // how many the partial tree answered from its silhouettes (deferred_silhouettes.h); and of the
 // cells of both paths, how many were labelled by crossings (from the last counted cell's count
@@ -482,37 +503,16 @@ TEST(BoundaryChainQuery, PointsOnAClosedMeshUnderAnotherMatchTheExactReference) 
     const vis::FaceClusters groups(s.mesh, faces);
     vis::FromPointQuery query;
     std::mt19937_64 rng(41);
-    std::uniform_real_distribution<double> u(0.02, 1.0);
     int checked = 0, solid = 0, penumbra = 0, reported = 0;
     for (uint32_t f = first; f < first + 16 * 10 && checked < test::scaled(120); ++f) {
         if (vis::normalize(s.mesh.faceAreaNormal(f)).z < 0.3) continue;  // facing the light
-        Vec3 x{};
-        double w = 0;
-        for (uint32_t v : s.mesh.faces[f]) {
-            const double a = u(rng);
-            x += s.mesh.vertices[v] * a;
-            w += a;
-        }
-        x = x / w;
+        const Vec3 x = test::randomPointOn(s.mesh, f, rng);
         ++checked;
         const test::ReferenceResult ref = test::exactReference(s.mesh, f, 1, x);
         penumbra += ref.fraction > 0.001 && ref.fraction < 0.999;
-        const vis::FragmentList& list = query.runDirect(s.mesh, f, 1, x, faces, &groups);
+        matchesOnFace(s.mesh, f, x, query.runDirect(s.mesh, f, 1, x, faces, &groups), ref,
+                      "direct, face groups", reported);
         solid += query.solidGroupsLeftOut() + query.solidFacesLeftOut() > 0;
-        const Vec3 n = vis::normalize(s.mesh.faceAreaNormal(f));
-        double area = 0, formFactor = 0;
-        for (size_t i = 0; i < list.size(); ++i) {
-            area += vis::polygonArea(list[i]);
-            formFactor += vis::formFactor(x, n, list[i]);
-        }
-        const double fraction = area / s.mesh.faceArea(1);
-        const bool ok =
-            std::fabs(fraction - ref.fraction) <= 1e-9 &&
-            std::fabs(formFactor - ref.formFactor) <= 1e-9 * std::max(ref.formFactor, 1e-6);
-        if (!ok && reported++ < 5)
-            ADD_FAILURE() << "face " << f << " at x = " << vis::toString(x) << " answers fraction "
-                          << fraction << " form factor " << formFactor << ", the exact reference "
-                          << ref.fraction << " and " << ref.formFactor;
     }
     EXPECT_GE(checked, test::scaled(120) / 2);
     EXPECT_GT(penumbra, checked / 8);
@@ -601,7 +601,6 @@ TEST(BoundaryChainQuery, PointsOnBowlFacesWhosePlanesCutTheLightMatchTheExactRef
     vis::FromPointQuery chain, defaults;
     chain.setChainOptions({1, 0, 0});
     std::mt19937_64 rng(11);
-    std::uniform_real_distribution<double> u(0.02, 1.0);
     int checked = 0, cut = 0, cells = 0, reported = 0;
     for (uint32_t f = 2; f < s.faceCount() && checked < test::scaled(240); ++f) {
         const vis::FacePlane plane = vis::facePlane(s.mesh, f);
@@ -613,32 +612,11 @@ TEST(BoundaryChainQuery, PointsOnBowlFacesWhosePlanesCutTheLightMatchTheExactRef
         }
         if (!front) continue;
         cut += behind;
-        const Vec3 n = vis::normalize(s.mesh.faceAreaNormal(f));
         for (int k = 0; k < 2; ++k, ++checked) {
-            Vec3 x{};
-            double w = 0;
-            for (uint32_t v : s.mesh.faces[f]) {
-                const double a = u(rng);
-                x += s.mesh.vertices[v] * a;
-                w += a;
-            }
-            x = x / w;
+            const Vec3 x = test::randomPointOn(s.mesh, f, rng);
             const test::ReferenceResult ref = test::exactReference(s.mesh, f, 1, x);
             auto compare = [&](const char* path, const vis::FragmentList& list) {
-                double area = 0, formFactor = 0;
-                for (size_t i = 0; i < list.size(); ++i) {
-                    area += vis::polygonArea(list[i]);
-                    formFactor += vis::formFactor(x, n, list[i]);
-                }
-                const double fraction = area / s.mesh.faceArea(1);
-                const bool ok =
-                    std::fabs(fraction - ref.fraction) <= 1e-9 &&
-                    std::fabs(formFactor - ref.formFactor) <= 1e-9 * std::max(ref.formFactor, 1e-6);
-                if (!ok && reported++ < 5)
-                    ADD_FAILURE() << path << " on face " << f << " at x = " << vis::toString(x)
-                                  << " answers fraction " << fraction << " form factor "
-                                  << formFactor << ", the exact reference " << ref.fraction
-                                  << " and " << ref.formFactor;
+                matchesOnFace(s.mesh, f, x, list, ref, path, reported);
             };
             compare("chain", chain.runDirect(s.mesh, f, 1, x, faces));
             cells += chain.chainCounts().cells;
