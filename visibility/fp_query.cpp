@@ -1288,11 +1288,15 @@ bool FromPointQuery::walkClusters(uint32_t node, const ClusterWalk& w) {
 }
 
 bool FromPointQuery::worthSolids() const {
-    // The checks cost a few hierarchy walks (some hundred tests on a dense mesh): taken where a
-    // group seen from behind, or enough single faces, may be left out.
+    // The checks cost a walk along one segment and a pass over the candidates: taken where
+    // enough may be left out (ChainOptions::solidMinFaces; measured on the bunny, every point
+    // exact: 16 candidates or any group seen from behind made the median evaluation 0.23 ->
+    // 0.28 us).
+    size_t behind = 0;  // faces in groups seen from behind
     for (const UsedCluster& c : usedClusters_)
-        if (c.side < 0 && clusters_->componentOf(c.cluster) != FaceClusters::kNone) return true;
-    return candidates_.size() >= kSolidCandidatesMin;
+        if (c.side < 0 && clusters_->componentOf(c.cluster) != FaceClusters::kNone)
+            behind += clusterTree_->nodeItems(c.node).size();
+    return candidates_.size() + behind / 4 >= chainOptions_.solidMinFaces;
 }
 
 std::optional<int> FromPointQuery::segmentCrossing(uint32_t face, const Vec3& v) {
@@ -1378,28 +1382,32 @@ bool FromPointQuery::prepareSolids() {
     const Bounds3& root = clusterTree_->nodeBox(0);
     const PlaneBoxCull inFrontOfL(PlaneOrient(frontL_.a, frontL_.c, frontL_.b), root.lo, root.hi);
     const PlaneBoxCull inFrontOfB(PlaneOrient(frontB_.a, frontB_.c, frontB_.b), root.lo, root.hi);
+    // (Work counted in plane tests: a candidate's box tests are not.)
     auto reaches = [&](const OrientedPlane& plane, const std::vector<uint32_t>& ids) {
-        for (uint32_t v : ids)
+        for (uint32_t v : ids) {
+            spend();
             if (plane.orient.sign(mesh.vertices[v]) != Sign::Positive) return true;
+        }
         return false;
     };
     for (uint32_t f : candidates_) {
         if (f == preparedReceiver_ || f == preparedLight_ || !solid(surfaces.componentOf(f)))
             continue;
-        if (!spend()) return false;
+        if (limitReached_) return false;
         const Bounds3& box = clusterTree_->itemBox(f);
         const auto& ids = mesh.faces[f];
         if ((!inFrontOfL.negative(box.lo, box.hi) && reaches(frontL_, ids)) ||
             (xB == Sign::Negative && !inFrontOfB.negative(box.lo, box.hi) &&
-             reaches(frontB_, ids) && !missesCone(ids))) {
+             reaches(frontB_, ids) && (spend(3 * ids.size()), !missesCone(ids)))) {
             notSolid(surfaces.componentOf(f));
             continue;
         }
         if (!(box.lo.x <= x_.x && x_.x <= box.hi.x && box.lo.y <= x_.y && x_.y <= box.hi.y &&
               box.lo.z <= x_.z && x_.z <= box.hi.z))
             continue;
-        if (PlaneOrient(mesh.vertices[ids[0]], mesh.vertices[ids[1]], mesh.vertices[ids[2]])
-                .sign(x_) != Sign::Zero)
+        if (!spend() ||
+            PlaneOrient(mesh.vertices[ids[0]], mesh.vertices[ids[1]], mesh.vertices[ids[2]])
+                    .sign(x_) != Sign::Zero)
             continue;
         bool inB = xB == Sign::Zero;
         for (size_t i = 0; inB && i < ids.size(); ++i)

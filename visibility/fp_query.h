@@ -105,6 +105,10 @@ class FromPointQuery {
     // boundary chain on, a group of faces that x certainly sees all one way, whose box lies
     // strictly in front of B's and L's planes, enters the chain as its boundary instead of face by
     // face (the same answer; the cells' lines are tested against its faces through `faces`).
+    // With `clusters`, a mesh component that x may take as a solid (closed_surfaces.h: none of
+    // its open edges in the pyramid, nothing of it reaching L's plane or through x) has its faces
+    // and groups seen from behind left out, or blocks the whole light where x lies inside it (the
+    // same answer; solidGroupsLeftOut, hiddenBySolid).
     const FragmentList& runDirect(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
                                   const Vec3& x, const BoxTree& faces,
                                   const FaceClusters* clusters = nullptr);
@@ -139,10 +143,14 @@ class FromPointQuery {
     // Its cells are labelled by crossings (the count of the cell before and the chain edges
     // between them) when the chain has at least crossingsMinEdges edges in L's cone; on a
     // shorter one each cell's line is tested, which costs less there (the same answer).
+    // Closed surfaces are tried as solids (runDirect with groups) where the walk left at least
+    // solidMinFaces candidates, counting a face of a group seen from behind as a quarter (the
+    // checks cost about as much as activating that many faces; 0 = always).
     struct ChainOptions {
         uint32_t minOccluders = 24;
         uint32_t gain = 3;
         uint32_t crossingsMinEdges = 8;
+        uint32_t solidMinFaces = 64;
     };
     void setChainOptions(const ChainOptions& o) { chainOptions_ = o; }
     // Of the last run: the edges of the occluders it clipped against (counted once per face that
@@ -323,7 +331,6 @@ class FromPointQuery {
     bool solidHidden_ = false;
     uint32_t solidGroupsLeft_ = 0, solidFacesLeft_ = 0;
     bool worthSolids() const;
-    static constexpr size_t kSolidCandidatesMin = 16;
     // False: no component is a solid for x (or the work limit was reached).
     bool prepareSolids();
     // Whether x may take `component` (FaceClusters::kNone: none) as a solid (prepareSolids).

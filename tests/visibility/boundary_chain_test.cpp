@@ -351,7 +351,8 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
     const vis::BoxTree faces(boxes);
     const vis::FaceClusters groups(s.mesh, faces);
     vis::FromPointQuery chain, oneByOne, defaults;
-    chain.setChainOptions({1, 0, 0});  // the chain, and its labels by crossings, always
+    // The chain, its labels by crossings, and closed surfaces as solids, always.
+    chain.setChainOptions({1, 0, 0, 0});
     oneByOne.setChainOptions({0, 0});
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> u(-1.2, 1.2);
@@ -502,6 +503,9 @@ TEST(BoundaryChainQuery, PointsOnAClosedMeshUnderAnotherMatchTheExactReference) 
     const vis::BoxTree faces(boxes);
     const vis::FaceClusters groups(s.mesh, faces);
     vis::FromPointQuery query;
+    vis::FromPointQuery::ChainOptions solidsAlways;
+    solidsAlways.solidMinFaces = 0;
+    query.setChainOptions(solidsAlways);
     std::mt19937_64 rng(41);
     int checked = 0, solid = 0, penumbra = 0, reported = 0;
     for (uint32_t f = first; f < first + 16 * 10 && checked < test::scaled(120); ++f) {
@@ -751,7 +755,7 @@ TEST(BoundaryChainQuery, TransformedMeshesThroughTheSilhouettesAndTheGroups) {
         vis::HistoryTree tree = vis::buildHistoryTree(s.mesh, 0, 1, partialBudget, {});
         vis::prepareSilhouettes(s.mesh, tree, {}, 100);  // (as checkScene)
         vis::FromPointQuery query;
-        query.setChainOptions({1, 0, 0});
+        query.setChainOptions({1, 0, 0, 0});
         // The direct query with the face groups too: the box's bottom faces are a hair above or
         // below the floor's plane, so groups that hold them are not taken whole (not strictly
         // in front of B), the others may be.
