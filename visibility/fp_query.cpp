@@ -1372,7 +1372,10 @@ bool FromPointQuery::prepareSolids() {
                 break;
             }
         }
-        if (!outside) notSolid(o.component);
+        // Or L strictly on one side of the plane through x and the edge.
+        if (!outside && !spend(light_.size())) return false;
+        if (!outside && lightSideOf(mesh.vertices[o.lo], mesh.vertices[o.hi]) == Sign::Zero)
+            notSolid(o.component);
     }
     // The faces in the pyramid are the walk's: its candidates, and the used groups' faces (a
     // group lies strictly in front of B's and L's planes, and x sees each of its faces strictly
