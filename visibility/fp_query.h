@@ -317,10 +317,11 @@ class FromPointQuery {
     // that sum lies in it (closed_surfaces.h): the chords where B's or L's plane cuts S's faces
     // and the edges of B and L themselves, left out as occluders. With x on or in front of B's
     // plane, what lies in B's plane is seen outside the open cone; what lies in L's plane is
-    // not, so a component with a face reaching L's plane in the pyramid is no solid for x, nor,
-    // when x is behind B's plane by a rounding, one with a face reaching behind B's, nor L's
-    // or (then) B's own component, nor one with a face through x (x on its surface: the
-    // winding changes across that face's plane, unless it is B's plane with x on it). Each
+    // not, so a component with a face reaching L's plane in the pyramid is no solid for x, nor
+    // L's own; with x behind B's plane by a rounding, neither is B's (or one with a face that
+    // B's plane cuts) unless each of B's edges (that face) is shown to miss the open cone
+    // (missesCone); nor is one with a face through x (x on its surface: the winding changes
+    // across that face's plane, unless it is B's plane with x on it). Each
     // remaining component's winding is counted once along the segment from x to a vertex of L
     // (exact signs; a segment through an edge of S makes S no solid): 0 and a segment that
     // crosses S's faces crosses one seen from the front, so those seen from behind are left
