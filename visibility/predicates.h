@@ -79,6 +79,13 @@ struct PlaneOrient {
     // True only if every point of the box is certainly strictly on the negative side (a test in
     // doubles with a rigorous error bound; false means "not certain").
     bool boxNegative(const Vec3& lo, const Vec3& hi) const;
+    // Whether the rounded normal n points within about 2^-20 radians of the exact one: its length
+    // above 2^-20 times its permanent. Not so for three nearly collinear points (e.g. x and an
+    // edge that x sees under an angle of some ulps): then n is mostly rounding.
+    bool wellConditioned() const {
+        const double len = std::fabs(n[0]) + std::fabs(n[1]) + std::fabs(n[2]);
+        return len > 0x1p-20 * (perm[0] + perm[1] + perm[2]);
+    }
 
     Vec3 a, b, c;
     double n[3] = {0, 0, 0};     // (b - a) x (c - a), rounded as evaluate() rounds it

@@ -458,7 +458,7 @@ TEST(BoundaryChainQuery, ClosedSurfacesTakenAsSolidsMatchTheExactReference) {
         points.push_back({-0.5, 0.5 + 0.5 * t, 0});     // inside the sphere, and out of it
     }
     const Checked c = checkScene(m.finish(), "solids", static_cast<int>(points.size()), 0, points);
-    EXPECT_GT(c.solid, static_cast<int>(points.size()) / 4);
+    EXPECT_GT(c.solid, static_cast<int>(points.size()) / 8);
     EXPECT_GT(c.hiddenBySolid, 4);
 }
 
@@ -785,7 +785,7 @@ TEST(BoundaryChainQuery, TransformedMeshesThroughTheSilhouettesAndTheGroups) {
                 << vis::toString(x);
             const Measured direct =
                 measure(s.mesh, x, query.runDirect(s.mesh, 0, 1, x, faces, &groups));
-            grouped += query.clustersUsed() > 0;
+            grouped += query.clustersUsed() > 0 || query.solidGroupsLeftOut() > 0;
             EXPECT_NEAR(direct.fraction, ref.fraction, 1e-9) << "groups, " << vis::toString(x);
             EXPECT_NEAR(direct.formFactor, ref.formFactor, 1e-9 * std::max(ref.formFactor, 1e-6))
                 << "groups, " << vis::toString(x);
