@@ -432,9 +432,7 @@ int FromPointQuery::sideAt(uint32_t slot) {
     if (decided != 0) return decided;  // x in Q
     if (slotStamp_[slot] == runStamp_) return slotSide_[slot];
     if (!spend()) return 0;
-    const auto& ids = mesh_->faces[tree_->deferred[slot].face];
-    const std::vector<Vec3>& v = mesh_->vertices;
-    const Sign s = exactSign(PlaneOrient(v[ids[0]], v[ids[1]], v[ids[2]]), x_);
+    const Sign s = exactSign(facePlane(*mesh_, tree_->deferred[slot].face).orient(), x_);
     slotStamp_[slot] = runStamp_;
     slotSide_[slot] = static_cast<int8_t>(s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0);
     return slotSide_[slot];
@@ -1114,7 +1112,7 @@ void FromPointQuery::activateFace(const PolygonMesh& mesh, uint32_t face) {
     // occluder blocks none (the contact rule: a segment that touches an occluder only at its end
     // point x is not blocked).
     const auto& ids = mesh.faces[face];
-    const PlaneOrient plane(mesh.vertices[ids[0]], mesh.vertices[ids[1]], mesh.vertices[ids[2]]);
+    const PlaneOrient plane = facePlane(mesh, face).orient();
     const Sign side = plane.sign(x_);
     if (side == Sign::Zero) return;
     // Seen from behind on a closed surface taken as a solid: the faces seen from the front block
@@ -1240,11 +1238,7 @@ int FromPointQuery::exactFacing(std::span<const uint32_t> faces) {
     int side = 0;
     for (uint32_t face : faces) {
         if (!spend()) return 0;
-        const PolygonMesh& mesh = *preparedMesh_;
-        const auto& ids = mesh.faces[face];
-        const Sign s =
-            PlaneOrient(mesh.vertices[ids[0]], mesh.vertices[ids[1]], mesh.vertices[ids[2]])
-                .sign(x_);
+        const Sign s = facePlane(*preparedMesh_, face).orient().sign(x_);
         const int f = s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
         if (f == 0 || (side != 0 && f != side)) return 0;
         side = f;
@@ -1302,7 +1296,7 @@ bool FromPointQuery::worthSolids() const {
 std::optional<int> FromPointQuery::segmentCrossing(uint32_t face, const Vec3& v) {
     const PolygonMesh& mesh = *preparedMesh_;
     const auto& ids = mesh.faces[face];
-    const PlaneOrient plane(mesh.vertices[ids[0]], mesh.vertices[ids[1]], mesh.vertices[ids[2]]);
+    const PlaneOrient plane = facePlane(mesh, face).orient();
     const Sign sx = plane.sign(x_), sv = plane.sign(v);
     // x in its plane: the segment meets it at x only (the contact rule; a face through x is no
     // solid's, prepareSolids); v in it: at v only, and a face that holds v reaches L's plane.
@@ -1405,13 +1399,8 @@ bool FromPointQuery::prepareSolids() {
             notSolid(surfaces.componentOf(f));
             continue;
         }
-        if (!(box.lo.x <= x_.x && x_.x <= box.hi.x && box.lo.y <= x_.y && x_.y <= box.hi.y &&
-              box.lo.z <= x_.z && x_.z <= box.hi.z))
-            continue;
-        if (!spend() ||
-            PlaneOrient(mesh.vertices[ids[0]], mesh.vertices[ids[1]], mesh.vertices[ids[2]])
-                    .sign(x_) != Sign::Zero)
-            continue;
+        if (!box.containsGrown(x_, 0)) continue;
+        if (!spend() || facePlane(mesh, f).orient().sign(x_) != Sign::Zero) continue;
         bool inB = xB == Sign::Zero;
         for (size_t i = 0; inB && i < ids.size(); ++i)
             inB = frontB_.orient.sign(mesh.vertices[ids[i]]) == Sign::Zero;

@@ -57,11 +57,6 @@ bool outsideOnePlane(std::span<const PlaneOrient> planes, std::span<const Vec3> 
     return false;
 }
 
-FacePlane facePlane(const PolygonMesh& mesh, uint32_t face) {
-    const auto& f = mesh.faces[face];
-    return {mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]};
-}
-
 namespace {
 
 // Back-facing: L has no point strictly in front of B, or B none strictly in front of L (nor the

@@ -71,6 +71,9 @@ struct FacePlane {
     Sign side(const Vec3& y) const { return orientSign(a, b, c, y); }
     PlaneOrient orient() const { return PlaneOrient(a, b, c); }
 };
-FacePlane facePlane(const PolygonMesh& mesh, uint32_t face);
+inline FacePlane facePlane(const PolygonMesh& mesh, uint32_t face) {
+    const auto& f = mesh.faces[face];
+    return {mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]};
+}
 
 }  // namespace penumbra::vis
