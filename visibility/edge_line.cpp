@@ -161,6 +161,12 @@ BoundedValue PencilPlane::value(const Vec3& y) const {
     return roundedExact(pencilExact(first_, second_, x_, y));
 }
 
+BoundedValue PencilPlane::accurate(const Vec3& y) const {
+    BoundedValue out = differenceOfProducts(alpha_, second_.value(y), beta_, first_.value(y));
+    if (out.error <= std::fabs(out.value) * 0x1p-48) return out;
+    return roundedExact(pencilExact(first_, second_, x_, y));
+}
+
 EdgePlane::EdgePlane(const Vec3& x, const EdgeLine& e) {
     if (e.kind == EdgeLine::Kind::Points) {
         points_ = PlaneOrient(x, e.p, e.q);

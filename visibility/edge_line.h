@@ -88,9 +88,20 @@ class PencilPlane {
     bool filtered(const Vec3& y, BoundedValue& out) const;
     BoundedValue value(const Vec3& y) const;
     Sign sign(const Vec3& y) const { return value(y).sign(); }
+    // As PlaneOrient's (predicates.h): the rounded N within 2^-30 (signs of constructed points
+    // by the snap rule) and within 2^-40 (crossings placed from the filter's values) of the
+    // exact one, from the filter's error weights.
+    bool wellConditioned() const { return conditionedWithin(0x1p-30); }
+    bool placesWell() const { return conditionedWithin(0x1p-40); }
+    // The value rounded from the exact one (relative error below 2^-48; the exact sign).
+    BoundedValue accurate(const Vec3& y) const;
 
   private:
     void prepareFilter();
+    bool conditionedWithin(double relative) const {
+        return k_[0] + k_[1] + k_[2] <
+               relative * (std::fabs(n_[0]) + std::fabs(n_[1]) + std::fabs(n_[2]));
+    }
 
     Vec3 x_;
     PlaneOrient first_, second_;

@@ -140,19 +140,18 @@ void splitIntoVectors(std::span<const Vec3> polygon, ValueOf valueOf, std::vecto
 }
 
 // The filter could not decide: exact for an input vertex, on the plane for a constructed one,
-// unless the plane through x and an input edge is ill-conditioned (x sees the edge under an angle
-// of some ulps): then the snap width 25 u |y - x| / sin(theta) spans the fragment, and putting
-// its vertices on both sides made parts that overlap (found by fuzzing: a light's visible area
-// 1.26 times its area). There the rounded vertex takes its exact sign: the parts stay a
-// partition, each vertex off by its own rounding only.
+// unless the plane through x and the edge is ill-conditioned (x sees an input edge under an
+// angle of some ulps, or lies within some ulps of a chord's line): then the snap width
+// 25 u |y - x| / sin(theta) spans the fragment, and putting its vertices on both sides made parts
+// that overlap (found by fuzzing: a light's visible area 1.26 times its area). There the rounded
+// vertex takes its exact sign: the parts stay a partition, each vertex off by its own rounding
+// only.
 template <class Plane>
 [[gnu::noinline]] double uncertainValue(const Plane& plane, std::span<const Vec3> inputVertices,
                                         const Vec3& y) {
     for (const Vec3& input : inputVertices)
         if (input.x == y.x && input.y == y.y && input.z == y.z) return plane.value(y).value;
-    if constexpr (std::is_same_v<Plane, PlaneOrient>) {
-        if (!plane.wellConditioned()) return plane.value(y).value;
-    }
+    if (!plane.wellConditioned()) return plane.value(y).value;
     return 0.0;
 }
 
@@ -187,9 +186,20 @@ template <class Plane>
 SplitOutcome splitConstructed(std::span<const Vec3> polygon, const Plane& plane,
                               std::span<const Vec3> inputVertices, SplitParts& parts,
                               KeepParts keep) {
+    if (plane.placesWell()) {
+        return splitInto(
+            polygon, [&](const Vec3& y) { return constructedValue(plane, inputVertices, y); },
+            parts, keep);
+    }
+    // The same signs; the magnitudes that place the crossings from the exact values (placesWell).
+    // An accurate value has the exact sign of y, which is the filter's where it certified one.
     return splitInto(
-        polygon, [&](const Vec3& y) { return constructedValue(plane, inputVertices, y); }, parts,
-        keep);
+        polygon,
+        [&](const Vec3& y) {
+            const double v = constructedValue(plane, inputVertices, y);
+            return v == 0 ? 0.0 : plane.accurate(y).value;
+        },
+        parts, keep);
 }
 
 template <class Plane>

@@ -105,6 +105,19 @@ BoundedValue orientValue(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
     return roundedExact(exactDet(a, b, c, d));
 }
 
+BoundedValue orientValueAccurate(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
+    if (trivialZero(a, b, c, d)) return {0.0, 0.0};
+    int s;
+    double approx;
+    if (orient3dExpansion(a, b, c, d, s, approx)) {
+        if (s == 0) return {0.0, 0.0};
+        return {approx, std::fabs(approx) * 0x1p-48};
+    }
+    return roundedExact(exactDet(a, b, c, d));
+}
+
+BoundedValue PlaneOrient::accurate(const Vec3& d) const { return orientValueAccurate(a, b, c, d); }
+
 BoundedValue roundedExact(const mpq_class& q) {
     if (sgn(q) == 0) return {0.0, 0.0};
     // mpq_get_d truncates towards zero: the result has the exact sign unless it underflows to

@@ -58,6 +58,9 @@ Sign orientSign(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 // The determinant as a double with a rigorous error bound. Where the filter fails the exact value
 // is computed and rounded, so the sign of the result is always the exact sign.
 BoundedValue orientValue(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
+// The same value always from the exact stage: rounded from the exact determinant, relative error
+// below 2^-48 (orientValue's filtered double may be off by up to its own magnitude).
+BoundedValue orientValueAccurate(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d);
 
 // orient3d(a, b, c, d) for one plane (a, b, c) and many points d: the cross product of b - a and
 // c - a is formed once, and each point costs a dot product. The evaluation is that of
@@ -86,6 +89,19 @@ struct PlaneOrient {
         const double len = std::fabs(n[0]) + std::fabs(n[1]) + std::fabs(n[2]);
         return len > 0x1p-20 * (perm[0] + perm[1] + perm[2]);
     }
+    // Whether the filter's rounded values place a split's crossings to within some ulps: the
+    // rounded normal within 2^-40 of the exact one (its length above 2^-10 times its permanent).
+    // A crossing's parameter is t = v(p) / (v(p) - v(q)); the filter's values are off by up to
+    // 8u |u| perm, which on a plane whose normal is mostly rounding moves the crossing anywhere
+    // on the segment (found on a tessellated sphere: a receiver point on the diagonal of a quad
+    // whose two triangles cross each other's planes by a rounding; the light's fragments off by
+    // 1e-4 of its area). Otherwise the split takes accurate().
+    bool placesWell() const {
+        const double len = std::fabs(n[0]) + std::fabs(n[1]) + std::fabs(n[2]);
+        return len > 0x1p-10 * (perm[0] + perm[1] + perm[2]);
+    }
+    // The determinant rounded from its exact value (relative error below 2^-48; the exact sign).
+    BoundedValue accurate(const Vec3& d) const;
 
     Vec3 a, b, c;
     double n[3] = {0, 0, 0};     // (b - a) x (c - a), rounded as evaluate() rounds it

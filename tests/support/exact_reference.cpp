@@ -283,7 +283,8 @@ ReferenceResult exactReference(const vis::PolygonMesh& mesh, uint32_t receiver, 
     // L' = L clipped to B's front halfspace (exact plane through B's first three vertices)
     const Point3 b0 = exact(mesh.vertex(bidx[0])), b1 = exact(mesh.vertex(bidx[1])),
                  b2 = exact(mesh.vertex(bidx[2]));
-    Poly3 Lc = clip(L, HalfSpace{CGAL::cross_product(b1 - b0, b2 - b0), b0});
+    const HalfSpace frontB{CGAL::cross_product(b1 - b0, b2 - b0), b0};
+    Poly3 Lc = clip(L, frontB);
     removeDegenerateVertices(Lc);
 
     std::vector<Point2> l2;
@@ -335,7 +336,14 @@ ReferenceResult exactReference(const vis::PolygonMesh& mesh, uint32_t receiver, 
             for (const Point3& p : piece)
                 inLightPlane = inLightPlane && CGAL::sign(f.nL * (p - f.l0)) == CGAL::ZERO;
             if (inLightPlane) continue;
-            Poly3 c = std::move(piece);
+            // Only the part in front of B's plane occludes (x may lie a rounding behind it: the
+            // segment's part between x and B's plane is not between B and L); a piece with no
+            // point strictly in front of it (one in B's plane) occludes nothing.
+            Poly3 c = clip(piece, frontB);
+            bool strictlyFront = false;
+            for (const Point3& p : c)
+                strictlyFront = strictlyFront || CGAL::sign(frontB.value(p)) == CGAL::POSITIVE;
+            if (!strictlyFront) continue;
             for (const HalfSpace& h : pyramid) {
                 c = clip(c, h);
                 if (c.size() < 3) break;

@@ -7,7 +7,11 @@
 //   - x is strictly in front of L's plane (lights emit to their front only; otherwise nothing is
 //     visible), and
 //   - the open segment (x, y) meets no other face of the mesh (every face except B and L
-//     occludes, from both sides).
+//     occludes, from both sides) in front of B's plane: only a face's part in the closed
+//     half-space in front of it occludes, and a face with no point strictly in front of it (one
+//     in B's plane) none. (For x on B's plane or in front of it that is the whole segment; x a
+//     rounding behind it, the core clips its occluders to B's front half-space, so the
+//     segment's part between x and B's plane is not tested.)
 #pragma once
 
 #include <cstdint>
@@ -26,14 +30,15 @@ struct ReferenceResult {
 };
 
 // Exact reference (CGAL Epeck + Polygon_set_2). The visible region is computed exactly: L is
-// clipped to B's front halfspace (L'); every occluder is clipped to the pyramid conv(x, L') (the
-// slab between x and L intersected with the cone from x through L': the same occlusion, and the
-// central projection stays bounded), projected centrally from x onto L's plane, mapped to 2D by
-// dropping the dominant axis of L's normal; the union of the projections is subtracted from L'.
-// `fraction` is the exact area ratio rounded to the nearest double; the form factors are
-// Lambert's contour integral over the exact region's boundary (holes included) evaluated in long
-// double, positive for a light that faces x. Occluders in a plane through x, or in L's plane,
-// are skipped (they hide a set of measure zero); non-planar faces are fan-triangulated.
+// clipped to B's front halfspace (L'); every occluder is clipped to B's front halfspace and to the
+// pyramid conv(x, L') (the slab between x and L intersected with the cone from x through L': the
+// same occlusion, and the central projection stays bounded), projected centrally from x onto L's
+// plane, mapped to 2D by dropping the dominant axis of L's normal; the union of the projections
+// is subtracted from L'. `fraction` is the exact area ratio rounded to the nearest double; the
+// form factors are Lambert's contour integral over the exact region's boundary (holes included)
+// evaluated in long double, positive for a light that faces x. Occluders in a plane through x, in
+// L's plane or in B's, are skipped (they hide a set of measure zero); non-planar faces are
+// fan-triangulated.
 ReferenceResult exactReference(const vis::PolygonMesh& mesh, uint32_t receiver, uint32_t light,
                                vis::Vec3 x);
 

@@ -523,6 +523,66 @@ TEST(BoundaryChainQuery, PointsOnAClosedMeshUnderAnotherMatchTheExactReference) 
     EXPECT_GT(solid, 0);
 }
 
+// Receiver points on the edges of a closed mesh: x rounded from a point of an edge its face
+// shares with a neighbour, so that x may lie a rounding behind the face's plane with the
+// neighbour's plane through or near it; the neighbour's sliver between x and B's plane must
+// block nothing (only what lies in front of B's plane occludes, exact_reference.h), and what
+// the neighbour hides beyond B's plane must be hidden. Each edge point is taken as a point of
+// both faces that share the edge, on every direct path.
+TEST(BoundaryChainQuery, PointsOnTheEdgesOfAClosedMeshMatchTheExactReference) {
+    MeshScene m(0);
+    const uint32_t first = static_cast<uint32_t>(m.faceCount());
+    m.sphere({0, 0, 0.6}, 0.5, 16, 10);
+    m.sphere({0.3, 0.1, 1.45}, 0.25, 12, 8);
+    const Scene s = m.finish();
+    std::vector<vis::Bounds3> boxes;
+    for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
+    const vis::BoxTree faces(boxes);
+    const vis::FaceClusters groups(s.mesh, faces);
+    vis::FromPointQuery chain, oneByOne, defaults;
+    chain.setChainOptions({1, 0, 0, 0});  // the chain, crossings and solids always
+    oneByOne.setChainOptions({0, 0});
+    std::mt19937_64 rng(43);
+    std::uniform_real_distribution<double> u(0, 1);
+    // The faces of the lower sphere that use each directed edge.
+    std::map<std::pair<uint32_t, uint32_t>, uint32_t> edgeFace;
+    const uint32_t last = first + 16 * 10;
+    for (uint32_t f = first; f < last; ++f) {
+        const auto& ids = s.mesh.faces[f];
+        for (size_t i = 0; i < ids.size(); ++i) edgeFace[{ids[i], ids[(i + 1) % ids.size()]}] = f;
+    }
+    int checked = 0, penumbra = 0, behind = 0, reported = 0;
+    for (uint32_t f = first; f < last && checked < test::scaled(100); ++f) {
+        if (vis::normalize(s.mesh.faceAreaNormal(f)).z < 0.3) continue;  // facing the light
+        const auto& ids = s.mesh.faces[f];
+        for (size_t i = 0; i < ids.size(); ++i) {
+            const auto other = edgeFace.find({ids[(i + 1) % ids.size()], ids[i]});
+            if (other == edgeFace.end()) continue;
+            const Vec3 a = s.mesh.vertices[ids[i]], b = s.mesh.vertices[ids[(i + 1) % ids.size()]];
+            const double t = i % 2 == 0 ? 0.5 : u(rng);
+            const Vec3 x = a + (b - a) * t;
+            for (const uint32_t g : {f, other->second}) {
+                if (vis::normalize(s.mesh.faceAreaNormal(g)).z < 0.3) continue;
+                ++checked;
+                behind += vis::facePlane(s.mesh, g).orient().sign(x) == vis::Sign::Negative;
+                const test::ReferenceResult ref = test::exactReference(s.mesh, g, 1, x);
+                penumbra += ref.fraction > 0.001 && ref.fraction < 0.999;
+                matchesOnFace(s.mesh, g, x, chain.runDirect(s.mesh, g, 1, x, faces), ref,
+                              "edge point, direct, chain", reported);
+                matchesOnFace(s.mesh, g, x, oneByOne.runDirect(s.mesh, g, 1, x, faces), ref,
+                              "edge point, direct, one by one", reported);
+                matchesOnFace(s.mesh, g, x, chain.runDirect(s.mesh, g, 1, x, faces, &groups), ref,
+                              "edge point, direct, face groups and solids", reported);
+                matchesOnFace(s.mesh, g, x, defaults.runDirect(s.mesh, g, 1, x, faces, &groups),
+                              ref, "edge point, direct, default options", reported);
+            }
+        }
+    }
+    EXPECT_GE(checked, test::scaled(100) / 2);
+    EXPECT_GT(penumbra, checked / 8);
+    EXPECT_GT(behind, checked / 8);  // x behind its face's plane by a rounding was exercised
+}
+
 TEST(BoundaryChainQuery, OpenInconsistentAndNonManifoldMeshesMatchTheExactReference) {
     {
         MeshScene m(0);
