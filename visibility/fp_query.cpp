@@ -1,6 +1,7 @@
 #include "visibility/fp_query.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <stdexcept>
 #include <type_traits>
@@ -563,6 +564,7 @@ void FromPointQuery::buildChain() {
     if (chainLists_.empty()) chainLists_.resize(1);
     std::vector<uint32_t>& root = chainLists_[0];
     root.clear();
+    bool chordInCone = false;  // a chord whose plane through x cuts L's cone (below)
     for (size_t k = 0; k < chainRefs_.size(); ++k) {
         const uint32_t ref = chainRefs_[k];
         ChainEdge e;
@@ -589,6 +591,7 @@ void FromPointQuery::buildChain() {
             outside = exactSign(cone()[k], e.a) != Sign::Positive &&
                       exactSign(cone()[k], e.b) != Sign::Positive;
         if (outside) continue;
+        chordInCone = chordInCone || !e.segment;
         root.push_back(static_cast<uint32_t>(chain_.size()));
         chain_.push_back(e);
     }
@@ -614,10 +617,16 @@ void FromPointQuery::buildChain() {
     }
     // Cells may be labelled by crossings when c(y) changes only across input edges inside L: no
     // occluder cut by L's plane (its chord lies in L's plane; one cut by B's plane has its chord
-    // seen on the line where B's plane meets L's, outside L when L lies wholly in front of B).
-    // And only for a long chain: on a short one a cell's line test, which stops at the first
-    // face that hides it, costs less than the count that starts the crossings.
-    crossings_ = lightWhole_ && !lightChord_ && chain_.size() >= chainOptions_.crossingsMinEdges;
+    // seen on the line where B's plane meets L's, outside L when L lies wholly in front of B and
+    // x on B's plane). With x off B's plane by a rounding, the plane through x and a chord on B's
+    // plane is no longer B's: within some ulps of the chord it turns through L (found with
+    // points rounded from a wall's contact line in a rotated scene: cells labelled as if the
+    // chord were not there, off by 0.4 of the light). Such a chord kept in the chain (L
+    // straddles its plane) leaves the labels to the line tests. And only for a long chain: on a
+    // short one a cell's line test, which stops at the first face that hides it, costs less than
+    // the count that starts the crossings.
+    crossings_ = lightWhole_ && !lightChord_ && !chordInCone &&
+                 chain_.size() >= chainOptions_.crossingsMinEdges;
     if (crossings_ && sideRef_.size() < chain_.size()) {
         sideRef_.resize(chain_.size());
         sideY_.resize(chain_.size());
@@ -1615,6 +1624,52 @@ bool FromPointQuery::onContact(const HistoryTree& tree, const Vec3& x) const {
     return false;
 }
 
+bool FromPointQuery::nearContact(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x) {
+    // The lines from x to L, followed back from x to B's plane, sweep the part R of the cone
+    // with apex x over the reflected L that lies in front of B's plane: the convex hull of x and
+    // the points x - t_i (l_i - x) with t_i = b(x) / (b(l_i) - b(x)), b the plane's orient3d
+    // value (a common scale), for L's vertices l_i. So every point of R lies within
+    // D = max_i b(x) |l_i - x| / (b(l_i) - b(x)) of x (in each coordinate), and below b(x):
+    // an inserted occluder that does not reach B's plane is clear of it where b(x) stays below
+    // contactClearance, and one that reaches it is where its box misses x +- D. Every bound
+    // rounds outwards; where one fails the answer is "may" (the direct answer: the same exact
+    // answer the contract asks for, only slower).
+    if (tree.contactBoxes.empty() && !(tree.contactClearance < HUGE_VAL)) return false;
+    const FacePlane b = facePlane(mesh, tree.receiver);
+    const PlaneOrient plane = b.orient();
+    const BoundedValue bx = plane.value(x);
+    if (bx.sign() != Sign::Positive) return false;  // on B's plane or behind it: no sliver
+    const double high = bx.value + bx.error;
+    if (!(high < tree.contactClearance)) return true;
+    if (tree.contactBoxes.empty()) return false;
+    double reach = 0;
+    for (uint32_t v : mesh.faces[tree.light]) {
+        const Vec3& l = mesh.vertices[v];
+        const BoundedValue bl = plane.value(l);
+        const double gap = (bl.value - bl.error) - high;
+        if (!(gap > 0)) return true;
+        const double dist = std::fabs(l.x - x.x) + std::fabs(l.y - x.y) + std::fabs(l.z - x.z);
+        reach = std::fmax(reach, high * dist / gap);
+    }
+    // (|.|_1 bounds each coordinate; the pads cover the rounding of the quotient and of a box
+    // grown by it near x.)
+    const double pad = std::fmax(std::fabs(x.x), std::fmax(std::fabs(x.y), std::fabs(x.z)));
+    reach = reach * (1 + 0x1p-40) + pad * 0x1p-50 + DBL_TRUE_MIN;
+    // An occluder whose box reaches the sliver may still have it strictly on one side of its
+    // plane: |P(p) - P(x)| = |n . (p - x)| <= (|n|_1 + 8u |perm|_1) D for p in R (the rounded
+    // normal within 8u of its permanent of the exact one).
+    for (size_t i = 0; i < tree.contactBoxes.size(); ++i) {
+        if (!tree.contactBoxes[i].containsGrown(x, reach)) continue;
+        const PlaneOrient& p = tree.contactPlanes[i];
+        const BoundedValue px = p.value(x);
+        const double slope = (std::fabs(p.n[0]) + std::fabs(p.n[1]) + std::fabs(p.n[2]) +
+                              (p.perm[0] + p.perm[1] + p.perm[2]) * 0x1p-50) *
+                             (1 + 0x1p-40);
+        if (!(std::fabs(px.value) - px.error > slope * reach * (1 + 0x1p-40))) return true;
+    }
+    return false;
+}
+
 void FromPointQuery::preparePair(const PolygonMesh& mesh, uint32_t receiver, uint32_t light) {
     // What depends on the pair and not on x: reused while consecutive runs ask for the same pair.
     // Checked by value (the faces' vertex coordinates), so a changed or reloaded mesh is noticed.
@@ -1649,7 +1704,7 @@ const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTr
     startRun();
     if (tree.kind == PairKind::BackFacing) return fragments_;
     // (A fully hidden pair is answered without touching the pair's setup unless x is on contact.)
-    const bool contact = onContact(tree, x);
+    const bool contact = onContact(tree, x) || nearContact(mesh, tree, x);
     if (tree.kind == PairKind::FullyHidden && !contact) return fragments_;
     if (!startPair(mesh, tree.receiver, tree.light, x)) return fragments_;
     if (tree.kind == PairKind::FullyVisible) {

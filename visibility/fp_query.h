@@ -92,7 +92,9 @@ class FromPointQuery {
     // closed sets of lines, so where x lies exactly on an occluder's contact with B they hold the
     // limit of the neighbouring points instead; such an x (exactly in the plane of an occluder that
     // reaches B's plane: HistoryTree::contactPlanes) is answered from the pair's occluders
-    // directly, as runDirect() does (answeredOnContact() says so, and no trace is recorded).
+    // directly, as runDirect() does (answeredOnContact() says so, and no trace is recorded). So
+    // is an x a rounding in front of B's plane next to such an occluder (nearContact): the
+    // tree's lines run on to B's plane behind x, and may meet the occluder there.
     const FragmentList& run(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x,
                             std::vector<TraceStep>* trace = nullptr,
                             RegionDecisions* region = nullptr);
@@ -194,6 +196,10 @@ class FromPointQuery {
     void clipCandidates(const PolygonMesh& mesh);
     // Whether x lies exactly in one of tree.contactPlanes.
     bool onContact(const HistoryTree& tree, const Vec3& x) const;
+    // Whether x lies strictly in front of B's plane and an inserted occluder may meet the sliver
+    // between x and B's plane that the lines from x to L cross behind x (conservative: a box
+    // test against a rigorous bound of that sliver; HistoryTree::contactBoxes).
+    static bool nearContact(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x);
     // B's (0) or L's (1) plane evaluated at x_, once per run (the pencil planes of chords).
     const BoundedValue& clipPlaneAt(int which);
     // A node's split with the predicates of mode_ (input edges) or the filtered ones (chords).

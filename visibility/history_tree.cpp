@@ -1,6 +1,7 @@
 #include "visibility/history_tree.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace penumbra::vis {
@@ -49,20 +50,35 @@ void prepareForQueries(const PolygonMesh& mesh, HistoryTree& tree,
     tree.deferredIndex = BoxTree(boxes);
     prepareSilhouettes(mesh, tree, receiverRegion);
     tree.contactPlanes.clear();
+    tree.contactBoxes.clear();
+    tree.contactClearance = HUGE_VAL;
     if (tree.kind == PairKind::BackFacing) return;
     const PlaneOrient receiverPlane = planeOf(mesh, tree.receiver);
     const auto& receiverIds = mesh.faces[tree.receiver];
-    for (uint32_t f : tree.occluders) {
+    auto note = [&](uint32_t f) {
         bool reaches = false;
+        double lowest = HUGE_VAL;  // a lower bound of the plane's value at the face's vertices
         for (uint32_t v : mesh.faces[f]) {
             // A vertex of B itself is on its plane (the common case of adjacent faces, where the
             // filter cannot tell a zero and the exact stage would be needed).
-            reaches = std::find(receiverIds.begin(), receiverIds.end(), v) != receiverIds.end() ||
-                      receiverPlane.sign(mesh.vertices[v]) != Sign::Positive;
+            if (std::find(receiverIds.begin(), receiverIds.end(), v) != receiverIds.end()) {
+                reaches = true;
+                break;
+            }
+            const BoundedValue b = receiverPlane.value(mesh.vertices[v]);
+            reaches = b.sign() != Sign::Positive;
             if (reaches) break;
+            lowest = std::fmin(lowest, b.value - b.error);
         }
-        if (reaches) tree.contactPlanes.push_back(planeOf(mesh, f));
-    }
+        if (reaches) {
+            tree.contactPlanes.push_back(planeOf(mesh, f));
+            tree.contactBoxes.push_back(mesh.faceBounds(f));
+        } else {
+            tree.contactClearance = std::fmin(tree.contactClearance, lowest);
+        }
+    };
+    // (The deferred occluders are clipped from x itself: the contract's segments.)
+    for (uint32_t f : tree.occluders) note(f);
 }
 
 EdgeLine edgeLine(const PolygonMesh& mesh, uint32_t receiver, uint32_t light, uint32_t v0,

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <string_view>
 #include <utility>
@@ -122,6 +123,15 @@ struct HistoryTree {
     // B's plane (a vertex on or behind it). A query point exactly on one of these planes is
     // where the tree's limit answer and the contract can differ.
     std::vector<PlaneOrient> contactPlanes;
+    // Derived (prepareForQueries), not stored: for a query point x a rounding in front of B's
+    // plane. The tree answers for lines between B's plane and L, the contract for segments from
+    // x, so they differ where an inserted occluder meets the sliver between B's plane and x that
+    // those lines cross (a wall's contact line: FromPointQuery::nearContact). The boxes of the
+    // inserted occluders that reach B's plane (contactPlanes' faces, in their order), and a
+    // lower bound of B's plane's orient3d value over every vertex of the others (+infinity when
+    // none): an x whose value stays below it can meet only the former.
+    std::vector<Bounds3> contactBoxes;
+    double contactClearance = std::numeric_limits<double>::infinity();
 
     EdgeLine edgeLine(const PolygonMesh& mesh, const HistoryNode& n) const {
         return vis::edgeLine(mesh, receiver, light, n.v0, n.v1);

@@ -781,6 +781,9 @@ TEST(BoundaryChainQuery, TransformedMeshesThroughTheSilhouettesAndTheGroups) {
     std::mt19937_64 rng(21);
     std::uniform_real_distribution<double> u(-1, 1);
     int silhouettes = 0, points = 0, penumbra = 0, grouped = 0;
+    // Points a rounding above the floor next to the box's bottom (a hair off the floor's plane)
+    // are answered from the pair's occluders (FromPointQuery::nearContact), not the silhouettes.
+    int contact = 0;
     int closedPoints = 0;  // of the closed meshes' scenes
     const int closedScenes = test::scaled(8);
     for (int i = 0; i < closedScenes + test::scaled(4); ++i) {
@@ -835,6 +838,7 @@ TEST(BoundaryChainQuery, TransformedMeshesThroughTheSilhouettesAndTheGroups) {
             const test::ReferenceResult ref = test::exactReference(s.mesh, 0, 1, x);
             const Measured got = measure(s.mesh, x, query.run(s.mesh, tree, x));
             silhouettes += query.usedSilhouettes();
+            contact += query.answeredOnContact();
             ++points;
             if (closed) {
                 ++closedPoints;
@@ -852,7 +856,8 @@ TEST(BoundaryChainQuery, TransformedMeshesThroughTheSilhouettesAndTheGroups) {
         }
     }
     EXPECT_GT(grouped, 0);
-    EXPECT_EQ(silhouettes, points);
+    EXPECT_EQ(silhouettes + contact, points);
+    EXPECT_LT(contact, points / 8);
     EXPECT_GT(penumbra, closedPoints / 4);
 }
 

@@ -402,6 +402,37 @@ TEST(ExactClip, TransformedModelsStandingOnAFloor) {
     EXPECT_GT(blocked, test::scaled(60));
 }
 
+// A wall crossing the floor (its lower part below it), the scene rotated and translated in
+// doubles, and points rounded from the line where the wall crosses the floor: x then lies within
+// some ulps of the chord the receiver's plane cuts from the wall, and off the floor's plane by a
+// rounding, so that the plane through x and the chord is mostly rounding (its normal from two
+// tiny values) and turns through the light, which straddles the wall. Its sides and the fragments
+// it cuts must still be the exact reference's, on every path (the trees store the chord).
+TEST(ExactClip, TransformedContactLinesOfACrossingWallMatchTheExactReference) {
+    std::mt19937_64 rng(13);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int bad = 0, chordTrees = 0, split = 0;
+    for (int i = 0; i < test::scaled(40); ++i) {
+        PlacedScene p(rng, true);
+        std::vector<Vec3> wall{{-1, 0, -0.5}, {1, 0, -0.5}, {1, 0, 1}, {-1, 0, 1}};
+        if (i % 2 == 1) std::reverse(wall.begin(), wall.end());
+        p.add({wall[0], wall[1], wall[2]});
+        p.add({wall[0], wall[2], wall[3]});
+        const Scene s = p.finish();
+        Paths paths(s);
+        chordTrees += hasChord(paths.complete());
+        for (int k = 0; k < 6; ++k) {
+            const Vec3 onLine{0.9 * u(rng), 0, 0};  // where the wall meets z = 0
+            test::ReferenceResult ref;
+            bad += paths.check(p.place(onLine), "near the crossing wall's contact line", &ref);
+            split += ref.fraction > 0.05 && ref.fraction < 0.95;
+        }
+    }
+    EXPECT_EQ(bad, 0);
+    EXPECT_GT(chordTrees, test::scaled(40) / 2);
+    EXPECT_GT(split, test::scaled(40));  // the wall's plane cut the light
+}
+
 // A wall standing on the floor along y = 0 (its bottom edge exactly in the floor's plane), both
 // windings, the light straddling its plane or beside it; points exactly on the contact line and a
 // dyadic hair to either side. The contract: a segment that touches the wall only at its end point
