@@ -402,20 +402,28 @@ TEST(ExactClip, TransformedModelsStandingOnAFloor) {
     EXPECT_GT(blocked, test::scaled(60));
 }
 
-// A wall crossing the floor (its lower part below it), the scene rotated and translated in
-// doubles, and points rounded from the line where the wall crosses the floor: x then lies within
-// some ulps of the chord the receiver's plane cuts from the wall, and off the floor's plane by a
-// rounding, so that the plane through x and the chord is mostly rounding (its normal from two
-// tiny values) and turns through the light, which straddles the wall. Its sides and the fragments
-// it cuts must still be the exact reference's, on every path (the trees store the chord).
-TEST(ExactClip, TransformedContactLinesOfACrossingWallMatchTheExactReference) {
+// A wall crossing the floor (its lower part below it) or standing on it (its bottom edge in the
+// floor's plane), upright or leaning, the scene rotated and translated in doubles, and points
+// rounded from the line where the wall meets the floor: x then lies within some ulps of the
+// wall's chord or bottom edge and off the floor's plane by a rounding, so that the plane through
+// x and that line is mostly rounding and turns through the light, which straddles the wall. Its
+// sides and the fragments it cuts must still be the exact reference's, on every path (the trees
+// store the chord).
+TEST(ExactClip, TransformedContactLinesOfAWallMatchTheExactReference) {
     std::mt19937_64 rng(13);
     std::uniform_real_distribution<double> u(-1, 1);
     int bad = 0, chordTrees = 0, split = 0;
-    for (int i = 0; i < test::scaled(40); ++i) {
+    for (int i = 0; i < test::scaled(48); ++i) {
         PlacedScene p(rng, true);
-        std::vector<Vec3> wall{{-1, 0, -0.5}, {1, 0, -0.5}, {1, 0, 1}, {-1, 0, 1}};
-        if (i % 2 == 1) std::reverse(wall.begin(), wall.end());
+        // Crossing: from z = -0.5 to 1; standing: from 0 to 1. Leaning: y grows with z, through
+        // y = 0 at z = 0 either way.
+        const bool crossing = i % 2 == 0, leaning = (i / 2) % 2 == 1;
+        const double bottom = crossing ? -0.5 : 0, lean = leaning ? 0.5 : 0;
+        std::vector<Vec3> wall{{-1, lean * bottom, bottom},
+                               {1, lean * bottom, bottom},
+                               {1, lean, 1},
+                               {-1, lean, 1}};
+        if ((i / 4) % 2 == 1) std::reverse(wall.begin(), wall.end());
         p.add({wall[0], wall[1], wall[2]});
         p.add({wall[0], wall[2], wall[3]});
         const Scene s = p.finish();
@@ -424,13 +432,13 @@ TEST(ExactClip, TransformedContactLinesOfACrossingWallMatchTheExactReference) {
         for (int k = 0; k < 6; ++k) {
             const Vec3 onLine{0.9 * u(rng), 0, 0};  // where the wall meets z = 0
             test::ReferenceResult ref;
-            bad += paths.check(p.place(onLine), "near the crossing wall's contact line", &ref);
+            bad += paths.check(p.place(onLine), "near a wall's contact line", &ref);
             split += ref.fraction > 0.05 && ref.fraction < 0.95;
         }
     }
     EXPECT_EQ(bad, 0);
-    EXPECT_GT(chordTrees, test::scaled(40) / 2);
-    EXPECT_GT(split, test::scaled(40));  // the wall's plane cut the light
+    EXPECT_GT(chordTrees, test::scaled(48) / 4);
+    EXPECT_GT(split, test::scaled(48));  // the wall's plane cut the light
 }
 
 // A wall standing on the floor along y = 0 (its bottom edge exactly in the floor's plane), both
