@@ -527,8 +527,9 @@ TEST(BoundaryChainQuery, PointsOnAClosedMeshUnderAnotherMatchTheExactReference) 
 // shares with a neighbour, so that x may lie a rounding behind the face's plane with the
 // neighbour's plane through or near it; the neighbour's sliver between x and B's plane must
 // block nothing (only what lies in front of B's plane occludes, exact_reference.h), and what
-// the neighbour hides beyond B's plane must be hidden. Each edge point is taken as a point of
-// both faces that share the edge, on every direct path.
+// the neighbour hides beyond B's plane must be hidden. And the edge's vertex itself, exactly in
+// the planes of the faces around it. Each point is taken as a point of both faces that share
+// the edge, on every direct path.
 TEST(BoundaryChainQuery, PointsOnTheEdgesOfAClosedMeshMatchTheExactReference) {
     MeshScene m(0);
     const uint32_t first = static_cast<uint32_t>(m.faceCount());
@@ -559,7 +560,9 @@ TEST(BoundaryChainQuery, PointsOnTheEdgesOfAClosedMeshMatchTheExactReference) {
             const auto other = edgeFace.find({ids[(i + 1) % ids.size()], ids[i]});
             if (other == edgeFace.end()) continue;
             const Vec3 a = s.mesh.vertices[ids[i]], b = s.mesh.vertices[ids[(i + 1) % ids.size()]];
-            const double t = i % 2 == 0 ? 0.5 : u(rng);
+            // The rounded midpoint, a rounded random point, and the edge's first vertex itself
+            // (x exactly in the planes of every face around it).
+            const double t = i % 3 == 0 ? 0.5 : i % 3 == 1 ? u(rng) : 0.0;
             const Vec3 x = a + (b - a) * t;
             for (const uint32_t g : {f, other->second}) {
                 if (vis::normalize(s.mesh.faceAreaNormal(g)).z < 0.3) continue;

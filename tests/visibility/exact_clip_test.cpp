@@ -396,6 +396,17 @@ TEST(ExactClip, TransformedModelsStandingOnAFloor) {
             bad += paths.check(test::randomCombination(floor, rng, 0.05), "transformed", &ref);
             blocked += ref.fraction < 0.999;
         }
+        // Points rounded from the box's contact with the floor: a corner (two sides' planes
+        // within some ulps of x) and a point of each bottom edge, and the plank's edge.
+        const double t = 0.5 + 0.4 * u(rng);
+        const Vec3 contacts[] = {c[i % 4],
+                                 c[0] + (c[1] - c[0]) * t,
+                                 c[1] + (c[2] - c[1]) * t,
+                                 c[2] + (c[3] - c[2]) * t,
+                                 c[3] + (c[0] - c[3]) * t,
+                                 Vec3{0.8, -0.5, 0} + Vec3{0.2, 1.0, 0} * t};
+        for (const Vec3& onContact : contacts)
+            bad += paths.check(p.place(onContact), "transformed, on a contact line");
     }
     EXPECT_EQ(bad, 0);
     EXPECT_GT(chordTrees, 0);
@@ -419,10 +430,8 @@ TEST(ExactClip, TransformedContactLinesOfAWallMatchTheExactReference) {
         // y = 0 at z = 0 either way.
         const bool crossing = i % 2 == 0, leaning = (i / 2) % 2 == 1;
         const double bottom = crossing ? -0.5 : 0, lean = leaning ? 0.5 : 0;
-        std::vector<Vec3> wall{{-1, lean * bottom, bottom},
-                               {1, lean * bottom, bottom},
-                               {1, lean, 1},
-                               {-1, lean, 1}};
+        std::vector<Vec3> wall{
+            {-1, lean * bottom, bottom}, {1, lean * bottom, bottom}, {1, lean, 1}, {-1, lean, 1}};
         if ((i / 4) % 2 == 1) std::reverse(wall.begin(), wall.end());
         p.add({wall[0], wall[1], wall[2]});
         p.add({wall[0], wall[2], wall[3]});
