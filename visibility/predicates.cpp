@@ -94,15 +94,7 @@ BoundedValue orientValue(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3
     if (std::fabs(e.det) > bound) {
         return {e.det, bound};
     }
-    if (trivialZero(a, b, c, d)) return {0.0, 0.0};
-    int s;
-    double approx;
-    if (orient3dExpansion(a, b, c, d, s, approx)) {
-        if (s == 0) return {0.0, 0.0};
-        // approx has the exact sign and a relative error below 2^-50 (expansion.h); claim 2^-48.
-        return {approx, std::fabs(approx) * 0x1p-48};
-    }
-    return roundedExact(exactDet(a, b, c, d));
+    return orientValueAccurate(a, b, c, d);
 }
 
 BoundedValue orientValueAccurate(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
@@ -111,6 +103,7 @@ BoundedValue orientValueAccurate(const Vec3& a, const Vec3& b, const Vec3& c, co
     double approx;
     if (orient3dExpansion(a, b, c, d, s, approx)) {
         if (s == 0) return {0.0, 0.0};
+        // approx has the exact sign and a relative error below 2^-50 (expansion.h); claim 2^-48.
         return {approx, std::fabs(approx) * 0x1p-48};
     }
     return roundedExact(exactDet(a, b, c, d));

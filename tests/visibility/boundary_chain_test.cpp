@@ -489,19 +489,35 @@ TEST(BoundaryChainQuery, ClosedSurfacesWhoseWindingChangesInTheConeAreNoSolids) 
     }
 }
 
+// A closed sphere (faces first .. first + 160, 16 slices of 10 stacks) over the floor, shaded by
+// a smaller one above it; the face hierarchy and groups of the direct path.
+struct SphereUnderSphere {
+    Scene s;
+    uint32_t first = 0;
+    vis::BoxTree faces;
+    vis::FaceClusters groups;
+    SphereUnderSphere() {
+        MeshScene m(0);
+        first = static_cast<uint32_t>(m.faceCount());
+        m.sphere({0, 0, 0.6}, 0.5, 16, 10);
+        m.sphere({0.3, 0.1, 1.45}, 0.25, 12, 8);
+        s = m.finish();
+        std::vector<vis::Bounds3> boxes;
+        for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
+        faces = vis::BoxTree(boxes);
+        groups = vis::FaceClusters(s.mesh, faces);
+    }
+};
+
 // Receivers on a closed mesh: points on the faces of a sphere, shaded by a second sphere above
 // it; x is a rounded point of its face, off its plane by a rounding either way (behind it, the
 // receiver's own component is no solid: what lies in its plane may then reach into the cone).
 TEST(BoundaryChainQuery, PointsOnAClosedMeshUnderAnotherMatchTheExactReference) {
-    MeshScene m(0);
-    const uint32_t first = static_cast<uint32_t>(m.faceCount());
-    m.sphere({0, 0, 0.6}, 0.5, 16, 10);
-    m.sphere({0.3, 0.1, 1.45}, 0.25, 12, 8);
-    const Scene s = m.finish();
-    std::vector<vis::Bounds3> boxes;
-    for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
-    const vis::BoxTree faces(boxes);
-    const vis::FaceClusters groups(s.mesh, faces);
+    const SphereUnderSphere scene;
+    const Scene& s = scene.s;
+    const uint32_t first = scene.first;
+    const vis::BoxTree& faces = scene.faces;
+    const vis::FaceClusters& groups = scene.groups;
     vis::FromPointQuery query;
     vis::FromPointQuery::ChainOptions solidsAlways;
     solidsAlways.solidMinFaces = 0;
@@ -531,15 +547,11 @@ TEST(BoundaryChainQuery, PointsOnAClosedMeshUnderAnotherMatchTheExactReference) 
 // the planes of the faces around it. Each point is taken as a point of both faces that share
 // the edge, on every direct path.
 TEST(BoundaryChainQuery, PointsOnTheEdgesOfAClosedMeshMatchTheExactReference) {
-    MeshScene m(0);
-    const uint32_t first = static_cast<uint32_t>(m.faceCount());
-    m.sphere({0, 0, 0.6}, 0.5, 16, 10);
-    m.sphere({0.3, 0.1, 1.45}, 0.25, 12, 8);
-    const Scene s = m.finish();
-    std::vector<vis::Bounds3> boxes;
-    for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
-    const vis::BoxTree faces(boxes);
-    const vis::FaceClusters groups(s.mesh, faces);
+    const SphereUnderSphere scene;
+    const Scene& s = scene.s;
+    const uint32_t first = scene.first;
+    const vis::BoxTree& faces = scene.faces;
+    const vis::FaceClusters& groups = scene.groups;
     vis::FromPointQuery chain, oneByOne, defaults;
     chain.setChainOptions({1, 0, 0, 0});  // the chain, crossings and solids always
     oneByOne.setChainOptions({0, 0});
