@@ -125,6 +125,10 @@ class EdgePlane {
         return pencil_ ? planes_.value(y) : points_.value(y);
     }
     Sign sign(const Vec3& y) const { return value(y).sign(); }
+    bool placesWell() const { return pencil_ ? planes_.placesWell() : points_.placesWell(); }
+    BoundedValue accurate(const Vec3& y) const {
+        return pencil_ ? planes_.accurate(y) : points_.accurate(y);
+    }
 
   private:
     bool pencil_ = false;

@@ -450,6 +450,40 @@ TEST(ExactClip, TransformedContactLinesOfAWallMatchTheExactReference) {
     EXPECT_GT(split, test::scaled(48));  // the wall's plane cut the light
 }
 
+// Sliver receivers: a triangle some 1e-8 to 1e-12 wide whose plane, seen at 80 degrees from the
+// floor, cuts the light; the scene rotated in doubles, so that the plane's rounded normal is
+// mostly rounding. The light clipped to the receiver's front (and everything after it) must
+// still be the exact reference's.
+TEST(ExactClip, SliverReceiversCutTheLightExactly) {
+    std::mt19937_64 rng(5);
+    int bad = 0, cut = 0;
+    for (int r = 0; r < test::scaled(8); ++r) {
+        const std::array<Vec3, 3> R = randomRotation(rng);
+        auto rotated = [&](const Vec3& v) {
+            return Vec3{vis::dot(R[0], v), vis::dot(R[1], v), vis::dot(R[2], v)};
+        };
+        for (double width : {1e-8, 1e-10, 1e-12}) {
+            const double theta = 80 * M_PI / 180;
+            Polygons p;
+            p.add({rotated({0, -1, 0}), rotated({0, 1, 0}),
+                   rotated({width * std::cos(theta), 0.3, width * std::sin(theta)})});
+            p.add({rotated({-0.5, -0.5, 2}), rotated({-0.5, 0.5, 2}), rotated({0.5, 0.5, 2}),
+                   rotated({0.5, -0.5, 2})},
+                  true);
+            p.add({rotated({-0.3, -0.3, 1}), rotated({0.3, -0.3, 1}), rotated({0.0, 0.3, 1.2})});
+            const Scene s = p.finish();
+            Paths paths(s);
+            for (double y : {-0.5, 0.0, 0.25}) {
+                test::ReferenceResult ref;
+                bad += paths.check(rotated({0, y, 0}), "sliver receiver", &ref);
+                cut += ref.unoccludedFormFactor > 0 && ref.fraction < 0.5;
+            }
+        }
+    }
+    EXPECT_EQ(bad, 0);
+    EXPECT_GT(cut, test::scaled(8) * 3);  // the receiver's plane cut the light
+}
+
 // A wall standing on the floor along y = 0 (its bottom edge exactly in the floor's plane), both
 // windings, the light straddling its plane or beside it; points exactly on the contact line and a
 // dyadic hair to either side. The contract: a segment that touches the wall only at its end point
