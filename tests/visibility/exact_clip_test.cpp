@@ -397,7 +397,7 @@ TEST(ExactClip, TransformedModelsStandingOnAFloor) {
             blocked += ref.fraction < 0.999;
         }
         // Points rounded from the box's contact with the floor: a corner (two sides' planes
-        // within some ulps of x) and a point of each bottom edge, and the plank's edge.
+        // within some ulps of x), a point of each bottom edge, and one of the plank's edge.
         const double t = 0.5 + 0.4 * u(rng);
         const Vec3 contacts[] = {c[i % 4],
                                  c[0] + (c[1] - c[0]) * t,
@@ -405,8 +405,8 @@ TEST(ExactClip, TransformedModelsStandingOnAFloor) {
                                  c[2] + (c[3] - c[2]) * t,
                                  c[3] + (c[0] - c[3]) * t,
                                  Vec3{0.8, -0.5, 0} + Vec3{0.2, 1.0, 0} * t};
-        for (const Vec3& onContact : contacts)
-            bad += paths.check(p.place(onContact), "transformed, on a contact line");
+        for (const int k : {i % 6, (i + 3) % 6})  // two of them per scene, in turn
+            bad += paths.check(p.place(contacts[k]), "transformed, on a contact line");
     }
     EXPECT_EQ(bad, 0);
     EXPECT_GT(chordTrees, 0);
