@@ -29,7 +29,7 @@ FaceNormal faceNormal(const PolygonMesh& mesh, uint32_t face) {
     FaceNormal f;
     f.n = {p.n[0], p.n[1], p.n[2]};
     constexpr double kU = DBL_EPSILON / 2;
-    f.error = 8 * kU * (p.perm[0] + p.perm[1] + p.perm[2]) + 8 * DBL_MIN;
+    f.error = 8 * kU * p.permanentL1() + 8 * DBL_MIN;
     f.known = length(f.n) > 4 * f.error;
     return f;
 }

@@ -1635,8 +1635,7 @@ bool FromPointQuery::nearContact(const PolygonMesh& mesh, const HistoryTree& tre
     // rounds outwards; where one fails the answer is "may" (the direct answer: the same exact
     // answer the contract asks for, only slower).
     if (tree.contactBoxes.empty() && !(tree.contactClearance < HUGE_VAL)) return false;
-    const FacePlane b = facePlane(mesh, tree.receiver);
-    const PlaneOrient plane = b.orient();
+    const PlaneOrient plane = facePlane(mesh, tree.receiver).orient();
     const BoundedValue bx = plane.value(x);
     if (bx.sign() != Sign::Positive) return false;  // on B's plane or behind it: no sliver
     const double high = bx.value + bx.error;
@@ -1662,9 +1661,7 @@ bool FromPointQuery::nearContact(const PolygonMesh& mesh, const HistoryTree& tre
         if (!tree.contactBoxes[i].containsGrown(x, reach)) continue;
         const PlaneOrient& p = tree.contactPlanes[i];
         const BoundedValue px = p.value(x);
-        const double slope = (std::fabs(p.n[0]) + std::fabs(p.n[1]) + std::fabs(p.n[2]) +
-                              (p.perm[0] + p.perm[1] + p.perm[2]) * 0x1p-50) *
-                             (1 + 0x1p-40);
+        const double slope = (p.normL1() + p.permanentL1() * 0x1p-50) * (1 + 0x1p-40);
         if (!(std::fabs(px.value) - px.error > slope * reach * (1 + 0x1p-40))) return true;
     }
     return false;

@@ -85,10 +85,7 @@ struct PlaneOrient {
     // Whether the rounded normal n points within about 2^-20 radians of the exact one: its length
     // above 2^-20 times its permanent. Not so for three nearly collinear points (e.g. x and an
     // edge that x sees under an angle of some ulps): then n is mostly rounding.
-    bool wellConditioned() const {
-        const double len = std::fabs(n[0]) + std::fabs(n[1]) + std::fabs(n[2]);
-        return len > 0x1p-20 * (perm[0] + perm[1] + perm[2]);
-    }
+    bool wellConditioned() const { return normL1() > 0x1p-20 * permanentL1(); }
     // Whether the filter's rounded values place a split's crossings to within some ulps: the
     // rounded normal within 2^-40 of the exact one (its length above 2^-10 times its permanent).
     // A crossing's parameter is t = v(p) / (v(p) - v(q)); the filter's values are off by up to
@@ -96,10 +93,11 @@ struct PlaneOrient {
     // on the segment (found on a tessellated sphere: a receiver point on the diagonal of a quad
     // whose two triangles cross each other's planes by a rounding; the light's fragments off by
     // 1e-4 of its area). Otherwise the split takes accurate().
-    bool placesWell() const {
-        const double len = std::fabs(n[0]) + std::fabs(n[1]) + std::fabs(n[2]);
-        return len > 0x1p-10 * (perm[0] + perm[1] + perm[2]);
-    }
+    bool placesWell() const { return normL1() > 0x1p-10 * permanentL1(); }
+    // |n|_1, and the sum of the permanent terms: each component of n is within 4u of its
+    // permanent of the exact one (two rounded differences, two products, their difference).
+    double normL1() const { return std::fabs(n[0]) + std::fabs(n[1]) + std::fabs(n[2]); }
+    double permanentL1() const { return perm[0] + perm[1] + perm[2]; }
     // The determinant rounded from its exact value (relative error below 2^-48; the exact sign).
     BoundedValue accurate(const Vec3& d) const;
 
