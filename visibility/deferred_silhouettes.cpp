@@ -142,9 +142,7 @@ void prepareSilhouettes(const PolygonMesh& mesh, HistoryTree& tree,
     // signed directions summing to zero.
     for (uint32_t slot : order) {
         if (s.slots[slot] != DeferredSilhouettes::Slot::Surface) continue;
-        const auto& ids = mesh.faces[tree.deferred[slot].face];
-        const PlaneOrient own(mesh.vertices[ids[0]], mesh.vertices[ids[1]], mesh.vertices[ids[2]]);
-        s.sides[slot] = sideOver(own, region);
+        s.sides[slot] = sideOver(facePlane(mesh, tree.deferred[slot].face).orient(), region);
     }
     for (DeferredSilhouettes::Use& u : uses) u.side = s.sides[u.slot];
     // Grouped by undirected edge (stable: a group keeps its faces' order).

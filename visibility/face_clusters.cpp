@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "visibility/boundary_chain.h"
+#include "visibility/face_plane.h"
 #include "visibility/predicates.h"
 
 namespace penumbra::vis {
@@ -21,11 +22,10 @@ struct FaceNormal {
 FaceNormal faceNormal(const PolygonMesh& mesh, uint32_t face) {
     const auto& ids = mesh.faces[face];
     if (ids.size() < 3) return {};
-    const std::vector<Vec3>& v = mesh.vertices;
     // The cross product as the face's plane test forms it (activateFace's PlaneOrient): each
     // component is within 4u of its permanent of the exact one (two rounded differences, two
     // products and their difference); 8u is claimed, plus an absolute term for underflow.
-    const PlaneOrient p(v[ids[0]], v[ids[1]], v[ids[2]]);
+    const PlaneOrient p = facePlane(mesh, face).orient();
     FaceNormal f;
     f.n = {p.n[0], p.n[1], p.n[2]};
     constexpr double kU = DBL_EPSILON / 2;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <utility>
 
+#include "visibility/face_plane.h"
+
 namespace penumbra::vis {
 
 std::string_view toString(PairKind k) {
@@ -29,15 +31,6 @@ std::span<const std::string_view> knownReasons() {
     return kAll;
 }
 
-namespace {
-
-PlaneOrient planeOf(const PolygonMesh& mesh, uint32_t face) {
-    const auto& f = mesh.faces[face];
-    return PlaneOrient(mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]);
-}
-
-}  // namespace
-
 void prepareForQueries(const PolygonMesh& mesh, HistoryTree& tree,
                        std::span<const Vec3> receiverRegion) {
     std::vector<Bounds3> boxes;
@@ -53,9 +46,10 @@ void prepareForQueries(const PolygonMesh& mesh, HistoryTree& tree,
     tree.contactBoxes.clear();
     tree.contactClearance = HUGE_VAL;
     if (tree.kind == PairKind::BackFacing) return;
-    const PlaneOrient receiverPlane = planeOf(mesh, tree.receiver);
+    const PlaneOrient receiverPlane = facePlane(mesh, tree.receiver).orient();
     const auto& receiverIds = mesh.faces[tree.receiver];
-    auto note = [&](uint32_t f) {
+    // (The deferred occluders are clipped from x itself: the contract's segments.)
+    for (uint32_t f : tree.occluders) {
         bool reaches = false;
         double lowest = HUGE_VAL;  // a lower bound of the plane's value at the face's vertices
         for (uint32_t v : mesh.faces[f]) {
@@ -71,14 +65,12 @@ void prepareForQueries(const PolygonMesh& mesh, HistoryTree& tree,
             lowest = std::fmin(lowest, b.value - b.error);
         }
         if (reaches) {
-            tree.contactPlanes.push_back(planeOf(mesh, f));
+            tree.contactPlanes.push_back(facePlane(mesh, f).orient());
             tree.contactBoxes.push_back(mesh.faceBounds(f));
         } else {
             tree.contactClearance = std::fmin(tree.contactClearance, lowest);
         }
-    };
-    // (The deferred occluders are clipped from x itself: the contract's segments.)
-    for (uint32_t f : tree.occluders) note(f);
+    }
 }
 
 EdgeLine edgeLine(const PolygonMesh& mesh, uint32_t receiver, uint32_t light, uint32_t v0,
@@ -86,16 +78,16 @@ EdgeLine edgeLine(const PolygonMesh& mesh, uint32_t receiver, uint32_t light, ui
     if (!isClipEdge(v0)) return EdgeLine::through(mesh.vertices[v0], mesh.vertices[v1]);
     // The chord of a clip: directed n_clip x n_face (clipped_occluder.h).
     const uint32_t face = v0 & ~kClipEdge;
-    return EdgeLine::meet(planeOf(mesh, v1 == kReceiverPlaneEdge ? receiver : light),
-                          planeOf(mesh, face));
+    return EdgeLine::meet(facePlane(mesh, v1 == kReceiverPlaneEdge ? receiver : light).orient(),
+                          facePlane(mesh, face).orient());
 }
 
 std::pair<Vec3, Vec3> edgeSegment(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
                                   uint32_t v0, uint32_t v1) {
     if (!isClipEdge(v0)) return {mesh.vertices[v0], mesh.vertices[v1]};
     const uint32_t face = v0 & ~kClipEdge;
-    const PlaneOrient clip = planeOf(mesh, v1 == kReceiverPlaneEdge ? receiver : light);
-    const PlaneOrient other = planeOf(mesh, v1 == kReceiverPlaneEdge ? light : receiver);
+    const PlaneOrient clip = facePlane(mesh, v1 == kReceiverPlaneEdge ? receiver : light).orient();
+    const PlaneOrient other = facePlane(mesh, v1 == kReceiverPlaneEdge ? light : receiver).orient();
     // Where the face's boundary crosses the clip plane (doubles: display only), then the part of
     // that chord in front of the other plane.
     const auto& ids = mesh.faces[face];
@@ -114,8 +106,8 @@ std::pair<Vec3, Vec3> edgeSegment(const PolygonMesh& mesh, uint32_t receiver, ui
     if (db < 0 && da > 0) b = b + (a - b) * (db / (db - da));
     // Directed as the chord: n_clip x n_face.
     const Vec3 nClip = cross(clip.b - clip.a, clip.c - clip.a);
-    const PlaneOrient facePlane = planeOf(mesh, face);
-    const Vec3 nFace = cross(facePlane.b - facePlane.a, facePlane.c - facePlane.a);
+    const FacePlane own = facePlane(mesh, face);
+    const Vec3 nFace = cross(own.b - own.a, own.c - own.a);
     if (dot(b - a, cross(nClip, nFace)) < 0) std::swap(a, b);
     return {a, b};
 }

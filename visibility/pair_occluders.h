@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "visibility/face_plane.h"
 #include "visibility/history_tree.h"
 #include "visibility/predicates.h"
 
@@ -63,17 +64,5 @@ void pyramidPlanes(const Vec3& apex, std::span<const Vec3> polygon, std::vector<
 // the polygon meets the region on the positive side of all of them in a set of measure zero at
 // most (hullPlanes, pyramidPlanes).
 bool outsideOnePlane(std::span<const PlaneOrient> planes, std::span<const Vec3> polygon);
-
-// The three input vertices that define a face's plane for exact side tests (the first three:
-// faces are validated planar and strictly convex on load).
-struct FacePlane {
-    Vec3 a, b, c;
-    Sign side(const Vec3& y) const { return orientSign(a, b, c, y); }
-    PlaneOrient orient() const { return PlaneOrient(a, b, c); }
-};
-inline FacePlane facePlane(const PolygonMesh& mesh, uint32_t face) {
-    const auto& f = mesh.faces[face];
-    return {mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]};
-}
 
 }  // namespace penumbra::vis

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "visibility/edge_line.h"
+#include "visibility/face_plane.h"
 
 namespace penumbra::vis {
 
@@ -16,8 +17,7 @@ void RegionDecisions::reset(const PolygonMesh& mesh, const HistoryTree& tree,
     // B's and L's planes at the corners, for the chords' pencil planes (once per region, not once
     // per node: corners on B's plane make the filter fail and take the exact stage).
     for (int k = 0; k < 2; ++k) {
-        const auto& f = mesh.faces[k == 0 ? tree.receiver : tree.light];
-        clip_[k] = PlaneOrient(mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]);
+        clip_[k] = facePlane(mesh, k == 0 ? tree.receiver : tree.light).orient();
         clipAt_[k].clear();
         for (const Vec3& r : corners_) clipAt_[k].push_back(clip_[k].value(r));
     }

@@ -1,0 +1,25 @@
+// FacePlane: the plane of a mesh face for exact side tests, from its first three input vertices
+// (faces are validated planar and strictly convex on load). Every side test of a point against a
+// face's plane, and every PlaneOrient of one, goes through facePlane(), so that all of them take
+// the same three vertices in the same order.
+#pragma once
+
+#include <cstdint>
+
+#include "visibility/polygon_mesh.h"
+#include "visibility/predicates.h"
+
+namespace penumbra::vis {
+
+struct FacePlane {
+    Vec3 a, b, c;
+    Sign side(const Vec3& y) const { return orientSign(a, b, c, y); }
+    PlaneOrient orient() const { return PlaneOrient(a, b, c); }
+};
+
+inline FacePlane facePlane(const PolygonMesh& mesh, uint32_t face) {
+    const auto& f = mesh.faces[face];
+    return {mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]};
+}
+
+}  // namespace penumbra::vis
