@@ -65,6 +65,10 @@ uint32_t ReceiverPatches::find(const Vec3& x) const {
 }
 
 ReceiverPatches subdivideReceiver(std::span<const Vec3> face, double maxDiameter) {
+    return subdivideReceiverGrid(face, cellsPerSide(diameter(face), maxDiameter));
+}
+
+ReceiverPatches subdivideReceiverGrid(std::span<const Vec3> face, int k) {
     ReceiverPatches out;
     Vec3 n{};
     for (size_t i = 1; i + 1 < face.size(); ++i)
@@ -72,8 +76,7 @@ ReceiverPatches subdivideReceiver(std::span<const Vec3> face, double maxDiameter
     const double ax = std::fabs(n.x), ay = std::fabs(n.y), az = std::fabs(n.z);
     out.dropAxis = ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2);
     out.face.assign(face.begin(), face.end());
-    const int k = cellsPerSide(diameter(face), maxDiameter);  // each fan triangle: k*k triangles
-    if (k == 1) {
+    if (k <= 1) {  // each fan triangle: k*k triangles
         out.patches.emplace_back(face.begin(), face.end());
         return out;
     }

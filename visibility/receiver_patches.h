@@ -32,6 +32,9 @@ struct ReceiverPatches {
 // Subdivides until every patch has a diameter <= maxDiameter (a face already that small is one
 // patch: itself, unchanged). maxDiameter <= 0 means no subdivision.
 ReceiverPatches subdivideReceiver(std::span<const Vec3> face, double maxDiameter);
+// The same with each fan triangle split into a k x k grid (k = cellsPerSide >= 1; 1: the face
+// itself, one patch).
+ReceiverPatches subdivideReceiverGrid(std::span<const Vec3> face, int cellsPerSide);
 // The number of patches subdivideReceiver makes, without making them (1 for a small face).
 size_t receiverPatchCount(std::span<const Vec3> face, double maxDiameter);
 

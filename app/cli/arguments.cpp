@@ -129,6 +129,12 @@ void addExactOptions(CLI::App& sub, ExactOptions& o, ExactOptionSet set) {
                    "edges cancel (closed, smooth meshes), is evaluated by their silhouette and "
                    "border edges only (the same answer; 0 = never)")
         ->capture_default_str();
+    sub.add_option("--refine-levels", o.refineLevels,
+                   "Exact: after each pass, a tree whose points reached the work limit has its "
+                   "receiver patch split and the sub-patches holding those points get their own "
+                   "trees, up to this many levels (the same answer; 0 = never)")
+        ->check(CLI::Range(0, VisibilityStore::kMaxRefineLevels))
+        ->capture_default_str();
 }
 
 }  // namespace penumbra::cli

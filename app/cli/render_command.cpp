@@ -155,10 +155,11 @@ void printTimes(const RenderOptions& o, const Scene& scene, const RenderSettings
         std::printf(" (%d shadow rays per light)", settings.lightSamples);
     if (settings.method == DirectMethod::Reference)
         std::printf(" (%d shadow rays per light)", settings.referenceSamples);
-    std::printf(
-        "\ntime: precompute %.3f s (%zu trees), primary rays %.3f s, shading %.3f s, "
-        "total %.3f s\n",
-        times.precompute, store.treeCount(), times.primary, times.shading, times.total);
+    std::printf("\ntime: precompute %.3f s (%zu trees", times.precompute, store.treeCount());
+    if (store.refinedCount() > 0)
+        std::printf("; %.3f s of it refining between passes", times.refine);
+    std::printf("), primary rays %.3f s, shading %.3f s, total %.3f s\n", times.primary,
+                times.shading, times.total);
     std::printf("cpu time (all threads): precompute %.3f s, rendering %.3f s, total %.3f s\n",
                 times.precomputeCpu, times.totalCpu - times.precomputeCpu, times.totalCpu);
 }

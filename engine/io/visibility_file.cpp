@@ -75,7 +75,11 @@ class ByteWriter {
 
 std::vector<unsigned char> serialize(const VisibilityStore& store, bool withStats) {
     std::vector<std::pair<PairKey, const PairRecord*>> trees;
-    store.forEach([&](const PairKey& k, const PairRecord& r) { trees.emplace_back(k, &r); });
+    // The refined sub-patches' trees are the render's cache (VisibilityStore::refine): only the
+    // patches' own trees are kept.
+    store.forEach([&](const PairKey& k, const PairRecord& r) {
+        if (VisibilityStore::refineLevel(k) == 0) trees.emplace_back(k, &r);
+    });
     std::sort(trees.begin(), trees.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
 

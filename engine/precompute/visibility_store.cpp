@@ -20,7 +20,34 @@ struct VisibilityStore::Entry {
 struct VisibilityStore::PatchSlot {
     std::once_flag once;
     vis::ReceiverPatches patches;
+    std::atomic<bool> refined{false};  // some pair of this face was refined (keyAt's fast path)
 };
+
+namespace {
+// PairKey::patch of a refined key: kRefinedFlag, the receiver patch's index in the low
+// kBaseBits, then per level kLevelBits holding the sub-patch's index + 1 (0: no such level). A
+// patch's own key is its index (a face with more patches than kBaseBits hold is not refined).
+constexpr int kBaseBits = 13, kLevelBits = 6;
+constexpr uint32_t kRefinedFlag = 0x80000000u;
+constexpr uint32_t kLevelMask = (1u << kLevelBits) - 1;
+constexpr uint32_t kMaxSubPatches = kLevelMask;  // indices + 1 up to the mask
+static_assert(kBaseBits + VisibilityStore::kMaxRefineLevels * kLevelBits < 32);
+
+uint32_t levelField(uint32_t patch, int level) {  // level >= 1
+    return (patch >> (kBaseBits + (level - 1) * kLevelBits)) & kLevelMask;
+}
+// The key of the sub-patch `sub` of `key` (at `level`, its refineLevel).
+PairKey childKey(PairKey key, int level, uint32_t sub) {
+    key.patch |= kRefinedFlag | ((sub + 1) << (kBaseBits + level * kLevelBits));
+    return key;
+}
+// `key` one level up (its parent's key); level = refineLevel(key) >= 1.
+PairKey parentKey(PairKey key, int level) {
+    key.patch &= ~(kLevelMask << (kBaseBits + (level - 1) * kLevelBits));
+    if (level == 1) key.patch &= ~kRefinedFlag;
+    return key;
+}
+}  // namespace
 
 size_t PairKeyHash::operator()(const PairKey& k) const noexcept {
     uint64_t h = 0x9E3779B97F4A7C15ull;
@@ -64,7 +91,73 @@ size_t VisibilityStore::patchCount(uint32_t face) const {
 
 PairKey VisibilityStore::keyAt(uint32_t face, const Vec3& x, uint32_t lightFace) const {
     const vis::ReceiverPatches& p = patches(face);
-    return {face, p.patches.size() <= 1 ? 0u : p.find(x), lightFace};
+    PairKey key{face, p.patches.size() <= 1 ? 0u : p.find(x), lightFace};
+    if (!patchSlots_[face]->refined.load(std::memory_order_acquire)) return key;
+    std::shared_lock lock(refinedMutex_);
+    for (auto it = refined_.find(key); it != refined_.end(); it = refined_.find(key)) {
+        const PairKey sub = childKey(key, refineLevel(key), it->second->find(x));
+        if (find(sub) == nullptr) break;  // not built (yet): the parent's tree answers
+        key = sub;
+    }
+    return key;
+}
+
+int VisibilityStore::refineLevel(const PairKey& key) {
+    if ((key.patch & kRefinedFlag) == 0) return 0;
+    int level = 0;
+    while (level < kMaxRefineLevels && levelField(key.patch, level + 1) != 0) ++level;
+    return level;
+}
+
+const vis::ReceiverPatches* VisibilityStore::refinedPatches(const PairKey& key) const {
+    std::shared_lock lock(refinedMutex_);
+    const auto it = refined_.find(key);
+    return it == refined_.end() ? nullptr : it->second.get();
+}
+
+std::vector<Vec3> VisibilityStore::region(const PairKey& key) const {
+    const int level = refineLevel(key);
+    if (level == 0) {
+        const vis::ReceiverPatches& p = patches(key.receiver);
+        if (p.patches.empty() && key.patch == 0) return p.face;  // a degenerate face: itself
+        if (key.patch >= p.patches.size())
+            throw std::out_of_range("patch " + std::to_string(key.patch) + " of face " +
+                                    std::to_string(key.receiver) + " out of range");
+        return p.patches[key.patch];
+    }
+    const vis::ReceiverPatches* parent = refinedPatches(parentKey(key, level));
+    const uint32_t sub = levelField(key.patch, level) - 1;
+    if (parent == nullptr || sub >= parent->patches.size())
+        throw std::out_of_range("sub-patch " + std::to_string(key.patch) + " of face " +
+                                std::to_string(key.receiver) + " is not a refined one");
+    return parent->patches[sub];
+}
+
+bool VisibilityStore::refine(const PairKey& key) {
+    const int level = refineLevel(key);
+    // Room for one more level: a patch index within kBaseBits, a well-formed key.
+    const uint32_t used = kBaseBits + static_cast<uint32_t>(level) * kLevelBits;
+    if (level >= kMaxRefineLevels || ((key.patch & ~kRefinedFlag) >> used) != 0) return false;
+    if (refinedPatches(key) != nullptr) return true;
+    const std::vector<Vec3> polygon = region(key);  // checks the key
+    auto sub = std::make_unique<vis::ReceiverPatches>(
+        vis::subdivideReceiverGrid(polygon, kRefineCellsPerSide));
+    if (sub->patches.size() < 2 || sub->patches.size() > kMaxSubPatches) return false;
+    std::unique_lock lock(refinedMutex_);
+    refined_.try_emplace(key, std::move(sub));
+    patchSlots_[key.receiver]->refined.store(true, std::memory_order_release);
+    return true;
+}
+
+PairKey VisibilityStore::subKeyAt(const PairKey& key, const Vec3& x) const {
+    const vis::ReceiverPatches* sub = refinedPatches(key);
+    if (sub == nullptr) throw std::logic_error("subKeyAt: the pair is not refined");
+    return childKey(key, refineLevel(key), sub->find(x));
+}
+
+size_t VisibilityStore::refinedCount() const {
+    std::shared_lock lock(refinedMutex_);
+    return refined_.size();
 }
 
 VisibilityStore::Shard& VisibilityStore::shardOf(const PairKey& key) const {
@@ -112,16 +205,13 @@ std::vector<uint32_t> VisibilityStore::shaftCandidates(const PairKey& key) const
     if (key.receiver >= scene_.faceCount() || key.lightFace >= scene_.faceCount())
         throw std::out_of_range("pair (" + std::to_string(key.receiver) + ", " +
                                 std::to_string(key.lightFace) + ") out of range");
-    const vis::ReceiverPatches& p = patches(key.receiver);
-    if (key.patch >= std::max<size_t>(p.patches.size(), 1))
-        throw std::out_of_range("patch " + std::to_string(key.patch) + " of face " +
-                                std::to_string(key.receiver) + " out of range");
+    const bool whole = patches(key.receiver).patches.size() <= 1 && refineLevel(key) == 0;
+    const std::vector<Vec3> patch = region(key);  // checks the patch
     std::vector<uint32_t> candidates;
     if (bvh_ != nullptr) {
         // The patch's own shaft: a floor patch far from the scene's clutter sees none of it.
-        candidates = p.patches.size() <= 1
-                         ? bvh_->shaftCandidates(key.receiver, key.lightFace)
-                         : bvh_->shaftCandidates(key.receiver, p.patches[key.patch], key.lightFace);
+        candidates = whole ? bvh_->shaftCandidates(key.receiver, key.lightFace)
+                           : bvh_->shaftCandidates(key.receiver, patch, key.lightFace);
         // An empty candidate list means "all faces" to the builder; the receiver alone never
         // occludes its own pair, so it stands for "none".
         if (candidates.empty()) candidates.push_back(key.receiver);
@@ -141,14 +231,13 @@ VisibilityStore::ShaftCount VisibilityStore::shaftCount(const PairKey& key) cons
 std::unique_ptr<PairRecord> VisibilityStore::build(const PairKey& key,
                                                    const std::atomic<bool>* cancel) const {
     const std::vector<uint32_t> candidates = shaftCandidates(key);
-    const vis::ReceiverPatches& p = patches(key.receiver);
-    const bool whole = p.patches.size() <= 1;
+    const bool whole = patches(key.receiver).patches.size() <= 1 && refineLevel(key) == 0;
+    const std::vector<Vec3> patch = whole ? std::vector<Vec3>{} : region(key);
     auto record = std::make_unique<PairRecord>();
     vis::BuildOptions buildOptions = options_.build;
     if (cancel != nullptr) buildOptions.cancel = cancel;
-    record->tree = vis::buildHistoryTree(
-        scene_.mesh, key.receiver, key.lightFace, buildOptions, candidates, &record->stats,
-        whole ? std::span<const Vec3>{} : std::span<const Vec3>(p.patches[key.patch]));
+    record->tree = vis::buildHistoryTree(scene_.mesh, key.receiver, key.lightFace, buildOptions,
+                                         candidates, &record->stats, patch);
     return record;
 }
 
@@ -217,6 +306,11 @@ void VisibilityStore::clear() {
         std::unique_lock lock(shard.mutex);
         shard.entries.clear();
     }
+    {
+        std::unique_lock lock(refinedMutex_);
+        refined_.clear();
+    }
+    for (auto& slot : patchSlots_) slot->refined.store(false, std::memory_order_relaxed);
     treeCount_ = 0;
     bytes_ = 0;
     for (auto& k : kinds_) k = 0;

@@ -79,8 +79,34 @@ class VisibilityStore {
     // How many patches a receiver face has (at least 1), without making them: what counting
     // every pair of a large scene needs (patches() keeps each face's patches once made).
     size_t patchCount(uint32_t face) const;
-    // The key of the tree serving point x on `face` for light face `lightFace`.
+    // The key of the tree serving point x on `face` for light face `lightFace`: its patch's, or
+    // where that pair was refined, the finest built sub-patch's tree holding x (below).
     PairKey keyAt(uint32_t face, const Vec3& x, uint32_t lightFace) const;
+
+    // Query-driven refinement. A pair whose queries the renderer found too expensive (a partial
+    // tree of a patch under foliage) is refined: its patch is split into sub-patches
+    // (kRefineCellsPerSide per side, subdivideReceiver's grid), each with its own tree, built
+    // only for the sub-patches the caller asks for (those its expensive points lie in). A smaller
+    // region of the receiver has a narrower shaft, fewer occluders and a tree that the build
+    // budget completes more often. Each sub-patch tree is exact for the lines through its
+    // sub-patch, like any patch's; keyAt returns it for x only once it is built, the parent's
+    // otherwise, so the answer never waits for a build. Refined keys are levels below a patch
+    // (at most kMaxRefineLevels), encoded in PairKey::patch above the patch's index; they are a
+    // cache of the render: visibility files keep only the patches' own trees.
+    static constexpr int kRefineCellsPerSide = 4;
+    static constexpr int kMaxRefineLevels = 3;
+    // How many levels below its receiver patch `key` is (0: a patch's own tree).
+    static int refineLevel(const PairKey& key);
+    // Marks `key` refined (idempotent); false where it cannot be (kMaxRefineLevels reached, a
+    // patch index too large for the encoding, a face too small to split).
+    bool refine(const PairKey& key);
+    // The key of the sub-patch of refined `key` that holds x (its tree may not be built).
+    PairKey subKeyAt(const PairKey& key, const Vec3& x) const;
+    // The part of the receiver the key's tree is for: its patch, or sub-patch (the whole face
+    // when it is one patch).
+    std::vector<Vec3> region(const PairKey& key) const;
+    // Refined pairs so far.
+    size_t refinedCount() const;
 
     // Non-blocking: the tree if it is built, else nullptr.
     const PairRecord* find(const PairKey& key) const;
@@ -128,6 +154,8 @@ class VisibilityStore {
     static constexpr size_t kShards = 64;
 
     Shard& shardOf(const PairKey& key) const;
+    // The sub-patches of a refined key, or null.
+    const vis::ReceiverPatches* refinedPatches(const PairKey& key) const;
     Entry& entryFor(const PairKey& key);
     void publish(Entry& entry, std::unique_ptr<PairRecord> record);
     std::unique_ptr<PairRecord> build(const PairKey& key, const std::atomic<bool>* cancel) const;
@@ -141,6 +169,9 @@ class VisibilityStore {
     double maxPatchDiameter_ = 0;
     mutable std::array<Shard, kShards> shards_;
     std::vector<std::unique_ptr<PatchSlot>> patchSlots_;  // per face, filled on first use
+    // The refined keys' sub-patches (never removed but by clear(); the pointers stay valid).
+    mutable std::shared_mutex refinedMutex_;
+    std::unordered_map<PairKey, std::unique_ptr<vis::ReceiverPatches>, PairKeyHash> refined_;
     std::atomic<size_t> treeCount_{0};
     std::atomic<size_t> bytes_{0};
     std::array<std::atomic<size_t>, vis::kPairKindCount> kinds_{};

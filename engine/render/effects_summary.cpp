@@ -75,6 +75,21 @@ std::string EffectsSummary::text() const {
                  " - the build budget stopped the tree, its other " +
                  plural(deferredOccluders, "occluder is", "occluders are") +
                  " clipped from each point (still exact)");
+        if (refinedPairs + refineNotWorth > 0) {
+            char time[32];
+            std::snprintf(time, sizeof time, "%.3f s", refineSeconds);
+            line("pairs refined: " + std::to_string(refinedPairs) +
+                 " - points of theirs reached the work limit, so their receiver patch was split "
+                 "and " +
+                 plural(refinedTrees, "sub-patch tree", "sub-patch trees") +
+                 " built where those points lie (" + time + ", between passes); " +
+                 std::to_string(refinedTreesUsed) +
+                 " answered later points (narrower shafts, more occluders in the tree; the same "
+                 "exact answer)");
+            line("  sub-patches left unrefined: " + std::to_string(refineNotWorth) +
+                 " - their tree would cost more to build than sampling their points in the "
+                 "passes left (the parent's build time against the pass's shadow-ray cost)");
+        }
         if (partialByGroupsEvaluations > 0)
             line("    of their evaluations, " + std::to_string(partialByGroupsEvaluations) +
                  " answered without the tree - at least a quarter of its deferred occluders lie "

@@ -84,6 +84,14 @@ struct EffectsSummary {
     // Of the penumbra pairs, those with a partial tree (the build budget stopped it: the
     // occluders it left, deferredOccluders in all, are clipped from each shading point, exact).
     size_t pairsPartial = 0, deferredOccluders = 0;
+    // Query-driven refinement (RenderSettings::refineLevels): the pairs whose patch was split
+    // because points reached the work limit, the sub-patch trees built for them, those the
+    // images used (not counted among the pairs above), and the seconds it took.
+    size_t refinedPairs = 0, refinedTrees = 0, refinedTreesUsed = 0;
+    // Sub-patches with sampled points left without a tree: building it would have cost more
+    // than sampling them in the passes left.
+    size_t refineNotWorth = 0;
+    double refineSeconds = 0;
     // The evaluations of partial trees answered without the tree, by the direct path with face
     // groups (most of their deferred occluders lie in groups: answeredByGroups, shading.h).
     uint64_t partialByGroupsEvaluations = 0;

@@ -27,12 +27,16 @@ struct ExactOptions {
     // Occluders from which a point's query uses their boundary chain
     // (RenderSettings::chainMinOccluders; 0 = never).
     uint32_t chainMinOccluders = RenderSettings{}.chainMinOccluders;
+    // Levels of query-driven refinement below a receiver patch (RenderSettings::refineLevels;
+    // 0 = never).
+    int refineLevels = RenderSettings{}.refineLevels;
 
     void applyTo(RenderSettings& settings) const {
         settings.minTreeSamples = minTreeSamples;
         settings.groupedShaftMin = groupedShaftMin;
         settings.exactWorkLimit = exactWorkLimit;
         settings.chainMinOccluders = chainMinOccluders;
+        settings.refineLevels = refineLevels;
     }
     void applyTo(VisibilityStore::Options& options) const {
         options.build.maxLpSolves = maxLpSolves;

@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <unordered_map>
@@ -61,6 +63,11 @@ void validate(const RenderSettings& s) {
             "reference samples " + std::to_string(s.referenceSamples) + " (must be >= 1)");
     require(s.glossySamples >= 1,
             "glossy samples " + std::to_string(s.glossySamples) + " (must be >= 1)");
+    require(s.refineCostShare >= 0 && std::isfinite(s.refineCostShare),
+            "refine cost share " + std::to_string(s.refineCostShare) + " (must be finite, >= 0)");
+    require(s.refineLevels >= 0 && s.refineLevels <= VisibilityStore::kMaxRefineLevels,
+            "refine levels " + std::to_string(s.refineLevels) + " (must be 0.." +
+                std::to_string(VisibilityStore::kMaxRefineLevels) + ")");
 }
 
 struct Tile {
@@ -275,6 +282,8 @@ Vec3 Film::mean(int x, int y) const {
 struct ProgressiveRenderer::PassTimes {
     std::atomic<int64_t> primaryNs{0}, shadingNs{0};
     double wall = 0;
+    double refine = 0;  // of wall, refining after the pass (refineWhere)
+    double refineCpu = 0;
 };
 
 struct ProgressiveRenderer::QueryPool {
@@ -326,6 +335,11 @@ void ProgressiveRenderer::resetEffects() {
     rendered_ = false;
     evaluations_ = {};
     directUsed_.clear();
+    refinedParents_.clear();
+    refineNotWorth_.clear();
+    refinedTrees_ = 0;
+    refineSeconds_ = 0;
+    refinedBuildSum_ = 0;
     groupedNoTree_.clear();
     groupedNoTreeFaces_ = 0;
 }
@@ -438,9 +452,10 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     std::mutex mutex;
     std::vector<PairKey> usedKeys;
     std::vector<uint32_t> facesSeen;
-    ExactEvaluations evaluations;        // by mutex
-    std::vector<PairKey> directKeys;     // by mutex
-    std::vector<uint64_t> overLimitNow;  // by mutex
+    ExactEvaluations evaluations;                // by mutex
+    std::vector<PairKey> directKeys;             // by mutex
+    std::vector<uint64_t> overLimitNow;          // by mutex
+    std::vector<OverLimitPoint> overLimitTrees;  // by mutex
     // The cells of the film's earlier passes, for this film, work limit and store only: with
     // trees added since (the viewer's background precompute) a remembered pixel's pair may have
     // one now, whose walk is far cheaper than the direct path that reached the limit, so every
@@ -499,6 +514,8 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                               scratch.usedDirect.end());
             overLimitNow.insert(overLimitNow.end(), scratch.overLimitNow.begin(),
                                 scratch.overLimitNow.end());
+            overLimitTrees.insert(overLimitTrees.end(), scratch.overLimitTrees.begin(),
+                                  scratch.overLimitTrees.end());
         });
     if (cancelled.load()) return false;
 
@@ -507,8 +524,88 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     for (size_t i = 0; i < image.size(); ++i) film.sum[i] += image[i];
     ++film.passes;
     recordUse(usedKeys, facesSeen, settings, evaluations, directKeys);
-    if (times != nullptr) times->wall = seconds(t0, Clock::now());
+    // Refined between passes: the film of this pass is complete; the next one finds the trees.
+    const auto r0 = Clock::now();
+    const double cpu0 = times != nullptr ? processCpuSeconds() : 0;
+    // The cost of one sampled evaluation, as this pass measured it (10 us before it has).
+    const double sampledSeconds =
+        evaluations.costs.sampledNs.count() > 0 ? evaluations.costs.sampledNs.mean() * 1e-9 : 10e-6;
+    // A cancelled refinement keeps what it built.
+    refineWhere(overLimitTrees, settings, settings.spp - (pass + 1), sampledSeconds, cancel);
+    if (times != nullptr) {
+        times->refine = seconds(r0, Clock::now());
+        times->refineCpu = processCpuSeconds() - cpu0;  // nothing else runs meanwhile
+        times->wall = seconds(t0, Clock::now());
+    }
     return true;
+}
+
+bool ProgressiveRenderer::refineWhere(const std::vector<OverLimitPoint>& points,
+                                      const RenderSettings& settings, int passesLeft,
+                                      double sampledSeconds, const std::atomic<bool>* cancel) {
+    if (settings.method != DirectMethod::Exact || settings.refineLevels == 0 || points.empty() ||
+        passesLeft <= 0)
+        return true;
+    const auto t0 = Clock::now();
+    // Per sub-patch of a refinable tree's patch, this pass's sampled points in it, and the tree.
+    std::map<PairKey, std::pair<uint64_t, PairKey>> subPatches;
+    std::vector<std::pair<PairKey, uint64_t>> cells;  // per point considered: sub-patch, cell
+    for (const OverLimitPoint& p : points) {
+        if (VisibilityStore::refineLevel(p.key) >= settings.refineLevels) continue;
+        if (!store_.refine(p.key)) continue;
+        const PairKey sub = store_.subKeyAt(p.key, p.x);
+        auto& [count, parent] = subPatches[sub];
+        ++count;
+        parent = p.key;
+        cells.emplace_back(sub, p.cell);
+    }
+    // Built where it costs less than what sampling would cost there: a sub-patch tree takes at
+    // most about what its parent's build took (the same budget, a narrower shaft), and the
+    // passes left would sample about as many points there as this one did.
+    std::vector<PairKey> keys, notWorth;
+    for (const auto& [sub, entry] : subPatches) {
+        // (A tree read from a file without its statistics: the sub-patch trees' mean so far.)
+        const PairRecord* parent = store_.find(entry.second);
+        const double buildSeconds = parent != nullptr && parent->stats.seconds > 0
+                                        ? parent->stats.seconds
+                                        : refinedBuildSeconds();
+        const double samplingSeconds =
+            static_cast<double>(entry.first) * passesLeft * sampledSeconds;
+        if (samplingSeconds * settings.refineCostShare >= buildSeconds)
+            keys.push_back(sub);
+        else
+            notWorth.push_back(sub);
+    }
+    const size_t trees0 = store_.treeCount();
+    std::atomic<bool> stopped{false};
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, keys.size(), 1),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                          for (size_t i = range.begin(); i != range.end(); ++i) {
+                              try {
+                                  store_.getOrBuild(keys[i], cancel);
+                              } catch (const vis::BuildCancelled&) {
+                                  stopped.store(true, std::memory_order_relaxed);
+                                  return;
+                              }
+                          }
+                      });
+    // The next pass tries again the cells of the points whose sub-patch got a tree; the other
+    // cells stay skipped (their pairs did not change), unless trees came from elsewhere too.
+    const std::set<PairKey> built(keys.begin(), keys.end());
+    for (const auto& [sub, cell] : cells)
+        if (built.count(sub) != 0 && store_.find(sub) != nullptr) overLimitCells_.erase(cell);
+    if (overLimitCellsTrees_ == trees0) overLimitCellsTrees_ = store_.treeCount();
+    std::lock_guard lock(mutex_);
+    for (const PairKey& key : keys) {
+        refinedParents_.insert(subPatches[key].second);
+        refineNotWorth_.erase(key);
+    }
+    refinedTrees_ += keys.size();
+    for (const PairKey& key : keys)
+        if (const PairRecord* r = store_.find(key)) refinedBuildSum_ += r->stats.seconds;
+    refineNotWorth_.insert(notWorth.begin(), notWorth.end());
+    refineSeconds_ += seconds(t0, Clock::now());
+    return !stopped.load();
 }
 
 Film ProgressiveRenderer::render(const Camera& camera, const RenderSettings& settings,
@@ -520,10 +617,14 @@ Film ProgressiveRenderer::render(const Camera& camera, const RenderSettings& set
     film.reset(settings.width, settings.height);
     const double precompute = prepare(camera, settings, cancel);
     const double cpu1 = processCpuSeconds();
-    double primary = 0, shading = 0;
+    double primary = 0, shading = 0, refine = 0, refineCpu = 0;
     for (int i = 0; i < settings.spp; ++i) {
         PassTimes pt;
-        if (!renderPassTimed(camera, settings, film, cancel, &pt)) break;
+        const bool done = renderPassTimed(camera, settings, film, cancel, &pt);
+        refine += pt.refine;
+        refineCpu += pt.refineCpu;
+        if (!done) break;
+        pt.wall -= pt.refine;
         // Thread time per phase, scaled so that the two phases add up to the pass's wall time.
         const double p = pt.primaryNs.load() * 1e-9, s = pt.shadingNs.load() * 1e-9;
         if (p + s > 0) {
@@ -532,11 +633,12 @@ Film ProgressiveRenderer::render(const Camera& camera, const RenderSettings& set
         }
     }
     if (times != nullptr) {
-        times->precompute = precompute;
+        times->precompute = precompute + refine;
+        times->refine = refine;
         times->primary = primary;
         times->shading = shading;
         times->total = seconds(t0, Clock::now());
-        times->precomputeCpu = cpu1 - cpu0;
+        times->precomputeCpu = cpu1 - cpu0 + refineCpu;
         times->totalCpu = processCpuSeconds() - cpu0;
     }
     return film;
@@ -589,8 +691,18 @@ EffectsSummary ProgressiveRenderer::effects() const {
             ++s.materialsSampled;
     }
     if (method_ != DirectMethod::Exact) return s;
-    // Pairs by kind, from the trees the images used.
+    s.refinedPairs = refinedParents_.size();
+    s.refineNotWorth = refineNotWorth_.size();
+    s.refinedTrees = refinedTrees_;
+    s.refineSeconds = refineSeconds_;
+    // Pairs by kind, from the trees the images used (a refined patch's sub-patch trees apart).
+    size_t patchKeys = 0;
     for (const PairKey& key : usedKeys_) {
+        if (VisibilityStore::refineLevel(key) > 0) {
+            ++s.refinedTreesUsed;
+            continue;
+        }
+        ++patchKeys;
         const PairRecord* record = store_.find(key);
         if (record == nullptr) continue;
         switch (record->tree.kind) {
@@ -619,7 +731,7 @@ EffectsSummary ProgressiveRenderer::effects() const {
         for (uint32_t lf : scene_.lights)
             if (lf != f) total += patches;
     }
-    s.pairsNeverSeen = total > usedKeys_.size() ? total - usedKeys_.size() : 0;
+    s.pairsNeverSeen = total > patchKeys ? total - patchKeys : 0;
     return s;
 }
 

@@ -40,6 +40,7 @@ namespace penumbra {
 
 class EmbreeScene;
 class DirectLighting;
+struct OverLimitPoint;
 
 enum class DirectMethod { Exact, Sampled, Reference };
 const char* toString(DirectMethod m);
@@ -78,6 +79,17 @@ struct RenderSettings {
     // partial tree would be answered by the direct path with the groups (groupsWillAnswer,
     // shading.h), so building it would be wasted. 0 = build them.
     uint32_t groupedShaftMin = 1024;
+    // Exact, with a work limit: query-driven refinement. After each pass, a tree whose points
+    // reached the work limit has its receiver patch split (VisibilityStore::refine) and the
+    // trees of the sub-patches those points lie in built, so that the later passes walk a tree
+    // for a smaller region (narrower shaft, more of its occluders inserted) where the image
+    // found the exact answer expensive; nothing is built where it did not, nor where the build
+    // would cost more than sampling those points in the passes left. Up to this many levels
+    // below a patch (at most VisibilityStore::kMaxRefineLevels); 0 = never. The same answer.
+    int refineLevels = VisibilityStore::kMaxRefineLevels;
+    // A sub-patch tree is built where its estimated build time is at most this many times the
+    // sampling it replaces (1: break-even; tests raise it to refine wherever the limit was hit).
+    double refineCostShare = 1;
 };
 
 // Linear radiance, accumulated over passes. A pass adds one jittered sample per pixel; the jitter
@@ -91,13 +103,16 @@ struct Film {
 };
 
 struct RenderTimes {
-    double precompute = 0;  // seconds building the history trees the image needs
-    double primary = 0;     // tracing primary rays (summed over threads, then scaled to wall time)
-    double shading = 0;     // direct illumination
-    double total = 0;       // wall time
+    // Seconds building the history trees the image needs: prepare's, and the refinement's after
+    // the passes (`refine`, part of it).
+    double precompute = 0;
+    double refine = 0;
+    double primary = 0;  // tracing primary rays (summed over threads, then scaled to wall time)
+    double shading = 0;  // direct illumination
+    double total = 0;    // wall time
     // Process CPU time (all threads, user + system) of the precompute and of the whole render:
     // on a loaded machine wall times mislead, CPU times still compare methods.
-    double precomputeCpu = 0;
+    double precomputeCpu = 0;  // the refinement's included
     double totalCpu = 0;
 };
 
@@ -135,6 +150,14 @@ class ProgressiveRenderer {
     struct PassTimes;
     bool renderPassTimed(const Camera& camera, const RenderSettings& settings, Film& film,
                          const std::atomic<bool>* cancel, PassTimes* times);
+    // Query-driven refinement after a pass (RenderSettings::refineLevels): the trees whose
+    // walks from `points` (this pass's points sampled over the work limit) would have answered
+    // are refined, and the sub-patches holding those points built where the build costs less
+    // than sampling them would in the `passesLeft` passes to come (`sampledSeconds` each).
+    // The cells of the points whose sub-patch got a tree leave overLimitCells_ (the others stay
+    // skipped). Returns false when cancelled (what was built stays).
+    bool refineWhere(const std::vector<OverLimitPoint>& points, const RenderSettings& settings,
+                     int passesLeft, double sampledSeconds, const std::atomic<bool>* cancel);
     void recordUse(const std::vector<PairKey>& keys, const std::vector<uint32_t>& faces,
                    const RenderSettings& settings, const ExactEvaluations& evaluations = {},
                    const std::vector<PairKey>& directKeys = {});
@@ -163,6 +186,19 @@ class ProgressiveRenderer {
     std::set<PairKey> groupedNoTree_;
     uint64_t groupedNoTreeFaces_ = 0;
     uint32_t groupedShaftMin_ = 0;
+    // Query-driven refinement so far (refineWhere): the trees with sub-patch trees built below
+    // them, those sub-patch trees, the sub-patches left without one (not worth it), and the
+    // wall time it took.
+    std::set<PairKey> refinedParents_;
+    size_t refinedTrees_ = 0;
+    std::set<PairKey> refineNotWorth_;
+    double refineSeconds_ = 0;
+    // The sub-patch trees' build seconds, summed (one thread each), and their mean (10 ms
+    // before any): the cost estimate where a parent's own is unknown.
+    double refinedBuildSum_ = 0;
+    double refinedBuildSeconds() const {
+        return refinedTrees_ > 0 ? refinedBuildSum_ / static_cast<double>(refinedTrees_) : 10e-3;
+    }
     // The (pixel, light) cells of the film being accumulated whose exact query reached the work
     // limit (ExactScratch::overLimitBefore), the limit they were for and the store's tree count
     // then (cleared when either changes): written between passes, read by a pass's tiles.

@@ -141,6 +141,9 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             if (!scratch.regionCorners.empty() && record != nullptr)
                 scratch.regionOverLimit[k] = scratch.regionId;
             if (tried) scratch.overLimitNow.push_back(cell);
+            if (record != nullptr && record->tree.kind == vis::PairKind::Penumbra &&
+                !answeredByGroups(*record))
+                scratch.overLimitTrees.push_back({key, p.x, cell});
             if (!timed) return sampledAreaLight(light, p, fallbackSamples, rng);
             const auto raysStart = Clock::now();
             const Vec3 v = sampledAreaLight(light, p, fallbackSamples, rng);

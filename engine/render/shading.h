@@ -111,6 +111,13 @@ bool groupsWillAnswer(const VisibilityStore::ShaftCount& shaft, size_t minFaces)
 // and scratch for the fragments. For a fully visible pair the fragment is the light clipped to
 // the receiver's front half-space, whatever x: it is cached per light for the last receiver face
 // (the same polygon FPQuery would return, without walking or allocating per point).
+// A point sampled over the work limit that a tree's walk answers (ExactScratch::overLimitTrees).
+struct OverLimitPoint {
+    PairKey key;
+    Vec3 x;
+    uint64_t cell = 0;  // (pixel, light), as ExactScratch::overLimitNow
+};
+
 struct ExactScratch {
     std::vector<PairKey> lastKey;             // per light
     std::vector<const PairRecord*> lastTree;  // per light (nullptr: none yet)
@@ -157,6 +164,9 @@ struct ExactScratch {
     const std::unordered_set<uint64_t>* overLimitBefore = nullptr;
     uint64_t pixel = 0;
     std::vector<uint64_t> overLimitNow;
+    // The points sampled over the work limit (tried or skipped) that a tree's walk answers,
+    // with the tree's key: where the renderer refines (RenderSettings::refineLevels).
+    std::vector<OverLimitPoint> overLimitTrees;
     // Whether to time the next evaluation (EvaluationCosts): one in kTimedEvery, in this
     // scratch's order. Reading the clock twice per evaluation cost the Cornell box's exact render
     // 4.7% of its time (its median evaluation takes 0.17 us); a systematic sample keeps the

@@ -389,6 +389,57 @@ TEST(Renderer, PixelsOverTheWorkLimitAreTriedAgainOnceTreesAreAdded) {
     EXPECT_LT(2 * triedInPass(), first + second);  // and remembered again
 }
 
+// Query-driven refinement (RenderSettings::refineLevels): after a pass whose tree walks reached
+// the work limit, the sub-patches holding those points get their own trees, and later passes
+// walk them. Rendered again with every point exact through the refined store, the image is the
+// unrefined store's (two exact computations of one answer); with the limit, refining samples
+// fewer points than not refining; with refinement off, or no build worth its cost, nothing is
+// refined.
+TEST(Renderer, RefinedSubPatchTreesServeLaterPassesWithTheSameExactImage) {
+    const Camera camera = penumbraCamera();
+    RenderSettings s = workLimitSettings(4, 2);
+    s.minTreeSamples = 0;      // a tree for every pair: walks reach the limit
+    s.refineCostShare = 1e12;  // refine wherever a walk reached it (no cost model)
+    auto sampledWith = [&](int levels, Rig& rig) {
+        s.refineLevels = levels;
+        rig.renderer.resetEffects();
+        rig.renderer.render(camera, s);
+        return rig.renderer.effects();
+    };
+    Rig refined(penumbraScene(Material{})), plain(penumbraScene(Material{}));
+    const EffectsSummary on = sampledWith(VisibilityStore::kMaxRefineLevels, refined);
+    const EffectsSummary off = sampledWith(0, plain);
+    EXPECT_GT(on.refinedTrees, 0u);
+    EXPECT_GT(on.refinedTreesUsed, 0u);
+    EXPECT_GT(refined.store.refinedCount(), 0u);
+    EXPECT_NE(on.text().find("pairs refined: "), std::string::npos) << on.text();
+    EXPECT_EQ(off.refinedTrees, 0u);
+    EXPECT_EQ(plain.store.refinedCount(), 0u);
+    EXPECT_LT(on.sampledEvaluations, off.sampledEvaluations);
+    // Where no build is worth its cost, the sub-patches are counted and left without a tree.
+    Rig frugal(penumbraScene(Material{}));
+    s.refineCostShare = 0;
+    const EffectsSummary none = sampledWith(VisibilityStore::kMaxRefineLevels, frugal);
+    EXPECT_EQ(none.refinedTrees, 0u);
+    EXPECT_GT(none.refineNotWorth, 0u);
+    EXPECT_EQ(none.sampledEvaluations, off.sampledEvaluations);
+
+    s.exactWorkLimit = 0;
+    s.refineLevels = 0;
+    refined.renderer.resetEffects();
+    const Film a = refined.renderer.render(camera, s);
+    EXPECT_GT(refined.renderer.effects().refinedTreesUsed, 0u);
+    const Film b = plain.renderer.render(camera, s);
+    ASSERT_EQ(a.sum.size(), b.sum.size());
+    size_t lit = 0;
+    for (size_t i = 0; i < a.sum.size(); ++i) {
+        const double va = channelSum(a.sum[i]), vb = channelSum(b.sum[i]);
+        EXPECT_NEAR(va, vb, 1e-9 * std::max(1.0, std::fabs(vb))) << "pixel " << i;
+        lit += va > 0;
+    }
+    EXPECT_GT(lit, a.sum.size() / 4);
+}
+
 // A closed box of 6 x 2 n^2 triangles, [x0, x1] x [y0, y1] x [z0, z1], facing out: each side a
 // flat n x n grid of quads (its faces make groups: vis::FaceClusters).
 void addGridBox(Scene& s, Vec3 lo, Vec3 hi, int n, int32_t material) {

@@ -319,6 +319,12 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
                          {"chainFragments", fx.costs.chainFragments}};
             e["exactWorkLimit"] = s.exactWorkLimit;
             e["minTreeSamples"] = s.minTreeSamples;
+            // Query-driven refinement between passes (RenderSettings::refineLevels).
+            e["refined"] = {{"pairs", fx.refinedPairs},
+                            {"trees", fx.refinedTrees},
+                            {"treesUsed", fx.refinedTreesUsed},
+                            {"notWorth", fx.refineNotWorth},
+                            {"seconds", fx.refineSeconds}};
             row["speedupWall"] = row["sampled128"]["wall"].get<double>() / (prepWall + t.total);
             row["speedupCpu"] = row["sampled128"]["cpu"].get<double>() / (prepCpu + t.totalCpu);
             row["speedupRenderOnlyCpu"] = row["sampled128"]["cpu"].get<double>() / t.totalCpu;

@@ -1,0 +1,163 @@
+// VisibilityStore's query-driven refinement (VisibilityStore::refine): a refined patch's
+// sub-patch trees are exact for their sub-patches (checked against the exact CGAL reference and
+// the parent's tree), keyAt serves them only once built, the key encoding holds its levels, and
+// visibility files keep the patches' own trees only.
+#include "engine/precompute/visibility_store.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <random>
+#include <vector>
+
+#include "engine/io/visibility_file.h"
+#include "engine/render/embree_scene.h"
+#include "engine/scene/procedural_scenes.h"
+#include "tests/support/exact_reference.h"
+#include "visibility/form_factor.h"
+#include "visibility/fp_query.h"
+
+namespace penumbra {
+namespace {
+
+double visibleFraction(const Scene& scene, const vis::HistoryTree& tree, const Vec3& x) {
+    vis::FromPointQuery query;
+    const vis::FragmentList& list = query.run(scene.mesh, tree, x);
+    double area = 0;
+    for (size_t i = 0; i < list.size(); ++i) area += vis::polygonArea(list[i]);
+    return area / scene.mesh.faceArea(tree.light);
+}
+
+// A point of triangle `t` shrunk by 1% about its centroid (inside it, away from its edges).
+Vec3 pointIn(const std::vector<Vec3>& t, std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> u(0, 1);
+    double a = u(rng), b = u(rng);
+    if (a + b > 1) a = 1 - a, b = 1 - b;
+    const Vec3 c = (t[0] + t[1] + t[2]) / 3.0;
+    const Vec3 p = t[0] + (t[1] - t[0]) * a + (t[2] - t[0]) * b;
+    return c + (p - c) * 0.99;
+}
+
+// The table under its light (foliage: hundreds of leaves over the floor), with a small build
+// budget so that the floor's patch trees are partial, as the renderer's are on the real scene.
+struct TableRig {
+    TableRig() : scene(makeTable()), bvh(scene.mesh), store(scene, &bvh, options()) {}
+    static VisibilityStore::Options options() {
+        VisibilityStore::Options o;
+        o.build.maxLpSolves = 400;
+        return o;
+    }
+    // The largest face that is not a light: the floor.
+    uint32_t floor() const {
+        uint32_t best = 0;
+        for (uint32_t f = 0; f < scene.faceCount(); ++f)
+            if (!scene.material(f).isEmissive() &&
+                scene.mesh.faceArea(f) > scene.mesh.faceArea(best))
+                best = f;
+        return best;
+    }
+    Scene scene;
+    EmbreeScene bvh;
+    VisibilityStore store;
+};
+
+TEST(VisibilityStore, RefinedSubPatchTreesMatchTheExactReferenceInTheirSubPatches) {
+    TableRig rig;
+    const uint32_t floor = rig.floor(), light = rig.scene.lights.at(0);
+    // A floor patch in the penumbra whose tree is partial.
+    std::mt19937_64 rng(7);
+    PairKey key;
+    Vec3 x;
+    bool found = false;
+    const vis::ReceiverPatches& patches = rig.store.patches(floor);
+    for (uint32_t p = 0; p < patches.patches.size() && !found; ++p) {
+        const PairKey k{floor, p, light};
+        const PairRecord& r = rig.store.getOrBuild(k);
+        if (r.tree.kind != vis::PairKind::Penumbra || !r.tree.partial()) continue;
+        for (int i = 0; i < 8 && !found; ++i) {
+            const Vec3 y = pointIn(patches.patches[p], rng);
+            const double f = visibleFraction(rig.scene, r.tree, y);
+            if (f > 0.05 && f < 0.95 && rig.store.keyAt(floor, y, light) == k) {
+                key = k;
+                x = y;
+                found = true;
+            }
+        }
+    }
+    ASSERT_TRUE(found) << "no partial floor tree in the penumbra";
+    ASSERT_EQ(VisibilityStore::refineLevel(key), 0);
+
+    // Two levels down from x's patch; keyAt moves to a sub-patch only once its tree is built.
+    std::vector<PairKey> chain{key};
+    for (int level = 1; level <= 2; ++level) {
+        ASSERT_TRUE(rig.store.refine(chain.back()));
+        const PairKey sub = rig.store.subKeyAt(chain.back(), x);
+        EXPECT_EQ(VisibilityStore::refineLevel(sub), level);
+        EXPECT_EQ(rig.store.keyAt(floor, x, light), chain.back()) << "served before it was built";
+        rig.store.getOrBuild(sub);
+        EXPECT_EQ(rig.store.keyAt(floor, x, light), sub);
+        chain.push_back(sub);
+    }
+    // Each sub-patch lies in its parent (a quarter of its size per side, up to the growth).
+    const std::vector<Vec3> outer = rig.store.region(chain[0]), inner = rig.store.region(chain[2]);
+    ASSERT_EQ(inner.size(), 3u);
+    auto diameter = [](const std::vector<Vec3>& t) {
+        return std::max({length(t[0] - t[1]), length(t[1] - t[2]), length(t[2] - t[0])});
+    };
+    EXPECT_NEAR(diameter(inner), diameter(outer) / 16, 1e-6 * diameter(outer));
+    // A finer tree holds more of the shaft's occluders (fewer deferred to each point).
+    const PairRecord& top = *rig.store.find(chain[0]);
+    const PairRecord& finest = *rig.store.find(chain[2]);
+    EXPECT_LT(finest.tree.deferred.size(), top.tree.deferred.size());
+
+    // Points of the finest sub-patch: each tree of the chain (exact for its region, which holds
+    // them) against the exact reference.
+    int penumbra = 0;
+    for (int i = 0; i < 10; ++i) {
+        const Vec3 y = i == 0 ? x : pointIn(inner, rng);
+        ASSERT_EQ(rig.store.keyAt(floor, y, light), chain[2]);
+        const double reference = test::exactReference(rig.scene.mesh, floor, light, y).fraction;
+        penumbra += reference > 1e-6 && reference < 1 - 1e-6;
+        for (const PairKey& k : chain)
+            EXPECT_NEAR(visibleFraction(rig.scene, rig.store.find(k)->tree, y), reference, 1e-9)
+                << "point " << i << ", level " << VisibilityStore::refineLevel(k);
+    }
+    EXPECT_GT(penumbra, 0);
+}
+
+TEST(VisibilityStore, RefinementStopsAtItsLevelsAndFilesKeepThePatchTreesOnly) {
+    TableRig rig;
+    const uint32_t floor = rig.floor(), light = rig.scene.lights.at(0);
+    const Vec3 x = rig.store.region({floor, 0, light})[0] * 0.5 +
+                   rig.store.region({floor, 0, light})[1] * 0.25 +
+                   rig.store.region({floor, 0, light})[2] * 0.25;
+    PairKey key = rig.store.keyAt(floor, x, light);
+    rig.store.getOrBuild(key);
+    for (int level = 0; level < VisibilityStore::kMaxRefineLevels; ++level) {
+        ASSERT_TRUE(rig.store.refine(key));
+        EXPECT_TRUE(rig.store.refine(key));  // idempotent
+        key = rig.store.subKeyAt(key, x);
+        rig.store.getOrBuild(key);
+    }
+    EXPECT_EQ(VisibilityStore::refineLevel(key), VisibilityStore::kMaxRefineLevels);
+    EXPECT_FALSE(rig.store.refine(key));
+    EXPECT_EQ(rig.store.keyAt(floor, x, light), key);
+    EXPECT_EQ(rig.store.refinedCount(), static_cast<size_t>(VisibilityStore::kMaxRefineLevels));
+    EXPECT_THROW(rig.store.subKeyAt(key, x), std::logic_error);
+    // A sub-patch key of a patch that was never refined names no region.
+    PairKey stray{floor, 1, light};
+    if (rig.store.patches(floor).patches.size() > 1) {
+        stray.patch |= 0x80000000u | (1u << 13);
+        EXPECT_THROW(rig.store.region(stray), std::out_of_range);
+    }
+
+    const auto file = std::filesystem::temp_directory_path() / "penumbra_refined_store.pvis";
+    writeVisibilityFile(file, rig.store);
+    VisibilityStore loaded(rig.scene, &rig.bvh, TableRig::options());
+    EXPECT_EQ(readVisibilityFile(file, loaded), 1u);  // the patch's tree, not its sub-patches'
+    EXPECT_EQ(loaded.keyAt(floor, x, light), (PairKey{floor, key.patch & 0x1FFFu, light}));
+    std::filesystem::remove(file);
+}
+
+}  // namespace
+}  // namespace penumbra
