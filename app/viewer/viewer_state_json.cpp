@@ -157,6 +157,7 @@ nlohmann::json Viewer::stateJson() const {
                   {"groupedShaftMin", options_.exact.groupedShaftMin},
                   {"exactWorkLimit", options_.exact.exactWorkLimit},
                   {"chainMinOccluders", options_.exact.chainMinOccluders},
+                  {"refineLevels", options_.exact.refineLevels},
                   {"passes", options_.previewSettings.passes},
                   {"lightSamples", options_.previewSettings.lightSamples}};
     s["preview"] = {{"mode", toString(options_.previewSettings.mode)},

@@ -208,6 +208,9 @@ TEST_F(RenderCommand, BadInputGetsAClearErrorAndExitCode) {
     r = run(base(), {"--out", path("a.jpg")});
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_NE(output(r).find(".png or .pfm"), std::string::npos) << output(r);
+    r = run(base(), {"--refine-levels", "4", "--out", path("a.png")});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(output(r).find("--refine-levels"), std::string::npos) << output(r);
     r = run(base(), {"--method", "fancy", "--out", path("a.png")});
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_NE(output(r).find("fancy"), std::string::npos) << output(r);
