@@ -88,7 +88,8 @@ std::string EffectsSummary::text() const {
                  "exact answer)");
             line("  sub-patches left unrefined: " + std::to_string(refineNotWorth) +
                  " - their tree would cost more to build than sampling their points in the "
-                 "passes left (the parent's build time against the pass's shadow-ray cost)");
+                 "passes left (the parent tree's linear programs against those points' shadow "
+                 "rays, both counted in rays)");
         }
         if (partialByGroupsEvaluations > 0)
             line("    of their evaluations, " + std::to_string(partialByGroupsEvaluations) +

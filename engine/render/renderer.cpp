@@ -74,6 +74,12 @@ struct Tile {
     int x0, y0, x1, y1;
 };
 
+// Query-driven refinement's cost model (refineWhere), in shadow rays, measured on the table scene
+// (2-core EPYC): a linear program of a tree's build costs about 5 us, a shadow ray about 0.1 us
+// (128 rays: 6-13 us), a tree about 0.1 ms besides its programs. Counts, not seconds: what is
+// refined, and so the image, is the same on every run and machine.
+constexpr double kRefineRaysPerLpSolve = 50, kRefineRaysPerTree = 1000;
+
 Tile tileAt(int index, const RenderSettings& s) {
     const int tilesX = (s.width + kTileSize - 1) / kTileSize;
     const int tx = index % tilesX, ty = index / tilesX;
@@ -150,11 +156,14 @@ class TileShader {
     void shade(const Tile& tile, std::vector<Vec3>& image) {
         collectPoints(tile);
         if (in_.exact)
-            std::sort(points_.begin(), points_.end(),
-                      [](const TilePoint& l, const TilePoint& r) { return l.group < r.group; });
+            std::sort(points_.begin(), points_.end(), [](const TilePoint& l, const TilePoint& r) {
+                return l.group != r.group ? l.group < r.group : l.cell < r.cell;
+            });
         for (size_t g = 0; g < points_.size();) {
             size_t end = g + 1;
-            while (end < points_.size() && points_[end].group == points_[g].group) ++end;
+            while (end < points_.size() && points_[end].group == points_[g].group &&
+                   points_[end].cell == points_[g].cell)
+                ++end;
             shadeGroup(g, end, image);
             g = end;
         }
@@ -172,7 +181,10 @@ class TileShader {
     struct TilePoint {
         int x = 0, y = 0;
         SurfacePoint point;
-        uint64_t group = 0;  // receiver face, patch and region cell (exact method)
+        // Receiver face and the patch field of its first light's key (a refined patch's
+        // sub-patch: VisibilityStore::keyAt), and the region cell (exact method).
+        uint64_t group = 0;
+        uint32_t cell = 0;
     };
 
     void collectPoints(const Tile& tile) {
@@ -200,11 +212,16 @@ class TileShader {
                 p.wo = -ph.ray.direction;
                 p.material = &in_.scene.material(f);
                 if (in_.exact) {
-                    const uint32_t cell = static_cast<uint32_t>(((y - tile.y0) / kRegionCell) *
-                                                                    (kTileSize / kRegionCell) +
-                                                                (x - tile.x0) / kRegionCell);
-                    tp.group = (static_cast<uint64_t>(f) << 32) |
-                               (static_cast<uint64_t>(in_.store.patches(f).find(p.x)) << 8) | cell;
+                    tp.cell = static_cast<uint32_t>(((y - tile.y0) / kRegionCell) *
+                                                        (kTileSize / kRegionCell) +
+                                                    (x - tile.x0) / kRegionCell);
+                    const std::vector<uint32_t>& lights = in_.scene.lights;
+                    const auto light = std::find_if(lights.begin(), lights.end(),
+                                                    [f](uint32_t l) { return l != f; });
+                    const uint32_t patch = light != lights.end()
+                                               ? in_.store.keyAt(f, p.x, *light).patch
+                                               : in_.store.patches(f).find(p.x);
+                    tp.group = (static_cast<uint64_t>(f) << 32) | patch;
                 }
                 points_.push_back(tp);
             }
@@ -339,7 +356,6 @@ void ProgressiveRenderer::resetEffects() {
     refineNotWorth_.clear();
     refinedTrees_ = 0;
     refineSeconds_ = 0;
-    refinedBuildSum_ = 0;
     groupedNoTree_.clear();
     groupedNoTreeFaces_ = 0;
 }
@@ -527,11 +543,8 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     // Refined between passes: the film of this pass is complete; the next one finds the trees.
     const auto r0 = Clock::now();
     const double cpu0 = times != nullptr ? processCpuSeconds() : 0;
-    // The cost of one sampled evaluation, as this pass measured it (10 us before it has).
-    const double sampledSeconds =
-        evaluations.costs.sampledNs.count() > 0 ? evaluations.costs.sampledNs.mean() * 1e-9 : 10e-6;
     // A cancelled refinement keeps what it built.
-    refineWhere(overLimitTrees, settings, settings.spp - (pass + 1), sampledSeconds, cancel);
+    refineWhere(overLimitTrees, settings, settings.spp - (pass + 1), cancel);
     if (times != nullptr) {
         times->refine = seconds(r0, Clock::now());
         times->refineCpu = processCpuSeconds() - cpu0;  // nothing else runs meanwhile
@@ -542,7 +555,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
 
 bool ProgressiveRenderer::refineWhere(const std::vector<OverLimitPoint>& points,
                                       const RenderSettings& settings, int passesLeft,
-                                      double sampledSeconds, const std::atomic<bool>* cancel) {
+                                      const std::atomic<bool>* cancel) {
     if (settings.method != DirectMethod::Exact || settings.refineLevels == 0 || points.empty() ||
         passesLeft <= 0)
         return true;
@@ -559,19 +572,20 @@ bool ProgressiveRenderer::refineWhere(const std::vector<OverLimitPoint>& points,
         parent = p.key;
         cells.emplace_back(sub, p.cell);
     }
-    // Built where it costs less than what sampling would cost there: a sub-patch tree takes at
-    // most about what its parent's build took (the same budget, a narrower shaft), and the
-    // passes left would sample about as many points there as this one did.
+    // Built where it costs less than what sampling would cost there, both in shadow rays: a
+    // sub-patch tree takes at most about what its parent's build took (the same budget, a
+    // narrower shaft), and the passes left would sample about as many points there as this one
+    // did. (A partial tree reached the budget, whatever its file kept of its statistics.)
     std::vector<PairKey> keys, notWorth;
+    const double budget = static_cast<double>(store_.options().build.maxLpSolves);
     for (const auto& [sub, entry] : subPatches) {
-        // (A tree read from a file without its statistics: the sub-patch trees' mean so far.)
         const PairRecord* parent = store_.find(entry.second);
-        const double buildSeconds = parent != nullptr && parent->stats.seconds > 0
-                                        ? parent->stats.seconds
-                                        : refinedBuildSeconds();
-        const double samplingSeconds =
-            static_cast<double>(entry.first) * passesLeft * sampledSeconds;
-        if (samplingSeconds * settings.refineCostShare >= buildSeconds)
+        double lpSolves = parent != nullptr ? static_cast<double>(parent->stats.lpSolves) : budget;
+        if (parent != nullptr && parent->tree.partial()) lpSolves = std::max(lpSolves, budget);
+        const double buildRays = kRefineRaysPerTree + kRefineRaysPerLpSolve * lpSolves;
+        const double samplingRays =
+            static_cast<double>(entry.first) * passesLeft * settings.lightSamples;
+        if (samplingRays * settings.refineCostShare >= buildRays)
             keys.push_back(sub);
         else
             notWorth.push_back(sub);
@@ -601,8 +615,6 @@ bool ProgressiveRenderer::refineWhere(const std::vector<OverLimitPoint>& points,
         refineNotWorth_.erase(key);
     }
     refinedTrees_ += keys.size();
-    for (const PairKey& key : keys)
-        if (const PairRecord* r = store_.find(key)) refinedBuildSum_ += r->stats.seconds;
     refineNotWorth_.insert(notWorth.begin(), notWorth.end());
     refineSeconds_ += seconds(t0, Clock::now());
     return !stopped.load();

@@ -87,7 +87,7 @@ struct RenderSettings {
     // would cost more than sampling those points in the passes left. Up to this many levels
     // below a patch (at most VisibilityStore::kMaxRefineLevels); 0 = never. The same answer.
     int refineLevels = VisibilityStore::kMaxRefineLevels;
-    // A sub-patch tree is built where its estimated build time is at most this many times the
+    // A sub-patch tree is built where its estimated cost is at most this many times that of the
     // sampling it replaces (1: break-even; tests raise it to refine wherever the limit was hit).
     double refineCostShare = 1;
 };
@@ -153,11 +153,11 @@ class ProgressiveRenderer {
     // Query-driven refinement after a pass (RenderSettings::refineLevels): the trees whose
     // walks from `points` (this pass's points sampled over the work limit) would have answered
     // are refined, and the sub-patches holding those points built where the build costs less
-    // than sampling them would in the `passesLeft` passes to come (`sampledSeconds` each).
-    // The cells of the points whose sub-patch got a tree leave overLimitCells_ (the others stay
-    // skipped). Returns false when cancelled (what was built stays).
+    // than sampling them would in the `passesLeft` passes to come (a cost model in shadow rays:
+    // deterministic). The cells of the points whose sub-patch got a tree leave overLimitCells_
+    // (the others stay skipped). Returns false when cancelled (what was built stays).
     bool refineWhere(const std::vector<OverLimitPoint>& points, const RenderSettings& settings,
-                     int passesLeft, double sampledSeconds, const std::atomic<bool>* cancel);
+                     int passesLeft, const std::atomic<bool>* cancel);
     void recordUse(const std::vector<PairKey>& keys, const std::vector<uint32_t>& faces,
                    const RenderSettings& settings, const ExactEvaluations& evaluations = {},
                    const std::vector<PairKey>& directKeys = {});
@@ -193,12 +193,6 @@ class ProgressiveRenderer {
     size_t refinedTrees_ = 0;
     std::set<PairKey> refineNotWorth_;
     double refineSeconds_ = 0;
-    // The sub-patch trees' build seconds, summed (one thread each), and their mean (10 ms
-    // before any): the cost estimate where a parent's own is unknown.
-    double refinedBuildSum_ = 0;
-    double refinedBuildSeconds() const {
-        return refinedTrees_ > 0 ? refinedBuildSum_ / static_cast<double>(refinedTrees_) : 10e-3;
-    }
     // The (pixel, light) cells of the film being accumulated whose exact query reached the work
     // limit (ExactScratch::overLimitBefore), the limit they were for and the store's tree count
     // then (cleared when either changes): written between passes, read by a pass's tiles.

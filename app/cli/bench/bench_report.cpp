@@ -142,8 +142,8 @@ void writeRefined(std::ostream& r, const json& rows) {
       << "After each pass, the trees whose walks reached the work limit have their receiver "
          "patch split (`VisibilityStore::refine`), and the sub-patches holding those points get "
          "their own trees where the build costs less than sampling them would in the passes "
-         "left (`RenderSettings::refineLevels`, `refineCostShare`). The time is part of the "
-         "exact render's.\n\n"
+         "left, both counted in shadow rays (`RenderSettings::refineLevels`, `refineCostShare`). "
+         "The time is part of the exact render's.\n\n"
       << "| scene | pairs refined | sub-patch trees built | used | left unrefined (not worth "
          "it) | seconds |\n|---|---|---|---|---|---|\n";
     for (const json& row : rows) {
