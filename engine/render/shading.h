@@ -106,11 +106,6 @@ bool answeredByGroups(const PairRecord& record);
 // answer), and the precompute is spared (RenderSettings::groupedShaftMin). 0 = never.
 bool groupsWillAnswer(const VisibilityStore::ShaftCount& shaft, size_t minFaces);
 
-// Per-thread (per-tile) state of the exact estimator: the last tree used per light (neighbouring
-// pixels hit the same receiver patch, so most lookups skip the store), the keys the tile needed,
-// and scratch for the fragments. For a fully visible pair the fragment is the light clipped to
-// the receiver's front half-space, whatever x: it is cached per light for the last receiver face
-// (the same polygon FPQuery would return, without walking or allocating per point).
 // A point sampled over the work limit that a tree's walk answers (ExactScratch::overLimitTrees).
 struct OverLimitPoint {
     PairKey key;
@@ -118,6 +113,11 @@ struct OverLimitPoint {
     uint64_t cell = 0;  // (pixel, light), as ExactScratch::overLimitNow
 };
 
+// Per-thread (per-tile) state of the exact estimator: the last tree used per light (neighbouring
+// pixels hit the same receiver patch, so most lookups skip the store), the keys the tile needed,
+// and scratch for the fragments. For a fully visible pair the fragment is the light clipped to
+// the receiver's front half-space, whatever x: it is cached per light for the last receiver face
+// (the same polygon FPQuery would return, without walking or allocating per point).
 struct ExactScratch {
     std::vector<PairKey> lastKey;             // per light
     std::vector<const PairRecord*> lastTree;  // per light (nullptr: none yet)
