@@ -439,7 +439,9 @@ json accuracy(const BenchOptions& o) {
 // ---- Predicates ----------------------------------------------------------------------------
 
 json predicates(const BenchOptions& o) {
-    const PredicateStudy st = runPredicateStudy(o.quick ? 20 : 200, o.quick ? 1 : 5);
+    // Up to 200 points per penumbra patch; --points caps it (a smoke run asks for few).
+    const PredicateStudy st =
+        runPredicateStudy(o.quick ? 20 : std::min(200, o.points), o.quick ? 1 : 5);
     json modes = json::array(), cases = json::array();
     std::printf("predicates: %zu hard cases, %zu queries (x%d timed)\n", st.cases.size(),
                 st.queries, st.repeats);
@@ -914,7 +916,10 @@ void registerBenchCommand(CLI::App& app) {
     sub->add_option("--reference-rays", o->referenceRays,
                     "Rays per reference image (the reference averages two)")
         ->check(CLI::PositiveNumber);
-    sub->add_option("--points", o->points, "Query points per scene")->check(CLI::PositiveNumber);
+    sub->add_option("--points", o->points,
+                    "Query points per scene (and at most per patch of the predicate study, up to "
+                    "200)")
+        ->check(CLI::PositiveNumber);
     sub->add_option("--limit", o->limit, "Seconds allowed per precompute before it is cancelled")
         ->check(CLI::PositiveNumber);
     sub->add_flag("--quick", o->quick,
