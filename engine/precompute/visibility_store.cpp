@@ -102,6 +102,14 @@ PairKey VisibilityStore::keyAt(uint32_t face, const Vec3& x, uint32_t lightFace)
     return key;
 }
 
+uint32_t VisibilityStore::patchOf(const PairKey& key) {
+    return (key.patch & kRefinedFlag) == 0 ? key.patch : key.patch & ((1u << kBaseBits) - 1);
+}
+
+bool VisibilityStore::wholeFace(const PairKey& key) const {
+    return patches(key.receiver).patches.size() <= 1 && refineLevel(key) == 0;
+}
+
 int VisibilityStore::refineLevel(const PairKey& key) {
     if ((key.patch & kRefinedFlag) == 0) return 0;
     int level = 0;
@@ -205,7 +213,7 @@ std::vector<uint32_t> VisibilityStore::shaftCandidates(const PairKey& key) const
     if (key.receiver >= scene_.faceCount() || key.lightFace >= scene_.faceCount())
         throw std::out_of_range("pair (" + std::to_string(key.receiver) + ", " +
                                 std::to_string(key.lightFace) + ") out of range");
-    const bool whole = patches(key.receiver).patches.size() <= 1 && refineLevel(key) == 0;
+    const bool whole = wholeFace(key);
     const std::vector<Vec3> patch = region(key);  // checks the patch
     std::vector<uint32_t> candidates;
     if (bvh_ != nullptr) {
@@ -231,8 +239,7 @@ VisibilityStore::ShaftCount VisibilityStore::shaftCount(const PairKey& key) cons
 std::unique_ptr<PairRecord> VisibilityStore::build(const PairKey& key,
                                                    const std::atomic<bool>* cancel) const {
     const std::vector<uint32_t> candidates = shaftCandidates(key);
-    const bool whole = patches(key.receiver).patches.size() <= 1 && refineLevel(key) == 0;
-    const std::vector<Vec3> patch = whole ? std::vector<Vec3>{} : region(key);
+    const std::vector<Vec3> patch = wholeFace(key) ? std::vector<Vec3>{} : region(key);
     auto record = std::make_unique<PairRecord>();
     vis::BuildOptions buildOptions = options_.build;
     if (cancel != nullptr) buildOptions.cancel = cancel;

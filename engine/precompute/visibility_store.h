@@ -97,6 +97,8 @@ class VisibilityStore {
     static constexpr int kMaxRefineLevels = 3;
     // How many levels below its receiver patch `key` is (0: a patch's own tree).
     static int refineLevel(const PairKey& key);
+    // The index of the receiver patch `key` is for or lies in (PairKey::patch of level 0).
+    static uint32_t patchOf(const PairKey& key);
     // Marks `key` refined (idempotent); false where it cannot be (kMaxRefineLevels reached, a
     // patch index too large for the encoding, a face too small to split).
     bool refine(const PairKey& key);
@@ -154,6 +156,9 @@ class VisibilityStore {
     static constexpr size_t kShards = 64;
 
     Shard& shardOf(const PairKey& key) const;
+    // Whether the key's tree is for the whole face (one patch, not refined): its shaft and
+    // build take no receiver region.
+    bool wholeFace(const PairKey& key) const;
     // The sub-patches of a refined key, or null.
     const vis::ReceiverPatches* refinedPatches(const PairKey& key) const;
     Entry& entryFor(const PairKey& key);

@@ -228,7 +228,7 @@ TEST(VisibilityStore, KeyAtDuringRefinementServesOnlyBuiltTrees) {
                 const PairKey k = store.keyAt(0, x, light);
                 if (k == key) continue;
                 if (VisibilityStore::refineLevel(k) != 1 || store.find(k) == nullptr ||
-                    (k.patch & 0x1FFFu) != key.patch)
+                    VisibilityStore::patchOf(k) != key.patch)
                     wrong += 1;
             }
         }

@@ -155,7 +155,8 @@ TEST(VisibilityStore, RefinementStopsAtItsLevelsAndFilesKeepThePatchTreesOnly) {
     writeVisibilityFile(file, rig.store);
     VisibilityStore loaded(rig.scene, &rig.bvh, TableRig::options());
     EXPECT_EQ(readVisibilityFile(file, loaded), 1u);  // the patch's tree, not its sub-patches'
-    EXPECT_EQ(loaded.keyAt(floor, x, light), (PairKey{floor, key.patch & 0x1FFFu, light}));
+    EXPECT_EQ(loaded.keyAt(floor, x, light),
+              (PairKey{floor, VisibilityStore::patchOf(key), light}));
     std::filesystem::remove(file);
 }
 
