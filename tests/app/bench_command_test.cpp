@@ -124,9 +124,30 @@ TEST_F(BenchCommand, SkipsTheScalingRowsWhoseMeshesAreMissing) {
     EXPECT_LE(cost["evaluations"].get<uint64_t>(), row["exact"]["evaluations"].get<uint64_t>());
     EXPECT_LE(cost["medianUs"].get<double>(), cost["p99Us"].get<double>());
     EXPECT_NE(report.find("### Cost per evaluation"), std::string::npos) << report;
+    // Nothing was sampled: the per-point cost with every point exact is this render's own.
+    const nlohmann::json& every = row["exact"]["costEveryPointExact"];
+    EXPECT_EQ(every["evaluations"], cost["evaluations"]);
+    EXPECT_EQ(every["medianUs"], cost["medianUs"]);
+    EXPECT_EQ(every["image"], "Table 1's image");
+    EXPECT_TRUE(every["complete"].get<bool>());
+    const size_t goals = report.find("### Per-point cost with every point exact");
+    ASSERT_NE(goals, std::string::npos) << report;
+    EXPECT_NE(report.find("| stairs.obj | 8x8, 1 spp (Table 1's image) |", goals),
+              std::string::npos)
+        << report.substr(goals);
     const size_t clicks = report.find("### A click in the viewer");
     ASSERT_NE(clicks, std::string::npos) << report;
     EXPECT_NE(report.find("| stairs.obj | 1 |", clicks), std::string::npos) << report;
+}
+
+TEST_F(BenchCommand, BadSizesAreUsageErrorsBeforeAnyMeasuring) {
+    for (const char* flag : {"--size", "--large-size", "--accuracy-size", "--exact-cost-size"}) {
+        const ProcessResult r = penumbra::test::runPenumbra(
+            {"bench", "assets/stairs.obj", "--out", (root_ / "out").string(), flag, "0x8"}, root_);
+        EXPECT_EQ(r.exitCode, 2) << flag << "\n" << r.out << r.err;
+        EXPECT_NE(r.err.find(flag), std::string::npos) << r.err;
+        EXPECT_EQ(r.out.find("table1"), std::string::npos) << flag << ": measured first\n" << r.out;
+    }
 }
 
 }  // namespace

@@ -78,6 +78,10 @@ struct BenchOptions {
     bool quick = false;
     bool skipLarge = false;
     bool noPlots = false;
+    // The image of the per-point cost with every point exact, for the scenes whose Table 1 image
+    // is too costly to render without the work limit (the large ones, and those above
+    // kAllPairsMaxFaces faces): one sample per pixel.
+    std::string exactCostSize = "128x128";
 };
 
 double seconds(Clock::time_point a, Clock::time_point b) {
@@ -224,6 +228,21 @@ bool canMeasure(const std::string& scene, const std::string& study, json& skippe
 
 // ---- Table 1 -------------------------------------------------------------------------------
 
+// The distribution of a render's exact evaluations (one in 8 timed, query and shading) with
+// the image it came from; `complete` false when the render was cut at the bench's limit (the
+// evaluations timed until then).
+json costJson(const EffectsSummary& fx, const RenderSettings& s, bool complete, const char* image) {
+    return {{"evaluations", fx.costs.exactNs.count()},
+            {"medianUs", fx.costs.exactNs.quantile(0.5) * 1e-3},
+            {"p99Us", fx.costs.exactNs.quantile(0.99) * 1e-3},
+            {"meanUs", fx.costs.exactNs.mean() * 1e-3},
+            {"width", s.width},
+            {"height", s.height},
+            {"spp", s.spp},
+            {"image", image},
+            {"complete", complete}};
+}
+
 json table1Row(const std::string& path, const BenchOptions& o, const fs::path& dir, bool large) {
     const Scene scene = loadSceneFile(path);
     const auto [w, h] =
@@ -351,6 +370,28 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
                 if (done) e["everyPointExact"]["workAt"] = workJson(r.effects());
                 std::printf("  every point exact: render %s%.2f s wall\n", done ? "" : "over ",
                             done ? ta.total : o.limit);
+                e["costEveryPointExact"] = costJson(r.effects(), all, done, "Table 1's image");
+            } else if (fx.sampledEvaluations == 0) {
+                // Nothing was sampled: this render's evaluations were all exact.
+                e["costEveryPointExact"] = costJson(fx, s, true, "Table 1's image");
+            } else if (!o.quick) {
+                // The image above without the limit would cost minutes (the motorbike's
+                // evaluations average milliseconds): a smaller one, one sample per pixel.
+                RenderSettings all = s;
+                const auto [cw, ch] = parseSize("--exact-cost-size", o.exactCostSize, kImageSize);
+                all.width = cw;
+                all.height = ch;
+                all.spp = 1;
+                all.exactWorkLimit = 0;
+                RenderTimes ta;
+                std::atomic<bool> stop{false};
+                r.resetEffects();
+                const bool done =
+                    runWithLimit(o.limit, stop, [&] { r.render(camera, all, &ta, &stop); });
+                e["costEveryPointExact"] =
+                    costJson(r.effects(), all, done, "--exact-cost-size, 1 spp");
+                std::printf("  every point exact at %dx%d, 1 spp: render %s%.2f s wall\n",
+                            all.width, all.height, done ? "" : "over ", done ? ta.total : o.limit);
             }
         } else {
             std::printf("  exact: precompute over the %.0f s limit (%zu trees so far)\n", o.limit,
@@ -822,6 +863,11 @@ void writeAtomically(const fs::path& path, const std::string& text) {
 
 void runBench(const BenchOptions& o, const std::string& commandLine) {
     if (o.out.empty()) throw usageError("--out DIR is required");
+    // Every size now, not when its study comes after minutes of measuring.
+    parseSize("--size", o.size, kImageSize);
+    parseSize("--large-size", o.largeSize, kImageSize);
+    parseSize("--accuracy-size", o.accuracySize, kImageSize);
+    parseSize("--exact-cost-size", o.exactCostSize, kImageSize);
     // TBB keeps one core for the thread that waits by default; the bench's main thread only
     // polls (runWithLimit), so every core gets a worker.
     const tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism,
@@ -833,8 +879,13 @@ void runBench(const BenchOptions& o, const std::string& commandLine) {
     json b;
     b["machine"] = machine();
     b["command"] = commandLine;
-    b["options"] = {{"size", o.size},   {"largeSize", o.largeSize}, {"spp", o.spp},
-                    {"quick", o.quick}, {"skipLarge", o.skipLarge}, {"limit", o.limit}};
+    b["options"] = {{"size", o.size},
+                    {"largeSize", o.largeSize},
+                    {"spp", o.spp},
+                    {"quick", o.quick},
+                    {"skipLarge", o.skipLarge},
+                    {"limit", o.limit},
+                    {"exactCostSize", o.exactCostSize}};
     json skipped = json::array();
     std::vector<std::string> small = o.scenes, large;
     if (small.empty()) {
@@ -925,6 +976,9 @@ void registerBenchCommand(CLI::App& app) {
     sub->add_flag("--quick", o->quick,
                   "CI-sized run: small scenes, small images, few rays, 20 s precompute limit, no "
                   "scaling study");
+    sub->add_option("--exact-cost-size", o->exactCostSize,
+                    "Image size (WxH, 1 spp) of the per-point cost with every point exact for "
+                    "the scenes whose Table 1 image is too costly to render so");
     sub->add_flag("--skip-large", o->skipLarge, "Skip the scenes above 300k triangles");
     sub->add_flag("--no-plots", o->noPlots, "Do not run scripts/plot_bench.py");
     sub->callback([o, sub] {
@@ -945,7 +999,8 @@ void registerBenchCommand(CLI::App& app) {
         cmd += " --large-size " + opt.largeSize + " --limit " + fmt("%g", opt.limit) +
                " --accuracy-size " + opt.accuracySize + " --accuracy-spp " +
                std::to_string(opt.accuracySpp) + " --max-rays " + std::to_string(opt.maxRays) +
-               " --reference-rays " + std::to_string(opt.referenceRays);
+               " --reference-rays " + std::to_string(opt.referenceRays) + " --exact-cost-size " +
+               opt.exactCostSize;
         if (opt.quick) cmd += " --quick";
         if (opt.skipLarge) cmd += " --skip-large";
         runBench(opt, cmd);
