@@ -388,8 +388,7 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
                 r.resetEffects();
                 const bool done =
                     runWithLimit(o.limit, stop, [&] { r.render(camera, all, &ta, &stop); });
-                e["costEveryPointExact"] =
-                    costJson(r.effects(), all, done, "--exact-cost-size, 1 spp");
+                e["costEveryPointExact"] = costJson(r.effects(), all, done, "--exact-cost-size");
                 std::printf("  every point exact at %dx%d, 1 spp: render %s%.2f s wall\n",
                             all.width, all.height, done ? "" : "over ", done ? ta.total : o.limit);
             }
