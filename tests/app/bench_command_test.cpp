@@ -11,6 +11,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "engine/io/obj_io.h"
+#include "engine/scene/procedural_scenes.h"
 #include "tests/support/run_penumbra.h"
 #include "tests/support/test_files.h"
 
@@ -138,6 +140,61 @@ TEST_F(BenchCommand, SkipsTheScalingRowsWhoseMeshesAreMissing) {
     const size_t clicks = report.find("### A click in the viewer");
     ASSERT_NE(clicks, std::string::npos) << report;
     EXPECT_NE(report.find("| stairs.obj | 1 |", clicks), std::string::npos) << report;
+}
+
+TEST_F(BenchCommand, MeasuresEveryPointExactOnASmallerImageAboveTheAllPairsSize) {
+    // 12000 random triangles between a floor and a light: above the bench's all-pairs size
+    // (10000 faces), and every floor point's pyramid holds thousands of them, so the default
+    // render samples points (over the work limit) and the per-point cost with every point exact
+    // comes from a render of --exact-cost-size at 1 spp, cut at --limit where it takes longer.
+    const fs::path scene = root_ / "soup.obj";
+    penumbra::writeObj(penumbra::makeRandomSoup(12000, 3), scene);
+    const fs::path out = root_ / "out";
+    const ProcessResult r = penumbra::test::runPenumbra({"bench",
+                                                         scene.string(),
+                                                         "--out",
+                                                         out.string(),
+                                                         "--size",
+                                                         "8x8",
+                                                         "--spp",
+                                                         "1",
+                                                         "--accuracy-size",
+                                                         "8x8",
+                                                         "--accuracy-spp",
+                                                         "1",
+                                                         "--max-rays",
+                                                         "1",
+                                                         "--reference-rays",
+                                                         "1",
+                                                         "--points",
+                                                         "1",
+                                                         "--limit",
+                                                         "1",
+                                                         "--exact-cost-size",
+                                                         "6x5",
+                                                         "--no-plots"},
+                                                        root_);
+    ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+    const nlohmann::json bench = nlohmann::json::parse(readFile(out / "bench.json"));
+    ASSERT_EQ(bench["table1"].size(), 1u);
+    const nlohmann::json& e = bench["table1"][0]["exact"];
+    ASSERT_GT(e["sampledEvaluations"].get<uint64_t>(), 0u) << e.dump(1);
+    EXPECT_FALSE(e.contains("everyPointExact"));  // (the small scenes' full-image render)
+    const nlohmann::json& every = e["costEveryPointExact"];
+    EXPECT_EQ(every["image"], "--exact-cost-size");
+    EXPECT_EQ(every["width"], 6);
+    EXPECT_EQ(every["height"], 5);
+    EXPECT_EQ(every["spp"], 1);
+    // At most one evaluation in 8 of 30 pixels' points is timed, and only if it finished.
+    EXPECT_LE(every["evaluations"].get<uint64_t>(), 30u / 8 + 1);
+    const std::string report = readFile(out / "report.md");
+    const size_t goals = report.find("### Per-point cost with every point exact");
+    ASSERT_NE(goals, std::string::npos) << report;
+    EXPECT_NE(report.find(std::string("| soup.obj | 6x5, 1 spp (--exact-cost-size") +
+                              (every["complete"].get<bool>() ? ")" : "; cut at the limit)"),
+                          goals),
+              std::string::npos)
+        << report.substr(goals);
 }
 
 TEST_F(BenchCommand, BadSizesAreUsageErrorsBeforeAnyMeasuring) {
