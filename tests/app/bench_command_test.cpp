@@ -10,6 +10,7 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "engine/io/obj_io.h"
 #include "engine/scene/procedural_scenes.h"
@@ -27,6 +28,38 @@ namespace fs = std::filesystem;
 using penumbra::test::ProcessResult;
 
 using penumbra::test::readFile;
+
+// The smallest run the command allows without --quick (which has no scaling study nor the
+// per-point cost with every point exact), on `scene`, then `extra`. Its --limit is one that a
+// loaded machine's precompute of the scene at 8x8 stays well within (stairs builds no tree, the
+// soup below none either), and that cuts the all-pairs precomputes short (Table 1's and the
+// build options', 4-5 s each under the sanitizers), which these tests do not read.
+std::vector<std::string> smallestBench(const std::string& scene, const fs::path& out,
+                                       const std::vector<std::string>& extra) {
+    std::vector<std::string> args = {"bench",
+                                     scene,
+                                     "--out",
+                                     out.string(),
+                                     "--size",
+                                     "8x8",
+                                     "--spp",
+                                     "1",
+                                     "--accuracy-size",
+                                     "8x8",
+                                     "--accuracy-spp",
+                                     "1",
+                                     "--max-rays",
+                                     "1",
+                                     "--reference-rays",
+                                     "1",
+                                     "--points",
+                                     "1",
+                                     "--limit",
+                                     "1",
+                                     "--no-plots"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+}
 
 class BenchCommand : public ::testing::Test {
   protected:
@@ -51,32 +84,8 @@ TEST_F(BenchCommand, SkipsTheScalingRowsWhoseMeshesAreMissing) {
     ASSERT_TRUE(fs::exists(root_ / "assets/scenes/dragon_res4.json"));
     ASSERT_FALSE(fs::exists(root_ / "assets/external"));
     const fs::path out = root_ / "out";
-    // The smallest run the command allows without --quick (which has no scaling study); a
-    // limit that a loaded machine's precompute of stairs at 8x8 stays well within (it builds no
-    // tree), and that cuts the all-pairs precomputes short (Table 1's and the build options',
-    // 4-5 s each under the sanitizers), which this test does not read.
-    const ProcessResult r = penumbra::test::runPenumbra({"bench",
-                                                         "assets/stairs.obj",
-                                                         "--out",
-                                                         out.string(),
-                                                         "--size",
-                                                         "8x8",
-                                                         "--spp",
-                                                         "1",
-                                                         "--accuracy-size",
-                                                         "8x8",
-                                                         "--accuracy-spp",
-                                                         "1",
-                                                         "--max-rays",
-                                                         "1",
-                                                         "--reference-rays",
-                                                         "1",
-                                                         "--points",
-                                                         "1",
-                                                         "--limit",
-                                                         "1",
-                                                         "--no-plots"},
-                                                        root_);
+    const ProcessResult r =
+        penumbra::test::runPenumbra(smallestBench("assets/stairs.obj", out, {}), root_);
     ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
     EXPECT_NE(r.err.find("scaling: assets/scenes/dragon_res4.json skipped, missing "
                          "assets/external/dragon_vrip_res4.ply"),
@@ -150,30 +159,8 @@ TEST_F(BenchCommand, MeasuresEveryPointExactOnASmallerImageAboveTheAllPairsSize)
     const fs::path scene = root_ / "soup.obj";
     penumbra::writeObj(penumbra::makeRandomSoup(12000, 3), scene);
     const fs::path out = root_ / "out";
-    const ProcessResult r = penumbra::test::runPenumbra({"bench",
-                                                         scene.string(),
-                                                         "--out",
-                                                         out.string(),
-                                                         "--size",
-                                                         "8x8",
-                                                         "--spp",
-                                                         "1",
-                                                         "--accuracy-size",
-                                                         "8x8",
-                                                         "--accuracy-spp",
-                                                         "1",
-                                                         "--max-rays",
-                                                         "1",
-                                                         "--reference-rays",
-                                                         "1",
-                                                         "--points",
-                                                         "1",
-                                                         "--limit",
-                                                         "1",
-                                                         "--exact-cost-size",
-                                                         "6x5",
-                                                         "--no-plots"},
-                                                        root_);
+    const ProcessResult r = penumbra::test::runPenumbra(
+        smallestBench(scene.string(), out, {"--exact-cost-size", "6x5"}), root_);
     ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
     const nlohmann::json bench = nlohmann::json::parse(readFile(out / "bench.json"));
     ASSERT_EQ(bench["table1"].size(), 1u);

@@ -353,17 +353,21 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
                 "trees (%zu partial), %zu pairs without a tree, %.2f%% of evaluations sampled\n",
                 prepWall, prepCpu, t.total, t.totalCpu, store.treeCount(), store.partialCount(),
                 fx.pairsDirect, fx.sampledPercent());
-            // Every point exact (no work limit), for the scenes whose hybrid sampled some points:
-            // what the last part of exactness costs. Same trees, render only, cut at the limit.
-            if (fx.sampledEvaluations > 0 && !large && !o.quick &&
-                scene.faceCount() <= kAllPairsMaxFaces) {
-                RenderSettings all = s;
-                all.exactWorkLimit = 0;
-                RenderTimes ta;
+            // `all` rendered with every point exact (no work limit): the same trees, render
+            // only, cut at the bench's limit (false then).
+            auto renderEveryPointExact = [&](const RenderSettings& all, RenderTimes& ta) {
                 std::atomic<bool> stop{false};
                 r.resetEffects();
-                const bool done =
-                    runWithLimit(o.limit, stop, [&] { r.render(camera, all, &ta, &stop); });
+                return runWithLimit(o.limit, stop, [&] { r.render(camera, all, &ta, &stop); });
+            };
+            RenderSettings all = s;
+            all.exactWorkLimit = 0;
+            RenderTimes ta;
+            // Every point exact, for the scenes whose hybrid sampled some points: what the last
+            // part of exactness costs.
+            if (fx.sampledEvaluations > 0 && !large && !o.quick &&
+                scene.faceCount() <= kAllPairsMaxFaces) {
+                const bool done = renderEveryPointExact(all, ta);
                 e["everyPointExact"] = {{"complete", done},
                                         {"renderWall", done ? ta.total : o.limit},
                                         {"renderCpu", ta.totalCpu}};
@@ -377,17 +381,11 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
             } else if (!o.quick) {
                 // The image above without the limit would cost minutes (the motorbike's
                 // evaluations average milliseconds): a smaller one, one sample per pixel.
-                RenderSettings all = s;
                 const auto [cw, ch] = parseSize("--exact-cost-size", o.exactCostSize, kImageSize);
                 all.width = cw;
                 all.height = ch;
                 all.spp = 1;
-                all.exactWorkLimit = 0;
-                RenderTimes ta;
-                std::atomic<bool> stop{false};
-                r.resetEffects();
-                const bool done =
-                    runWithLimit(o.limit, stop, [&] { r.render(camera, all, &ta, &stop); });
+                const bool done = renderEveryPointExact(all, ta);
                 e["costEveryPointExact"] = costJson(r.effects(), all, done, "--exact-cost-size");
                 std::printf("  every point exact at %dx%d, 1 spp: render %s%.2f s wall\n",
                             all.width, all.height, done ? "" : "over ", done ? ta.total : o.limit);
