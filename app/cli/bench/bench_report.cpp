@@ -253,8 +253,8 @@ void writeCost(std::ostream& r, const json& rows) {
 
 // Issue 13's per-point goals, measured without the work limit (the cost above leaves out the
 // points over it, which are the expensive ones): the exact evaluations' distribution against
-// the sampled render's 128 rays per point, and 16 rays taken as an eighth of 128 (a shadow ray's
-// cost does not depend on how many others a point casts, to the histogram's resolution).
+// the sampled render's 128 rays per point, and 16 rays taken as an eighth of their median (strict:
+// with a point's own cost, 16 rays measure about a seventh of 128).
 void writeCostEveryPointExact(std::ostream& r, const json& rows) {
     bool any = false;
     for (const json& row : rows) any = any || row["exact"].contains("costEveryPointExact");
@@ -268,8 +268,7 @@ void writeCostEveryPointExact(std::ostream& r, const json& rows) {
          "(`--exact-cost-size`; the large scenes' evaluations average milliseconds). One "
          "evaluation in 8 timed, query and shading, as above; 128 rays: the sampled render's "
          "points (Table 1's image); 16 rays: an eighth of their median (strict: the per-point "
-         "section "
-         "below measures 16 rays at about a seventh of 128, a point's own cost "
+         "section below measures 16 rays at about a seventh of 128, a point's own cost "
          "included).\n\n"
       << "| scene | image | evaluations timed | median us | p99 us | mean us | 128 rays median "
          "us | 128 rays p99 us | median <= 16 rays | p99 <= 128 rays |\n"
