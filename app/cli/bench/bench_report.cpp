@@ -25,6 +25,13 @@ std::string sceneName(const json& row) {
     return fs::path(row["scene"].get<std::string>()).filename().string();
 }
 
+// Whether some Table 1 row's exact render recorded `field` (each section is written only then).
+bool anyExactHas(const json& rows, const char* field) {
+    for (const json& row : rows)
+        if (row["exact"].contains(field)) return true;
+    return false;
+}
+
 // The scenes `study` skipped because files they need are missing (bench.json's "skipped").
 json skippedBy(const json& b, const std::string& study) {
     json out = json::array();
@@ -106,9 +113,7 @@ void writeTable1Row(std::ostream& r, const json& row) {
 // Of Table 1's sampled points, the stage each query was in when it reached the work limit
 // (vis::WorkStage), and those not tried: later points of a region whose query had reached it.
 void writeOverLimit(std::ostream& r, const json& rows) {
-    bool any = false;
-    for (const json& row : rows) any = any || row["exact"].contains("overLimitAt");
-    if (!any) return;
+    if (!anyExactHas(rows, "overLimitAt")) return;
     std::vector<std::string> stages;  // in the order a query goes through them
     for (size_t i = 0; i < vis::kWorkStages; ++i)
         stages.emplace_back(vis::toString(static_cast<vis::WorkStage>(i)));
@@ -135,9 +140,7 @@ void writeOverLimit(std::ostream& r, const json& rows) {
 
 // Of Table 1's exact renders, the query-driven refinement between passes.
 void writeRefined(std::ostream& r, const json& rows) {
-    bool any = false;
-    for (const json& row : rows) any = any || row["exact"].contains("refined");
-    if (!any) return;
+    if (!anyExactHas(rows, "refined")) return;
     r << "### Query-driven refinement\n\n"
       << "After each pass, the trees whose walks reached the work limit have their receiver "
          "patch split (`VisibilityStore::refine`), and the sub-patches holding those points get "
@@ -161,9 +164,7 @@ void writeRefined(std::ostream& r, const json& rows) {
 // and path (walking trees, without a tree), at the default work limit and, where the bench ran
 // it, with every point exact.
 void writeWork(std::ostream& r, const json& rows) {
-    bool any = false;
-    for (const json& row : rows) any = any || row["exact"].contains("workAt");
-    if (!any) return;
+    if (!anyExactHas(rows, "workAt")) return;
     r << "### Where the exact work goes\n\n"
       << "The plane tests of Table 1's exact renders (the unit of the work limit; "
          "`FromPointQuery::stageWork`), by the stage they went to: walking history trees and "
@@ -207,9 +208,7 @@ void writeWork(std::ostream& r, const json& rows) {
 // shading; the points over the work limit are not among them) against the sampled render's
 // points (128 rays per light), and the boundary chain's edges against its fragments.
 void writeCost(std::ostream& r, const json& rows) {
-    bool any = false;
-    for (const json& row : rows) any = any || row["exact"].contains("cost");
-    if (!any) return;
+    if (!anyExactHas(rows, "cost")) return;
     r << "### Cost per evaluation\n\n"
       << "One evaluation in 8 of Table 1's renders timed alone (wall, one thread; the clock's own "
          "cost, some 20-40 ns, included): the exact render's (point, light) evaluations that "
@@ -256,9 +255,7 @@ void writeCost(std::ostream& r, const json& rows) {
 // the sampled render's 128 rays per point, and 16 rays taken as an eighth of their median (strict:
 // with a point's own cost, 16 rays measure about a seventh of 128).
 void writeCostEveryPointExact(std::ostream& r, const json& rows) {
-    bool any = false;
-    for (const json& row : rows) any = any || row["exact"].contains("costEveryPointExact");
-    if (!any) return;
+    if (!anyExactHas(rows, "costEveryPointExact")) return;
     r << "### Per-point cost with every point exact\n\n"
       << "The goals of issue 13 per evaluation: the median exact evaluation costing at most 16 "
          "shadow rays, the 99th percentile at most 128. Measured on a render without the work "
