@@ -168,19 +168,21 @@ std::string EffectsSummary::text() const {
         if (costs.sampledNs.count() > 0)
             line("  the sampled ones' shadow rays: " + costText(costs.sampledNs));
         if (costs.chainEvaluations > 0) {
-            char per[160];
+            char per[200];
             std::snprintf(per, sizeof per,
-                          "%.1f chain edges (%.1f%% of their occluders' %.1f edges) and %.1f "
-                          "fragments",
+                          "%.1f chain edges (%.1f%% of their occluders' %.1f edges), %.1f cells "
+                          "and %.1f fragments",
                           static_cast<double>(costs.chainBoundaryEdges) / costs.chainEvaluations,
                           100.0 * static_cast<double>(costs.chainBoundaryEdges) /
                               static_cast<double>(std::max<uint64_t>(costs.chainOccluderEdges, 1)),
                           static_cast<double>(costs.chainOccluderEdges) / costs.chainEvaluations,
+                          static_cast<double>(costs.chainCells) / costs.chainEvaluations,
                           static_cast<double>(costs.chainFragments) / costs.chainEvaluations);
             line("  of them by the boundary chain: " + std::to_string(costs.chainEvaluations) +
                  " - per evaluation " + per +
-                 " (the silhouette and border edges that bound the shadow, against the convex "
-                 "pieces of the visible region)");
+                 " (the silhouette and border edges that bound the shadow, the cells they cut "
+                 "the light into, and the convex pieces of the visible region: the cells are "
+                 "the chain's work, the fragments the shading's)");
         }
     }
     if (!exact && costs.sampledNs.count() > 0)

@@ -24,8 +24,10 @@ struct EvaluationCosts {
     CostHistogram exactNs, sampledNs;
     // The exact evaluations the boundary chain answered (vis::FromPointQuery::ChainCounts: it cut
     // L into cells), their occluders' edges (each use by a face; a face group taken whole counts
-    // its boundary only), the chain edges left of them and the fragments they kept, summed.
-    uint64_t chainEvaluations = 0, chainOccluderEdges = 0, chainBoundaryEdges = 0,
+    // its boundary only), the chain edges left of them, the cells those cut L into and the
+    // fragments they kept (the cells seen), summed. The cells are what the chain's work follows
+    // (each is cut, then labelled); the fragments are what shading pays for.
+    uint64_t chainEvaluations = 0, chainOccluderEdges = 0, chainBoundaryEdges = 0, chainCells = 0,
              chainFragments = 0;
     EvaluationCosts& operator+=(const EvaluationCosts& o) {
         exactNs += o.exactNs;
@@ -33,6 +35,7 @@ struct EvaluationCosts {
         chainEvaluations += o.chainEvaluations;
         chainOccluderEdges += o.chainOccluderEdges;
         chainBoundaryEdges += o.chainBoundaryEdges;
+        chainCells += o.chainCells;
         chainFragments += o.chainFragments;
         return *this;
     }

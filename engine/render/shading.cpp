@@ -160,6 +160,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             ++scratch.evaluations.costs.chainEvaluations;
             scratch.evaluations.costs.chainOccluderEdges += chain.occluderEdges;
             scratch.evaluations.costs.chainBoundaryEdges += chain.boundaryEdges;
+            scratch.evaluations.costs.chainCells += chain.cells;
             scratch.evaluations.costs.chainFragments += fragments;
         };
         // The query's work by stage, on the tree pairs' (0) or the direct ones' (1) account.

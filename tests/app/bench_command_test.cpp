@@ -139,11 +139,16 @@ TEST_F(BenchCommand, SkipsTheScalingRowsWhoseMeshesAreMissing) {
     const nlohmann::json& every = row["exact"]["costEveryPointExact"];
     EXPECT_EQ(every["evaluations"], cost["evaluations"]);
     EXPECT_EQ(every["medianUs"], cost["medianUs"]);
+    EXPECT_EQ(every["chainEvaluations"], cost["chainEvaluations"]);
+    EXPECT_EQ(every["chainCells"], cost["chainCells"]);
     EXPECT_EQ(every["image"], "Table 1's image");
     EXPECT_TRUE(every["complete"].get<bool>());
     const size_t goals = report.find("### Per-point cost with every point exact");
     ASSERT_NE(goals, std::string::npos) << report;
     EXPECT_NE(report.find("| stairs.obj | 8x8, 1 spp (Table 1's image) |", goals),
+              std::string::npos)
+        << report.substr(goals);
+    EXPECT_NE(report.find("| by the chain | chain edges | cells | fragments |", goals),
               std::string::npos)
         << report.substr(goals);
     const size_t clicks = report.find("### A click in the viewer");

@@ -612,6 +612,17 @@ TEST(Renderer, ClosedBoxLeavesOutItsBackFacesWithTheSameImage) {
     EXPECT_NE(ea.text().find("closed surfaces (solids) seen from behind"), std::string::npos)
         << ea.text();
     EXPECT_EQ(eb.directSolidEvaluations, 0u);
+    // The boundary chain answered the floor points under the boxes: every one cut the light into
+    // at least one cell, and kept as fragments only cells (those seen); its edges are what is left
+    // of its occluders' (a group counts its boundary only). Counted over all evaluations, each
+    // with its share in the summary's line.
+    const EvaluationCosts& c = ea.costs;
+    EXPECT_GT(c.chainEvaluations, 0u) << ea.text();
+    EXPECT_GE(c.chainCells, c.chainEvaluations);
+    EXPECT_LE(c.chainFragments, c.chainCells);
+    EXPECT_GT(c.chainFragments, 0u);  // (the penumbra's points see part of the light)
+    EXPECT_LE(c.chainBoundaryEdges, c.chainOccluderEdges);
+    EXPECT_NE(ea.text().find(" cells and "), std::string::npos) << ea.text();
 }
 
 TEST(Renderer, GroupsAnswerAShaftOfAtLeastTheMinimumWithAQuarterGrouped) {

@@ -232,10 +232,16 @@ bool canMeasure(const std::string& scene, const std::string& study, json& skippe
 // the image it came from; `complete` false when the render was cut at the bench's limit (the
 // evaluations timed until then).
 json costJson(const EffectsSummary& fx, const RenderSettings& s, bool complete, const char* image) {
+    // With the boundary chain's evaluations (all of them, not only the timed ones): what the
+    // expensive points' cost follows (their chain edges and cells) against the fragments.
     return {{"evaluations", fx.costs.exactNs.count()},
             {"medianUs", fx.costs.exactNs.quantile(0.5) * 1e-3},
             {"p99Us", fx.costs.exactNs.quantile(0.99) * 1e-3},
             {"meanUs", fx.costs.exactNs.mean() * 1e-3},
+            {"chainEvaluations", fx.costs.chainEvaluations},
+            {"chainEdges", fx.costs.chainBoundaryEdges},
+            {"chainCells", fx.costs.chainCells},
+            {"chainFragments", fx.costs.chainFragments},
             {"width", s.width},
             {"height", s.height},
             {"spp", s.spp},
@@ -335,6 +341,7 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
                          {"chainEvaluations", fx.costs.chainEvaluations},
                          {"chainOccluderEdges", fx.costs.chainOccluderEdges},
                          {"chainEdges", fx.costs.chainBoundaryEdges},
+                         {"chainCells", fx.costs.chainCells},
                          {"chainFragments", fx.costs.chainFragments}};
             e["exactWorkLimit"] = s.exactWorkLimit;
             e["minTreeSamples"] = s.minTreeSamples;

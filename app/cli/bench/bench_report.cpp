@@ -32,6 +32,14 @@ bool anyExactHas(const json& rows, const char* field) {
     return false;
 }
 
+// A boundary-chain count of a cost object (bench.json's "cost" or "costEveryPointExact") per
+// chain evaluation, or "-" where the chain answered none (or the field was not recorded).
+std::string chainPer(const json& cost, const char* field) {
+    const double chain = cost.value("chainEvaluations", 0.0);
+    if (!(chain > 0) || !cost.contains(field)) return "-";
+    return fmt("%.1f", cost[field].get<double>() / chain);
+}
+
 // The scenes `study` skipped because files they need are missing (bench.json's "skipped").
 json skippedBy(const json& b, const std::string& study) {
     json out = json::array();
@@ -218,13 +226,14 @@ void writeCost(std::ostream& r, const json& rows) {
          "percentile from a log histogram (to within 19%). Chain: the exact evaluations the "
          "boundary chain answered, with its edges (silhouettes and borders), their share of the "
          "edges of the occluders they came from (each use by a face; a face group taken whole "
-         "counts its boundary only, so the share understates what groups save), and the convex "
-         "fragments kept, per evaluation.\n\n"
+         "counts its boundary only, so the share understates what groups save), the cells the "
+         "chain cut the light into (each cut, then labelled: the chain's work) and the convex "
+         "fragments kept (the cells seen: the shading's work), per evaluation.\n\n"
       << "| scene | exact evaluations timed | median us | p99 us | mean us | sampled points timed "
          "| 128 "
-         "rays median us | p99 us | by the chain | chain edges | of the occluders' edges | "
+         "rays median us | p99 us | by the chain | chain edges | of the occluders' edges | cells | "
          "fragments | over the limit: 128 rays median us "
-         "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+         "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const json& row : rows) {
         const json& e = row["exact"];
         if (!e.contains("cost")) continue;
@@ -236,14 +245,12 @@ void writeCost(std::ostream& r, const json& rows) {
           << num(c["meanUs"], "%.2f") << " | " << sp.value("points", json("-")) << " | "
           << (sp.contains("pointMedianUs") ? num(sp["pointMedianUs"], "%.2f") : "-") << " | "
           << (sp.contains("pointP99Us") ? num(sp["pointP99Us"], "%.2f") : "-") << " | "
-          << c["chainEvaluations"] << " | "
-          << (chain > 0 ? fmt("%.1f", c["chainEdges"].get<double>() / chain) : "-") << " | "
+          << c["chainEvaluations"] << " | " << chainPer(c, "chainEdges") << " | "
           << (chain > 0 && c.value("chainOccluderEdges", 0.0) > 0
                   ? fmt("%.1f%%", 100.0 * c["chainEdges"].get<double>() /
                                       c["chainOccluderEdges"].get<double>())
                   : "-")
-          << " | " << (chain > 0 ? fmt("%.1f", c["chainFragments"].get<double>() / chain) : "-")
-          << " | "
+          << " | " << chainPer(c, "chainCells") << " | " << chainPer(c, "chainFragments") << " | "
           << (e["sampledEvaluations"].get<uint64_t>() > 0 ? num(c["sampledMedianUs"], "%.2f") : "-")
           << " |\n";
     }
@@ -266,10 +273,14 @@ void writeCostEveryPointExact(std::ostream& r, const json& rows) {
          "evaluation in 8 timed, query and shading, as above; 128 rays: the sampled render's "
          "points (Table 1's image); 16 rays: an eighth of their median (strict: the per-point "
          "section below measures 16 rays at about a seventh of 128, a point's own cost "
-         "included).\n\n"
+         "included). Chain: of all the render's evaluations, those the boundary chain answered, "
+         "and per such evaluation its edges, the cells they cut the light into and the fragments "
+         "kept (what the expensive points' cost follows: the cells, each cut and labelled, "
+         "against the fragments).\n\n"
       << "| scene | image | evaluations timed | median us | p99 us | mean us | 128 rays median "
-         "us | 128 rays p99 us | median <= 16 rays | p99 <= 128 rays |\n"
-      << "|---|---|---|---|---|---|---|---|---|---|\n";
+         "us | 128 rays p99 us | median <= 16 rays | p99 <= 128 rays | by the chain | chain "
+         "edges | cells | fragments |\n"
+      << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const json& row : rows) {
         const json& e = row["exact"];
         if (!e.contains("costEveryPointExact")) continue;
@@ -286,7 +297,9 @@ void writeCostEveryPointExact(std::ostream& r, const json& rows) {
           << (sp.contains("pointMedianUs") ? num(sp["pointMedianUs"], "%.2f") : "-") << " | "
           << (sp.contains("pointP99Us") ? num(sp["pointP99Us"], "%.2f") : "-") << " | "
           << verdict(have && median <= sp["pointMedianUs"].get<double>() / 8) << " | "
-          << verdict(have && p99 <= sp["pointP99Us"].get<double>()) << " |\n";
+          << verdict(have && p99 <= sp["pointP99Us"].get<double>()) << " | "
+          << c.value("chainEvaluations", json("-")) << " | " << chainPer(c, "chainEdges") << " | "
+          << chainPer(c, "chainCells") << " | " << chainPer(c, "chainFragments") << " |\n";
     }
     r << "\n";
 }
