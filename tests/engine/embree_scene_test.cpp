@@ -4,10 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <ctime>
 #include <initializer_list>
 #include <random>
 #include <stdexcept>
@@ -270,8 +267,11 @@ TEST(EmbreeScene, MoveOnly) {
     EXPECT_FALSE(empty.occluded({0, 0, 0}, {0, 0, 1}));
 }
 
-// ~1000 random triangles between a floor and a quad light; times sampledFraction at 128 samples.
-TEST(EmbreeScene, RandomSceneTiming) {
+// ~1000 random triangles between a floor and a quad light: Embree's robust mode (no ray slips
+// between two triangles that share an edge) and its fast one must see the same mean visible
+// fraction at 128 samples per point, the same seeds for both (only rays through shared edges may
+// differ), strictly between 0 and 1. (Their throughput is measured by `penumbra bench`.)
+TEST(EmbreeScene, RobustAndFastModesAgreeOnARandomScene) {
     std::mt19937_64 rng(42);
     std::uniform_real_distribution<double> U(0, 1);
     PolygonMesh m;
@@ -292,20 +292,7 @@ TEST(EmbreeScene, RandomSceneTiming) {
         EmbreeScene s(m, options);
         ASSERT_EQ(s.triangleCount(), 1004u);
         double sum = 0;
-        // Wall time and this process's CPU time (the latter is less disturbed by a busy machine).
-        const auto t0 = std::chrono::steady_clock::now();
-        const std::clock_t c0 = std::clock();
         for (int i = 0; i < points; ++i) sum += s.sampledFraction(0, 1, xs[i], 128, i);
-        const std::clock_t c1 = std::clock();
-        const auto t1 = std::chrono::steady_clock::now();
-        const double us = std::chrono::duration<double, std::micro>(t1 - t0).count() / points;
-        const double cpuUs = 1e6 * static_cast<double>(c1 - c0) / CLOCKS_PER_SEC / points;
-        std::printf(
-            "[ timing ] sampledFraction, 128 samples, %zu triangles, robust=%d: "
-            "%.2f us/point wall, %.2f us/point CPU (mean visible fraction %.4f, %d points)\n",
-            s.triangleCount(), robust ? 1 : 0, us, cpuUs, sum / points, points);
-        RecordProperty(robust ? "us_per_point_128_robust" : "us_per_point_128_fast",
-                       std::to_string(us));
         means[robust ? 0 : 1] = sum / points;
         EXPECT_GT(sum / points, 0.0);
         EXPECT_LT(sum / points, 1.0);

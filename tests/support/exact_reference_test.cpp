@@ -4,7 +4,6 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iterator>
@@ -287,29 +286,21 @@ TEST(ExactReference, MonteCarloAgreesOnPaperScenes) {
     }
 }
 
-TEST(ExactReference, TableTiming) {
+// The exact reference on the paper's table scene (1348 faces: foliage, chairs) against a Monte
+// Carlo estimate of 20000 rays per point, at eight floor points in and around its shadows.
+TEST(ExactReference, TableMatchesMonteCarlo) {
     const penumbra::Scene scene = penumbra::makeTable();
     const uint32_t light = scene.lights.at(0);
     const Vec3 points[] = {{0.1, 0.2, 0},   {0.9, 0.3, 0},  {1.5, 1.5, 0},  {-0.5, -1.0, 0},
                            {0.25, 0.75, 0}, {-1.0, 0.1, 0}, {0.6, -0.9, 0}, {1.25, 0.0, 0}};
-    double totalMs = 0;
     for (const Vec3& x : points) {
-        const auto t0 = std::chrono::steady_clock::now();
         const ReferenceResult r = exactReference(scene.mesh, 0, light, x);
-        const double ms =
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0)
-                .count();
-        totalMs += ms;
-        std::printf("[ table ] x=(%g,%g,%g) fraction=%.6f F=%.6f F0=%.6f  %.1f ms\n", x.x, x.y, x.z,
-                    r.fraction, r.formFactor, r.unoccludedFormFactor, ms);
         EXPECT_GE(r.fraction, 0.0);
         EXPECT_LE(r.fraction, 1.0);
         double sigma = 0;
         const double mc = monteCarloFraction(scene.mesh, 0, light, x, 20000, 5, &sigma);
-        EXPECT_NEAR(mc, r.fraction, 4 * sigma + 2e-4);
+        EXPECT_NEAR(mc, r.fraction, 4 * sigma + 2e-4) << "x = " << x.x << ", " << x.y;
     }
-    std::printf("[ table ] exact reference: %.1f ms per point on average\n",
-                totalMs / static_cast<double>(std::size(points)));
 }
 
 }  // namespace
