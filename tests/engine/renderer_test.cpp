@@ -612,10 +612,10 @@ TEST(Renderer, ClosedBoxLeavesOutItsBackFacesWithTheSameImage) {
     EXPECT_NE(ea.text().find("closed surfaces (solids) seen from behind"), std::string::npos)
         << ea.text();
     EXPECT_EQ(eb.directSolidEvaluations, 0u);
-    // The boundary chain answered the floor points under the boxes: every one cut the light into
-    // at least one cell, and kept as fragments only cells (those seen); its edges are what is left
-    // of its occluders' (a group counts its boundary only). Counted over all evaluations, each
-    // with its share in the summary's line.
+    // The boundary chain answered the floor points under the boxes: each such evaluation cut the
+    // light into at least one cell and kept as fragments only cells (those seen), and its edges
+    // are what is left of its occluders' (a group counts its boundary only). Summed over all the
+    // render's evaluations, as the summary's line reports them per evaluation.
     const EvaluationCosts& c = ea.costs;
     EXPECT_GT(c.chainEvaluations, 0u) << ea.text();
     EXPECT_GE(c.chainCells, c.chainEvaluations);

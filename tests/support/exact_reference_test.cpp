@@ -5,8 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
-#include <iterator>
 #include <numbers>
 #include <utility>
 #include <vector>
