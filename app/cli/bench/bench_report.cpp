@@ -20,6 +20,11 @@ std::string num(const json& j, const char* f = "%.2f") {
     return j.is_number() ? fmt(f, j.get<double>()) : std::string("-");
 }
 
+// An object's field that may be missing (a sampled render without timed points), as num().
+std::string numField(const json& object, const char* key, const char* f = "%.2f") {
+    return object.contains(key) ? num(object[key], f) : std::string("-");
+}
+
 // The scene's file name: the tables have no room for the directories.
 std::string sceneName(const json& row) {
     return fs::path(row["scene"].get<std::string>()).filename().string();
@@ -243,8 +248,7 @@ void writeCost(std::ostream& r, const json& rows) {
         r << "| " << sceneName(row) << " | " << c["evaluations"] << " | "
           << num(c["medianUs"], "%.2f") << " | " << num(c["p99Us"], "%.2f") << " | "
           << num(c["meanUs"], "%.2f") << " | " << sp.value("points", json("-")) << " | "
-          << (sp.contains("pointMedianUs") ? num(sp["pointMedianUs"], "%.2f") : "-") << " | "
-          << (sp.contains("pointP99Us") ? num(sp["pointP99Us"], "%.2f") : "-") << " | "
+          << numField(sp, "pointMedianUs") << " | " << numField(sp, "pointP99Us") << " | "
           << c["chainEvaluations"] << " | " << chainPer(c, "chainEdges") << " | "
           << (chain > 0 && c.value("chainOccluderEdges", 0.0) > 0
                   ? fmt("%.1f%%", 100.0 * c["chainEdges"].get<double>() /
@@ -293,9 +297,8 @@ void writeCostEveryPointExact(std::ostream& r, const json& rows) {
           << " spp (" << c["image"].get<std::string>()
           << (c["complete"].get<bool>() ? "" : "; cut at the limit") << ") | " << c["evaluations"]
           << " | " << num(c["medianUs"], "%.2f") << " | " << num(c["p99Us"], "%.2f") << " | "
-          << num(c["meanUs"], "%.2f") << " | "
-          << (sp.contains("pointMedianUs") ? num(sp["pointMedianUs"], "%.2f") : "-") << " | "
-          << (sp.contains("pointP99Us") ? num(sp["pointP99Us"], "%.2f") : "-") << " | "
+          << num(c["meanUs"], "%.2f") << " | " << numField(sp, "pointMedianUs") << " | "
+          << numField(sp, "pointP99Us") << " | "
           << verdict(have && median <= sp["pointMedianUs"].get<double>() / 8) << " | "
           << verdict(have && p99 <= sp["pointP99Us"].get<double>()) << " | "
           << c.value("chainEvaluations", json("-")) << " | " << chainPer(c, "chainEdges") << " | "
