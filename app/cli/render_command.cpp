@@ -1,13 +1,14 @@
 // `penumbra render SCENE [--camera EX,EY,EZ,TX,TY,TZ[,FOV]] [--size WxH] [--spp N]
 //                 [--method exact|sampled|reference] [--light-samples N] [--seed S] --out FILE`
 //                 (and --up X,Y,Z, --reference-samples, --glossy-samples, --light-seed,
-//                  --exposure, --threads, --out-pfm, --visibility; see --help)
+//                  --exposure, --threads, --out-pfm, --out-answers, --visibility; see --help)
 //
 // Renders the scene with the progressive CPU renderer (engine/render/renderer.h) and writes the
 // image: FILE ending in .png (tone mapped, sRGB) or .pfm (linear float); --out may be given twice
 // (one of each) and --out-pfm names a PFM file explicitly. The camera defaults to the scene's, else
 // the viewer's (engine/render/default_camera.h). Prints the time breakdown and what was simulated
-// and why.
+// and why. --out-answers FILE.png (exact): how each pixel was answered (engine/render/answers.h),
+// with the shares of each answer printed as its legend.
 // --visibility FILE.pvis: the history trees are read from FILE when it is current for this scene
 // (as `penumbra precompute` writes it; a stale or corrupt file is reported and recomputed), and
 // FILE is written back atomically with every tree the render added, so the next render of the
@@ -28,6 +29,7 @@
 
 #include "app/cli/arguments.h"
 #include "app/cli/commands.h"
+#include "engine/io/image_io.h"
 #include "engine/io/visibility_file.h"
 #include "engine/precompute/visibility_store.h"
 #include "engine/render/default_camera.h"
@@ -55,6 +57,7 @@ struct RenderOptions {
     int threads = 0;
     std::vector<std::string> out;
     std::string outPfm;
+    std::string outAnswers;
     std::string visibility;
 };
 
@@ -104,6 +107,13 @@ Outputs outputs(const RenderOptions& o) {
     }
     if (!o.outPfm.empty()) out.pfm.push_back(o.outPfm);
     if (out.png.empty() && out.pfm.empty()) throw usageError("nothing to write: give --out FILE");
+    if (!o.outAnswers.empty()) {
+        if (!endsWith(o.outAnswers, ".png"))
+            throw usageError("--out-answers '" + o.outAnswers + "': the file must end in .png");
+        if (o.method != "exact")
+            throw usageError("--out-answers: only the exact method has answers (got --method " +
+                             o.method + ")");
+    }
     return out;
 }
 
@@ -175,8 +185,14 @@ void printEffects(const std::string& text) {
     }
 }
 
-void writeImages(const Film& film, const Outputs& out, double exposure) {
+void writeImages(const Film& film, const Outputs& out, double exposure,
+                 const std::string& answers) {
     try {
+        if (!answers.empty()) {
+            writeAnswersPng(film, answers);
+            std::printf("wrote %s: how each pixel was answered, %s\n", answers.c_str(),
+                        describeAnswers(film.answers).c_str());
+        }
         for (const std::string& f : out.png) {
             writePng(film, f, exposure);
             std::printf("wrote %s\n", f.c_str());
@@ -226,7 +242,7 @@ void runRender(const RenderOptions& o) {
             writeVisibility(o.visibility, store, visibility);
     }
     printEffects(renderer.effects().text());
-    writeImages(film, out, o.exposure);
+    writeImages(film, out, o.exposure, o.outAnswers);
     std::fflush(stdout);
 }
 
@@ -272,6 +288,11 @@ void registerRenderCommand(CLI::App& app) {
         ->capture_default_str();
     sub->add_option("--out", o->out, "Output image, .png or .pfm (may be given twice)")->take_all();
     sub->add_option("--out-pfm", o->outPfm, "Also write the linear radiance as PFM to this file");
+    sub->add_option("--out-answers", o->outAnswers,
+                    "Exact: also write how each pixel was answered, as a PNG: fully visible "
+                    "(yellow), no light (dark grey), tree walk (green), direct (blue), boundary "
+                    "chain (purple), sampled over the work limit (red); a pixel is the mean of its "
+                    "evaluations' colours");
     sub->add_option("--visibility", o->visibility,
                     "Visibility file (.pvis): read the history trees from it when current, write "
                     "it back with the trees this render added (exact method)");

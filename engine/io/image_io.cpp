@@ -60,6 +60,30 @@ std::vector<uint8_t> toSrgb8(const Film& film, double exposure) {
     return out;
 }
 
+std::vector<uint8_t> answersToRgb8(const Film& film) {
+    const size_t n = static_cast<size_t>(std::max(film.width, 0)) * std::max(film.height, 0);
+    if (n == 0 || film.answers.size() != n)
+        throw std::invalid_argument("the film holds no answers (only an exact render has them)");
+    std::vector<uint8_t> out(n * 3);
+    for (size_t i = 0; i < n; ++i) {
+        const Vec3 c = answerPixel(film.answers[i]);
+        size_t k = 3 * i;
+        for (double v : {c.x, c.y, c.z})
+            out[k++] = static_cast<uint8_t>(std::lround(255.0 * std::clamp(v, 0.0, 1.0)));
+    }
+    return out;
+}
+
+void writeAnswersPng(const Film& film, const std::string& path) {
+    std::vector<uint8_t> pixels;
+    try {
+        pixels = answersToRgb8(film);
+    } catch (const std::invalid_argument& e) {
+        throw std::runtime_error("cannot write '" + path + "': " + e.what());
+    }
+    writeFileAtomically(path, encodePng(film.width, film.height, 3, pixels.data()));
+}
+
 void writePfm(const Film& film, const std::string& path) {
     requireFilm(film, path);
     // Header: "PF" (colour), size, and a negative scale for little-endian floats.

@@ -15,6 +15,14 @@ namespace penumbra {
 // curve, 8 bits per channel, RGB, rows from the top. Non-finite values become 0.
 std::vector<uint8_t> toSrgb8(const Film& film, double exposure = 1.0);
 
+// The film's answers (Film::answers, exact method) as colours (answers.h: each pixel the mean of
+// its evaluations' colours, black where it has none), 8 bits per channel, RGB, rows from the top.
+// Throws std::invalid_argument for a film without answers.
+std::vector<uint8_t> answersToRgb8(const Film& film);
+// Writes them as a PNG, atomically. Throws std::runtime_error (naming the file) when the film has
+// no answers or the file cannot be written.
+void writeAnswersPng(const Film& film, const std::string& path);
+
 // A PNG file's bytes: `pixels` holds width * height * channels bytes (1 to 4 channels), rows from
 // the top. Throws std::runtime_error when the image cannot be encoded.
 std::string encodePng(int width, int height, int channels, const uint8_t* pixels);

@@ -153,7 +153,8 @@ class TileShader {
     // points of one receiver patch in one region cell of the tile: the query then decides once per
     // group the nodes that send all of its points the same way (ExactScratch::regionCorners). Each
     // pixel's value does not depend on the order (its random numbers are its own).
-    void shade(const Tile& tile, std::vector<Vec3>& image) {
+    // `answers`: per pixel, the pass's answers (exact method), or empty.
+    void shade(const Tile& tile, std::vector<Vec3>& image, std::vector<AnswerCounts>& answers) {
         collectPoints(tile);
         if (in_.exact)
             std::sort(points_.begin(), points_.end(), [](const TilePoint& l, const TilePoint& r) {
@@ -164,7 +165,7 @@ class TileShader {
             while (end < points_.size() && points_[end].group == points_[g].group &&
                    points_[end].cell == points_[g].cell)
                 ++end;
-            shadeGroup(g, end, image);
+            shadeGroup(g, end, image, answers);
             g = end;
         }
         scratch.regionCorners.clear();
@@ -228,7 +229,8 @@ class TileShader {
         }
     }
 
-    void shadeGroup(size_t begin, size_t end, std::vector<Vec3>& image) {
+    void shadeGroup(size_t begin, size_t end, std::vector<Vec3>& image,
+                    std::vector<AnswerCounts>& answers) {
         if (in_.exact) {
             vis::Bounds3 box;
             for (size_t q = begin; q < end; ++q) box.add(points_[q].point.x);
@@ -247,6 +249,7 @@ class TileShader {
             if (in_.exact) {
                 scratch.pixel = static_cast<uint64_t>(y) * static_cast<uint64_t>(settings.width) +
                                 static_cast<uint64_t>(x);
+                scratch.answers = answers.empty() ? nullptr : &answers[scratch.pixel];
                 radiance += in_.lighting.exactAreaLights(p, settings.glossySamples,
                                                          settings.lightSamples, rng, scratch);
             } else {
@@ -288,6 +291,7 @@ void Film::reset(int w, int h) {
     height = h;
     passes = 0;
     sum.assign(static_cast<size_t>(w) * static_cast<size_t>(h), Vec3{});
+    answers.clear();
 }
 
 Vec3 Film::mean(int x, int y) const {
@@ -464,6 +468,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
             ? film.passes
             : 0;
     std::vector<Vec3> image(static_cast<size_t>(w) * h);
+    std::vector<AnswerCounts> answers(settings.method == DirectMethod::Exact ? image.size() : 0);
     std::atomic<bool> cancelled{false};
     std::mutex mutex;
     std::vector<PairKey> usedKeys;
@@ -510,7 +515,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                 const auto a = Clock::now();
                 shader.trace(tile);
                 const auto b = Clock::now();
-                shader.shade(tile, image);
+                shader.shade(tile, image, answers);
                 const auto c = Clock::now();
                 if (times != nullptr) {
                     times->primaryNs.fetch_add(
@@ -538,6 +543,11 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     overLimitCells_.insert(overLimitNow.begin(), overLimitNow.end());
     if (pass == 0) film.reset(w, h);
     for (size_t i = 0; i < image.size(); ++i) film.sum[i] += image[i];
+    if (!answers.empty()) {
+        if (film.answers.size() != answers.size()) film.answers.assign(answers.size(), {});
+        for (size_t i = 0; i < answers.size(); ++i)
+            for (size_t a = 0; a < kAnswers; ++a) film.answers[i][a] += answers[i][a];
+    }
     ++film.passes;
     recordUse(usedKeys, facesSeen, settings, evaluations, directKeys);
     // Refined between passes: the film of this pass is complete; the next one finds the trees.

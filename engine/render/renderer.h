@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "engine/precompute/visibility_store.h"
+#include "engine/render/answers.h"
 #include "engine/render/effects_summary.h"
 #include "engine/scene/camera.h"
 #include "engine/scene/scene.h"
@@ -98,6 +99,9 @@ struct Film {
     int width = 0, height = 0;
     int passes = 0;
     std::vector<Vec3> sum;  // width * height, row-major from the top-left
+    // Exact method: per pixel, how many of its evaluations (all passes, all area lights) took
+    // each answer (answers.h); empty for the other methods.
+    std::vector<AnswerCounts> answers;
     void reset(int w, int h);
     Vec3 mean(int x, int y) const;  // sum / passes (0 when no pass)
 };

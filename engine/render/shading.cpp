@@ -135,6 +135,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         // `tried`: this point's query reached the limit (counted by the stage it was in).
         auto overLimit = [&](bool tried) {
             ++scratch.evaluations.sampled;
+            scratch.note(Answer::Sampled);
             if (tried)
                 ++scratch.evaluations.overLimitAt[static_cast<size_t>(scratch.query.limitStage())];
             if (record == nullptr) ++scratch.evaluations.sampledDirect;
@@ -150,12 +151,13 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             scratch.evaluations.costs.sampledNs.addSince(raysStart);
             return v;
         };
-        // An evaluation answered exactly: its time since evalStart (when timed), and its chain's
-        // size.
+        // An evaluation answered exactly by a query, on `path` (TreeWalk or Direct, unless the
+        // chain answered): its time since evalStart (when timed), and its chain's size.
         const auto evalStart = timed ? Clock::now() : Clock::time_point{};
-        auto exactDone = [&](size_t fragments) {
+        auto exactDone = [&](Answer path, size_t fragments) {
             if (timed) scratch.evaluations.costs.exactNs.addSince(evalStart);
             const vis::FromPointQuery::ChainCounts& chain = scratch.query.chainCounts();
+            scratch.note(chain.cells == 0 ? path : Answer::Chain);
             if (chain.cells == 0) return;
             ++scratch.evaluations.costs.chainEvaluations;
             scratch.evaluations.costs.chainOccluderEdges += chain.occluderEdges;
@@ -206,24 +208,34 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 continue;
             }
             out += shadeFragments(p, light, list, {}, glossySamples, rng, scratch);
-            exactDone(list.size());
+            exactDone(Answer::Direct, list.size());
             continue;
         }
         const vis::PairKind kind = record->tree.kind;
-        if (kind == vis::PairKind::BackFacing || kind == vis::PairKind::FullyHidden) continue;
+        if (kind == vis::PairKind::BackFacing || kind == vis::PairKind::FullyHidden) {
+            scratch.note(Answer::NoLight);
+            continue;
+        }
         // The fragments, as polygons (the fully visible pair's cached clip) or the FPQuery list.
         const vis::FragmentList* list = nullptr;
         std::span<const vis::Polygon3> fragments;
         if (kind == vis::PairKind::FullyVisible) {
             // What FPQuery returns for a fully visible pair, cached per receiver face.
-            if (light.plane.side(p.x) != vis::Sign::Positive) continue;
+            if (light.plane.side(p.x) != vis::Sign::Positive) {
+                scratch.note(Answer::NoLight);
+                continue;
+            }
             if (scratch.clippedFace[k] != p.face) {
                 const vis::FacePlane receiver = vis::facePlane(scene_.mesh, p.face);
                 scratch.clippedLight[k] = vis::clipConvexPositive(
                     light.polygon, vis::OrientedPlane{receiver.a, receiver.b, receiver.c});
                 scratch.clippedFace[k] = p.face;
             }
-            if (scratch.clippedLight[k].size() < 3) continue;
+            if (scratch.clippedLight[k].size() < 3) {
+                scratch.note(Answer::NoLight);
+                continue;
+            }
+            scratch.note(Answer::FullyVisible);
             fragments = std::span<const vis::Polygon3>(&scratch.clippedLight[k], 1);
         } else {
             vis::RegionDecisions* region = nullptr;
@@ -241,16 +253,16 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 continue;
             }
             if (list->empty()) {
-                exactDone(0);
+                exactDone(Answer::TreeWalk, 0);
                 continue;
             }
         }
-        if (list == nullptr && fragments.empty()) continue;
-        static const vis::FragmentList kNone;  // immutable: shared by every thread
+        if (list == nullptr && fragments.empty()) continue;  // (noted above)
+        static const vis::FragmentList kNone;                // immutable: shared by every thread
         out += list != nullptr
                    ? shadeFragments(p, light, *list, {}, glossySamples, rng, scratch)
                    : shadeFragments(p, light, kNone, fragments, glossySamples, rng, scratch);
-        if (queried) exactDone(list != nullptr ? list->size() : fragments.size());
+        if (queried) exactDone(Answer::TreeWalk, list != nullptr ? list->size() : fragments.size());
     }
     return out;
 }

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "engine/precompute/visibility_store.h"
+#include "engine/render/answers.h"
 #include "engine/render/effects_summary.h"
 #include "engine/render/random.h"
 #include "engine/scene/scene.h"
@@ -163,6 +164,12 @@ struct ExactScratch {
     // overLimitNow (the renderer adds them after the pass).
     const std::unordered_set<uint64_t>* overLimitBefore = nullptr;
     uint64_t pixel = 0;
+    // The next point's pixel's answer counts (answers.h), one added per light evaluated; null =
+    // not recorded.
+    AnswerCounts* answers = nullptr;
+    void note(Answer a) {
+        if (answers != nullptr) ++(*answers)[static_cast<size_t>(a)];
+    }
     std::vector<uint64_t> overLimitNow;
     // The points sampled over the work limit (tried or skipped) that a tree's walk answers,
     // with the tree's key: where the renderer refines (RenderSettings::refineLevels).

@@ -4,12 +4,15 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
 #include <vector>
 
+#include "engine/render/answers.h"
+#include "tests/app/viewer_test_support.h"
 #include "tests/support/read_pfm.h"
 #include "tests/support/run_penumbra.h"
 
@@ -86,6 +89,38 @@ TEST_F(RenderCommand, WritesPngAndPfmAndExplainsItself) {
     std::string sig(8, '\0');
     png.read(sig.data(), 8);
     EXPECT_EQ(sig, std::string("\x89PNG\r\n\x1a\n", 8));
+}
+
+// --out-answers writes how each pixel was answered (engine/render/answers.h) and prints the
+// shares: without a work limit nothing is sampled; with a limit of one plane test the blocker's
+// penumbra is, and those pixels are drawn in the sampled colour.
+TEST_F(RenderCommand, WritesHowEachPixelWasAnswered) {
+    const penumbra::vis::Vec3 red = penumbra::answerColour(penumbra::Answer::Sampled).rgb;
+    auto sampledPixels = [&](const std::string& file) {
+        const penumbra::test::Image img = penumbra::test::readPng(file);
+        EXPECT_EQ(img.width, 16);
+        EXPECT_EQ(img.height, 12);
+        int n = 0;
+        for (int y = 0; y < img.height; ++y)
+            for (int x = 0; x < img.width; ++x) {
+                const unsigned char* p = img.at(x, y);
+                n += p[0] == std::lround(255 * red.x) && p[1] == std::lround(255 * red.y) &&
+                     p[2] == std::lround(255 * red.z);
+            }
+        return n;
+    };
+    ProcessResult r = run(base(), {"--exact-work-limit", "0", "--out", path("a.png"),
+                                   "--out-answers", path("exact.png")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("exact.png: how each pixel was answered"), std::string::npos)
+        << output(r);
+    EXPECT_NE(output(r).find("sampled (red) 0.0%"), std::string::npos) << output(r);
+    EXPECT_EQ(sampledPixels(path("exact.png")), 0);
+    r = run(base(), {"--exact-work-limit", "1", "--out", path("a.png"), "--out-answers",
+                     path("limited.png")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_EQ(output(r).find("sampled (red) 0.0%"), std::string::npos) << output(r);
+    EXPECT_GT(sampledPixels(path("limited.png")), 0);
 }
 
 // Two occluders standing on the floor with vertices below it by less than a rounding unit (2^-60,
@@ -208,6 +243,14 @@ TEST_F(RenderCommand, BadInputGetsAClearErrorAndExitCode) {
     r = run(base(), {"--out", path("a.jpg")});
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_NE(output(r).find(".png or .pfm"), std::string::npos) << output(r);
+    r = run(base(), {"--out", path("a.png"), "--out-answers", path("answers.jpg")});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(output(r).find("--out-answers"), std::string::npos) << output(r);
+    r = run(base(),
+            {"--method", "sampled", "--out", path("a.png"), "--out-answers", path("answers.png")});
+    EXPECT_EQ(r.exitCode, 2);
+    EXPECT_NE(output(r).find("only the exact method"), std::string::npos) << output(r);
+    EXPECT_FALSE(fs::exists(path("answers.png")));
     r = run(base(), {"--refine-levels", "4", "--out", path("a.png")});
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_NE(output(r).find("--refine-levels"), std::string::npos) << output(r);

@@ -709,6 +709,108 @@ TEST(Renderer, PointUnderSquareLightMatchesClosedForm) {
     EXPECT_NEAR(withPoint.mean(0, 0).x, expected.x + kd.x * pointTerm, 1e-5);
 }
 
+// The answer map (Film::answers) says how each pixel was answered, and each claim is checked
+// against an independent outcome: a pixel answered "fully visible" on every evaluation is as
+// bright as in the same scene without its occluder (same camera and jitter; pixels near the
+// occluder's image are left out, since their samples may hit it), one answered "no light" is
+// black, the counts add up to the evaluations the effects summary counted, and a work limit of
+// one plane test turns queried answers into "sampled" (the same points: pixel by pixel, the
+// queries are as many) while leaving the answers that need no query as they were.
+TEST(Renderer, AnswerMapSaysHowEachPixelWasAnsweredAndItIsTrue) {
+    const Camera camera = penumbraCamera();
+    Scene open = penumbraScene(Material{});
+    const std::vector<uint32_t> occluder = open.mesh.faces.back();  // the floating triangle
+    open.mesh.faces.pop_back();
+    open.faceMaterial.pop_back();
+    open.faceSourceLine.pop_back();
+    for (const bool trees : {true, false}) {
+        SCOPED_TRACE(trees ? "a tree for every pair" : "no tree: every point direct");
+        RenderSettings s;
+        s.width = s.height = 32;
+        s.spp = 2;
+        s.exactWorkLimit = 0;
+        s.minTreeSamples = trees ? 0 : 1u << 30;
+        Rig rig(penumbraScene(Material{}));
+        const Film film = rig.renderer.render(camera, s);
+        const EffectsSummary e = rig.renderer.effects();
+        Rig unblocked(open);
+        const Film free = unblocked.renderer.render(camera, s);
+        ASSERT_EQ(film.answers.size(), film.sum.size());
+        ASSERT_EQ(free.sum.size(), film.sum.size());
+        // The occluder's image: its vertices' pixel box, a pixel wider on every side.
+        double x0 = s.width, x1 = 0, y0 = s.height, y1 = 0;
+        for (uint32_t v : occluder) {
+            double px = 0, py = 0;
+            ASSERT_TRUE(camera.project(open.mesh.vertices[v], s.width, s.height, px, py));
+            x0 = std::min(x0, px - 1), x1 = std::max(x1, px + 1);
+            y0 = std::min(y0, py - 1), y1 = std::max(y1, py + 1);
+        }
+        auto count = [](const AnswerCounts& c, Answer a) { return c[static_cast<size_t>(a)]; };
+        size_t onlyVisible = 0, onlyNoLight = 0;
+        for (size_t i = 0; i < film.sum.size(); ++i) {
+            const AnswerCounts& c = film.answers[i];
+            uint32_t all = 0;
+            for (uint32_t n : c) all += n;
+            EXPECT_LE(all, static_cast<uint32_t>(film.passes)) << "pixel " << i;  // one light
+            if (all == 0) continue;
+            const double px = static_cast<double>(i % s.width),
+                         py = static_cast<double>(i / s.width);
+            const bool nearOccluder = px + 1 >= x0 && px <= x1 && py + 1 >= y0 && py <= y1;
+            if (count(c, Answer::FullyVisible) == all && !nearOccluder) {
+                ++onlyVisible;
+                EXPECT_NEAR(channelSum(film.sum[i]), channelSum(free.sum[i]),
+                            1e-12 * (1 + channelSum(free.sum[i])))
+                    << "pixel " << i << " was answered fully visible";
+            }
+            if (count(c, Answer::NoLight) == all) {
+                // Black, but for the light's own emission where its other samples saw the light
+                // (ke = (6, 5, 4): addFloorAndLight; those samples evaluate no light).
+                ++onlyNoLight;
+                const double k = film.sum[i].x / 6;
+                EXPECT_EQ(film.sum[i], (Vec3{6, 5, 4} * k))
+                    << "pixel " << i << " was answered without light";
+                EXPECT_EQ(k, std::floor(k)) << "pixel " << i;
+                EXPECT_LE(k + all, film.passes) << "pixel " << i;
+            }
+        }
+        const std::array<uint64_t, kAnswers> total = totalAnswers(film.answers);
+        auto of = [&](Answer a) { return total[static_cast<size_t>(a)]; };
+        EXPECT_EQ(of(Answer::Sampled), 0u);
+        EXPECT_EQ(of(Answer::TreeWalk) + of(Answer::Direct) + of(Answer::Chain),
+                  e.exactEvaluations);
+        if (trees) {
+            EXPECT_GT(onlyNoLight, 0u);  // the back wall above the light's plane
+            EXPECT_GT(onlyVisible, film.sum.size() / 10);
+            EXPECT_GT(of(Answer::TreeWalk), 0u);
+            EXPECT_EQ(of(Answer::Direct), 0u);
+        } else {  // (a point behind the light's plane is a direct query that finds no light)
+            EXPECT_EQ(of(Answer::FullyVisible) + of(Answer::NoLight) + of(Answer::TreeWalk), 0u);
+            EXPECT_GT(of(Answer::Direct), 0u);
+        }
+        // Over a limit of one plane test: the queried answers are sampled (a trivial query may
+        // still fit), the others stay.
+        rig.renderer.resetEffects();
+        s.exactWorkLimit = 1;
+        const Film limited = rig.renderer.render(camera, s);
+        const std::array<uint64_t, kAnswers> after = totalAnswers(limited.answers);
+        EXPECT_EQ(after[static_cast<size_t>(Answer::Sampled)],
+                  rig.renderer.effects().sampledEvaluations);
+        EXPECT_GT(after[static_cast<size_t>(Answer::Sampled)],
+                  (of(Answer::TreeWalk) + of(Answer::Direct)) / 4);
+        auto queried = [&](const AnswerCounts& c) {
+            return count(c, Answer::TreeWalk) + count(c, Answer::Direct) + count(c, Answer::Chain);
+        };
+        for (size_t i = 0; i < film.sum.size(); ++i) {
+            const AnswerCounts& c = limited.answers[i];
+            EXPECT_EQ(queried(c) + count(c, Answer::Sampled), queried(film.answers[i]))
+                << "pixel " << i;
+            for (const Answer a : {Answer::FullyVisible, Answer::NoLight})
+                EXPECT_EQ(count(limited.answers[i], a), count(film.answers[i], a))
+                    << "pixel " << i << ", " << toString(a);
+        }
+    }
+}
+
 TEST(Renderer, CancelledPassLeavesTheFilmUnchanged) {
     Rig rig(penumbraScene(Material{}));
     RenderSettings s;
@@ -721,6 +823,7 @@ TEST(Renderer, CancelledPassLeavesTheFilmUnchanged) {
     EXPECT_FALSE(rig.renderer.renderPass(penumbraCamera(), s, film, &cancel));
     EXPECT_EQ(film.passes, before.passes);
     EXPECT_EQ(film.sum, before.sum);
+    EXPECT_EQ(film.answers, before.answers);
     // A fresh film stays empty.
     Film empty;
     EXPECT_FALSE(rig.renderer.renderPass(penumbraCamera(), s, empty, &cancel));
@@ -734,6 +837,7 @@ TEST(Renderer, CancelledPassLeavesTheFilmUnchanged) {
     s.spp = 2;
     const Film two = rig.renderer.render(penumbraCamera(), s);
     EXPECT_EQ(film.sum, two.sum);
+    EXPECT_EQ(film.answers, two.answers);
 }
 
 TEST(Renderer, RejectsBadSettings) {
