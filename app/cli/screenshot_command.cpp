@@ -30,7 +30,9 @@ viewer::PreviewMode parsePreviewMode(const std::string& s) {
     if (s == "sampled") return viewer::PreviewMode::Sampled;
     if (s == "side") return viewer::PreviewMode::SideBySide;
     if (s == "diff") return viewer::PreviewMode::Difference;
-    throw usageError("--preview-mode: expected exact, sampled, side or diff, got '" + s + "'");
+    if (s == "answers") return viewer::PreviewMode::Answers;
+    throw usageError("--preview-mode: expected exact, sampled, side, diff or answers, got '" + s +
+                     "'");
 }
 
 void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
@@ -136,11 +138,13 @@ void registerScreenshotCommand(CLI::App& app) {
                     "(the scene with this camera)")
         ->type_name("STEM");
     sub->add_option("--backend", o->backend, "osmesa (default) or egl")->type_name("NAME");
-    sub->add_option("--preview-mode", o->previewMode, "exact (default), sampled, side or diff")
+    sub->add_option("--preview-mode", o->previewMode,
+                    "exact (default), sampled, side, diff or answers")
         ->type_name("MODE");
     sub->add_option("--view", o->view,
                     "What the 3D view shows: raster (default), or the render at the view's size: "
-                    "rendered (exact), sampled, side (exact | sampled), diff")
+                    "rendered (exact), sampled, side (exact | sampled), diff, answers (how the "
+                    "exact render answered each pixel)")
         ->type_name("MODE");
     sub->add_option("--light-samples", o->lightSamples, "Shadow rays per light (sampled)")
         ->type_name("N");

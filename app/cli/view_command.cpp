@@ -117,7 +117,8 @@ void registerViewCommand(CLI::App& app) {
         ->type_name("DIR");
     sub->add_option("--view", o->view,
                     "What the 3D view shows: raster (default), or the render at the view's size: "
-                    "rendered (exact), sampled, side (exact | sampled), diff (V toggles)")
+                    "rendered (exact), sampled, side (exact | sampled), diff, answers (how the "
+                    "exact render answered each pixel) (V toggles)")
         ->type_name("MODE");
     sub->add_option("--quit-after", o->quitAfter, "Close the window after this many seconds")
         ->type_name("SECONDS");

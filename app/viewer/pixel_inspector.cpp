@@ -45,7 +45,14 @@ const PixelReport* PixelInspector::inspect(const LoadedScene& scene, const Camer
     const int h = image.height;
     report_.exact = radianceAt(image.exactRadiance, image.imageWidth, h, x, y);
     report_.sampled = radianceAt(image.sampledRadiance, image.imageWidth, h, x, y);
-    if (image.imageWidth != view.width || h != view.height) report_.exact = report_.sampled = {};
+    report_.answers.reset();
+    if (image.answers.size() == static_cast<size_t>(image.imageWidth) * h && x < image.imageWidth &&
+        y < h)
+        report_.answers = image.answers[static_cast<size_t>(y) * image.imageWidth + x];
+    if (image.imageWidth != view.width || h != view.height) {
+        report_.exact = report_.sampled = {};
+        report_.answers.reset();
+    }
     valid_ = true;
     scene_ = &scene;
     camera_ = camera;

@@ -29,15 +29,19 @@ void putPixel(PreviewImage& img, int x, int y, uint8_t r, uint8_t g, uint8_t b) 
     p[3] = 255;
 }
 
-// The film tone mapped as `penumbra render` writes its PNG (engine/io/image_io.h), so that the
-// rendered view shows the same pixels.
-void putFilm(PreviewImage& img, const Film& film, int offsetX, double exposure) {
-    const std::vector<uint8_t> rgb = toSrgb8(film, exposure);
+// An RGB image of the film's size (rows from the top) into the preview at column offsetX.
+void putRgb(PreviewImage& img, const std::vector<uint8_t>& rgb, const Film& film, int offsetX) {
     for (int y = 0; y < film.height; ++y)
         for (int x = 0; x < film.width; ++x) {
             const uint8_t* p = rgb.data() + (static_cast<size_t>(y) * film.width + x) * 3;
             putPixel(img, offsetX + x, y, p[0], p[1], p[2]);
         }
+}
+
+// The film tone mapped as `penumbra render` writes its PNG (engine/io/image_io.h), so that the
+// rendered view shows the same pixels.
+void putFilm(PreviewImage& img, const Film& film, int offsetX, double exposure) {
+    putRgb(img, toSrgb8(film, exposure), film, offsetX);
 }
 
 // The film's mean radiance as RGB floats, rows from the top.
@@ -87,6 +91,8 @@ const char* toString(PreviewMode mode) {
             return "side by side";
         case PreviewMode::Difference:
             return "difference";
+        case PreviewMode::Answers:
+            return "answers";
     }
     return "?";
 }
@@ -145,7 +151,7 @@ void PreviewRunner::run(const std::shared_ptr<Job>& job) {
     const auto start = std::chrono::steady_clock::now();
     const PreviewSettings& s = job->settings;
     const bool wantExact = s.mode != PreviewMode::Sampled;
-    const bool wantSampled = s.mode != PreviewMode::Exact;
+    const bool wantSampled = s.mode != PreviewMode::Exact && s.mode != PreviewMode::Answers;
     PreviewImage image;
     image.width = s.mode == PreviewMode::SideBySide ? 2 * s.width : s.width;
     image.height = s.height;
@@ -210,10 +216,16 @@ void PreviewRunner::run(const std::shared_ptr<Job>& job) {
                         }
                     break;
                 }
+                case PreviewMode::Answers:  // as `penumbra render --out-answers` writes them
+                    putRgb(image, answersToRgb8(exact), exact, 0);
+                    break;
             }
             image.passes = pass + 1;
             image.imageWidth = s.width;
-            if (wantExact) putRadiance(image.exactRadiance, exact);
+            if (wantExact) {
+                putRadiance(image.exactRadiance, exact);
+                image.answers = exact.answers;
+            }
             if (wantSampled) putRadiance(image.sampledRadiance, sampled);
             if (wantExact && wantSampled) {
                 image.relativeRmsError = relativeRms(exact, sampled);

@@ -4,10 +4,11 @@
 // running job's cancel flag and starts a new job at once; the old job's images are dropped.
 //
 // Modes: Exact (FPQuery fragments, analytic form factors), Sampled (N shadow rays per light per
-// shading point), SideBySide (exact left, sampled right) and Difference (heat map of
-// |sampled - exact| luminance). The error figure is the RMS of the luminance difference over the
-// image, relative to the exact image's mean luminance: approximate (both images carry primary-ray
-// jitter, which vanishes as passes accumulate).
+// shading point), SideBySide (exact left, sampled right), Difference (heat map of
+// |sampled - exact| luminance) and Answers (how the exact render answered each pixel, in the
+// colours of engine/render/answers.h). The error figure is the RMS of the luminance difference over
+// the image, relative to the exact image's mean luminance: approximate (both images carry
+// primary-ray jitter, which vanishes as passes accumulate).
 #pragma once
 
 #include <tbb/task_group.h>
@@ -26,7 +27,7 @@
 
 namespace penumbra::viewer {
 
-enum class PreviewMode { Exact, Sampled, SideBySide, Difference };
+enum class PreviewMode { Exact, Sampled, SideBySide, Difference, Answers };
 const char* toString(PreviewMode mode);
 
 struct PreviewSettings {
@@ -52,6 +53,8 @@ struct PreviewImage {
     // image the mode does not render. What the pixel inspector reads.
     int imageWidth = 0;
     std::vector<float> exactRadiance, sampledRadiance;
+    // The exact image's answers (Film::answers), per pixel; empty when it is not rendered.
+    std::vector<AnswerCounts> answers;
 };
 
 class PreviewRunner {

@@ -314,8 +314,9 @@ void Viewer::handleInput(int width, int height) {
             updateOverlay();
         }
         const PreviewMode modes[] = {PreviewMode::Exact, PreviewMode::Sampled,
-                                     PreviewMode::SideBySide, PreviewMode::Difference};
-        for (int i = 0; i < 4; ++i)
+                                     PreviewMode::SideBySide, PreviewMode::Difference,
+                                     PreviewMode::Answers};
+        for (int i = 0; i < 5; ++i)
             if (ImGui::IsKeyPressed('1' + i)) {
                 options_.previewSettings.mode = modes[i];
                 previewDirty_ = true;
@@ -505,6 +506,15 @@ void Viewer::drawPixelInspector() {
     };
     radiance("exact", r.exact);
     radiance("sampled", r.sampled);
+    if (r.answers) {
+        std::string answered;
+        for (size_t i = 0; i < kAnswers; ++i)
+            if ((*r.answers)[i] > 0)
+                answered += std::string(answered.empty() ? "" : ", ") +
+                            toString(static_cast<Answer>(i)) + " " +
+                            std::to_string((*r.answers)[i]);
+        ImGui::Text("answered: %s", answered.empty() ? "no evaluation" : answered.c_str());
+    }
     if (!r.hit) {
         ImGui::TextUnformatted("no surface");
     } else {

@@ -393,6 +393,25 @@ TEST(ViewerScreenshot, RenderedViewIsTheImagePenumbraRenderWrites) {
                                  return x < split ? &exact : &sampled;
                              }),
               1e-3);
+    // The answers view: how the exact render answered each pixel, as `render --out-answers`
+    // writes it for the same camera and size.
+    const test::ProcessResult r =
+        test::runPenumbra({"render", scene, "--camera", camera, "--up", "0,1,0", "--size", size,
+                           "--spp", "1", "--out", (dir / "exact_again.png").string(),
+                           "--out-answers", (dir / "answers_render.png").string()});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const test::Image answers = test::readPng(dir / "answers_render.png");
+    const json answered = shoot("answers", "answers");
+    EXPECT_EQ(answered["preview"]["mode"], "answers");
+    EXPECT_LT(
+        meanDifference(test::readPng(dir / "answers.png"), [&](int, int) { return &answers; }),
+        1e-3);
+    // Its totals: the Cornell box is answered without sampling, its walls mostly by trees.
+    const json& totals = answered["preview"]["answers"];
+    ASSERT_TRUE(totals.is_object()) << answered["preview"];
+    EXPECT_EQ(totals["sampled"], 0) << totals;
+    EXPECT_GT(totals["tree walk"].get<uint64_t>(), 0u) << totals;
+    EXPECT_GT(totals["fully visible"].get<uint64_t>(), 0u) << totals;
     // Not a coincidence: the raster view of this camera is another picture.
     shoot("raster", "raster");
     EXPECT_GT(meanDifference(test::readPng(dir / "raster.png"), [&](int, int) { return &exact; }),
@@ -446,6 +465,15 @@ TEST(ViewerScreenshot, PixelInspectorReportsTheRenderedPixelAndTheExactFraction)
     EXPECT_NEAR(p["lights"][0]["formFactor"].get<double>(), tree[0].formFactor, 1e-12);
     EXPECT_GT(tree[0].fraction, 0.05);  // a penumbra: the test can tell a wrong point
     EXPECT_LT(tree[0].fraction, 0.95);
+    // How the exact render answered the pixel: one evaluation (one pass, one light), by a query
+    // (a point in a penumbra is neither fully visible nor unlit), exact (no sampling).
+    const json& answers = p["answers"];
+    ASSERT_TRUE(answers.is_object()) << p;
+    uint64_t all = 0;
+    for (const auto& [name, n] : answers.items()) all += n.get<uint64_t>();
+    EXPECT_EQ(all, 1u) << answers;
+    for (const char* none : {"fully visible", "no light", "sampled"})
+        EXPECT_EQ(answers[none], 0) << answers;
 }
 
 // Keep what you see (--save-view, the Preview panel's button): the rendered view saved as PNG,

@@ -30,7 +30,7 @@ PanelRect HelpPanel::draw(const Viewport& vp) {
             "click: inspect point   L: next light   Esc: clear\n"
             "F: fit scene   T: tree panel   H: this help   drag the view's side edges: "
             "resize the columns\n"
-            "1-4: preview exact / sampled / side by side / difference   R: restart\n"
+            "1-5: preview exact / sampled / side by side / difference / answers   R: restart\n"
             "V: rendered view (the preview in the 3D view; side by side: drag the split line)\n"
             "P: precompute all   C: cancel   A: accuracy vs time   Ctrl+Q: quit   drop scene: "
             "open");

@@ -1,6 +1,7 @@
 #include "app/viewer/panels/preview_panel.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <utility>
 
@@ -16,7 +17,8 @@ bool parseViewName(std::string_view name, ViewMode& view, PreviewMode& mode) {
     const std::pair<std::string_view, PreviewMode> rendered[] = {{"rendered", PreviewMode::Exact},
                                                                  {"sampled", PreviewMode::Sampled},
                                                                  {"side", PreviewMode::SideBySide},
-                                                                 {"diff", PreviewMode::Difference}};
+                                                                 {"diff", PreviewMode::Difference},
+                                                                 {"answers", PreviewMode::Answers}};
     for (const auto& [n, m] : rendered)
         if (name == n) {
             view = ViewMode::Rendered;
@@ -25,6 +27,29 @@ bool parseViewName(std::string_view name, ViewMode& view, PreviewMode& mode) {
         }
     return false;
 }
+
+namespace {
+
+// The answers mode's legend: each answer's colour, name and share of the evaluations.
+void drawAnswerLegend(const PreviewImage& image) {
+    const std::array<uint64_t, kAnswers> total = totalAnswers(image.answers);
+    uint64_t all = 0;
+    for (uint64_t n : total) all += n;
+    for (size_t i = 0; i < kAnswers; ++i) {
+        const auto a = static_cast<Answer>(i);
+        const Vec3 c = answerColour(a).rgb;
+        ImGui::ColorButton(
+            toString(a),
+            ImVec4(static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z), 1.0f),
+            ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
+        ImGui::SameLine();
+        ImGui::Text(
+            "%-15s %5.1f%%", toString(a),
+            all > 0 ? 100.0 * static_cast<double>(total[i]) / static_cast<double>(all) : 0.0);
+    }
+}
+
+}  // namespace
 
 PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& s, ViewMode& view,
                                         ExactOptions& exact, std::array<char, 256>& saveStem,
@@ -38,8 +63,8 @@ PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& 
             changed = true;
         }
         int mode = static_cast<int>(s.mode);
-        const char* names[] = {"exact", "sampled", "side by side", "difference"};
-        if (ImGui::Combo("mode (1-4)", &mode, names, 4)) {
+        const char* names[] = {"exact", "sampled", "side by side", "difference", "answers"};
+        if (ImGui::Combo("mode (1-5)", &mode, names, 5)) {
             s.mode = static_cast<PreviewMode>(mode);
             changed = true;
         }
@@ -92,6 +117,7 @@ PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& 
                     running ? "" : " (done)");
         if (image.relativeRmsError >= 0)
             ImGui::Text("sampled vs exact: %.2f%% RMS", 100 * image.relativeRmsError);
+        if (s.mode == PreviewMode::Answers && !image.answers.empty()) drawAnswerLegend(image);
         if (!image.error.empty()) ImGui::TextWrapped("error: %s", image.error.c_str());
         // Keep what you see: STEM.png, STEM.pfm and STEM.json (the scene with this camera).
         ImGui::SetNextItemWidth(std::max(60.0f, ImGui::GetContentRegionAvail().x - 110));

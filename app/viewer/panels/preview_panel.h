@@ -22,7 +22,7 @@ enum class ViewMode { Raster, Rendered };
 // the preview's mode: rendered (exact), sampled, side (exact and sampled, split), diff. False for
 // any other name (nothing is changed then).
 bool parseViewName(std::string_view name, ViewMode& view, PreviewMode& mode);
-inline constexpr const char* kViewNames = "raster, rendered, sampled, side or diff";
+inline constexpr const char* kViewNames = "raster, rendered, sampled, side, diff or answers";
 
 struct PreviewPanel {
     enum class Action { None, Restart, SaveView, Reopen };
