@@ -1,8 +1,8 @@
 // Viewer::stateJson: what the UI shows, for `--state-out` and the tests that check screenshots
 // against independent queries.
-#include <array>
 #include <cmath>
 
+#include "app/cli/answers_json.h"
 #include "app/viewer/palette.h"
 #include "app/viewer/viewer.h"
 #include "engine/precompute/precompute_scheduler.h"
@@ -12,15 +12,6 @@ namespace penumbra::viewer {
 namespace {
 
 nlohmann::json vec(const Vec3& v) { return {v.x, v.y, v.z}; }
-
-// The exact image's evaluations by answer (answers.h), over all pixels; null when it has none.
-nlohmann::json answerTotalsJson(const std::vector<AnswerCounts>& pixels) {
-    if (pixels.empty()) return nullptr;
-    const std::array<uint64_t, kAnswers> total = totalAnswers(pixels);
-    nlohmann::json out = nlohmann::json::object();
-    for (size_t i = 0; i < kAnswers; ++i) out[toString(static_cast<Answer>(i))] = total[i];
-    return out;
-}
 
 // The inspected point: per light its answer, fragments (with their overlay colours) and path.
 nlohmann::json pointJson(const Selection& selection) {
@@ -184,7 +175,7 @@ nlohmann::json Viewer::stateJson() const {
                     {"finished", previewImage_.finished},
                     {"relativeRmsError", previewImage_.relativeRmsError},
                     {"errorHistory", previewImage_.errorHistory},
-                    {"answers", answerTotalsJson(previewImage_.answers)},
+                    {"answers", cli::answerTotalsJson(previewImage_.answers)},
                     {"error", previewImage_.error}};
     s["frames"] = {{"count", frameStats_.frames},
                    {"maxSeconds", frameStats_.maxSeconds},

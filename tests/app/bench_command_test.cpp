@@ -14,6 +14,7 @@
 
 #include "engine/io/obj_io.h"
 #include "engine/scene/procedural_scenes.h"
+#include "tests/app/viewer_test_support.h"
 #include "tests/support/run_penumbra.h"
 #include "tests/support/test_files.h"
 
@@ -172,6 +173,19 @@ TEST_F(BenchCommand, MeasuresEveryPointExactOnASmallerImageAboveTheAllPairsSize)
     const nlohmann::json& e = bench["table1"][0]["exact"];
     ASSERT_GT(e["sampledEvaluations"].get<uint64_t>(), 0u) << e.dump(1);
     EXPECT_FALSE(e.contains("everyPointExact"));  // (the small scenes' full-image render)
+    // How each pixel was answered: the sampled ones are the evaluations the summary sampled, the
+    // queried ones (tree walk, direct, chain, sampled) all that needed a query, and the image is
+    // Table 1's.
+    const nlohmann::json& answers = e["answers"]["counts"];
+    EXPECT_EQ(answers["sampled"], e["sampledEvaluations"]) << answers;
+    EXPECT_EQ(answers["tree walk"].get<uint64_t>() + answers["direct"].get<uint64_t>() +
+                  answers["boundary chain"].get<uint64_t>() + answers["sampled"].get<uint64_t>(),
+              e["evaluations"].get<uint64_t>())
+        << answers;
+    EXPECT_EQ(e["answers"]["image"], "answers_soup.png");
+    const penumbra::test::Image map = penumbra::test::readPng(out / "answers_soup.png");
+    EXPECT_EQ(map.width, bench["table1"][0]["width"].get<int>());
+    EXPECT_EQ(map.height, bench["table1"][0]["height"].get<int>());
     const nlohmann::json& every = e["costEveryPointExact"];
     EXPECT_EQ(every["image"], "--exact-cost-size");
     EXPECT_EQ(every["width"], 6);
@@ -180,6 +194,8 @@ TEST_F(BenchCommand, MeasuresEveryPointExactOnASmallerImageAboveTheAllPairsSize)
     // One evaluation in 8 is timed: of 30 pixels and one light, at most 4.
     EXPECT_LE(every["evaluations"].get<uint64_t>(), 30u / 8 + 1);
     const std::string report = readFile(out / "report.md");
+    EXPECT_NE(report.find("### How each pixel was answered"), std::string::npos) << report;
+    EXPECT_NE(report.find("<img src=\"answers_soup.png\""), std::string::npos) << report;
     const size_t goals = report.find("### Per-point cost with every point exact");
     ASSERT_NE(goals, std::string::npos) << report;
     EXPECT_NE(report.find(std::string("| soup.obj | 6x5, 1 spp (--exact-cost-size") +

@@ -32,6 +32,7 @@
 #include <random>
 #include <thread>
 
+#include "app/cli/answers_json.h"
 #include "app/cli/arguments.h"
 #include "app/cli/bench/bench_report.h"
 #include "app/cli/commands.h"
@@ -39,6 +40,7 @@
 #include "app/viewer/selection.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/finite_output.h"
+#include "engine/io/image_io.h"
 #include "engine/io/visibility_file.h"
 #include "engine/precompute/precompute_scheduler.h"
 #include "engine/precompute/visibility_store.h"
@@ -304,8 +306,18 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
             r.resetEffects();
             std::atomic<bool> never{false};
             // The trees are in the store: its prepare finds them.
-            runWithLimit(INFINITY, never, [&] { r.render(camera, s, &t); });
+            Film film;
+            runWithLimit(INFINITY, never, [&] { film = r.render(camera, s, &t); });
             const EffectsSummary fx = r.effects();
+            // How each pixel was answered (engine/render/answers.h): DIR/answers_SCENE.png and
+            // the evaluations by answer.
+            const std::string answers = "answers_" + fs::path(path).stem().string() + ".png";
+            try {
+                writeAnswersPng(film, (dir / answers).string());
+            } catch (const std::runtime_error& err) {
+                throw inputError(err.what());
+            }
+            e["answers"] = {{"image", answers}, {"counts", answerTotalsJson(film.answers)}};
             e["renderWall"] = t.total;
             e["renderCpu"] = t.totalCpu;
             e["wall"] = prepWall + t.total;

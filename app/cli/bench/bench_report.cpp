@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/render/answers.h"
 #include "visibility/work_stage.h"
 
 namespace penumbra::cli {
@@ -149,6 +150,51 @@ void writeOverLimit(std::ostream& r, const json& rows) {
         r << "\n";
     }
     r << "\n";
+}
+
+// Of Table 1's exact renders, how each pixel was answered (engine/render/answers.h): the shares
+// of the evaluations and the images.
+void writeAnswers(std::ostream& r, const json& rows) {
+    if (!anyExactHas(rows, "answers")) return;
+    r << "### How each pixel was answered\n\n"
+      << "Table 1's exact renders, each evaluation (point, light) by the answer it took "
+         "(`engine/render/answers.h`; `penumbra render --out-answers`, the viewer's answers "
+         "view): a fully visible pair (the whole light, no query), no light (a back-facing or "
+         "fully hidden pair), a history tree's walk, the direct path (no tree), the boundary "
+         "chain (on either), or sampled over the work limit (not exact). Shares of all "
+         "evaluations; in the images each pixel is the mean colour of its evaluations.\n\n"
+      << "| scene |";
+    for (size_t i = 0; i < kAnswers; ++i) {
+        const auto a = static_cast<Answer>(i);
+        r << " " << toString(a) << " (" << answerColour(a).name << ") |";
+    }
+    r << "\n|---|";
+    for (size_t i = 0; i < kAnswers; ++i) r << "---|";
+    r << "\n";
+    std::string images;
+    for (const json& row : rows) {
+        const json& e = row["exact"];
+        if (!e.contains("answers")) continue;
+        const json& counts = e["answers"]["counts"];
+        auto count = [&](size_t i) {
+            return counts.value(toString(static_cast<Answer>(i)), uint64_t{0});
+        };
+        uint64_t all = 0;
+        for (size_t i = 0; i < kAnswers; ++i) all += count(i);
+        r << "| " << sceneName(row) << " |";
+        for (size_t i = 0; i < kAnswers; ++i) {
+            char share[32];
+            std::snprintf(
+                share, sizeof share, "%.1f%%",
+                all > 0 ? 100.0 * static_cast<double>(count(i)) / static_cast<double>(all) : 0.0);
+            r << " " << share << " |";
+        }
+        r << "\n";
+        const std::string image = e["answers"]["image"].get<std::string>();
+        images += "<img src=\"" + image + "\" width=\"200\" alt=\"" + sceneName(row) +
+                  "\" title=\"" + sceneName(row) + "\"> ";
+    }
+    r << "\n" << images << "\n\n";
 }
 
 // Of Table 1's exact renders, the query-driven refinement between passes.
@@ -334,6 +380,7 @@ void writeTable1(std::ostream& r, const json& rows, const json& skipped, bool pl
     r << "\n";
     if (plots) r << "![Table 1](table1.png)\n\n";
     writeSkipped(r, skipped);
+    writeAnswers(r, rows);
     writeOverLimit(r, rows);
     writeRefined(r, rows);
     writeWork(r, rows);
