@@ -162,7 +162,9 @@ void writeAnswers(std::ostream& r, const json& rows) {
          "view): a fully visible pair (the whole light, no query), no light (a back-facing or "
          "fully hidden pair), a history tree's walk, the direct path (no tree), the boundary "
          "chain (on either), or sampled over the work limit (not exact). Shares of all "
-         "evaluations; in the images each pixel is the mean colour of its evaluations.\n\n"
+         "evaluations (Table 1's sampled points are a share of those that needed a query: tree "
+         "walk, direct, chain and sampled); in the images each pixel is the mean colour of its "
+         "evaluations, black where it has none (the background, the light itself).\n\n"
       << "| scene |";
     for (size_t i = 0; i < kAnswers; ++i) {
         const auto a = static_cast<Answer>(i);
