@@ -19,9 +19,11 @@ namespace penumbra {
 
 enum class Answer : uint8_t {
     FullyVisible,  // a pair with nothing in its shaft: the whole light, no query
-    NoLight,       // a back-facing or fully hidden pair, or x behind the light: no query, no light
+    NoLight,       // a back-facing or fully hidden pair, or x behind the light's plane (or the
+                   // light behind x's): no light, and no plane test beyond those signs
     TreeWalk,      // the pair's history tree walked from x (its deferred occluders clipped from x)
-    Direct,        // no tree: the faces in x's pyramid to the light clipped from x
+    Direct,        // no tree: the faces in x's pyramid to the light clipped from x (with or
+                   // without face groups and solids)
     Chain,         // the boundary chain (silhouettes and borders) cut the light into cells
     Sampled,       // over the work limit: shadow rays, not exact
 };

@@ -208,7 +208,10 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 continue;
             }
             out += shadeFragments(p, light, list, {}, glossySamples, rng, scratch);
-            exactDone(Answer::Direct, list.size());
+            // No plane test made: x behind the light's plane, or the light behind B's (the sign
+            // tests that start the pair): no light, as for a back-facing pair with a tree.
+            exactDone(scratch.query.work() == 0 && list.empty() ? Answer::NoLight : Answer::Direct,
+                      list.size());
             continue;
         }
         const vis::PairKind kind = record->tree.kind;
