@@ -209,7 +209,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             }
             out += shadeFragments(p, light, list, {}, glossySamples, rng, scratch);
             // No plane test made: x behind the light's plane, or the light behind B's (the sign
-            // tests that start the pair): no light, as for a back-facing pair with a tree.
+            // tests that start the pair): no light, as for a back-facing pair.
             exactDone(scratch.query.work() == 0 && list.empty() ? Answer::NoLight : Answer::Direct,
                       list.size());
             continue;
@@ -256,12 +256,13 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 continue;
             }
             if (list->empty()) {
-                exactDone(Answer::TreeWalk, 0);
+                // (No plane test: x behind the light's plane, as on the direct path below.)
+                exactDone(scratch.query.work() == 0 ? Answer::NoLight : Answer::TreeWalk, 0);
                 continue;
             }
         }
-        if (list == nullptr && fragments.empty()) continue;  // (noted above)
-        static const vis::FragmentList kNone;                // immutable: shared by every thread
+        if (list == nullptr && fragments.empty()) continue;
+        static const vis::FragmentList kNone;  // immutable: shared by every thread
         out += list != nullptr
                    ? shadeFragments(p, light, *list, {}, glossySamples, rng, scratch)
                    : shadeFragments(p, light, kNone, fragments, glossySamples, rng, scratch);
