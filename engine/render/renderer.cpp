@@ -117,6 +117,8 @@ struct PassInputs {
     // The pixel cells whose query reached the work limit in the film's earlier passes
     // (ExactScratch::overLimitBefore).
     const std::unordered_set<uint64_t>* overLimitBefore = nullptr;
+    // Exact: this pass's answer per (pixel, light) cell (ExactScratch::answers), or null.
+    uint8_t* answers = nullptr;
 };
 
 // One thread's share of a pass: per tile, traces the primary rays, then shades the hits into the
@@ -130,6 +132,7 @@ class TileShader {
         std::swap(scratch.query, pooled_);
         scratch.query.setWorkLimit(in.settings.exactWorkLimit);
         scratch.overLimitBefore = in.overLimitBefore;
+        scratch.answers = in.answers;
         vis::FromPointQuery::ChainOptions chain;
         chain.minOccluders = in.settings.chainMinOccluders;
         scratch.query.setChainOptions(chain);
@@ -153,8 +156,7 @@ class TileShader {
     // points of one receiver patch in one region cell of the tile: the query then decides once per
     // group the nodes that send all of its points the same way (ExactScratch::regionCorners). Each
     // pixel's value does not depend on the order (its random numbers are its own).
-    // `answers`: per pixel, the pass's answers (exact method), or empty.
-    void shade(const Tile& tile, std::vector<Vec3>& image, std::vector<AnswerCounts>& answers) {
+    void shade(const Tile& tile, std::vector<Vec3>& image) {
         collectPoints(tile);
         if (in_.exact)
             std::sort(points_.begin(), points_.end(), [](const TilePoint& l, const TilePoint& r) {
@@ -165,7 +167,7 @@ class TileShader {
             while (end < points_.size() && points_[end].group == points_[g].group &&
                    points_[end].cell == points_[g].cell)
                 ++end;
-            shadeGroup(g, end, image, answers);
+            shadeGroup(g, end, image);
             g = end;
         }
         scratch.regionCorners.clear();
@@ -229,8 +231,7 @@ class TileShader {
         }
     }
 
-    void shadeGroup(size_t begin, size_t end, std::vector<Vec3>& image,
-                    std::vector<AnswerCounts>& answers) {
+    void shadeGroup(size_t begin, size_t end, std::vector<Vec3>& image) {
         if (in_.exact) {
             vis::Bounds3 box;
             for (size_t q = begin; q < end; ++q) box.add(points_[q].point.x);
@@ -249,7 +250,6 @@ class TileShader {
             if (in_.exact) {
                 scratch.pixel = static_cast<uint64_t>(y) * static_cast<uint64_t>(settings.width) +
                                 static_cast<uint64_t>(x);
-                scratch.answers = answers.empty() ? nullptr : &answers[scratch.pixel];
                 radiance += in_.lighting.exactAreaLights(p, settings.glossySamples,
                                                          settings.lightSamples, rng, scratch);
             } else {
@@ -468,7 +468,11 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
             ? film.passes
             : 0;
     std::vector<Vec3> image(static_cast<size_t>(w) * h);
-    std::vector<AnswerCounts> answers(settings.method == DirectMethod::Exact ? image.size() : 0);
+    // This pass's answers, a byte per (pixel, light) cell, added to the film's counts once the
+    // pass is whole (a cancelled pass leaves the film as it was).
+    const size_t lights = scene_.lights.size();
+    const bool answering = settings.method == DirectMethod::Exact && lights > 0;
+    passAnswers_.assign(answering ? image.size() * lights : 0, ExactScratch::kNoAnswer);
     std::atomic<bool> cancelled{false};
     std::mutex mutex;
     std::vector<PairKey> usedKeys;
@@ -500,7 +504,8 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                         settings.method == DirectMethod::Reference ? settings.referenceSamples
                                                                    : settings.lightSamples,
                         settings.method == DirectMethod::Exact,
-                        &overLimitCells_};
+                        &overLimitCells_,
+                        answering ? passAnswers_.data() : nullptr};
 
     tbb::parallel_for(
         tbb::blocked_range<int>(0, tileCount(settings), 1),
@@ -515,7 +520,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                 const auto a = Clock::now();
                 shader.trace(tile);
                 const auto b = Clock::now();
-                shader.shade(tile, image, answers);
+                shader.shade(tile, image);
                 const auto c = Clock::now();
                 if (times != nullptr) {
                     times->primaryNs.fetch_add(
@@ -543,10 +548,11 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     overLimitCells_.insert(overLimitNow.begin(), overLimitNow.end());
     if (pass == 0) film.reset(w, h);
     for (size_t i = 0; i < image.size(); ++i) film.sum[i] += image[i];
-    if (!answers.empty()) {
-        if (film.answers.size() != answers.size()) film.answers.assign(answers.size(), {});
-        for (size_t i = 0; i < answers.size(); ++i)
-            for (size_t a = 0; a < kAnswers; ++a) film.answers[i][a] += answers[i][a];
+    if (answering) {
+        if (film.answers.size() != image.size()) film.answers.assign(image.size(), {});
+        for (size_t cell = 0; cell < passAnswers_.size(); ++cell)
+            if (passAnswers_[cell] != ExactScratch::kNoAnswer)
+                ++film.answers[cell / lights][passAnswers_[cell]];
     }
     ++film.passes;
     recordUse(usedKeys, facesSeen, settings, evaluations, directKeys);

@@ -170,8 +170,9 @@ class ProgressiveRenderer {
     const EmbreeScene& bvh_;
     VisibilityStore& store_;
     std::unique_ptr<DirectLighting> lighting_;
-    std::vector<Vec3> faceNormal_;  // unit, per face
-    std::vector<Vec3> faceOrigin_;  // first vertex, per face
+    std::vector<Vec3> faceNormal_;      // unit, per face
+    std::vector<Vec3> faceOrigin_;      // first vertex, per face
+    std::vector<uint8_t> passAnswers_;  // renderPass's, kept for its capacity
 
     // What the images used (effects()); guarded by mutex_.
     mutable std::mutex mutex_;

@@ -135,7 +135,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         // `tried`: this point's query reached the limit (counted by the stage it was in).
         auto overLimit = [&](bool tried) {
             ++scratch.evaluations.sampled;
-            scratch.note(Answer::Sampled);
+            scratch.note(cell, Answer::Sampled);
             if (tried)
                 ++scratch.evaluations.overLimitAt[static_cast<size_t>(scratch.query.limitStage())];
             if (record == nullptr) ++scratch.evaluations.sampledDirect;
@@ -157,7 +157,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         auto exactDone = [&](Answer path, size_t fragments) {
             if (timed) scratch.evaluations.costs.exactNs.addSince(evalStart);
             const vis::FromPointQuery::ChainCounts& chain = scratch.query.chainCounts();
-            scratch.note(chain.cells == 0 ? path : Answer::Chain);
+            scratch.note(cell, chain.cells == 0 ? path : Answer::Chain);
             if (chain.cells == 0) return;
             ++scratch.evaluations.costs.chainEvaluations;
             scratch.evaluations.costs.chainOccluderEdges += chain.occluderEdges;
@@ -216,7 +216,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         }
         const vis::PairKind kind = record->tree.kind;
         if (kind == vis::PairKind::BackFacing || kind == vis::PairKind::FullyHidden) {
-            scratch.note(Answer::NoLight);
+            scratch.note(cell, Answer::NoLight);
             continue;
         }
         // The fragments, as polygons (the fully visible pair's cached clip) or the FPQuery list.
@@ -225,7 +225,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         if (kind == vis::PairKind::FullyVisible) {
             // What FPQuery returns for a fully visible pair, cached per receiver face.
             if (light.plane.side(p.x) != vis::Sign::Positive) {
-                scratch.note(Answer::NoLight);
+                scratch.note(cell, Answer::NoLight);
                 continue;
             }
             if (scratch.clippedFace[k] != p.face) {
@@ -235,10 +235,10 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 scratch.clippedFace[k] = p.face;
             }
             if (scratch.clippedLight[k].size() < 3) {
-                scratch.note(Answer::NoLight);
+                scratch.note(cell, Answer::NoLight);
                 continue;
             }
-            scratch.note(Answer::FullyVisible);
+            scratch.note(cell, Answer::FullyVisible);
             fragments = std::span<const vis::Polygon3>(&scratch.clippedLight[k], 1);
         } else {
             vis::RegionDecisions* region = nullptr;

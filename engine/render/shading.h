@@ -164,11 +164,13 @@ struct ExactScratch {
     // overLimitNow (the renderer adds them after the pass).
     const std::unordered_set<uint64_t>* overLimitBefore = nullptr;
     uint64_t pixel = 0;
-    // The next point's pixel's answer counts (answers.h), one added per light evaluated; null =
-    // not recorded.
-    AnswerCounts* answers = nullptr;
-    void note(Answer a) {
-        if (answers != nullptr) ++(*answers)[static_cast<size_t>(a)];
+    // This pass's answer (answers.h) per (pixel, light) cell, indexed as overLimitNow's cells
+    // (kNoAnswer where none); null = not recorded. One byte a cell: a pixel has one point per
+    // pass, and it one evaluation per light.
+    static constexpr uint8_t kNoAnswer = 0xFF;
+    uint8_t* answers = nullptr;
+    void note(uint64_t cell, Answer a) {
+        if (answers != nullptr) answers[cell] = static_cast<uint8_t>(a);
     }
     std::vector<uint64_t> overLimitNow;
     // The points sampled over the work limit (tried or skipped) that a tree's walk answers,
