@@ -86,6 +86,7 @@ RenderSettings renderSettings(const RenderOptions& o) {
     settings.glossySamples = o.glossySamples;
     o.exact.applyTo(settings);
     settings.seed = o.seed;
+    settings.recordAnswers = !o.outAnswers.empty();
     settings.lightSeed = o.lightSeed;
     return settings;
 }

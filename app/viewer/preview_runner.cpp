@@ -173,6 +173,7 @@ void PreviewRunner::run(const std::shared_ptr<Job>& job) {
         exactSettings.height = s.height;
         exactSettings.spp = s.passes;
         exactSettings.method = DirectMethod::Exact;
+        exactSettings.recordAnswers = true;  // (the answers mode, the pixel inspector)
         s.exact.applyTo(exactSettings);
         RenderSettings sampledSettings = exactSettings;
         sampledSettings.method = DirectMethod::Sampled;

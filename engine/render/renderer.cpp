@@ -471,7 +471,8 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     // This pass's answers, a byte per (pixel, light) cell, added to the film's counts once the
     // pass is whole (a cancelled pass leaves the film as it was).
     const size_t lights = scene_.lights.size();
-    const bool answering = settings.method == DirectMethod::Exact && lights > 0;
+    const bool answering =
+        settings.method == DirectMethod::Exact && settings.recordAnswers && lights > 0;
     passAnswers_.assign(answering ? image.size() * lights : 0, ExactScratch::kNoAnswer);
     std::atomic<bool> cancelled{false};
     std::mutex mutex;

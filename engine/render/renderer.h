@@ -91,6 +91,9 @@ struct RenderSettings {
     // A sub-patch tree is built where its estimated cost is at most this many times that of the
     // sampling it replaces (1: break-even; tests raise it to refine wherever the limit was hit).
     double refineCostShare = 1;
+    // Exact: keep per pixel how its evaluations were answered (Film::answers, answers.h): a byte
+    // per (pixel, light) per pass and six counts per pixel in the film, so off unless asked for.
+    bool recordAnswers = false;
 };
 
 // Linear radiance, accumulated over passes. A pass adds one jittered sample per pixel; the jitter
@@ -99,8 +102,8 @@ struct Film {
     int width = 0, height = 0;
     int passes = 0;
     std::vector<Vec3> sum;  // width * height, row-major from the top-left
-    // Exact method: per pixel, how many of its evaluations (all passes, all area lights) took
-    // each answer (answers.h); empty for the other methods.
+    // Exact method with RenderSettings::recordAnswers: per pixel, how many of its evaluations (all
+    // passes, all area lights) took each answer (answers.h); else empty.
     std::vector<AnswerCounts> answers;
     void reset(int w, int h);
     Vec3 mean(int x, int y) const;  // sum / passes (0 when no pass)

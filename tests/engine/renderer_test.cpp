@@ -731,6 +731,9 @@ TEST(Renderer, AnswerMapSaysHowEachPixelWasAnsweredAndItIsTrue) {
         s.exactWorkLimit = 0;
         s.minTreeSamples = trees ? 0 : 1u << 30;
         Rig rig(penumbraScene(Material{}));
+        EXPECT_TRUE(rig.renderer.render(camera, s).answers.empty());  // (not asked for)
+        s.recordAnswers = true;
+        rig.renderer.resetEffects();
         const Film film = rig.renderer.render(camera, s);
         const EffectsSummary e = rig.renderer.effects();
         Rig unblocked(open);
@@ -821,9 +824,11 @@ TEST(Renderer, CancelledPassLeavesTheFilmUnchanged) {
     Rig rig(penumbraScene(Material{}));
     RenderSettings s;
     s.width = s.height = 20;
+    s.recordAnswers = true;
     Film film;
     ASSERT_TRUE(rig.renderer.renderPass(penumbraCamera(), s, film));
     ASSERT_EQ(film.passes, 1);
+    ASSERT_EQ(film.answers.size(), film.sum.size());
     const Film before = film;
     std::atomic<bool> cancel{true};
     EXPECT_FALSE(rig.renderer.renderPass(penumbraCamera(), s, film, &cancel));

@@ -291,6 +291,7 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
         VisibilityStore store(scene, &bvh);
         ProgressiveRenderer r(scene, bvh, store);
         s.method = DirectMethod::Exact;
+        s.recordAnswers = true;  // (the answers images)
         std::atomic<bool> cancel{false};
         double prepWall = 0, prepCpu = 0;
         const double c0 = processCpuSeconds();
