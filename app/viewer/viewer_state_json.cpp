@@ -144,17 +144,12 @@ nlohmann::json Viewer::stateJson() const {
                               {"fraction", l.fraction},
                               {"formFactor", l.formFactor},
                               {"complete", l.complete}});
-        json answers = nullptr;
-        if (r.answers) {
-            answers = json::object();
-            for (size_t i = 0; i < kAnswers; ++i)
-                answers[toString(static_cast<Answer>(i))] = (*r.answers)[i];
-        }
         s["pixel"] = {{"x", r.x},
                       {"y", r.y},
                       {"exact", radiance(r.exact)},
                       {"sampled", radiance(r.sampled)},
-                      {"answers", answers},
+                      {"answers", r.answers ? cli::answerTotalsJson(std::span(&*r.answers, 1))
+                                            : json(nullptr)},
                       {"face", r.hit ? json(r.hit->face) : json(nullptr)},
                       {"point", r.hit ? vec(r.hit->point) : json(nullptr)},
                       {"lights", lights}};

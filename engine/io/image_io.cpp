@@ -63,7 +63,9 @@ std::vector<uint8_t> toSrgb8(const Film& film, double exposure) {
 std::vector<uint8_t> answersToRgb8(const Film& film) {
     const size_t n = static_cast<size_t>(std::max(film.width, 0)) * std::max(film.height, 0);
     if (n == 0 || film.answers.size() != n)
-        throw std::invalid_argument("the film holds no answers (only an exact render has them)");
+        throw std::invalid_argument(
+            "the film holds no answers (an exact render keeps them when asked: "
+            "RenderSettings::recordAnswers)");
     std::vector<uint8_t> out(n * 3);
     for (size_t i = 0; i < n; ++i) {
         const Vec3 c = answerPixel(film.answers[i]);

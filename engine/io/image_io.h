@@ -17,7 +17,7 @@ std::vector<uint8_t> toSrgb8(const Film& film, double exposure = 1.0);
 
 // The film's answers (Film::answers, exact method) as colours (answers.h: each pixel the mean of
 // its evaluations' colours, black where it has none), 8 bits per channel, RGB, rows from the top.
-// Throws std::invalid_argument for a film without answers.
+// Throws std::invalid_argument for a film without answers (RenderSettings::recordAnswers off).
 std::vector<uint8_t> answersToRgb8(const Film& film);
 // Writes them as a PNG, atomically. Throws std::runtime_error (naming the file) when the film has
 // no answers or the file cannot be written.

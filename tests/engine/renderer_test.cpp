@@ -3,6 +3,7 @@
 #include "engine/render/renderer.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -731,7 +732,22 @@ TEST(Renderer, AnswerMapSaysHowEachPixelWasAnsweredAndItIsTrue) {
         s.exactWorkLimit = 0;
         s.minTreeSamples = trees ? 0 : 1u << 30;
         Rig rig(penumbraScene(Material{}));
-        EXPECT_TRUE(rig.renderer.render(camera, s).answers.empty());  // (not asked for)
+        {
+            // Not asked for: none kept, and writing them is an error naming the file.
+            const Film none = rig.renderer.render(camera, s);
+            EXPECT_TRUE(none.answers.empty());
+            const std::string file =
+                (std::filesystem::temp_directory_path() /
+                 ("penumbra_no_answers_" + std::to_string(::getpid()) + ".png"))
+                    .string();
+            try {
+                writeAnswersPng(none, file);
+                ADD_FAILURE() << "wrote answers the film does not hold";
+            } catch (const std::runtime_error& e) {
+                EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << e.what();
+            }
+            EXPECT_FALSE(std::filesystem::exists(file));
+        }
         s.recordAnswers = true;
         rig.renderer.resetEffects();
         const Film film = rig.renderer.render(camera, s);

@@ -19,8 +19,8 @@ namespace penumbra::viewer {
 enum class ViewMode { Raster, Rendered };
 
 // The names of the command line's --view (screenshot, view): raster, or the rendered view with
-// the preview's mode: rendered (exact), sampled, side (exact and sampled, split), diff. False for
-// any other name (nothing is changed then).
+// the preview's mode: rendered (exact), sampled, side (exact and sampled, split), diff, answers
+// (how the exact render answered each pixel). False for any other name (nothing is changed then).
 bool parseViewName(std::string_view name, ViewMode& view, PreviewMode& mode);
 inline constexpr const char* kViewNames = "raster, rendered, sampled, side, diff or answers";
 
