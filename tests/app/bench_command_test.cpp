@@ -185,6 +185,9 @@ TEST_F(BenchCommand, MeasuresEveryPointExactOnASmallerImageAboveTheAllPairsSize)
     EXPECT_LE(e["evaluations"].get<uint64_t>(), queried + answers["no light"].get<uint64_t>())
         << answers;
     EXPECT_EQ(e["answers"]["image"], "answers_soup.png");
+    EXPECT_NE(r.out.find("  answers (answers_soup.png): fully visible (yellow) "),
+              std::string::npos)
+        << r.out;
     const penumbra::test::Image map = penumbra::test::readPng(out / "answers_soup.png");
     EXPECT_EQ(map.width, bench["table1"][0]["width"].get<int>());
     EXPECT_EQ(map.height, bench["table1"][0]["height"].get<int>());

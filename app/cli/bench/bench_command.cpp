@@ -319,6 +319,8 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
                 throw inputError(err.what());
             }
             e["answers"] = {{"image", answers}, {"counts", answerTotalsJson(film.answers)}};
+            std::printf("  answers (%s): %s\n", answers.c_str(),
+                        describeAnswers(film.answers).c_str());
             e["renderWall"] = t.total;
             e["renderCpu"] = t.totalCpu;
             e["wall"] = prepWall + t.total;
