@@ -56,13 +56,13 @@ struct Polygons {
 };
 
 // The answers of one path at one point.
-struct Answer {
+struct VisibleAnswer {
     double fraction = 0, formFactor = 0;
 };
 
-Answer measure(const vis::PolygonMesh& m, uint32_t receiver, uint32_t light, const Vec3& x,
-               const vis::FragmentList& f) {
-    Answer a;
+VisibleAnswer measure(const vis::PolygonMesh& m, uint32_t receiver, uint32_t light, const Vec3& x,
+                      const vis::FragmentList& f) {
+    VisibleAnswer a;
     const Vec3 n = vis::normalize(m.faceAreaNormal(receiver));
     double area = 0;
     for (size_t k = 0; k < f.size(); ++k) {
@@ -94,7 +94,7 @@ class Paths {
         const test::ReferenceResult ref = test::exactReference(m, 0, 1, x);
         if (refOut) *refOut = ref;
         int bad = 0;
-        auto compare = [&](const char* path, const Answer& a) {
+        auto compare = [&](const char* path, const VisibleAnswer& a) {
             const bool ok =
                 std::fabs(a.fraction - ref.fraction) <= 1e-9 &&
                 std::fabs(a.formFactor - ref.formFactor) <= 1e-9 * std::max(ref.formFactor, 1e-6);
