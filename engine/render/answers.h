@@ -94,6 +94,16 @@ inline std::array<uint64_t, kAnswers> totalAnswers(std::span<const AnswerCounts>
     return total;
 }
 
+// Each answer's share of all the evaluations, in percent (all 0 when there is none).
+inline std::array<double, kAnswers> answerShares(const std::array<uint64_t, kAnswers>& total) {
+    uint64_t all = 0;
+    for (uint64_t n : total) all += n;
+    std::array<double, kAnswers> share{};
+    for (size_t i = 0; all > 0 && i < kAnswers; ++i)
+        share[i] = 100.0 * static_cast<double>(total[i]) / static_cast<double>(all);
+    return share;
+}
+
 // A legend with the shares: "fully visible (yellow) 41.2%, no light (dark grey) 3.0%, ..." over
 // all evaluations, every answer listed; "no evaluation" when there is none.
 std::string describeAnswers(std::span<const AnswerCounts> pixels);

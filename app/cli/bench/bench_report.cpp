@@ -1,6 +1,7 @@
 #include "app/cli/bench/bench_report.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <ostream>
@@ -162,10 +163,10 @@ void writeAnswers(std::ostream& r, const json& rows) {
          "view): a fully visible pair (the whole light, no query), no light (a back-facing or "
          "fully hidden pair, or a point behind the light's plane), a history tree's walk, the "
          "direct path (no tree), the boundary chain (on either), or sampled over the work limit "
-         "(not exact). Shares of all "
-         "evaluations (Table 1's sampled points are a share of those that needed a query: tree "
-         "walk, direct, chain and sampled); in the images each pixel is the mean colour of its "
-         "evaluations, black where it has none (the background, the light itself).\n\n"
+         "(not exact). Shares of all evaluations (Table 1's sampled points are a share of those "
+         "that needed a query: tree walk, direct, chain and sampled); in the images each pixel "
+         "is the mean colour of its evaluations, black where it has none (the background, the "
+         "light itself).\n\n"
       << "| scene |";
     for (size_t i = 0; i < kAnswers; ++i) {
         const auto a = static_cast<Answer>(i);
@@ -179,19 +180,11 @@ void writeAnswers(std::ostream& r, const json& rows) {
         const json& e = row["exact"];
         if (!e.contains("answers")) continue;
         const json& counts = e["answers"]["counts"];
-        auto count = [&](size_t i) {
-            return counts.value(toString(static_cast<Answer>(i)), uint64_t{0});
-        };
-        uint64_t all = 0;
-        for (size_t i = 0; i < kAnswers; ++i) all += count(i);
+        std::array<uint64_t, kAnswers> total{};
+        for (size_t i = 0; i < kAnswers; ++i)
+            total[i] = counts.value(toString(static_cast<Answer>(i)), uint64_t{0});
         r << "| " << sceneName(row) << " |";
-        for (size_t i = 0; i < kAnswers; ++i) {
-            char share[32];
-            std::snprintf(
-                share, sizeof share, "%.1f%%",
-                all > 0 ? 100.0 * static_cast<double>(count(i)) / static_cast<double>(all) : 0.0);
-            r << " " << share << " |";
-        }
+        for (double share : answerShares(total)) r << " " << fmt("%.1f%%", share) << " |";
         r << "\n";
         const std::string image = e["answers"]["image"].get<std::string>();
         images += "<img src=\"" + image + "\" width=\"200\" alt=\"" + sceneName(row) +

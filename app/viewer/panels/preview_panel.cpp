@@ -32,9 +32,7 @@ namespace {
 
 // The answers mode's legend: each answer's colour, name and share of the evaluations.
 void drawAnswerLegend(const PreviewImage& image) {
-    const std::array<uint64_t, kAnswers> total = totalAnswers(image.answers);
-    uint64_t all = 0;
-    for (uint64_t n : total) all += n;
+    const std::array<double, kAnswers> shares = answerShares(totalAnswers(image.answers));
     for (size_t i = 0; i < kAnswers; ++i) {
         const auto a = static_cast<Answer>(i);
         const Vec3 c = answerColour(a).rgb;
@@ -43,9 +41,7 @@ void drawAnswerLegend(const PreviewImage& image) {
             ImVec4(static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z), 1.0f),
             ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
         ImGui::SameLine();
-        ImGui::Text(
-            "%-15s %5.1f%%", toString(a),
-            all > 0 ? 100.0 * static_cast<double>(total[i]) / static_cast<double>(all) : 0.0);
+        ImGui::Text("%-15s %5.1f%%", toString(a), shares[i]);
     }
 }
 
