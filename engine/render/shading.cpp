@@ -152,12 +152,16 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             return v;
         };
         // An evaluation answered exactly by a query, on `path` (TreeWalk or Direct, unless the
-        // chain answered): its time since evalStart (when timed), and its chain's size.
+        // chain answered, or the query made no plane test and found nothing: x behind the
+        // light's plane, or the light behind B's, decided by the signs that start the pair, no
+        // light as for a back-facing pair): its time since evalStart (when timed), and its
+        // chain's size.
         const auto evalStart = timed ? Clock::now() : Clock::time_point{};
         auto exactDone = [&](Answer path, size_t fragments) {
             if (timed) scratch.evaluations.costs.exactNs.addSince(evalStart);
             const vis::FromPointQuery::ChainCounts& chain = scratch.query.chainCounts();
-            scratch.note(cell, chain.cells == 0 ? path : Answer::Chain);
+            const bool noLight = scratch.query.work() == 0 && fragments == 0;
+            scratch.note(cell, chain.cells != 0 ? Answer::Chain : noLight ? Answer::NoLight : path);
             if (chain.cells == 0) return;
             ++scratch.evaluations.costs.chainEvaluations;
             scratch.evaluations.costs.chainOccluderEdges += chain.occluderEdges;
@@ -208,10 +212,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 continue;
             }
             out += shadeFragments(p, light, list, {}, glossySamples, rng, scratch);
-            // No plane test made: x behind the light's plane, or the light behind B's (the sign
-            // tests that start the pair): no light, as for a back-facing pair.
-            exactDone(scratch.query.work() == 0 && list.empty() ? Answer::NoLight : Answer::Direct,
-                      list.size());
+            exactDone(Answer::Direct, list.size());
             continue;
         }
         const vis::PairKind kind = record->tree.kind;
@@ -256,8 +257,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 continue;
             }
             if (list->empty()) {
-                // (No plane test: x behind the light's plane, as on the direct path below.)
-                exactDone(scratch.query.work() == 0 ? Answer::NoLight : Answer::TreeWalk, 0);
+                exactDone(Answer::TreeWalk, 0);
                 continue;
             }
         }
