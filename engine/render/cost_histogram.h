@@ -37,6 +37,7 @@ class CostHistogram {
     }
     uint64_t count() const { return count_; }
     double mean() const { return count_ == 0 ? 0.0 : sum_ / static_cast<double>(count_); }
+    double sum() const { return sum_; }
     // The cost below which a fraction q (0..1) of the evaluations lie: the geometric middle of
     // the bucket holding the ceil(q * count)-th smallest; 0 without evaluations.
     double quantile(double q) const {

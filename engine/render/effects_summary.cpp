@@ -165,8 +165,19 @@ std::string EffectsSummary::text() const {
             line("cost per exact evaluation: " + costText(costs.exactNs) + " (" +
                  std::to_string(costs.exactNs.count()) +
                  " timed: one in 8 of the evaluations answered exactly, query and shading)");
-        if (costs.sampledNs.count() > 0)
+        if (costs.sampledNs.count() > 0) {
             line("  the sampled ones' shadow rays: " + costText(costs.sampledNs));
+            const EvaluationCosts::TimeSplit t = costs.timeSplit();
+            char split[240];
+            std::snprintf(split, sizeof split,
+                          "exact answers %.1f%%, queries stopped at the work limit %.1f%%, the "
+                          "sampled points' shadow rays %.1f%% of about %.2f s of CPU",
+                          100 * t.exact / t.total(), 100 * t.attempts / t.total(),
+                          100 * t.rays / t.total(), t.total());
+            line(std::string("  where their time went: ") + split +
+                 " (the timed evaluations' sums, times 8: what the work limit's sampling costs "
+                 "the exact render)");
+        }
         if (costs.chainEvaluations > 0) {
             char per[200];
             std::snprintf(per, sizeof per,

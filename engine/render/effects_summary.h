@@ -17,11 +17,16 @@ namespace penumbra {
 // What the renderer's evaluations cost, summed over threads and passes (ExactEvaluations and
 // EffectsSummary hold it alike).
 struct EvaluationCosts {
-    // Of one evaluation in ExactScratch::kTimedEvery: per evaluation answered exactly, its time
+    // One evaluation in kTimedEvery is timed (ExactScratch::timeNext).
+    static constexpr uint32_t kTimedEvery = 8;
+    // Of one evaluation in kTimedEvery: per evaluation answered exactly, its time
     // in nanoseconds (the query and the shading of its fragments); per sampled one, the time of
     // its shadow rays alone (the exact method's points over the work limit, per light; the
     // sampled method's points, all lights).
     CostHistogram exactNs, sampledNs;
+    // Per timed evaluation whose query reached the work limit (the exact method's), the time
+    // the query ran before it stopped: spent before the shadow rays, and lost.
+    CostHistogram attemptNs;
     // The exact evaluations the boundary chain answered (vis::FromPointQuery::ChainCounts: it cut
     // L into cells), their occluders' edges (each use by a face; a face group taken whole counts
     // its boundary only), the chain edges left of them, the cells those cut L into and the
@@ -29,9 +34,21 @@ struct EvaluationCosts {
     // (each is cut, then labelled); the fragments are what shading pays for.
     uint64_t chainEvaluations = 0, chainOccluderEdges = 0, chainBoundaryEdges = 0, chainCells = 0,
              chainFragments = 0;
+    // Where the exact method's evaluations that needed a query spent their time, estimated from
+    // the timed ones (their sums times kTimedEvery), in CPU seconds: the exact answers, the
+    // queries that stopped at the work limit, and the sampled points' shadow rays.
+    struct TimeSplit {
+        double exact = 0, attempts = 0, rays = 0;
+        double total() const { return exact + attempts + rays; }
+    };
+    TimeSplit timeSplit() const {
+        const double scale = kTimedEvery * 1e-9;
+        return {exactNs.sum() * scale, attemptNs.sum() * scale, sampledNs.sum() * scale};
+    }
     EvaluationCosts& operator+=(const EvaluationCosts& o) {
         exactNs += o.exactNs;
         sampledNs += o.sampledNs;
+        attemptNs += o.attemptNs;
         chainEvaluations += o.chainEvaluations;
         chainOccluderEdges += o.chainOccluderEdges;
         chainBoundaryEdges += o.chainBoundaryEdges;

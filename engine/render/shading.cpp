@@ -129,6 +129,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         const uint64_t cell = scratch.pixel * lights_.size() + k;
         // This evaluation is timed (ExactScratch::timeNext; only those that need a query).
         const bool timed = queried && scratch.timeNext();
+        const auto evalStart = timed ? Clock::now() : Clock::time_point{};
         // Over the work limit: shadow rays instead, and the pixel marked for the later passes
         // (overLimitNow), and for a pair with a tree the region, so that its later points skip
         // the attempt (ExactScratch::regionOverLimit).
@@ -142,6 +143,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
             if (!scratch.regionCorners.empty() && record != nullptr)
                 scratch.regionOverLimit[k] = scratch.regionId;
             if (tried) scratch.overLimitNow.push_back(cell);
+            if (timed && tried) scratch.evaluations.costs.attemptNs.addSince(evalStart);
             if (record != nullptr && record->tree.kind == vis::PairKind::Penumbra &&
                 !answeredByGroups(*record))
                 scratch.overLimitTrees.push_back({key, p.x, cell});
@@ -156,7 +158,6 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         // light's plane, or the light behind B's, decided by the signs that start the pair, no
         // light as for a back-facing pair): its time since evalStart (when timed), and its
         // chain's size.
-        const auto evalStart = timed ? Clock::now() : Clock::time_point{};
         auto exactDone = [&](Answer path, size_t fragments) {
             if (timed) scratch.evaluations.costs.exactNs.addSince(evalStart);
             const vis::FromPointQuery::ChainCounts& chain = scratch.query.chainCounts();

@@ -180,7 +180,7 @@ struct ExactScratch {
     // scratch's order. Reading the clock twice per evaluation cost the Cornell box's exact render
     // 4.7% of its time (its median evaluation takes 0.17 us); a systematic sample keeps the
     // distribution and spares the hot path.
-    static constexpr uint32_t kTimedEvery = 8;
+    static constexpr uint32_t kTimedEvery = EvaluationCosts::kTimedEvery;
     bool timeNext() { return timingTick_++ % kTimedEvery == 0; }
 
   private:

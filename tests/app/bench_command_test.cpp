@@ -136,6 +136,15 @@ TEST_F(BenchCommand, SkipsTheScalingRowsWhoseMeshesAreMissing) {
     EXPECT_LE(cost["evaluations"].get<uint64_t>(), row["exact"]["evaluations"].get<uint64_t>());
     EXPECT_LE(cost["medianUs"].get<double>(), cost["p99Us"].get<double>());
     EXPECT_NE(report.find("### Cost per evaluation"), std::string::npos) << report;
+    // Where the evaluations' time went: nothing sampled, so no rays and no stopped query, and
+    // the exact answers' estimate is the timed ones' mean times their count times 8.
+    const nlohmann::json& split = cost["timeSplit"];
+    EXPECT_EQ(split["raysSeconds"].get<double>(), 0.0);
+    EXPECT_EQ(split["attemptSeconds"].get<double>(), 0.0);
+    EXPECT_NEAR(split["exactSeconds"].get<double>(),
+                cost["meanUs"].get<double>() * 1e-6 * cost["evaluations"].get<double>() * 8, 1e-9);
+    EXPECT_NE(report.find("| stairs.obj | 0.0% | 100.0% | 0.0% | 0.0% |"), std::string::npos)
+        << report;
     // Nothing was sampled: the per-point cost with every point exact is this render's own.
     const nlohmann::json& every = row["exact"]["costEveryPointExact"];
     EXPECT_EQ(every["evaluations"], cost["evaluations"]);

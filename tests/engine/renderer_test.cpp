@@ -277,10 +277,36 @@ TEST(Renderer, PointsOverTheWorkLimitAreSampledAndCounted) {
     const Film exact = rig.renderer.render(camera, s);
     EXPECT_EQ(rig.renderer.effects().sampledEvaluations, 0u);
     EXPECT_GT(rig.renderer.effects().exactEvaluations, 0u);
+    // Without a limit all the timed time is the exact answers', and the summary has no split.
+    const EvaluationCosts& unlimited = rig.renderer.effects().costs;
+    EXPECT_EQ(unlimited.attemptNs.count(), 0u);
+    EXPECT_EQ(unlimited.sampledNs.count(), 0u);
+    EXPECT_GT(unlimited.timeSplit().exact, 0.0);
+    EXPECT_EQ(unlimited.timeSplit().attempts + unlimited.timeSplit().rays, 0.0);
+    EXPECT_EQ(rig.renderer.effects().text().find("where their time went"), std::string::npos);
     rig.renderer.resetEffects();
     s.exactWorkLimit = 1;
     const Film limited = rig.renderer.render(camera, s);
     const EffectsSummary e = rig.renderer.effects();
+    // One queried evaluation in kTimedEvery is timed, whichever way it was answered: per
+    // renderer scratch the first of every kTimedEvery, so the timed ones are between an eighth
+    // of all and that plus one per scratch (one per range of tiles a task shades in a pass: at
+    // most the 4 tiles of this 24x24 image). A timed one over the limit times its rays, and its
+    // query too where it ran.
+    const uint64_t timedCount = e.costs.exactNs.count() + e.costs.sampledNs.count();
+    EXPECT_GE(timedCount * EvaluationCosts::kTimedEvery, e.exactEvaluations);
+    EXPECT_LE(timedCount, e.exactEvaluations / EvaluationCosts::kTimedEvery + 1 + 4 * s.spp);
+    EXPECT_GT(e.costs.attemptNs.count(), 0u);
+    EXPECT_LT(e.costs.attemptNs.count(), e.costs.sampledNs.count());  // (others not tried)
+    const EvaluationCosts::TimeSplit split = e.costs.timeSplit();
+    EXPECT_GT(split.attempts, 0.0);
+    EXPECT_GT(split.rays, 0.0);
+    EXPECT_NEAR(split.total(),
+                (e.costs.exactNs.sum() + e.costs.attemptNs.sum() + e.costs.sampledNs.sum()) *
+                    EvaluationCosts::kTimedEvery * 1e-9,
+                1e-12);
+    EXPECT_NE(e.text().find("where their time went: exact answers "), std::string::npos)
+        << e.text();
     EXPECT_GT(e.sampledEvaluations, e.exactEvaluations / 4);
     EXPECT_LE(e.sampledEvaluations, e.exactEvaluations);
     EXPECT_NE(e.text().find("points sampled: "), std::string::npos) << e.text();

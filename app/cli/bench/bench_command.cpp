@@ -358,6 +358,12 @@ json table1Row(const std::string& path, const BenchOptions& o, const fs::path& d
                          {"chainEdges", fx.costs.chainBoundaryEdges},
                          {"chainCells", fx.costs.chainCells},
                          {"chainFragments", fx.costs.chainFragments}};
+            // Where the evaluations' time went, estimated from the timed ones: what the work
+            // limit's sampling costs the exact render (its rays, and the queries stopped first).
+            const EvaluationCosts::TimeSplit split = fx.costs.timeSplit();
+            e["cost"]["timeSplit"] = {{"exactSeconds", split.exact},
+                                      {"attemptSeconds", split.attempts},
+                                      {"raysSeconds", split.rays}};
             e["exactWorkLimit"] = s.exactWorkLimit;
             e["minTreeSamples"] = s.minTreeSamples;
             // Query-driven refinement between passes (RenderSettings::refineLevels).
