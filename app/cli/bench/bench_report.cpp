@@ -41,6 +41,13 @@ bool anyExactHas(const json& rows, const char* field) {
 
 // A boundary-chain count of a cost object (bench.json's "cost" or "costEveryPointExact") per
 // chain evaluation, or "-" where the chain answered none (or the field was not recorded).
+// An exact render's sampled evaluations (over the work limit) as a percentage of those that
+// needed a query.
+double sampledPercent(const json& exact) {
+    return 100.0 * exact["sampledEvaluations"].get<double>() /
+           std::max(1.0, exact["evaluations"].get<double>());
+}
+
 std::string chainPer(const json& cost, const char* field) {
     const double chain = cost.value("chainEvaluations", 0.0);
     if (!(chain > 0) || !cost.contains(field)) return "-";
@@ -100,10 +107,7 @@ void writeTable1Row(std::ostream& r, const json& row) {
               : std::string())
       << " | ";
     if (e.contains("evaluations"))
-        r << num(100.0 * e["sampledEvaluations"].get<double>() /
-                     std::max(1.0, e["evaluations"].get<double>()),
-                 "%.1f")
-          << "% | ";
+        r << num(sampledPercent(e), "%.1f") << "% | ";
     else
         r << "- | ";
     if (e.contains("everyPointExact")) {
@@ -317,10 +321,8 @@ void writeCost(std::ostream& r, const json& rows) {
                      attempts = t["attemptSeconds"].get<double>(),
                      rays = t["raysSeconds"].get<double>(), all = exact + attempts + rays;
         auto share = [&](double v) { return all > 0 ? fmt("%.1f%%", 100 * v / all) : "-"; };
-        r << "| " << sceneName(row) << " | "
-          << fmt("%.1f%%", 100.0 * e["sampledEvaluations"].get<double>() /
-                               std::max(1.0, e["evaluations"].get<double>()))
-          << " | " << share(exact) << " | " << share(attempts) << " | " << share(rays) << " | "
+        r << "| " << sceneName(row) << " | " << fmt("%.1f%%", sampledPercent(e)) << " | "
+          << share(exact) << " | " << share(attempts) << " | " << share(rays) << " | "
           << fmt("%.2f", all) << " |\n";
     }
     r << "\n";
