@@ -14,7 +14,10 @@ double polygonArea(std::span<const Vec3> polygon) {
     return 0.5 * length(n);
 }
 
-double formFactor(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon) {
+namespace {
+
+// Lambert's signed sum over the closed loop `polygon` (2 pi times its signed form factor).
+long double lambertSum(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon) {
     if (polygon.size() < 3) return 0;
     long double sum = 0;
     const size_t count = polygon.size();
@@ -33,6 +36,19 @@ double formFactor(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon) {
             d >= 0 ? 2 * std::atan(cl / (ab + d)) : std::numbers::pi - 2 * std::atan(cl / (ab - d));
         sum += static_cast<long double>(theta) * (dot(n, c) / cl);
     }
+    return sum;
+}
+
+}  // namespace
+
+double formFactor(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon) {
+    return static_cast<double>(std::fabs(lambertSum(x, n, polygon)) /
+                               (2 * std::numbers::pi_v<long double>));
+}
+
+double formFactorOfLoops(const Vec3& x, const Vec3& n, std::span<const std::vector<Vec3>> loops) {
+    long double sum = 0;
+    for (const std::vector<Vec3>& loop : loops) sum += lambertSum(x, n, loop);
     return static_cast<double>(std::fabs(sum) / (2 * std::numbers::pi_v<long double>));
 }
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <span>
+#include <vector>
 
 #include "visibility/vec3.h"
 
@@ -18,5 +19,10 @@ double polygonArea(std::span<const Vec3> polygon);
 // The polygon is taken as seen (no horizon clipping): clip it to n's hemisphere first.
 // Returns a non-negative value for a polygon whose front faces x.
 double formFactor(const Vec3& x, const Vec3& n, std::span<const Vec3> polygon);
+
+// The same for a region given by its boundary: closed loops, each oriented with the region on
+// the same side (outer boundaries one way, holes the other; visible_outline.h). Lambert's sum is
+// over edges, so it is formFactor's sum taken over every loop before the absolute value.
+double formFactorOfLoops(const Vec3& x, const Vec3& n, std::span<const std::vector<Vec3>> loops);
 
 }  // namespace penumbra::vis

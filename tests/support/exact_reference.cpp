@@ -377,6 +377,8 @@ ReferenceResult exactReference(const vis::PolygonMesh& mesh, uint32_t receiver, 
     r.fraction = nearestDouble(fraction);
     r.visibleArea = r.fraction * r.lightArea;
     r.formFactor = formFactor(region, f, xd, nB);
+    for (const PolygonWithHoles2& pwh : region)
+        r.boundaryLoops += 1 + static_cast<int>(std::distance(pwh.holes_begin(), pwh.holes_end()));
     return r;
 }
 

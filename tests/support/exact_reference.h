@@ -27,6 +27,8 @@ struct ReferenceResult {
     double fraction = 0;              // visible area / area of L, from exact 2D areas
     double formFactor = 0;            // point-to-polygon form factor of the visible part of L
     double unoccludedFormFactor = 0;  // form factor of L clipped to B's front halfspace
+    // The exact visible region's boundaries: its outer boundaries and its holes.
+    int boundaryLoops = 0;
 };
 
 // Exact reference (CGAL Epeck + Polygon_set_2). The visible region is computed exactly: L is

@@ -24,6 +24,7 @@
 #include "visibility/fp_query.h"
 #include "visibility/history_tree_builder.h"
 #include "visibility/pair_occluders.h"
+#include "visibility/visible_outline.h"
 
 // (Its own namespace: in a unity build it shares a file with other tests.)
 namespace penumbra::boundary_chain_test {
@@ -298,6 +299,15 @@ Measured measure(const vis::PolygonMesh& m, const Vec3& x, const vis::FragmentLi
     return a;
 }
 
+// The same from the fragments' outline (visible_outline.h): the region's boundary only.
+Measured measureOutline(const vis::PolygonMesh& m, const Vec3& x, const vis::FragmentList& f) {
+    std::vector<std::vector<Vec3>> pieces;
+    for (size_t k = 0; k < f.size(); ++k) pieces.emplace_back(f[k].begin(), f[k].end());
+    const vis::VisibleOutline outline = vis::visibleOutline(pieces);
+    return {outline.area() / m.faceArea(1),
+            vis::formFactorOfLoops(x, vis::normalize(m.faceAreaNormal(0)), outline.loops)};
+}
+
 // The fragments answered for x on receiver face f against the exact reference: false, and the
 // first five failures reported (counted in `reported`), where they differ.
 bool matchesOnFace(const vis::PolygonMesh& m, uint32_t f, const Vec3& x,
@@ -371,7 +381,9 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
                               << a.formFactor << ", the exact reference " << ref.fraction << " and "
                               << ref.formFactor;
         };
-        compare("direct, chain", measure(s.mesh, x, chain.runDirect(s.mesh, 0, 1, x, faces)));
+        const vis::FragmentList& chained = chain.runDirect(s.mesh, 0, 1, x, faces);
+        compare("direct, chain", measure(s.mesh, x, chained));
+        compare("direct, chain, the outline of its fragments", measureOutline(s.mesh, x, chained));
         used.chain += chain.chainCounts().cells > 0;
         used.cells += chain.chainCounts().cells;
         used.crossingLabels += chain.chainCounts().crossingLabels;
