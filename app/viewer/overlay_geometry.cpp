@@ -24,7 +24,6 @@ OverlayGeometry buildOverlay(const PointInspection& inspection, double sceneSize
     for (const Vec3 axis : {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}})
         segment(g.linesOnTop, x - axis * r, x + axis * r, kMarkerColour);
     segment(g.linesOnTop, x, x + inspection.normal * (6 * r), kMarkerColour);
-    const Rgb outline{20, 20, 20};
     for (size_t k = 0; k < inspection.lights.size(); ++k) {
         const LightInspection& li = inspection.lights[k];
         for (size_t i = 0; i < li.result.fragments.size(); ++i) {
@@ -36,8 +35,12 @@ OverlayGeometry buildOverlay(const PointInspection& inspection, double sceneSize
                 push(g.fragmentTriangles, f[j + 1], c);
             }
             for (size_t j = 0; j < f.size(); ++j)
-                segment(g.lines, f[j], f[(j + 1) % f.size()], outline);
+                segment(g.lines, f[j], f[(j + 1) % f.size()], kPieceEdgeColour);
         }
+        // The visible region's boundary over the pieces' edges (drawn after them).
+        for (const vis::Polygon3& loop : li.result.outline.loops)
+            for (size_t j = 0; j < loop.size(); ++j)
+                segment(g.lines, loop[j], loop[(j + 1) % loop.size()], kOutlineColour);
         if (selectedLight && *selectedLight != k) continue;
         for (const PathStep& s : li.steps) segment(g.linesOnTop, s.a, s.b, kPathEdgeColour);
     }

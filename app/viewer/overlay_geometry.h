@@ -1,6 +1,7 @@
 // OverlayGeometry: the debug drawing for an inspected point, in world space: the point marker and
-// its normal, each light's visible fragments (filled in the palette's colours, outlined), and the
-// occluder edges of the history-tree path of the selected light.
+// its normal, each light's visible fragments (filled in the palette's colours, their edges dark,
+// the region's boundary in kOutlineColour), and the occluder edges of the history-tree path of
+// the selected light.
 #pragma once
 
 #include <optional>
@@ -14,7 +15,7 @@ namespace penumbra::viewer {
 struct OverlayGeometry {
     // Interleaved x y z r g b a per vertex.
     std::vector<float> fragmentTriangles;  // depth-tested, pulled forward onto the light
-    std::vector<float> lines;              // depth-tested (fragment outlines)
+    std::vector<float> lines;              // depth-tested (fragment edges, region outline)
     std::vector<float> linesOnTop;         // drawn over everything (marker, normal, path edges)
     bool empty() const { return fragmentTriangles.empty() && lines.empty() && linesOnTop.empty(); }
 };

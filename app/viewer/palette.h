@@ -28,6 +28,8 @@ inline Rgb fragmentColour(std::size_t i) { return kFragmentColours[i % kFragment
 
 inline constexpr Rgb kMarkerColour{255, 255, 0};    // the picked point and its normal
 inline constexpr Rgb kPathEdgeColour{255, 160, 0};  // occluder edges met on the path
+inline constexpr Rgb kPieceEdgeColour{90, 90, 90};  // the fragments' own edges
+inline constexpr Rgb kOutlineColour{0, 0, 0};       // the visible region's boundary
 inline constexpr Rgb kBackground{38, 41, 48};       // behind the scene
 
 }  // namespace penumbra::viewer

@@ -33,6 +33,15 @@ nlohmann::json pointJson(const Selection& selection) {
             fragments.push_back(
                 {{"colour", {colour.r, colour.g, colour.b}}, {"vertices", vertices}});
         }
+        json loops = json::array();
+        for (const vis::Polygon3& loop : li.result.outline.loops) {
+            json vertices = json::array();
+            for (const Vec3& v : loop) vertices.push_back(vec(v));
+            loops.push_back(vertices);
+        }
+        const json outline = {{"loops", loops},
+                              {"edges", li.result.outline.edges()},
+                              {"formFactor", li.result.outlineFormFactor}};
         json path = json::array();
         for (const PathStep& st : li.steps)
             path.push_back(
@@ -57,6 +66,7 @@ nlohmann::json pointJson(const Selection& selection) {
              {"seconds", li.seconds},
              {"treeNodes", li.tree ? li.tree->nodes.size() : 0},
              {"fragments", fragments},
+             {"outline", outline},
              {"answeredOnContact", li.result.answeredOnContact},
              {"fromTree", li.result.fromTree},
              {"faceGroups", li.result.faceGroups},

@@ -163,6 +163,8 @@ std::vector<LightAtPoint> forEachLight(const Scene& scene, uint32_t face, const 
             r.formFactor += vis::formFactor(x, normal, fragment);
         }
         r.fraction = r.lightArea > 0 ? r.visibleArea / r.lightArea : 0.0;
+        r.outline = vis::visibleOutline(r.fragments);
+        r.outlineFormFactor = vis::formFactorOfLoops(x, normal, r.outline.loops);
         if (vis::facePlane(mesh, r.lightFace).side(x) == vis::Sign::Positive) {
             const std::vector<Vec3> seen = vis::clipConvexPositive(lightPolygon, receiverFront);
             r.unoccludedFormFactor = vis::formFactor(x, normal, seen);

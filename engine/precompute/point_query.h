@@ -17,6 +17,7 @@
 #include "visibility/fp_query.h"
 #include "visibility/history_tree.h"
 #include "visibility/history_tree_builder.h"
+#include "visibility/visible_outline.h"
 
 namespace penumbra {
 
@@ -60,9 +61,15 @@ struct LightAtPoint {
     // is not strictly in front of the light's plane.
     double unoccludedFormFactor = 0;
     std::vector<vis::Polygon3> fragments;  // disjoint convex visible parts of the light
-    uint32_t nodesVisited = 0;             // history-tree nodes the query visited
-    std::vector<vis::TraceStep> trace;     // those nodes, depth-first, with sides
-    bool answeredOnContact = false;        // x on a contact line: answered directly, no trace
+    // Their union's boundary (vis::visibleOutline: loops in the light's plane, holes turned the
+    // other way) and the form factor integrated over it, Lambert's contour integral: the
+    // fragments' form factor to within the outline's weld (approximate, for the debugger: what
+    // bounds the shadow, however many pieces the query cut the light into).
+    vis::VisibleOutline outline;
+    double outlineFormFactor = 0;
+    uint32_t nodesVisited = 0;          // history-tree nodes the query visited
+    std::vector<vis::TraceStep> trace;  // those nodes, depth-first, with sides
+    bool answeredOnContact = false;     // x on a contact line: answered directly, no trace
     vis::PairKind kind = vis::PairKind::BackFacing;  // what the (receiver, light) pair is
     // A partial tree (vis::HistoryTree::deferred): its deferred occluders, those the query clipped
     // against from x, and the clips that changed a fragment.

@@ -151,6 +151,19 @@ TEST_F(CliTest, HalfBlockedLightGivesFractionOneHalf) {
         }
     }
     EXPECT_NEAR(std::fabs(area), 0.5, 1e-12);
+    // The outline of the visible region: the rectangle [-0.5, 0] x [-0.5, 0.5] at z = 2, one loop
+    // of four edges, whatever pieces the query cut it into; its contour integral is the form
+    // factor.
+    const json& outline = l["outline"];
+    ASSERT_EQ(outline["loops"].size(), 1u);
+    EXPECT_EQ(outline["edges"], 4);
+    for (const json& v : outline["loops"][0]) {
+        const Vec3 p{v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+        EXPECT_NEAR(p.z, 2.0, 1e-12);
+        EXPECT_TRUE(std::fabs(p.x) <= 1e-12 || std::fabs(p.x + 0.5) <= 1e-12) << v.dump();
+        EXPECT_NEAR(std::fabs(p.y), 0.5, 1e-12) << v.dump();
+    }
+    EXPECT_NEAR(outline["form_factor"].get<double>(), unoccluded / 2, 1e-12);
 }
 
 TEST_F(CliTest, OnlyLightAndExplicitFace) {
@@ -193,6 +206,8 @@ TEST_F(CliTest, PointBehindTheLightGetsNothing) {
     EXPECT_EQ(l["form_factor"].get<double>(), 0.0);
     EXPECT_EQ(l["unoccluded_form_factor"].get<double>(), 0.0);
     EXPECT_TRUE(l["fragments"].empty());
+    EXPECT_TRUE(l["outline"]["loops"].empty());
+    EXPECT_EQ(l["outline"]["form_factor"].get<double>(), 0.0);
     EXPECT_NEAR(l["light_area"].get<double>(), 1.0, 1e-12);
 }
 

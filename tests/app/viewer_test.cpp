@@ -22,6 +22,7 @@
 #include "engine/io/scene_loader.h"
 #include "engine/render/embree_scene.h"
 #include "tests/app/viewer_test_support.h"
+#include "tests/support/exact_reference.h"
 #include "tests/support/read_pfm.h"
 
 namespace penumbra {
@@ -238,6 +239,17 @@ TEST(ViewerScreenshot, FragmentOverlayAndPathMatchAnIndependentQuery) {
     EXPECT_EQ(light["fragments"].size(), q[0].fragments.size());
     EXPECT_NEAR(light["fraction"].get<double>(), q[0].fraction, 1e-12);
     EXPECT_GT(q[0].fragments.size(), 2u);  // a penumbra point: several fragments to look for
+    // The visible region's outline against the exact region (CGAL): one loop per boundary, and
+    // its contour integral the region's form factor.
+    const test::ReferenceResult exact = test::exactReference(scene.mesh, face, q[0].lightFace, x);
+    EXPECT_EQ(static_cast<int>(light["outline"]["loops"].size()), exact.boundaryLoops);
+    EXPECT_LT(light["outline"]["edges"].get<size_t>(), [&] {
+        size_t edges = 0;
+        for (const vis::Polygon3& f : q[0].fragments) edges += f.size();
+        return edges;
+    }());
+    EXPECT_NEAR(light["outline"]["formFactor"].get<double>(), exact.formFactor,
+                1e-9 * exact.formFactor);
 
     // The fragment overlay where the camera projects the exact fragments.
     const int viewport[4] = {state["viewport"]["x"], state["viewport"]["y"],

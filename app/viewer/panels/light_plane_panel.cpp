@@ -18,6 +18,9 @@ void LightPlanePanel::draw(const PanelRect& rect, const Selection& selection,
             const auto face = mesh->face(li->result.lightFace);
             ImGui::Text("light %u: %zu fragments, %.2f%% visible", li->result.light,
                         li->result.fragments.size(), 100 * li->result.fraction);
+            const size_t loops = li->result.outline.loops.size();
+            ImGui::Text("boundary: %zu loop%s, %zu edges", loops, loops == 1 ? "" : "s",
+                        li->result.outline.edges());
             // A frame of the light's plane: u along its first edge, v = n x u (the light seen from
             // its front, counter-clockwise stays counter-clockwise).
             const Vec3 o = mesh->vertices[face[0]];
@@ -53,12 +56,19 @@ void LightPlanePanel::draw(const PanelRect& rect, const Selection& selection,
                 draw->AddConvexPolyFilled(pts.data(), static_cast<int>(pts.size()),
                                           toImU32(fragmentColour(i)));
                 draw->AddPolyline(pts.data(), static_cast<int>(pts.size()),
-                                  IM_COL32(20, 20, 20, 255), ImDrawFlags_Closed, 1.0f);
+                                  toImU32(kPieceEdgeColour), ImDrawFlags_Closed, 1.0f);
             }
             pts.clear();
             for (uint32_t id : face) pts.push_back(toScreen(mesh->vertices[id]));
             draw->AddPolyline(pts.data(), static_cast<int>(pts.size()),
                               IM_COL32(255, 255, 255, 255), ImDrawFlags_Closed, 1.5f);
+            // The visible region's boundary, over its pieces.
+            for (const vis::Polygon3& loop : li->result.outline.loops) {
+                pts.clear();
+                for (const Vec3& p : loop) pts.push_back(toScreen(p));
+                draw->AddPolyline(pts.data(), static_cast<int>(pts.size()), toImU32(kOutlineColour),
+                                  ImDrawFlags_Closed, 2.5f);
+            }
             ImGui::Dummy(avail);
         }
     }
