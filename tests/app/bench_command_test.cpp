@@ -118,6 +118,15 @@ TEST_F(BenchCommand, SkipsTheScalingRowsWhoseMeshesAreMissing) {
     EXPECT_LE(p["exactMedianUs"].get<double>(), p["exactP99Us"].get<double>());
     EXPECT_LE(p["exactP99Us"].get<double>(), p["exactMaxUs"].get<double>());
     EXPECT_GT(p["exactMaxUs"].get<double>(), 0.0);
+    // The visible region's boundary of that point's fragments: never more edges than they
+    // have, and at least one loop where the point sees some of the light.
+    const nlohmann::json& outline = p["outline"];
+    EXPECT_LE(outline["edges"].get<double>(), outline["fragmentEdges"].get<double>());
+    EXPECT_EQ(outline["loops"].get<double>() > 0, p["fragmentsPerQuery"].get<double>() > 0);
+    EXPECT_GT(outline["outlineUs"].get<double>(), 0.0);
+    EXPECT_NE(report.find("| scene | fragments | their edges | boundary loops | boundary edges |"),
+              std::string::npos)
+        << report;
     const nlohmann::json& click = p["click"];
     EXPECT_EQ(click["points"], 1);
     EXPECT_EQ(click["treePoints"], 1);

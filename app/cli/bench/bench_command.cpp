@@ -52,6 +52,7 @@
 #include "engine/studies/predicate_study.h"
 #include "visibility/form_factor.h"
 #include "visibility/fp_query.h"
+#include "visibility/visible_outline.h"
 
 #ifndef PENUMBRA_BUILD_TYPE
 #define PENUMBRA_BUILD_TYPE "unknown"
@@ -722,9 +723,37 @@ json perPoint(const std::string& path, const BenchOptions& o) {
     }
     vis::FromPointQuery query;
     // One untimed pass first: the timed loops below (the product's, then Algorithm 1 only) then
-    // all start warm (the first pass over the points is some 20% slower on every scene).
-    for (const Sample& s : samples)
-        sink += static_cast<double>(query.run(mesh, s.rec->tree, s.x).size());
+    // all start warm (the first pass over the points is some 20% slower on every scene). It
+    // keeps each point's fragments for the visible region's boundary (vis::visibleOutline, what
+    // `penumbra query` and the viewer show): their edges against the outline's loops and edges,
+    // and per point the time of the fragments' form factor (the renderer's) against that of the
+    // outline built and integrated (Lambert's contour integral: the same value).
+    std::vector<std::vector<vis::Polygon3>> pieces;
+    pieces.reserve(samples.size());
+    size_t fragmentEdges = 0, outlineEdges = 0, outlineLoops = 0;
+    for (const Sample& s : samples) {
+        const vis::FragmentList& r = query.run(mesh, s.rec->tree, s.x);
+        std::vector<vis::Polygon3>& p = pieces.emplace_back();
+        for (size_t i = 0; i < r.size(); ++i) {
+            p.emplace_back(r[i].begin(), r[i].end());
+            fragmentEdges += r[i].size();
+        }
+    }
+    const auto f0 = Clock::now();
+    for (size_t k = 0; k < samples.size(); ++k) {
+        const Vec3 n = vis::normalize(mesh.faceAreaNormal(samples[k].face));
+        for (const vis::Polygon3& f : pieces[k]) sink += vis::formFactor(samples[k].x, n, f);
+    }
+    const double integrationUs = seconds(f0, Clock::now()) / samples.size() * 1e6;
+    const auto b0 = Clock::now();
+    for (size_t k = 0; k < samples.size(); ++k) {
+        const Vec3 n = vis::normalize(mesh.faceAreaNormal(samples[k].face));
+        const vis::VisibleOutline outline = vis::visibleOutline(pieces[k]);
+        sink += vis::formFactorOfLoops(samples[k].x, n, outline.loops);
+        outlineEdges += outline.edges();
+        outlineLoops += outline.loops.size();
+    }
+    const double outlineUs = seconds(b0, Clock::now()) / samples.size() * 1e6;
     const auto q0 = Clock::now();
     for (const Sample& s : samples) {
         const Vec3 n = vis::normalize(mesh.faceAreaNormal(s.face));
@@ -814,6 +843,12 @@ json perPoint(const std::string& path, const BenchOptions& o) {
         occluderEdges == 0 ? 0.0 : 100.0 * static_cast<double>(boundaryEdges) / occluderEdges,
         chainPoints, cells, crossingLabels, chainFragments, oneByOneUs);
     std::printf(
+        "  boundary of the visible region: per point %.1f fragment edges, %.2f loops of %.1f "
+        "edges; the fragments' form factor %.3f us, the outline built and integrated %.3f us\n",
+        static_cast<double>(fragmentEdges) / samples.size(),
+        static_cast<double>(outlineLoops) / samples.size(),
+        static_cast<double>(outlineEdges) / samples.size(), integrationUs, outlineUs);
+    std::printf(
         "  silhouettes: %zu of %zu partial trees, %llu of their %llu edge uses kept (%.1f%%); %zu "
         "points by them\n",
         silhouetteTrees, partialTrees, static_cast<unsigned long long>(pairKept),
@@ -852,7 +887,13 @@ json perPoint(const std::string& path, const BenchOptions& o) {
               {"silhouetteUses", pairUses},
               {"silhouetteKept", pairKept},
               {"silhouettePoints", silhouettePoints}}},
-            {"fragmentsPerQuery", static_cast<double>(fragments) / samples.size()}};
+            {"fragmentsPerQuery", static_cast<double>(fragments) / samples.size()},
+            {"outline",
+             {{"fragmentEdges", fragmentEdges},
+              {"loops", outlineLoops},
+              {"edges", outlineEdges},
+              {"integrationUs", integrationUs},
+              {"outlineUs", outlineUs}}}};
 }
 
 // ---- Machine and output ---------------------------------------------------------------------

@@ -522,6 +522,24 @@ void writePerPoint(std::ostream& r, const json& rows) {
           << " | " << num(p.value("exactMaxUs", json())) << " | " << num(p["nodesPerQuery"], "%.1f")
           << " | " << num(p["fragmentsPerQuery"]) << " | " << num(p["rays16Us"]) << " | "
           << num(p["rays128Us"]) << " |\n";
+    r << "\n### The visible region's boundary\n\nThe same points: the fragments' edges, and "
+         "the boundary of their union (`vis::visibleOutline`, what `penumbra query` and the "
+         "viewer show): its loops (outer boundaries and holes) and edges, once the edges two "
+         "fragments share cancel and straight runs merge. Then per point the fragments' form "
+         "factor (what the renderer computes) and the outline built and integrated (Lambert's "
+         "contour integral over the boundary: the same value). Per point, means.\n\n"
+      << "| scene | fragments | their edges | boundary loops | boundary edges | fragments' form "
+         "factor us | outline + its form factor us |\n|---|---|---|---|---|---|---|\n";
+    for (const json& p : rows) {
+        if (!p.contains("outline")) continue;
+        const json& o = p["outline"];
+        const double points = std::max(1.0, p["points"].get<double>());
+        r << "| " << sceneName(p) << " | " << num(p["fragmentsPerQuery"]) << " | "
+          << fmt("%.1f", o["fragmentEdges"].get<double>() / points) << " | "
+          << fmt("%.2f", o["loops"].get<double>() / points) << " | "
+          << fmt("%.1f", o["edges"].get<double>() / points) << " | "
+          << num(o["integrationUs"], "%.3f") << " | " << num(o["outlineUs"], "%.3f") << " |\n";
+    }
     r << "\n### The boundary chain\n\nOf the points clipped against at least "
          "`ChainOptions::minOccluders` occluders per point (a partial tree's deferred ones): "
          "their occluder edges, and the boundary edges left once edges shared by faces turned "
