@@ -89,8 +89,9 @@ class Outliner {
         std::unordered_map<uint64_t, uint32_t> head;
         std::vector<uint32_t> next;
         constexpr uint32_t kNone = UINT32_MAX;
+        // (Distinct cells may share a key: a found vertex is taken only within tol_.)
         auto cellKey = [](int64_t i, int64_t j) {
-            return (static_cast<uint64_t>(i) << 32) ^ static_cast<uint64_t>(j & 0xffffffff);
+            return static_cast<uint64_t>(i) * 0x9E3779B97F4A7C15ull ^ static_cast<uint64_t>(j);
         };
         for (const auto& f : fragments_) {
             std::vector<uint32_t> ids;
