@@ -23,6 +23,8 @@ double VisibleOutline::area() const {
     return 0.5 * length(n);
 }
 
+// (Its own namespace: in a unity build it shares a file with others that have a P2.)
+namespace outline_detail {
 namespace {
 
 struct P2 {
@@ -245,9 +247,10 @@ class Outliner {
 };
 
 }  // namespace
+}  // namespace outline_detail
 
 VisibleOutline visibleOutline(std::span<const std::vector<Vec3>> fragments) {
-    return Outliner(fragments).run();
+    return outline_detail::Outliner(fragments).run();
 }
 
 }  // namespace penumbra::vis
