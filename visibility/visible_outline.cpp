@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <unordered_map>
 
 namespace penumbra::vis {
 
@@ -35,7 +34,8 @@ double cross2(const P2& a, const P2& b) { return a.x * b.y - a.y * b.x; }
 double dot2(const P2& a, const P2& b) { return a.x * b.x + a.y * b.y; }
 double length2(const P2& a) { return std::hypot(a.x, a.y); }
 
-// The fragments' vertices welded (weld()), and their edges.
+// The fragments' vertices welded, their edges split and summed, the rest chained: flat arrays
+// and sorts (no hash tables), since the viewer builds an outline on every click.
 class Outliner {
   public:
     explicit Outliner(std::span<const std::vector<Vec3>> fragments) : fragments_(fragments) {}
@@ -70,7 +70,6 @@ class Outliner {
         const double far =
             std::max({std::fabs(lo[0]), std::fabs(hi[0]), std::fabs(lo[1]), std::fabs(hi[1])});
         tol_ = extent * 0x1p-40 + far * 0x1p-46;
-        origin_ = {lo[0], lo[1]};
         return true;
     }
 
@@ -85,73 +84,79 @@ class Outliner {
         }
     }
 
-    // Each fragment as a cycle of welded vertex ids: a vertex within tol_ (in both coordinates)
-    // of an earlier one is that one (a grid of cells tol_ wide, the 3 x 3 around it searched).
+    // Each input vertex gets the id of the first vertex (in x order) within tol_ of it in both
+    // coordinates, or its own; each fragment becomes a cycle of ids (cycles_ from cycleStart_),
+    // without repeats, dropped below three.
     void weld() {
-        std::unordered_map<uint64_t, uint32_t> head;
-        std::vector<uint32_t> next;
-        constexpr uint32_t kNone = UINT32_MAX;
-        // (Distinct cells may share a key: a found vertex is taken only within tol_.)
-        auto cellKey = [](int64_t i, int64_t j) {
-            return static_cast<uint64_t>(i) * 0x9E3779B97F4A7C15ull ^ static_cast<uint64_t>(j);
+        struct In {
+            P2 p;
+            Vec3 v;
         };
-        for (const auto& f : fragments_) {
-            std::vector<uint32_t> ids;
-            for (const Vec3& v : f) {
-                const P2 p = project(v);
-                const int64_t ci = static_cast<int64_t>(std::floor((p.x - origin_.x) / tol_));
-                const int64_t cj = static_cast<int64_t>(std::floor((p.y - origin_.y) / tol_));
-                uint32_t found = kNone;
-                for (int64_t di = -1; di <= 1 && found == kNone; ++di)
-                    for (int64_t dj = -1; dj <= 1 && found == kNone; ++dj) {
-                        const auto it = head.find(cellKey(ci + di, cj + dj));
-                        for (uint32_t k = it == head.end() ? kNone : it->second; k != kNone;
-                             k = next[k])
-                            if (std::fabs(points_[k].x - p.x) <= tol_ &&
-                                std::fabs(points_[k].y - p.y) <= tol_) {
-                                found = k;
-                                break;
-                            }
-                    }
-                if (found == kNone) {
-                    found = static_cast<uint32_t>(points_.size());
-                    points_.push_back(p);
-                    vertices_.push_back(v);
-                    auto [it, inserted] = head.try_emplace(cellKey(ci, cj), found);
-                    next.push_back(inserted ? kNone : it->second);
-                    if (!inserted) it->second = found;
-                }
-                if (ids.empty() || ids.back() != found) ids.push_back(found);
+        std::vector<In> in;
+        for (const auto& f : fragments_)
+            for (const Vec3& v : f) in.push_back({project(v), v});
+        std::vector<uint32_t> order(in.size());
+        for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
+        std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+            return in[a].p.x < in[b].p.x || (in[a].p.x == in[b].p.x && a < b);
+        });
+        std::vector<uint32_t> id(in.size());
+        for (size_t k = 0; k < order.size(); ++k) {
+            const In& here = in[order[k]];
+            uint32_t found = UINT32_MAX;
+            for (size_t j = k; j-- > 0 && here.p.x - in[order[j]].p.x <= tol_;)
+                if (std::fabs(here.p.y - in[order[j]].p.y) <= tol_) found = id[order[j]];
+            if (found == UINT32_MAX) {
+                found = static_cast<uint32_t>(points_.size());
+                points_.push_back(here.p);
+                vertices_.push_back(here.v);
             }
-            while (ids.size() > 1 && ids.front() == ids.back()) ids.pop_back();
-            if (ids.size() >= 3) cycles_.push_back(std::move(ids));
+            id[order[k]] = found;
         }
+        size_t next = 0;
+        for (const auto& f : fragments_) {
+            const size_t begin = cycles_.size();
+            for (size_t i = 0; i < f.size(); ++i, ++next)
+                if (cycles_.size() == begin || cycles_.back() != id[next])
+                    cycles_.push_back(id[next]);
+            while (cycles_.size() > begin + 1 && cycles_[begin] == cycles_.back())
+                cycles_.pop_back();
+            if (cycles_.size() - begin < 3)
+                cycles_.resize(begin);
+            else
+                cycleStart_.push_back(begin);
+        }
+        cycleStart_.push_back(cycles_.size());
+        // The welded points in x order, for the T-junction sweep.
+        byX_.resize(points_.size());
+        for (uint32_t i = 0; i < byX_.size(); ++i) byX_[i] = i;
+        std::sort(byX_.begin(), byX_.end(),
+                  [&](uint32_t a, uint32_t b) { return points_[a].x < points_[b].x; });
     }
 
-    // Every fragment edge, split where another vertex lies within tol_ of its inside (a sweep by
-    // x), summed per undirected edge: +1 from the lower id to the higher, -1 the other way.
+    // Every fragment edge, split where another vertex lies within tol_ of its inside, then
+    // summed per undirected edge (+1 from the lower id to the higher, -1 the other way, sorted
+    // by the pair): edges_ holds those whose sum is not 0, as often as it says, directed.
     void splitAndCancel() {
-        std::vector<uint32_t> byX(points_.size());
-        for (uint32_t i = 0; i < byX.size(); ++i) byX[i] = i;
-        std::sort(byX.begin(), byX.end(),
-                  [&](uint32_t a, uint32_t b) { return points_[a].x < points_[b].x; });
+        std::vector<std::pair<uint64_t, int>> uses;
         std::vector<std::pair<double, uint32_t>> on;
         auto add = [&](uint32_t a, uint32_t b) {
             if (a == b) return;
-            const uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-            net_[key] += a < b ? 1 : -1;
+            uses.emplace_back((static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b),
+                              a < b ? 1 : -1);
         };
-        for (const auto& ids : cycles_) {
-            for (size_t i = 0; i < ids.size(); ++i) {
-                const uint32_t a = ids[i], b = ids[(i + 1) % ids.size()];
+        for (size_t c = 0; c + 1 < cycleStart_.size(); ++c) {
+            const size_t begin = cycleStart_[c], n = cycleStart_[c + 1] - begin;
+            for (size_t i = 0; i < n; ++i) {
+                const uint32_t a = cycles_[begin + i], b = cycles_[begin + (i + 1) % n];
                 const P2 pa = points_[a], pb = points_[b], d = pb - pa;
                 const double len = length2(d);
                 on.clear();
                 const double x0 = std::min(pa.x, pb.x) - tol_, x1 = std::max(pa.x, pb.x) + tol_;
                 const double y0 = std::min(pa.y, pb.y) - tol_, y1 = std::max(pa.y, pb.y) + tol_;
-                auto it = std::lower_bound(byX.begin(), byX.end(), x0,
+                auto it = std::lower_bound(byX_.begin(), byX_.end(), x0,
                                            [&](uint32_t k, double x) { return points_[k].x < x; });
-                for (; it != byX.end() && points_[*it].x <= x1; ++it) {
+                for (; it != byX_.end() && points_[*it].x <= x1; ++it) {
                     const uint32_t w = *it;
                     if (w == a || w == b || points_[w].y < y0 || points_[w].y > y1) continue;
                     const P2 q = points_[w] - pa;
@@ -169,81 +174,122 @@ class Outliner {
                 add(from, b);
             }
         }
+        std::sort(uses.begin(), uses.end());
+        for (size_t i = 0; i < uses.size();) {
+            const uint64_t key = uses[i].first;
+            int net = 0;
+            for (; i < uses.size() && uses[i].first == key; ++i) net += uses[i].second;
+            const uint32_t lo = static_cast<uint32_t>(key >> 32), hi = key & 0xffffffffu;
+            for (int k = 0; k < std::abs(net); ++k)
+                edges_.emplace_back(net > 0 ? lo : hi, net > 0 ? hi : lo);
+        }
     }
 
     // The edges left, chained into loops. At a vertex with several ways on, the one that turns
     // farthest left of the way in (the region on the left of the way the fragments turn).
     VisibleOutline chain() {
-        std::vector<std::vector<uint32_t>> out(points_.size());
-        for (const auto& [key, net] : net_) {
-            const uint32_t lo = static_cast<uint32_t>(key >> 32), hi = key & 0xffffffffu;
-            for (int k = 0; k < std::abs(net); ++k) {
-                if (net > 0)
-                    out[lo].push_back(hi);
-                else
-                    out[hi].push_back(lo);
+        // Per vertex, its outgoing edges (counting sort by the start).
+        std::vector<uint32_t> first(points_.size() + 1, 0), to(edges_.size());
+        for (const auto& [a, b] : edges_) ++first[a + 1];
+        for (size_t v = 0; v < points_.size(); ++v) first[v + 1] += first[v];
+        std::vector<uint32_t> fill(first.begin(), first.end() - 1);
+        for (const auto& [a, b] : edges_) to[fill[a]++] = b;
+        std::vector<uint8_t> used(edges_.size(), 0);
+        std::vector<uint32_t> left(points_.size());  // outgoing edges not used yet
+        for (size_t v = 0; v < points_.size(); ++v) left[v] = first[v + 1] - first[v];
+        // The way on from cur, coming from prev: the only one left, or the one that turns
+        // farthest left.
+        auto take = [&](uint32_t prev, uint32_t cur) {
+            uint32_t best = UINT32_MAX;
+            double bestAngle = -INFINITY;
+            const P2 in = points_[cur] - points_[prev];
+            for (uint32_t k = first[cur]; k < first[cur + 1]; ++k) {
+                if (used[k]) continue;
+                if (left[cur] == 1) {
+                    best = k;
+                    break;
+                }
+                const P2 o = points_[to[k]] - points_[cur];
+                const double angle = std::atan2(turn_ * cross2(in, o), dot2(in, o));
+                if (angle > bestAngle) {
+                    bestAngle = angle;
+                    best = k;
+                }
             }
-        }
+            if (best != UINT32_MAX) {
+                used[best] = 1;
+                --left[cur];
+            }
+            return best;
+        };
         VisibleOutline outline;
-        for (uint32_t start = 0; start < out.size(); ++start) {
-            while (!out[start].empty()) {
-                std::vector<uint32_t> loop{start};
-                uint32_t prev = start, cur = out[start].back();
-                out[start].pop_back();
+        std::vector<uint32_t> loop;
+        for (uint32_t start = 0; start < points_.size(); ++start) {
+            while (left[start] > 0) {
+                uint32_t k = first[start];
+                while (used[k]) ++k;
+                used[k] = 1;
+                --left[start];
+                loop.assign(1, start);
+                uint32_t prev = start, cur = to[k];
                 while (cur != start) {
                     loop.push_back(cur);
-                    std::vector<uint32_t>& ways = out[cur];
-                    if (ways.empty()) break;  // (not closed: only from inconsistent input)
-                    const P2 in = points_[cur] - points_[prev];
-                    size_t best = 0;
-                    double bestAngle = -INFINITY;
-                    for (size_t k = 0; k < ways.size(); ++k) {
-                        const P2 o = points_[ways[k]] - points_[cur];
-                        const double angle = std::atan2(turn_ * cross2(in, o), dot2(in, o));
-                        if (angle > bestAngle) bestAngle = angle, best = k;
-                    }
+                    const uint32_t next = take(prev, cur);
+                    if (next == UINT32_MAX) break;  // (not closed: only from inconsistent input)
                     prev = cur;
-                    cur = ways[best];
-                    ways.erase(ways.begin() + static_cast<std::ptrdiff_t>(best));
+                    cur = to[next];
                 }
                 mergeStraightRuns(loop);
                 if (loop.size() < 3) continue;
                 std::vector<Vec3>& points = outline.loops.emplace_back();
-                for (uint32_t id : loop) points.push_back(vertices_[id]);
+                for (uint32_t v : loop) points.push_back(vertices_[v]);
             }
         }
         return outline;
     }
 
-    // Drops each vertex that lies within tol_ of the segment between its neighbours, inside it.
+    // Whether v lies within tol_ of the segment a-b, inside it.
+    bool onSegment(uint32_t a, uint32_t v, uint32_t b) const {
+        const P2 d = points_[b] - points_[a], q = points_[v] - points_[a];
+        const double len = length2(d);
+        return len > 0 && std::fabs(cross2(d, q)) / len <= tol_ && dot2(q, d) > 0 &&
+               dot2(points_[b] - points_[v], d) > 0;
+    }
+
+    // Drops each vertex that lies within tol_ of the segment between its neighbours, inside it
+    // (one pass with a stack, then the seam where the loop closes).
     void mergeStraightRuns(std::vector<uint32_t>& loop) const {
-        bool changed = true;
-        while (changed && loop.size() >= 3) {
+        std::vector<uint32_t>& out = scratch_;
+        out.clear();
+        for (uint32_t v : loop) {
+            while (out.size() >= 2 && onSegment(out[out.size() - 2], out.back(), v)) out.pop_back();
+            out.push_back(v);
+        }
+        size_t head = 0;
+        for (bool changed = true; changed && out.size() - head >= 3;) {
             changed = false;
-            for (size_t i = 0; i < loop.size() && loop.size() >= 3; ++i) {
-                const size_t n = loop.size();
-                const P2 a = points_[loop[(i + n - 1) % n]], v = points_[loop[i]],
-                         b = points_[loop[(i + 1) % n]];
-                const P2 d = b - a;
-                const double len = length2(d);
-                if (len == 0) continue;
-                if (std::fabs(cross2(d, v - a)) / len > tol_ || dot2(v - a, d) <= 0 ||
-                    dot2(b - v, d) <= 0)
-                    continue;
-                loop.erase(loop.begin() + static_cast<std::ptrdiff_t>(i));
+            const size_t n = out.size();
+            if (onSegment(out[n - 2], out[n - 1], out[head])) {
+                out.pop_back();
+                changed = true;
+            } else if (onSegment(out[n - 1], out[head], out[head + 1])) {
+                ++head;
                 changed = true;
             }
         }
+        loop.assign(out.begin() + static_cast<std::ptrdiff_t>(head), out.end());
     }
 
     std::span<const std::vector<Vec3>> fragments_;
     int drop_ = 2;
     double turn_ = 1, tol_ = 0;
-    P2 origin_;
     std::vector<P2> points_;      // per welded vertex, in the 2D frame
-    std::vector<Vec3> vertices_;  // and its first fragment vertex
-    std::vector<std::vector<uint32_t>> cycles_;
-    std::unordered_map<uint64_t, int> net_;
+    std::vector<Vec3> vertices_;  // and its first fragment vertex in x order
+    std::vector<uint32_t> byX_;   // the welded vertices in x order
+    std::vector<uint32_t> cycles_;
+    std::vector<size_t> cycleStart_;  // per fragment kept, where its cycle starts in cycles_
+    std::vector<std::pair<uint32_t, uint32_t>> edges_;
+    mutable std::vector<uint32_t> scratch_;
 };
 
 }  // namespace
