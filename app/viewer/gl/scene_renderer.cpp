@@ -129,18 +129,29 @@ void SceneRenderer::draw(const OrbitCamera& orbit, const vis::Bounds3& sceneBox,
 
     overlayProgram_.use();
     overlayProgram_.setMatrix("uViewProjection", m.data());
+    overlayProgram_.setVec3("uEye", static_cast<float>(camera.eye.x),
+                            static_cast<float>(camera.eye.y), static_cast<float>(camera.eye.z));
+    overlayProgram_.setFloat("uPull", 0.0f);
     // The fragments lie in the light's plane: pulled forward a little to win the depth test, and
     // drawn only from the light's emitting side (they are counter-clockwise seen from there), so
-    // that they never show through a ceiling seen from above.
+    // that they never show through a ceiling seen from above. They write no depth: their edges
+    // and the region's boundary, in the same plane, are tested against the scene's alone, moved
+    // 3/10000 of their distance toward the eye (the offset does not reach lines; what lies closer
+    // than that in front of the light, as a ceiling 0.8 above it seen from 2600 away, is drawn
+    // over).
     glEnable(GL_POLYGON_OFFSET_FILL);
     glPolygonOffset(-1.0f, -2.0f);
     glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);
     glFrontFace(GL_CCW);
+    glDepthMask(GL_FALSE);
     fragments_.draw(GL_TRIANGLES);
+    glDepthMask(GL_TRUE);
     glDisable(GL_CULL_FACE);
     glDisable(GL_POLYGON_OFFSET_FILL);
+    overlayProgram_.setFloat("uPull", 3e-4f);
     lines_.draw(GL_LINES);
+    overlayProgram_.setFloat("uPull", 0.0f);
     glDisable(GL_DEPTH_TEST);
     linesOnTop_.draw(GL_LINES);
     glUseProgram(0);

@@ -74,4 +74,8 @@ void ShaderProgram::setVec3(const char* name, float x, float y, float z) const {
     glUniform3f(glGetUniformLocation(program_, name), x, y, z);
 }
 
+void ShaderProgram::setFloat(const char* name, float value) const {
+    glUniform1f(glGetUniformLocation(program_, name), value);
+}
+
 }  // namespace penumbra::viewer

@@ -20,6 +20,7 @@ class ShaderProgram {
     void use() const;
     void setMatrix(const char* name, const float* columnMajor4x4) const;
     void setVec3(const char* name, float x, float y, float z) const;
+    void setFloat(const char* name, float value) const;
 
   private:
     GLuint program_ = 0;
