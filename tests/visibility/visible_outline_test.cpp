@@ -132,6 +132,33 @@ TEST(VisibleOutline, RoundedChordsAndSplitsStillCancel) {
     }
 }
 
+// Lambert's sum is linear in the edges, and the outline only splits edges at vertices and
+// cancels opposite pairs: its form factor is the pieces' summed whatever they are, here random
+// rectangles on a coarse grid that share, overlap, touch and meet at T-junctions (not the
+// disjoint fragments FPQuery gives). Every loop closes, with three vertices or more.
+TEST(VisibleOutline, IntegralIsThePiecesSumForAnyPieces) {
+    std::mt19937_64 rng(7);
+    std::uniform_int_distribution<int> cell(0, 6);
+    for (int trial = 0; trial < 200; ++trial) {
+        std::vector<Polygon> pieces;
+        const int count = 1 + trial % 12;
+        for (int k = 0; k < count; ++k) {
+            int x0 = cell(rng), x1 = cell(rng), y0 = cell(rng), y1 = cell(rng);
+            if (x0 == x1 || y0 == y1) continue;
+            if (x0 > x1) std::swap(x0, x1);
+            if (y0 > y1) std::swap(y0, y1);
+            pieces.push_back(rect(x0 * 0.25, y0 * 0.25, x1 * 0.25, y1 * 0.25));
+        }
+        const vis::VisibleOutline outline = vis::visibleOutline(pieces);
+        const Vec3 x{0.4, 0.7, 0};
+        double sum = 0;
+        for (const Polygon& p : pieces) sum += vis::formFactor(x, kUp, p);
+        SCOPED_TRACE("trial " + std::to_string(trial));
+        EXPECT_NEAR(vis::formFactorOfLoops(x, kUp, outline.loops), sum, 1e-12 * (1 + sum));
+        for (const Polygon& l : outline.loops) EXPECT_GE(l.size(), 3u);
+    }
+}
+
 TEST(VisibleOutline, NoFragmentsNoLoops) {
     EXPECT_TRUE(vis::visibleOutline({}).loops.empty());
     const std::vector<Polygon> point{{{1, 1, 1}, {1, 1, 1}, {1, 1, 1}}};
