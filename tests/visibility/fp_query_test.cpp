@@ -20,6 +20,7 @@
 #include "visibility/history_tree_builder.h"
 #include "visibility/pair_occluders.h"
 #include "visibility/polygon_clip.h"
+#include "visibility/visible_outline.h"
 
 namespace penumbra {
 namespace {
@@ -189,6 +190,19 @@ void checkDirectAgainstReference(const Scene& scene, int points, uint64_t seed, 
             << name << ": receiver " << r << " light " << l << " x " << vis::toString(x);
         EXPECT_NEAR(ff, ref.formFactor, 1e-9 * std::max(ref.formFactor, 1e-6))
             << name << ": receiver " << r << " light " << l << " x " << vis::toString(x);
+        // The fragments' outline (visible_outline.h): the exact region's area and form factor,
+        // tiny, huge and far from the origin too. (Not its number of boundaries: these scenes
+        // touch, and where a part touches another at a point CGAL may count one boundary and
+        // the outline two loops; nor where a sliver is thinner than the outline's weld.)
+        std::vector<std::vector<Vec3>> pieces;
+        for (size_t k = 0; k < fragments.size(); ++k)
+            pieces.emplace_back(fragments[k].begin(), fragments[k].end());
+        const vis::VisibleOutline outline = vis::visibleOutline(pieces);
+        EXPECT_NEAR(vis::formFactorOfLoops(x, n, outline.loops), ref.formFactor,
+                    1e-9 * std::max(ref.formFactor, 1e-6))
+            << name << ": outline, receiver " << r << " light " << l << " x " << vis::toString(x);
+        EXPECT_NEAR(outline.area() / m.faceArea(l), ref.fraction, 1e-9)
+            << name << ": outline, receiver " << r << " light " << l << " x " << vis::toString(x);
         if (::testing::Test::HasFailure()) return;
     }
     EXPECT_GT(compared, points / 2) << name;
