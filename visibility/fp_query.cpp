@@ -1752,9 +1752,7 @@ FromPointResult fromPointQuery(const PolygonMesh& mesh, const HistoryTree& tree,
     FromPointResult out;
     const FragmentList& fragments = query.run(mesh, tree, x, &out.trace);
     out.answeredOnContact = query.answeredOnContact();
-    out.fragments.reserve(fragments.size());
-    for (size_t i = 0; i < fragments.size(); ++i)
-        out.fragments.emplace_back(fragments[i].begin(), fragments[i].end());
+    out.fragments = fragments.polygons();
     out.nodesVisited = query.nodesVisited();
     out.deferredActive = query.deferredActive();
     out.deferredClips = query.deferredClips();

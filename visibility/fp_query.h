@@ -43,6 +43,13 @@ class FragmentList {
         vertices_.insert(vertices_.end(), polygon.begin(), polygon.end());
         begin_.push_back(static_cast<uint32_t>(vertices_.size()));
     }
+    // The polygons, each copied into its own vector (what outlives the query's next run).
+    std::vector<Polygon3> polygons() const {
+        std::vector<Polygon3> out;
+        out.reserve(size());
+        for (size_t i = 0; i < size(); ++i) out.emplace_back((*this)[i].begin(), (*this)[i].end());
+        return out;
+    }
 
   private:
     std::vector<Vec3> vertices_;

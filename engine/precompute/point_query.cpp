@@ -208,9 +208,7 @@ std::vector<LightAtPoint> queryPointDirect(const Scene& scene, const vis::BoxTre
         r.solidGroupsLeftOut = query.solidGroupsLeftOut();
         r.solidFacesLeftOut = query.solidFacesLeftOut();
         r.hiddenBySolid = query.hiddenBySolid();
-        r.fragments.reserve(fragments.size());
-        for (size_t i = 0; i < fragments.size(); ++i)
-            r.fragments.emplace_back(fragments[i].begin(), fragments[i].end());
+        r.fragments = fragments.polygons();
     });
 }
 

@@ -301,9 +301,7 @@ Measured measure(const vis::PolygonMesh& m, const Vec3& x, const vis::FragmentLi
 
 // The same from the fragments' outline (visible_outline.h): the region's boundary only.
 Measured measureOutline(const vis::PolygonMesh& m, const Vec3& x, const vis::FragmentList& f) {
-    std::vector<std::vector<Vec3>> pieces;
-    for (size_t k = 0; k < f.size(); ++k) pieces.emplace_back(f[k].begin(), f[k].end());
-    const vis::VisibleOutline outline = vis::visibleOutline(pieces);
+    const vis::VisibleOutline outline = vis::visibleOutline(f.polygons());
     return {outline.area() / m.faceArea(1),
             vis::formFactorOfLoops(x, vis::normalize(m.faceAreaNormal(0)), outline.loops)};
 }

@@ -194,10 +194,7 @@ void checkDirectAgainstReference(const Scene& scene, int points, uint64_t seed, 
         // tiny, huge and far from the origin too. (Not its number of boundaries: these scenes
         // touch, and where a part touches another at a point CGAL may count one boundary and
         // the outline two loops; nor where a sliver is thinner than the outline's weld.)
-        std::vector<std::vector<Vec3>> pieces;
-        for (size_t k = 0; k < fragments.size(); ++k)
-            pieces.emplace_back(fragments[k].begin(), fragments[k].end());
-        const vis::VisibleOutline outline = vis::visibleOutline(pieces);
+        const vis::VisibleOutline outline = vis::visibleOutline(fragments.polygons());
         EXPECT_NEAR(vis::formFactorOfLoops(x, n, outline.loops), ref.formFactor,
                     1e-9 * std::max(ref.formFactor, 1e-6))
             << name << ": outline, receiver " << r << " light " << l << " x " << vis::toString(x);

@@ -732,12 +732,8 @@ json perPoint(const std::string& path, const BenchOptions& o) {
     pieces.reserve(samples.size());
     size_t fragmentEdges = 0, outlineEdges = 0, outlineLoops = 0;
     for (const Sample& s : samples) {
-        const vis::FragmentList& r = query.run(mesh, s.rec->tree, s.x);
-        std::vector<vis::Polygon3>& p = pieces.emplace_back();
-        for (size_t i = 0; i < r.size(); ++i) {
-            p.emplace_back(r[i].begin(), r[i].end());
-            fragmentEdges += r[i].size();
-        }
+        pieces.push_back(query.run(mesh, s.rec->tree, s.x).polygons());
+        for (const vis::Polygon3& f : pieces.back()) fragmentEdges += f.size();
     }
     const auto f0 = Clock::now();
     for (size_t k = 0; k < samples.size(); ++k) {

@@ -39,8 +39,6 @@ bool anyExactHas(const json& rows, const char* field) {
     return false;
 }
 
-// A boundary-chain count of a cost object (bench.json's "cost" or "costEveryPointExact") per
-// chain evaluation, or "-" where the chain answered none (or the field was not recorded).
 // An exact render's sampled evaluations (over the work limit) as a percentage of those that
 // needed a query.
 double sampledPercent(const json& exact) {
@@ -48,6 +46,8 @@ double sampledPercent(const json& exact) {
            std::max(1.0, exact["evaluations"].get<double>());
 }
 
+// A boundary-chain count of a cost object (bench.json's "cost" or "costEveryPointExact") per
+// chain evaluation, or "-" where the chain answered none (or the field was not recorded).
 std::string chainPer(const json& cost, const char* field) {
     const double chain = cost.value("chainEvaluations", 0.0);
     if (!(chain > 0) || !cost.contains(field)) return "-";
@@ -310,9 +310,8 @@ void writeCost(std::ostream& r, const json& rows) {
          "the queries that reached the work limit before they stopped (lost), and the sampled "
          "points' 128 rays. The last two are what the work limit's sampling costs the exact "
          "render.\n\n"
-      << "| scene | sampled points | exact answers | queries stopped at the limit | sampled "
-         "points' "
-         "rays | in all, s |\n|---|---|---|---|---|---|\n";
+      << "| scene | sampled points | exact answers | queries stopped at the limit | "
+         "sampled points' rays | in all, s |\n|---|---|---|---|---|---|\n";
     for (const json& row : rows) {
         const json& e = row["exact"];
         if (!e.contains("cost") || !e["cost"].contains("timeSplit")) continue;
