@@ -560,20 +560,33 @@ void FromPointQuery::buildChain() {
     chainPays_ = surface_ != nullptr || clustersActive() ||
                  chainRefs_.size() * chainOptions_.gain <= chainBuilder_.uses();
     chain_.clear();
+    chainChords_ = false;
     if (!chainPays_) return;
+    // x on or in front of B's plane (exact): seen from x, a chord on B's plane lies on or behind
+    // that plane (the ray from x through a point of it goes on behind B), so it meets no line
+    // from x to a point strictly in front of B, and no triangle of x and two such points: it
+    // changes c nowhere in L's part in front of B, the answer's part. Such chords are left out
+    // of the chain, and each cell is labelled from a point strictly in front of B's plane
+    // (certifiedPoint), which holds its part in front of B. (With x behind B's plane by a
+    // rounding they project into L within some ulps of the line where B's plane meets L's, and
+    // are cut first.)
+    chordsOnBLeftOut_ = frontB_.orient.sign(x_) != Sign::Negative;
     if (chainLists_.empty()) chainLists_.resize(1);
     std::vector<uint32_t>& root = chainLists_[0];
     root.clear();
-    bool chordInCone = false;  // a chord whose plane through x cuts L's cone (below)
     for (size_t k = 0; k < chainRefs_.size(); ++k) {
         const uint32_t ref = chainRefs_[k];
         ChainEdge e;
         e.ref = ref;
+        if ((ref & kPencilRef) != 0 && chordsOnBLeftOut_ && activePencilOnB_[ref & ~kPencilRef])
+            continue;
         if ((ref & kPencilRef) == 0) {
             const auto [v0, v1] = activePlaneEdges_[ref];
             e.segment = true;
             e.a = mesh_->vertices[v0];
             e.b = mesh_->vertices[v1];
+            e.behindB = frontB_.orient.sign(e.a) == Sign::Negative ||
+                        frontB_.orient.sign(e.b) == Sign::Negative;
             // The ref's plane is through x, v0, v1; the weight is the edge's from its lower id.
             e.jump = v0 < v1 ? chainWeights_[k] : -chainWeights_[k];
         }
@@ -591,7 +604,7 @@ void FromPointQuery::buildChain() {
             outside = exactSign(cone()[k], e.a) != Sign::Positive &&
                       exactSign(cone()[k], e.b) != Sign::Positive;
         if (outside) continue;
-        chordInCone = chordInCone || !e.segment;
+        chainChords_ = chainChords_ || !e.segment;
         root.push_back(static_cast<uint32_t>(chain_.size()));
         chain_.push_back(e);
     }
@@ -614,19 +627,28 @@ void FromPointQuery::buildChain() {
         }
         std::sort(orderKeys_.begin(), orderKeys_.end());
         for (size_t k = 0; k < root.size(); ++k) root[k] = orderKeys_[k].second;
+    } else {
+        // Chords first here too: the cells below them lie on one side of every chord's plane,
+        // where the crossings need no chord (countByCrossings, decideCellWhole).
+        std::stable_partition(root.begin(), root.end(),
+                              [&](uint32_t i) { return !chain_[i].segment; });
     }
-    // Cells may be labelled by crossings when c(y) changes only across input edges inside L: no
-    // occluder cut by L's plane (its chord lies in L's plane; one cut by B's plane has its chord
-    // seen on the line where B's plane meets L's, outside L when L lies wholly in front of B and
-    // x on B's plane). With x off B's plane by a rounding, the plane through x and a chord on B's
-    // plane is no longer B's: within some ulps of the chord it turns through L (found with
-    // points rounded from a wall's contact line in a rotated scene: cells labelled as if the
-    // chord were not there, off by 0.4 of the light). Such a chord kept in the chain (L
-    // straddles its plane) leaves the labels to the line tests. And only for a long chain: on a
-    // short one a cell's line test, which stops at the first face that hides it, costs less than
-    // the count that starts the crossings.
-    crossings_ = lightWhole_ && !lightChord_ && !chordInCone &&
-                 chain_.size() >= chainOptions_.crossingsMinEdges;
+    // Cells may be labelled by crossings when c(y) changes only across the chain's edges: no
+    // occluder cut by L's plane (c would also change where y passes through such an occluder,
+    // near its chord in L's plane). An occluder cut by B's plane has its chord on B's plane; seen
+    // from x on B's plane that chord lies on the line where B's plane meets L's, outside L's
+    // part in front of B, but with x off B's plane by a rounding (a rendered point, or one
+    // rounded from a wall's contact line) the plane through x and the chord turns through L
+    // within some ulps of that line, and c jumps there by an amount the chain does not hold.
+    // Such chords are cut first (above): a path between two points strictly on one side of
+    // every chord's plane crosses no chord, and one that may cross a chord's plane is counted on
+    // its line instead (countByCrossings; decideCellWhole decides no cell a chord may still
+    // cut). (Before, any such chord in L's cone left every cell of the point to its line test,
+    // and none was decided whole: on the motorbike, whose faces' planes often cut the light, its
+    // points over the work limit took 7.3 ms each with every point exact, 5.5 ms since.) And only
+    // for a long chain: on a short one a cell's line test, which stops at the first face that
+    // hides it, costs less than the count that starts the crossings.
+    crossings_ = !lightChord_ && chain_.size() >= chainOptions_.crossingsMinEdges;
     if (crossings_ && sideRef_.size() < chain_.size()) {
         sideRef_.resize(chain_.size());
         sideY_.resize(chain_.size());
@@ -754,6 +776,10 @@ bool FromPointQuery::certifiedPoint(std::span<const Vec3> poly, Vec3& y) {
         if (!spend()) return false;
         if (exactSign(h, y) != Sign::Positive) certified = false;
     }
+    if (certified && chordsOnBLeftOut_) {
+        if (!spend()) return false;
+        certified = frontB_.orient.sign(y) == Sign::Positive;
+    }
     if (crossings_) nextYStamp();
     for (size_t k = 0; certified && k < bounds_.size(); ++k) {
         if (!spend()) return false;
@@ -799,6 +825,10 @@ bool FromPointQuery::decideCellWhole(std::span<const Vec3> poly, size_t level) {
     // up = 0 (c is never negative). y is certified as a leaf's point is; the sides are exact.
     stage_ = WorkStage::LabelCells;
     if (poly.size() < 3) return false;
+    if (chainChords_) {  // a chord left in the list may cut the cell: its jump is not known
+        for (uint32_t idx : chainLists_[level])
+            if (!chain_[idx].segment) return false;
+    }
     Vec3 y;
     const bool certified = certifiedPoint(poly, y);
     if (limitReached_) return true;
@@ -811,7 +841,6 @@ bool FromPointQuery::decideCellWhole(std::span<const Vec3> poly, size_t level) {
     int down = 0, up = 0;
     for (uint32_t idx : chainLists_[level]) {
         const ChainEdge& e = chain_[idx];
-        if (!e.segment) continue;  // a chord on B's plane: outside L (crossings_)
         Sign s;
         if (stampY_[idx] == yStamp_) {
             s = static_cast<Sign>(sideY_[idx]);
@@ -858,9 +887,11 @@ std::optional<int> FromPointQuery::countByCrossings(const Vec3& y) {
     if (crossLevel_ == kNoLevel) return std::nullopt;
     int c = refCount_;
     const std::vector<uint32_t>& list = chainLists_[crossLevel_];
+    // Whether the triangle (x, ref, y) lies in the closed half-space in front of B's plane
+    // (exact signs; asked only when an edge cut by that plane crosses it: 0 = not yet known).
+    int triangleInFront = 0;
     for (size_t j = crossIndex_; j < list.size(); ++j) {
         const ChainEdge& e = chain_[list[j]];
-        if (!e.segment) continue;  // a chord on B's plane: seen outside L (crossings_)
         const uint32_t idx = list[j];
         Sign s0;
         if (stampRef_[idx] == refStamp_) {
@@ -879,6 +910,8 @@ std::optional<int> FromPointQuery::countByCrossings(const Vec3& y) {
             stampY_[idx] = yStamp_;
         }
         if (s0 == s1 && s0 != Sign::Zero) continue;  // both strictly on one side of its plane
+        // A chord's plane between them: the path may cross the chord, by an unknown jump.
+        if (!e.segment) return std::nullopt;
         if (!spend(5)) return std::nullopt;
         const Sign qa = orientSign(x_, refY_, y, e.a), qb = orientSign(x_, refY_, y, e.b);
         if (qa == qb && qa != Sign::Zero) continue;  // the segment misses the triangle's plane
@@ -892,6 +925,19 @@ std::optional<int> FromPointQuery::countByCrossings(const Vec3& y) {
         if (t0 == Sign::Zero || t1 == Sign::Zero || t2 == Sign::Zero) return std::nullopt;
         // Through the interior: then y and y' are strictly on either side of the edge's plane.
         if (s0 == Sign::Zero || s1 == Sign::Zero || s0 == s1) return std::nullopt;
+        // An edge cut by B's plane bounds its occluder only in front of that plane: the crossing
+        // counts where the triangle lies there (x, the ref and y on its closed front side: a
+        // rendered x is often a rounding behind it), else the line decides.
+        if (e.behindB) {
+            if (triangleInFront == 0) {
+                if (!spend(3)) return std::nullopt;
+                const bool front = frontB_.orient.sign(x_) != Sign::Negative &&
+                                   frontB_.orient.sign(refY_) != Sign::Negative &&
+                                   frontB_.orient.sign(y) != Sign::Negative;
+                triangleInFront = front ? 1 : -1;
+            }
+            if (triangleInFront < 0) return std::nullopt;
+        }
         c += s0 == Sign::Positive ? e.jump : -e.jump;
     }
     return c;
@@ -1167,6 +1213,7 @@ void FromPointQuery::activateFace(const PolygonMesh& mesh, uint32_t face) {
         } else {
             const bool onB = v1 == kReceiverPlaneEdge;
             lightChord_ = lightChord_ || !onB;
+            activePencilOnB_.push_back(onB ? 1 : 0);
             activePencils_.emplace_back(x_, onB ? frontB_.orient : frontL_.orient,
                                         clipPlaneAt(onB ? 0 : 1), plane);
         }
@@ -1180,6 +1227,7 @@ void FromPointQuery::prepareDeferred(const PolygonMesh& mesh, const HistoryTree&
     active_.clear();
     activePlanes_.clear();
     activePencils_.clear();
+    activePencilOnB_.clear();
     activePlaneEdges_.clear();
     deferredClips_ = 0;
     if (!tree.partial()) return;
@@ -1527,6 +1575,7 @@ void FromPointQuery::startRun() {
     active_.clear();
     activePlanes_.clear();
     activePencils_.clear();
+    activePencilOnB_.clear();
     activePlaneEdges_.clear();
     chainBuilt_ = false;
     activeOrdered_ = false;

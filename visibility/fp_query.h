@@ -438,6 +438,7 @@ class FromPointQuery {
     std::vector<ActiveOccluder> active_;
     std::vector<PlaneOrient> activePlanes_;
     std::vector<PencilPlane> activePencils_;
+    std::vector<uint8_t> activePencilOnB_;  // per pencil: its chord lies on B's plane (else L's)
     // The input edge (mesh vertex ids) of each of activePlanes_.
     std::vector<std::pair<uint32_t, uint32_t>> activePlaneEdges_;
     // The boundary chain of a run (built at its first use): per edge, its plane (a ref) and, for
@@ -445,9 +446,13 @@ class FromPointQuery {
     struct ChainEdge {
         uint32_t ref = 0;
         bool segment = false;
+        // An input edge with an end point strictly behind B's plane (exact): its face is cut by
+        // B's plane and c(y) changes only across its part in front (countByCrossings).
+        bool behindB = false;
         Vec3 a, b;
         // How c(y) changes when y passes from the positive to the negative side of the ref's
-        // plane across the segment (the edge's weight, boundary_chain.h; 0 for a chord).
+        // plane across the segment (the edge's weight, boundary_chain.h; 0 for a chord, whose
+        // jump is not known: a path may cross its plane only where that is shown not to matter).
         int jump = 0;
     };
     std::vector<ChainEdge> chain_;
@@ -471,13 +476,17 @@ class FromPointQuery {
     std::vector<uint32_t> chainRefs_;
     std::vector<int> chainWeights_;  // per chain ref, its weight from the lower vertex id
     std::vector<int> surfaceSums_;   // per surfaceRemaining_, its weight
-    // Cell labels by crossings (classifyCell): allowed for the run (L wholly in front of B and no
-    // occluder cut by L's plane: then c(y) changes only across the occluders' input edges), the
+    // Cell labels by crossings (classifyCell): allowed for the run (no occluder cut by L's plane:
+    // then c(y) changes only across the occluders' input edges and their chords on B's plane), the
     // last counted cell's point and count, and the shallowest chain level (with the index of
     // the edge that split it) passed since then: the path between the two points lies in that
     // level's cell, which only its list's edges from that index on may cross.
     bool lightChord_ = false;
     bool crossings_ = false;
+    bool chainChords_ = false;  // a chord in the chain (cut first)
+    // x on or in front of B's plane: the chords on B's plane were left out of the chain, and a
+    // cell is labelled only from a point strictly in front of B's plane (buildChain).
+    bool chordsOnBLeftOut_ = false;
     bool haveRef_ = false;
     Vec3 refY_;
     int refCount_ = 0;

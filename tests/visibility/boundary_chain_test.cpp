@@ -20,6 +20,7 @@
 #include "tests/support/test_scale.h"
 #include "visibility/box_tree.h"
 #include "visibility/face_clusters.h"
+#include "visibility/face_plane.h"
 #include "visibility/form_factor.h"
 #include "visibility/fp_query.h"
 #include "visibility/history_tree_builder.h"
@@ -669,8 +670,10 @@ TEST(BoundaryChainQuery, LightCutByTheReceiverPlaneMatchesTheExactReference) {
     m.box({0.3, -0.6, 0}, {0.5, -0.2, 0.5}, 2);
     const Checked c = checkScene(m.finish(), "light cut by the floor", test::scaled(60), 7);
     EXPECT_GT(c.chain, test::scaled(60) / 4);
-    // Cells beyond B's plane: no labels by crossings (each cell's line is tested).
-    EXPECT_EQ(c.crossingLabels, 0);
+    // The floor points lie on B's plane: the chords where it cuts the occluders are left out of
+    // the chain (they change c only beyond that plane), and the cells are labelled by crossings
+    // (each from a point strictly in front of the floor).
+    EXPECT_GT(c.crossingLabels, c.cells / 2);
     EXPECT_EQ(c.silhouettes, test::scaled(60));
 }
 
@@ -716,6 +719,101 @@ TEST(BoundaryChainQuery, PointsOnBowlFacesWhosePlanesCutTheLightMatchTheExactRef
     EXPECT_GE(checked, test::scaled(240) / 2);
     EXPECT_GT(cut, checked / 8);  // faces whose plane cuts the light
     EXPECT_GT(cells, checked);
+}
+
+// The chords where the floor's plane cuts the occluders, seen from floor points a rounding off
+// that plane: a light upright through the floor's plane, a sphere and a box sunk into the floor,
+// the whole scene rotated and translated in doubles. Each point is taken as rounded from its
+// barycentric weights, then moved along the normal by the fewest ulps that put it strictly
+// behind the floor's plane and on or in front of it (the exact test): from behind, the chords'
+// planes through x cut a strip some ulps wide along the floor's edge of the light, where c jumps
+// by amounts the chain does not hold (the crossings give up across them); from in front or on
+// the plane the chords are left out of the chain and the cells are labelled from points strictly
+// in front of the floor. Both against the exact reference, the chain and its crossings forced,
+// and with the defaults and groups.
+TEST(BoundaryChainQuery, RoundedFloorPointsUnderMeshesSunkIntoTheFloorMatchTheExactReference) {
+    std::mt19937_64 rng(23);
+    std::uniform_real_distribution<double> u(-1, 1);
+    int reported = 0, front = 0, behind = 0;
+    int frontCells = 0, frontCrossings = 0, behindCrossings = 0;
+    for (int i = 0; i < test::scaled(6); ++i) {
+        MeshScene m(0, true);  // the light x = 1.5, z in [-0.5, 1.5]: cut by the floor's plane
+        m.sphere({0.8 + 0.1 * u(rng), 0.05, 0.1}, 0.3, 14, 9);
+        m.box({0.2, -0.7, -0.2}, {0.5, -0.2, 0.4 + 0.1 * u(rng)}, 2);
+        Scene s = m.finish();
+        s.mesh.faces[0].resize(3);  // triangles: a rotated quad would not stay planar
+        s.mesh.faces[1].resize(3);
+        const double a = 3 * u(rng), b = 3 * u(rng);
+        const Vec3 t{50 * u(rng), 50 * u(rng), 50 * u(rng)};
+        auto transform = [&](const Vec3& v) {
+            Vec3 p{std::cos(a) * v.x - std::sin(a) * v.y, std::sin(a) * v.x + std::cos(a) * v.y,
+                   v.z};
+            p = {p.x, std::cos(b) * p.y - std::sin(b) * p.z, std::sin(b) * p.y + std::cos(b) * p.z};
+            return p + t;
+        };
+        for (Vec3& v : s.mesh.vertices) v = transform(v);
+        std::vector<vis::Bounds3> boxes;
+        for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
+        const vis::BoxTree faces(boxes);
+        const vis::FaceClusters groups(s.mesh, faces);
+        vis::FromPointQuery chain, defaults;
+        chain.setChainOptions({1, 0, 0});
+        const vis::PlaneOrient floor = vis::facePlane(s.mesh, 0).orient();
+        const Vec3 n = vis::normalize(s.mesh.faceAreaNormal(0));
+        std::vector<Vec3> corner;
+        for (uint32_t v : s.mesh.faces[0]) corner.push_back(s.mesh.vertices[v]);
+        for (int k = 0; k < 12; ++k) {
+            // A point of the floor triangle (-2,-2) (2,-2) (2,2) near the meshes, or (every
+            // other one) on the box's contact line with the floor, where the box's faces cross
+            // its plane: the chords start there, and the strip their planes cut from behind is
+            // wide (the incident of a rotated wall's contact line: off by 0.4 of the light);
+            // some at its corners, where its edges cross that plane a rounding from x.
+            Vec3 rounded;
+            if (k % 2 == 0) {
+                double px = 0.6 + 0.6 * u(rng), py = 0.6 * u(rng) - 0.3;
+                if (py > px) std::swap(px, py);
+                const double w0 = (2 - px) / 4, w2 = (py + 2) / 4, w1 = 1 - w0 - w2;
+                rounded = corner[0] * w0 + corner[1] * w1 + corner[2] * w2;
+            } else if (k % 4 == 1) {
+                const double along = 0.5 + 0.45 * u(rng);
+                rounded = transform(k % 8 == 1 ? Vec3{0.5, -0.7 + 0.5 * along, 0}
+                                               : Vec3{0.2 + 0.3 * along, -0.2, 0});
+            } else {  // a corner, where a vertical edge of the box crosses the floor's plane
+                rounded = transform({k % 8 == 3 ? 0.5 : 0.2, (k / 4) % 2 == 0 ? -0.2 : -0.7, 0});
+            }
+            // The fewest doubling steps along +n (-n) that reach the wanted side.
+            auto moved = [&](double direction, bool wantBehind) {
+                Vec3 x = rounded;
+                for (double step = 0x1p-60; step < 1; step *= 2) {
+                    const vis::Sign side = floor.sign(x);
+                    if ((side == vis::Sign::Negative) == wantBehind) return x;
+                    x = rounded + n * (direction * step);
+                }
+                ADD_FAILURE() << "no point on the wanted side near " << vis::toString(rounded);
+                return rounded;
+            };
+            for (const bool wantBehind : {true, false}) {
+                const Vec3 x = moved(wantBehind ? -1 : 1, wantBehind);
+                const test::ReferenceResult ref = test::exactReference(s.mesh, 0, 1, x);
+                const std::string where = wantBehind ? "behind the floor" : "on or in front";
+                matchesOnFace(s.mesh, 0, x, chain.runDirect(s.mesh, 0, 1, x, faces), ref,
+                              "chain, " + where, reported);
+                const vis::FromPointQuery::ChainCounts c = chain.chainCounts();
+                (wantBehind ? behind : front) += 1;
+                (wantBehind ? behindCrossings : frontCrossings) += c.crossingLabels;
+                if (!wantBehind) frontCells += c.cells;
+                matchesOnFace(s.mesh, 0, x, chain.runDirect(s.mesh, 0, 1, x, faces, &groups), ref,
+                              "chain, face groups, " + where, reported);
+                matchesOnFace(s.mesh, 0, x, defaults.runDirect(s.mesh, 0, 1, x, faces, &groups),
+                              ref, "defaults, face groups, " + where, reported);
+            }
+        }
+    }
+    EXPECT_EQ(front, behind);
+    // From in front, with the chords left out, most cells are labelled by crossings; from
+    // behind, some are (the crossings give up only across a chord's plane).
+    EXPECT_GT(frontCrossings, frontCells / 2);
+    EXPECT_GT(behindCrossings, 0);
 }
 
 // A mesh that crosses the light's plane and the floor's plane (clipped: chords on both).
