@@ -3,13 +3,16 @@
 namespace penumbra::vis {
 
 Vec3 PolygonMesh::faceAreaNormal(uint32_t f) const {
+    // Newell's sum over the edges, taken relative to the first vertex: the terms are the size of
+    // the face, not of its coordinates (a small face far from the origin summed in absolute
+    // coordinates loses its normal to cancellation: one of 2e-4 at 1e4 came out pointing
+    // anywhere).
     const auto& idx = faces[f];
     Vec3 n{};
-    for (size_t i = 0; i < idx.size(); ++i) {
-        const Vec3& a = vertices[idx[i]];
-        const Vec3& b = vertices[idx[(i + 1) % idx.size()]];
-        n += cross(a, b);
-    }
+    if (idx.empty()) return n;
+    const Vec3& o = vertices[idx[0]];
+    for (size_t i = 1; i + 1 < idx.size(); ++i)
+        n += cross(vertices[idx[i]] - o, vertices[idx[i + 1]] - o);
     return n;
 }
 

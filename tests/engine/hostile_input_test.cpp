@@ -83,13 +83,14 @@ TEST_F(HostileInput, CoordinatesBeyondTheContractAreRefusedInEveryFormat) {
 // loads, and its answer keeps its fraction within [0, 1] up to the rounding the rule bounds.
 TEST_F(HostileInput, LightsThinnerThanDoublesResolveAreRefused) {
     write("s.mtl", kMtl);
-    // The fuzzed glb's light as an OBJ: 2 units long, area 6e-39.
+    // The fuzzed glb's light as an OBJ: 2 units long, area 6e-39, whose edge vectors from its
+    // first vertex round to the same vector: its area rounds to zero.
     refused("sliver.obj",
             "mtllib s.mtl\nv -2 0 -2\nv 2 0 -2\nv 0 0 2\n"
             "v -0.5 -1.99969482421875 -0.50001519918441772\nv 0 2 1.7540579766176321e-38\n"
             "v 5.4182942733214815e-39 2 5.6051938572992683e-45\nusemtl white\nf 1 3 2\n"
             "usemtl lamp\nf 4 5 6\n",
-            {"face 1", "too thin for doubles to resolve"});
+            {"face 1", "its area rounds to zero"});
     refused("sliver.json",
             R"({"polygons": [{"vertices": [[-2,0,-2],[0,0,2],[2,0,-2]]}],
                 "area_lights": [{"vertices": [[0,3,0],[1e-30,3,1e-30],[1000,3,1e-30]],
