@@ -1,5 +1,7 @@
 #include "app/viewer/picking.h"
 
+#include "engine/render/shading_point.h"
+
 namespace penumbra::viewer {
 
 std::optional<PickedPoint> pickSurface(const Scene& scene, const EmbreeScene& bvh,
@@ -10,11 +12,7 @@ std::optional<PickedPoint> pickSurface(const Scene& scene, const EmbreeScene& bv
         camera.ray(px - viewport.x + 0.5, py - viewport.y + 0.5, viewport.width, viewport.height);
     const std::optional<EmbreeScene::Hit> hit = bvh.intersect(ray.origin, ray.direction);
     if (!hit) return std::nullopt;
-    const vis::PolygonMesh& mesh = scene.mesh;
-    const Vec3 n = normalize(mesh.faceAreaNormal(hit->face));
-    const Vec3 onPlane =
-        hit->point - n * dot(n, hit->point - mesh.vertices[mesh.faces[hit->face][0]]);
-    return PickedPoint{hit->face, onPlane};
+    return PickedPoint{hit->face, shadingPoint(scene.mesh, hit->face, hit->point)};
 }
 
 }  // namespace penumbra::viewer

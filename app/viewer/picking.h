@@ -1,6 +1,7 @@
 // Picking: the surface point under a pixel, by casting the camera ray through the pixel centre
-// into the Embree BVH (EmbreeScene::intersect). The hit (float precision in Embree) is projected
-// back onto the hit face's plane in double, so that the from-point query gets a point on the face.
+// into the Embree BVH (EmbreeScene::intersect). The hit (float precision in Embree) becomes the
+// point the renderer would shade there (shadingPoint: on the face's plane in double, on its
+// closed front side), so that the from-point query gets a point on the face.
 #pragma once
 
 #include <optional>
