@@ -209,7 +209,7 @@ class TileShader {
                 tp.y = y;
                 SurfacePoint& p = tp.point;
                 p.face = f;
-                p.x = shadingPoint(in_.scene.mesh, f, ph.hit->point, n, in_.faceOrigin[f]);
+                p.x = surfacePoint(ph.hit->point, n, in_.faceOrigin[f]);
                 p.n = n;
                 p.wo = -ph.ray.direction;
                 p.material = &in_.scene.material(f);
@@ -382,36 +382,34 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
     std::mutex mutex;
     std::unordered_map<PairKey, uint64_t, PairKeyHash> needed;  // samples per pair
     std::vector<uint32_t> facesSeen;
-    tbb::parallel_for(tbb::blocked_range<int>(0, tileCount(settings), 1),
-                      [&](const tbb::blocked_range<int>& range) {
-                          std::unordered_map<PairKey, uint64_t, PairKeyHash> local;
-                          std::vector<uint32_t> faces;
-                          for (int t = range.begin(); t != range.end(); ++t) {
-                              if (cancelled()) return;
-                              const Tile tile = tileAt(t, settings);
-                              for (int pass = 0; pass < passesTraced; ++pass)
-                                  for (int y = tile.y0; y < tile.y1; ++y) {
-                                      for (int x = tile.x0; x < tile.x1; ++x) {
-                                          const Ray ray = primaryRay(rays, settings, pass, x, y);
-                                          const auto hit =
-                                              bvh_.intersect(ray.origin, ray.direction);
-                                          if (!hit) continue;
-                                          const uint32_t f = hit->face;
-                                          const Vec3 n = faceNormal_[f];
-                                          if (!(dot(ray.direction, n) < 0)) continue;  // back side
-                                          if (faces.empty() || faces.back() != f)
-                                              faces.push_back(f);
-                                          const Vec3 xs = shadingPoint(scene_.mesh, f, hit->point,
-                                                                       n, faceOrigin_[f]);
-                                          for (uint32_t lf : scene_.lights)
-                                              if (lf != f) ++local[store_.keyAt(f, xs, lf)];
-                                      }
-                                  }
-                          }
-                          std::lock_guard lock(mutex);
-                          for (const auto& [key, count] : local) needed[key] += count;
-                          facesSeen.insert(facesSeen.end(), faces.begin(), faces.end());
-                      });
+    tbb::parallel_for(
+        tbb::blocked_range<int>(0, tileCount(settings), 1),
+        [&](const tbb::blocked_range<int>& range) {
+            std::unordered_map<PairKey, uint64_t, PairKeyHash> local;
+            std::vector<uint32_t> faces;
+            for (int t = range.begin(); t != range.end(); ++t) {
+                if (cancelled()) return;
+                const Tile tile = tileAt(t, settings);
+                for (int pass = 0; pass < passesTraced; ++pass)
+                    for (int y = tile.y0; y < tile.y1; ++y) {
+                        for (int x = tile.x0; x < tile.x1; ++x) {
+                            const Ray ray = primaryRay(rays, settings, pass, x, y);
+                            const auto hit = bvh_.intersect(ray.origin, ray.direction);
+                            if (!hit) continue;
+                            const uint32_t f = hit->face;
+                            const Vec3 n = faceNormal_[f];
+                            if (!(dot(ray.direction, n) < 0)) continue;  // back side
+                            if (faces.empty() || faces.back() != f) faces.push_back(f);
+                            const Vec3 xs = surfacePoint(hit->point, n, faceOrigin_[f]);
+                            for (uint32_t lf : scene_.lights)
+                                if (lf != f) ++local[store_.keyAt(f, xs, lf)];
+                        }
+                    }
+            }
+            std::lock_guard lock(mutex);
+            for (const auto& [key, count] : local) needed[key] += count;
+            facesSeen.insert(facesSeen.end(), faces.begin(), faces.end());
+        });
     if (cancelled()) return seconds(t0, Clock::now());
     // A pair the image samples fewer than minTreeSamples times gets no tree: its points are
     // evaluated directly (FromPointQuery::runDirect), which costs no precompute. The counts come

@@ -6,6 +6,8 @@
 #include <numbers>
 
 #include "engine/render/embree_scene.h"
+#include "engine/render/shading_point.h"
+#include "visibility/face_plane.h"
 #include "visibility/form_factor.h"
 #include "visibility/fp_query.h"
 #include "visibility/polygon_clip.h"
@@ -197,8 +199,12 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         // answered without it (the same exact answer; see answeredByGroups).
         const bool byGroups = record != nullptr && answeredByGroups(*record);
         if (record == nullptr || byGroups) {  // the faces in the pyramid from x, clipped from x
+            // From x on the face's closed front side (frontPoint: no chord of B's plane cuts the
+            // light), a point as good for the pixel; its fragments are shaded from it.
+            SurfacePoint front = p;
+            front.x = frontPoint(vis::facePlane(scene_.mesh, p.face).orient(), p.x);
             const vis::FragmentList& list = scratch.query.runDirect(
-                scene_.mesh, p.face, light.face, p.x, bvh_.faceBoxes(), &bvh_.faceClusters());
+                scene_.mesh, p.face, light.face, front.x, bvh_.faceBoxes(), &bvh_.faceClusters());
             if (record == nullptr) {
                 const vis::FromPointQuery& q = scratch.query;
                 scratch.evaluations.directGrouped += q.clustersUsed() > 0;
@@ -212,7 +218,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 out += overLimit(true);
                 continue;
             }
-            out += shadeFragments(p, light, list, {}, glossySamples, rng, scratch);
+            out += shadeFragments(front, light, list, {}, glossySamples, rng, scratch);
             exactDone(Answer::Direct, list.size());
             continue;
         }
