@@ -111,6 +111,13 @@ TEST(BoundaryChain, NonManifoldAndInconsistentUses) {
 
 // ---- Meshes with shared vertices, against the exact reference -------------------------------
 
+// The hierarchy of a scene's face boxes, as the renderer builds it for the direct query.
+vis::BoxTree faceBoxTree(const Scene& s) {
+    std::vector<vis::Bounds3> boxes;
+    for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
+    return vis::BoxTree(boxes);
+}
+
 // A scene built vertex by vertex: face 0 the floor z = h (the receiver), face 1 the light.
 class MeshScene {
   public:
@@ -355,9 +362,7 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
     // The silhouettes for the whole floor even where too few edges cancel there for them to pay
     // (kSilhouetteMaxKeptPercent): their answers are checked, whatever they cost.
     vis::prepareSilhouettes(s.mesh, partial, {}, 100);
-    std::vector<vis::Bounds3> boxes;
-    for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
-    const vis::BoxTree faces(boxes);
+    const vis::BoxTree faces = faceBoxTree(s);
     const vis::FaceClusters groups(s.mesh, faces);
     vis::FromPointQuery chain, oneByOne, defaults;
     // The chain, its labels by crossings, and closed surfaces as solids, always.
@@ -513,9 +518,7 @@ struct SphereUnderSphere {
         m.sphere({0, 0, 0.6}, 0.5, 16, 10);
         m.sphere({0.3, 0.1, 1.45}, 0.25, 12, 8);
         s = m.finish();
-        std::vector<vis::Bounds3> boxes;
-        for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
-        faces = vis::BoxTree(boxes);
+        faces = faceBoxTree(s);
         groups = vis::FaceClusters(s.mesh, faces);
     }
 };
@@ -686,9 +689,7 @@ TEST(BoundaryChainQuery, PointsOnBowlFacesWhosePlanesCutTheLightMatchTheExactRef
     MeshScene m(0, true);  // the light upright at x = 1.5, facing the bowl
     m.bowl(0.2, 12);
     const Scene s = m.finish();
-    std::vector<vis::Bounds3> boxes;
-    for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
-    const vis::BoxTree faces(boxes);
+    const vis::BoxTree faces = faceBoxTree(s);
     const vis::FaceClusters groups(s.mesh, faces);
     vis::FromPointQuery chain, defaults;
     chain.setChainOptions({1, 0, 0});
@@ -752,9 +753,7 @@ TEST(BoundaryChainQuery, RoundedFloorPointsUnderMeshesSunkIntoTheFloorMatchTheEx
             return p + t;
         };
         for (Vec3& v : s.mesh.vertices) v = transform(v);
-        std::vector<vis::Bounds3> boxes;
-        for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
-        const vis::BoxTree faces(boxes);
+        const vis::BoxTree faces = faceBoxTree(s);
         const vis::FaceClusters groups(s.mesh, faces);
         vis::FromPointQuery chain, defaults;
         chain.setChainOptions({1, 0, 0});
@@ -945,9 +944,7 @@ TEST(BoundaryChainQuery, TransformedMeshesThroughTheSilhouettesAndTheGroups) {
         // The direct query with the face groups too: the box's bottom faces are a hair above or
         // below the floor's plane, so groups that hold them are not taken whole (not strictly
         // in front of B), the others may be.
-        std::vector<vis::Bounds3> boxes;
-        for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
-        const vis::BoxTree faces(boxes);
+        const vis::BoxTree faces = faceBoxTree(s);
         const vis::FaceClusters groups(s.mesh, faces);
         std::vector<Vec3> floor;
         for (uint32_t v : s.mesh.faces[0]) floor.push_back(s.mesh.vertices[v]);
