@@ -561,6 +561,7 @@ void FromPointQuery::buildChain() {
                  chainRefs_.size() * chainOptions_.gain <= chainBuilder_.uses();
     chain_.clear();
     chainChords_ = false;
+    chordsOnBLeftOut_ = false;
     if (!chainPays_) return;
     // x on or in front of B's plane (exact): seen from x, a chord on B's plane lies on or behind
     // that plane (the ray from x through a point of it goes on behind B), so it meets no line
@@ -570,7 +571,7 @@ void FromPointQuery::buildChain() {
     // (certifiedPoint), which holds its part in front of B. (With x behind B's plane by a
     // rounding they project into L within some ulps of the line where B's plane meets L's, and
     // are cut first.)
-    chordsOnBLeftOut_ = frontB_.orient.sign(x_) != Sign::Negative;
+    const bool leaveOutChordsOnB = frontB_.orient.sign(x_) != Sign::Negative;
     if (chainLists_.empty()) chainLists_.resize(1);
     std::vector<uint32_t>& root = chainLists_[0];
     root.clear();
@@ -578,8 +579,10 @@ void FromPointQuery::buildChain() {
         const uint32_t ref = chainRefs_[k];
         ChainEdge e;
         e.ref = ref;
-        if ((ref & kPencilRef) != 0 && chordsOnBLeftOut_ && activePencilOnB_[ref & ~kPencilRef])
+        if ((ref & kPencilRef) != 0 && leaveOutChordsOnB && activePencilOnB_[ref & ~kPencilRef]) {
+            chordsOnBLeftOut_ = true;
             continue;
+        }
         if ((ref & kPencilRef) == 0) {
             const auto [v0, v1] = activePlaneEdges_[ref];
             e.segment = true;

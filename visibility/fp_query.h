@@ -484,8 +484,8 @@ class FromPointQuery {
     bool lightChord_ = false;
     bool crossings_ = false;
     bool chainChords_ = false;  // a chord in the chain (cut first)
-    // x on or in front of B's plane: the chords on B's plane were left out of the chain, and a
-    // cell is labelled only from a point strictly in front of B's plane (buildChain).
+    // x on or in front of B's plane and some chord on B's plane left out of the chain: a cell is
+    // labelled only from a point strictly in front of B's plane (buildChain).
     bool chordsOnBLeftOut_ = false;
     bool haveRef_ = false;
     Vec3 refY_;
