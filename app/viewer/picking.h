@@ -1,7 +1,8 @@
 // Picking: the surface point under a pixel, by casting the camera ray through the pixel centre
 // into the Embree BVH (EmbreeScene::intersect). The hit (float precision in Embree) becomes the
-// point the renderer would shade there (shadingPoint: on the face's plane in double, on its
-// closed front side), so that the from-point query gets a point on the face.
+// point the renderer's direct query takes there (shadingPoint: projected onto the face's plane in
+// double, then onto its closed front side), so that the from-point query, which answers a click
+// without trees, gets a point on the face.
 #pragma once
 
 #include <optional>

@@ -12,11 +12,11 @@
 // a rounding of the ray's). Either point's answer is exact; the front one costs less on the
 // direct path: on the motorbike's points over the work limit, every point exact, 5.2 -> 4.0 ms
 // mean and 0.99 -> 0.64 ms median (48x48 camera points, light 0); its render with every point
-// exact at 96x96, 1 spp, 11.4 -> 8.5 s CPU. A tree's walk takes the
-// projection: from strictly in front of B a point next to an occluder standing on B costs it the
-// near-contact test (FromPointQuery::nearContact), and moving every point made the Cornell box's
-// and the stairs' renders 7-10% slower. Filtered tests only: from a point within ulps of the
-// plane the exact test goes to its exact stage, which costs more than the shading.
+// exact at 96x96, 1 spp, 11.4 -> 8.5 s CPU. A tree's walk takes the projection: from strictly in
+// front of B a point next to an occluder standing on B costs it the near-contact test
+// (FromPointQuery::nearContact), and moving every point made the Cornell box's and the stairs'
+// renders 7-10% slower. Filtered tests only: from a point within ulps of the plane the exact test
+// goes to its exact stage, which costs more than the shading.
 #pragma once
 
 #include <cstdint>
