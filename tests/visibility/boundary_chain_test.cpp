@@ -16,6 +16,7 @@
 
 #include "engine/scene/scene.h"
 #include "tests/support/exact_reference.h"
+#include "tests/support/face_boxes.h"
 #include "tests/support/random_points.h"
 #include "tests/support/test_scale.h"
 #include "visibility/box_tree.h"
@@ -110,13 +111,6 @@ TEST(BoundaryChain, NonManifoldAndInconsistentUses) {
 }
 
 // ---- Meshes with shared vertices, against the exact reference -------------------------------
-
-// The hierarchy of a scene's face boxes, as the renderer builds it for the direct query.
-vis::BoxTree faceBoxTree(const Scene& s) {
-    std::vector<vis::Bounds3> boxes;
-    for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
-    return vis::BoxTree(boxes);
-}
 
 // A scene built vertex by vertex: face 0 the floor z = h (the receiver), face 1 the light.
 class MeshScene {
@@ -362,7 +356,7 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
     // The silhouettes for the whole floor even where too few edges cancel there for them to pay
     // (kSilhouetteMaxKeptPercent): their answers are checked, whatever they cost.
     vis::prepareSilhouettes(s.mesh, partial, {}, 100);
-    const vis::BoxTree faces = faceBoxTree(s);
+    const vis::BoxTree faces = test::faceBoxTree(s.mesh);
     const vis::FaceClusters groups(s.mesh, faces);
     vis::FromPointQuery chain, oneByOne, defaults;
     // The chain, its labels by crossings, and closed surfaces as solids, always.
@@ -518,7 +512,7 @@ struct SphereUnderSphere {
         m.sphere({0, 0, 0.6}, 0.5, 16, 10);
         m.sphere({0.3, 0.1, 1.45}, 0.25, 12, 8);
         s = m.finish();
-        faces = faceBoxTree(s);
+        faces = test::faceBoxTree(s.mesh);
         groups = vis::FaceClusters(s.mesh, faces);
     }
 };
@@ -689,7 +683,7 @@ TEST(BoundaryChainQuery, PointsOnBowlFacesWhosePlanesCutTheLightMatchTheExactRef
     MeshScene m(0, true);  // the light upright at x = 1.5, facing the bowl
     m.bowl(0.2, 12);
     const Scene s = m.finish();
-    const vis::BoxTree faces = faceBoxTree(s);
+    const vis::BoxTree faces = test::faceBoxTree(s.mesh);
     const vis::FaceClusters groups(s.mesh, faces);
     vis::FromPointQuery chain, defaults;
     chain.setChainOptions({1, 0, 0});
@@ -753,7 +747,7 @@ TEST(BoundaryChainQuery, RoundedFloorPointsUnderMeshesSunkIntoTheFloorMatchTheEx
             return p + t;
         };
         for (Vec3& v : s.mesh.vertices) v = transform(v);
-        const vis::BoxTree faces = faceBoxTree(s);
+        const vis::BoxTree faces = test::faceBoxTree(s.mesh);
         const vis::FaceClusters groups(s.mesh, faces);
         vis::FromPointQuery chain, defaults;
         chain.setChainOptions({1, 0, 0});
@@ -944,7 +938,7 @@ TEST(BoundaryChainQuery, TransformedMeshesThroughTheSilhouettesAndTheGroups) {
         // The direct query with the face groups too: the box's bottom faces are a hair above or
         // below the floor's plane, so groups that hold them are not taken whole (not strictly
         // in front of B), the others may be.
-        const vis::BoxTree faces = faceBoxTree(s);
+        const vis::BoxTree faces = test::faceBoxTree(s.mesh);
         const vis::FaceClusters groups(s.mesh, faces);
         std::vector<Vec3> floor;
         for (uint32_t v : s.mesh.faces[0]) floor.push_back(s.mesh.vertices[v]);

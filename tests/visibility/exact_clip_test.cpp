@@ -12,6 +12,7 @@
 
 #include "engine/scene/scene.h"
 #include "tests/support/exact_reference.h"
+#include "tests/support/face_boxes.h"
 #include "tests/support/random_points.h"
 #include "tests/support/test_scale.h"
 #include "visibility/box_tree.h"
@@ -80,9 +81,7 @@ class Paths {
         : scene_(s),
           complete_(vis::buildHistoryTree(s.mesh, 0, 1, {}, {}, nullptr, patch)),
           partial_(vis::buildHistoryTree(s.mesh, 0, 1, budget(1), {}, nullptr, patch)) {
-        std::vector<vis::Bounds3> boxes;
-        for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
-        faces_ = vis::BoxTree(boxes);
+        faces_ = test::faceBoxTree(s.mesh);
         groups_ = vis::FaceClusters(s.mesh, faces_);
     }
     const vis::HistoryTree& complete() const { return complete_; }
@@ -599,9 +598,7 @@ TEST(ExactClip, ManyLeavesMatchTheExactReference) {
         }
         const Scene s = p.finish();
         Paths paths(s);
-        std::vector<vis::Bounds3> boxes;
-        for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
-        const vis::BoxTree faces(boxes);
+        const vis::BoxTree faces = test::faceBoxTree(s.mesh);
         std::vector<Vec3> floor;
         for (uint32_t v : s.mesh.faces[0]) floor.push_back(s.mesh.vertices[v]);
         for (int k = 0; k < 8; ++k) {

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "tests/support/face_boxes.h"
 #include "tests/support/test_scale.h"
 #include "visibility/box_tree.h"
 
@@ -64,12 +65,6 @@ vis::PolygonMesh sphere(const Vec3& c, double r, int slices, int stacks) {
         m.faces.push_back({1, at(stacks - 2, j), at(stacks - 2, j + 1)});
     }
     return m;
-}
-
-vis::BoxTree faceTree(const vis::PolygonMesh& m) {
-    std::vector<vis::Bounds3> boxes;
-    for (uint32_t f = 0; f < m.faces.size(); ++f) boxes.push_back(m.faceBounds(f));
-    return vis::BoxTree(boxes);
 }
 
 // The sign of (v1 - v0) x (v2 - v0) . (x - v0), in rationals: the doubles exactly.
@@ -123,7 +118,7 @@ TEST(FaceClusters, AFlatGridIsOneGroupWithItsRimAsBoundary) {
     // its cone is the +z axis alone, and of its 80 edge uses only the 16 rim edges remain, each
     // once, counter-clockwise seen from +z.
     const vis::PolygonMesh m = grid(4, [](int, int) { return 0.0; });
-    const vis::BoxTree t = faceTree(m);
+    const vis::BoxTree t = test::faceBoxTree(m);
     const vis::FaceClusters c(m, t);
     const uint32_t root = c.clusterAt(0);
     ASSERT_NE(root, vis::FaceClusters::kNone);
@@ -165,7 +160,7 @@ TEST(FaceClusters, LooseFacesMakeNoGroup) {
         m.vertices.push_back({x, 0.5, 0});
         m.faces.push_back({v, v + 1, v + 2});
     }
-    const vis::BoxTree t = faceTree(m);
+    const vis::BoxTree t = test::faceBoxTree(m);
     const vis::FaceClusters c(m, t);
     EXPECT_EQ(c.size(), 0u);
     for (uint32_t f = 0; f < m.faces.size(); ++f) EXPECT_FALSE(c.grouped(f)) << "face " << f;
@@ -174,7 +169,7 @@ TEST(FaceClusters, LooseFacesMakeNoGroup) {
 // Random points against every group of the mesh: a side it certifies is the exact side of
 // each of the group's faces. Returns how many (point, group) pairs it certified.
 int checkSides(const vis::PolygonMesh& m, const std::string& what, int points, uint64_t seed) {
-    const vis::BoxTree t = faceTree(m);
+    const vis::BoxTree t = test::faceBoxTree(m);
     const vis::FaceClusters c(m, t);
     expectBoundariesAreTheFacesSums(m, t, c, what);
     EXPECT_GT(c.size(), 0u) << what;

@@ -13,6 +13,7 @@
 #include "engine/precompute/point_query.h"
 #include "engine/scene/procedural_scenes.h"
 #include "tests/support/exact_reference.h"
+#include "tests/support/face_boxes.h"
 #include "tests/support/random_points.h"
 #include "tests/support/test_scale.h"
 #include "visibility/box_tree.h"
@@ -266,9 +267,7 @@ TEST(FpQuery, WorkLimitStopsARunAndSaysSo) {
 // through them in that order, never back.
 TEST(FpQuery, WorkLimitSaysWhichStageReachedIt) {
     const Scene s = makeTable();
-    std::vector<vis::Bounds3> boxes;
-    for (uint32_t f = 0; f < s.faceCount(); ++f) boxes.push_back(s.mesh.faceBounds(f));
-    const vis::BoxTree faces(boxes);
+    const vis::BoxTree faces = test::faceBoxTree(s.mesh);
     std::mt19937_64 rng(29);
     vis::FromPointQuery unlimited, limited;
     unlimited.setChainOptions({0, 0, 0});
