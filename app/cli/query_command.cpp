@@ -8,6 +8,9 @@
 //    "fragments":[[[x,y,z],...],...],"outline":{"loops":[[[x,y,z],...],...],"edges":e,
 //    "form_factor":f'},"nodes_visited":n,"path":[node ids],
 //    "pair":"penumbra|fully-visible|fully-hidden|back-facing"}]}
+// A point strictly behind its face's plane (a rounding: a point within findFaceContaining's
+// tolerance of the face, or given with --face) is answered from the nearest point the filter
+// certifies in front, some ulps away (pointOnFrontSide), printed as "answered_point".
 // A pair with a partial tree (its build stopped at the budget, --max-lp-solves) adds
 // "deferred_occluders" (how many the tree left to the query) and "deferred_clipped" (how many of
 // them this point's query clipped against): its answer is exact all the same.
@@ -177,11 +180,14 @@ nlohmann::ordered_json toJson(const std::vector<vis::Polygon3>& polygons) {
     return out;
 }
 
-nlohmann::ordered_json toJson(const QueryPoint& p, uint32_t face,
+nlohmann::ordered_json toJson(const QueryPoint& p, uint32_t face, const Vec3& answered,
                               const std::vector<LightAtPoint>& lights) {
     nlohmann::ordered_json out;
     out["point"] = toJson(p.x);
     out["face"] = face;
+    // A point behind its face's plane by a rounding is answered from its front side
+    // (pointOnFrontSide): the point answered, some ulps away.
+    if (answered != p.x) out["answered_point"] = toJson(answered);
     nlohmann::ordered_json lightsJson = nlohmann::ordered_json::array();
     for (const LightAtPoint& l : lights) {
         nlohmann::ordered_json j;
@@ -264,9 +270,9 @@ void runQuery(const CLI::App& sub, const QueryOptions& options) {
     options.exact.applyTo(storeOptions);
     VisibilityStore store(scene, nullptr, storeOptions);
     for (size_t i = 0; i < points.size(); ++i) {
-        const std::vector<LightAtPoint> lights =
-            queryPoint(store, faces[i], points[i].x, lightFlag);
-        const nlohmann::json answer = toJson(points[i], faces[i], lights);
+        const Vec3 answered = pointOnFrontSide(scene, faces[i], points[i].x);
+        const std::vector<LightAtPoint> lights = queryPoint(store, faces[i], answered, lightFlag);
+        const nlohmann::json answer = toJson(points[i], faces[i], answered, lights);
         requireFinite(answer, "the answer for point " + std::to_string(i));
         std::cout << answer.dump() << '\n';
     }

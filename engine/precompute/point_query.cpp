@@ -6,6 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "engine/render/shading_point.h"
+#include "visibility/face_plane.h"
 #include "visibility/form_factor.h"
 #include "visibility/pair_occluders.h"
 #include "visibility/polygon_clip.h"
@@ -175,6 +177,11 @@ std::vector<LightAtPoint> forEachLight(const Scene& scene, uint32_t face, const 
 }
 
 }  // namespace
+
+vis::Vec3 pointOnFrontSide(const Scene& scene, uint32_t face, const vis::Vec3& x) {
+    const bool behind = vis::facePlane(scene.mesh, face).orient().sign(x) == vis::Sign::Negative;
+    return behind ? shadingPoint(scene.mesh, face, x) : x;
+}
 
 std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, const Vec3& x,
                                      std::optional<uint32_t> onlyLight) {

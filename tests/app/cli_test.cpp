@@ -211,6 +211,53 @@ TEST_F(CliTest, PointBehindTheLightGetsNothing) {
     EXPECT_NEAR(l["light_area"].get<double>(), 1.0, 1e-12);
 }
 
+// A point a rounding behind its face's plane is answered from the face's front side, some ulps
+// away, and says so. Here a wall sunk into the floor stands between the point and a light that the
+// floor's plane cuts: seen from the point as given, 1e-9 under the floor, the lines that pass
+// under the wall's chord on the floor's plane reach a sliver of the light along the floor, under
+// the wall's shadow, which becomes a hole (the exact reference's two boundary loops); from the
+// front side the shadow reaches the light's clipped edge (one loop).
+TEST_F(CliTest, PointBehindItsFacesPlaneIsAnsweredFromItsFrontSide) {
+    const char* obj =
+        "mtllib scene.mtl\n"
+        "v -2 -2 0\nv 2 -2 0\nv 2 2 0\nv -2 2 0\n"                              // floor
+        "v 1.5 -0.5 -0.5\nv 1.5 -0.5 1\nv 1.5 0.5 1\nv 1.5 0.5 -0.5\n"          // light, facing -x
+        "v 0.75 -0.2 -0.2\nv 0.75 0.2 -0.2\nv 0.75 0.2 0.3\nv 0.75 -0.2 0.3\n"  // sunk wall
+        "usemtl white\nf 1 2 3 4\n"
+        "usemtl lamp\nf 5 6 7 8\n"
+        "usemtl white\nf 9 10 11 12\n";
+    write("sunk.obj", obj);
+    const Scene scene = loadObjFromString(obj, kSceneMtl, "sunk.obj");
+    const Vec3 given{0.1, 0.05, -1e-9};
+    const json j = queryOne({"query", path("sunk.obj").string(), "--point=0.1,0.05,-1e-9"});
+    EXPECT_EQ(j["face"], 0);
+    EXPECT_EQ(j["point"], json::array({given.x, given.y, given.z}));
+    ASSERT_TRUE(j.contains("answered_point")) << j.dump();
+    const json& a = j["answered_point"];
+    const Vec3 answered{a[0].get<double>(), a[1].get<double>(), a[2].get<double>()};
+    // Strictly in front of the floor's plane (exact), on the floor within some ulps.
+    EXPECT_EQ(vis::orientSign(scene.mesh.vertices[0], scene.mesh.vertices[1],
+                              scene.mesh.vertices[2], answered),
+              vis::Sign::Positive);
+    EXPECT_EQ(answered.x, given.x);
+    EXPECT_EQ(answered.y, given.y);
+    EXPECT_GT(answered.z, 0.0);
+    EXPECT_LT(answered.z, 1e-15);
+    const test::ReferenceResult asGiven = test::exactReference(scene.mesh, 0, 1, given);
+    const test::ReferenceResult ref = test::exactReference(scene.mesh, 0, 1, answered);
+    EXPECT_EQ(asGiven.boundaryLoops, 2);
+    EXPECT_EQ(ref.boundaryLoops, 1);
+    const json& l = j["lights"][0];
+    EXPECT_NEAR(l["fraction"].get<double>(), ref.fraction, 1e-12);
+    EXPECT_NEAR(l["form_factor"].get<double>(), ref.formFactor, 1e-12);
+    EXPECT_EQ(l["outline"]["loops"].size(), 1u) << l["outline"].dump();
+    // A point on or in front of its face's plane is answered as given.
+    const json on = queryOne({"query", path("sunk.obj").string(), "--point=0.1,0.05,0"});
+    EXPECT_FALSE(on.contains("answered_point")) << on.dump();
+    EXPECT_NEAR(on["lights"][0]["fraction"].get<double>(),
+                test::exactReference(scene.mesh, 0, 1, {0.1, 0.05, 0}).fraction, 1e-12);
+}
+
 TEST_F(CliTest, MissingSceneFile) {
     const std::string missing = path("no_such_scene.obj").string();
     expectError({"query", missing, "--point", "0,0,0"}, 1, {missing});
