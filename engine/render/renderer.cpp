@@ -159,19 +159,19 @@ class TileShader {
     // pixel's value does not depend on the order (its random numbers are its own).
     void shade(const Tile& tile, std::vector<Vec3>& image) {
         collectPoints(tile);
-        if (in_.exact)
-            std::sort(points_.begin(), points_.end(), [](const TilePoint& l, const TilePoint& r) {
-                return l.group != r.group ? l.group < r.group : l.cell < r.cell;
-            });
-        for (size_t g = 0; g < points_.size();) {
+        orderPoints();
+        auto same = [&](size_t a, size_t b) {
+            const TilePoint &p = points_[order_[a]], &q = points_[order_[b]];
+            return p.group == q.group && p.cell == q.cell;
+        };
+        for (size_t g = 0; g < order_.size();) {
             size_t end = g + 1;
-            while (end < points_.size() && points_[end].group == points_[g].group &&
-                   points_[end].cell == points_[g].cell)
-                ++end;
+            while (end < order_.size() && same(end, g)) ++end;
             shadeGroup(g, end, image);
             g = end;
         }
         scratch.regionCorners.clear();
+        scratch.pointKey.reset();
     }
 
     ExactScratch scratch;
@@ -189,7 +189,38 @@ class TileShader {
         // sub-patch: VisibilityStore::keyAt), and the region cell (exact method).
         uint64_t group = 0;
         uint32_t cell = 0;
+        std::optional<PairKey> firstKey;  // that key (ExactScratch::pointKey)
     };
+
+    // order_: the indices of points_ in the order they are shaded, for the exact method grouped
+    // by group (in the order of their first point) and within a group by region cell, each
+    // group's points in tile order: a counting sort by (group's rank, cell), linear in the
+    // points (a comparison sort of the points was some 4% of the Cornell box's render).
+    void orderPoints() {
+        order_.resize(points_.size());
+        if (!in_.exact) {
+            for (uint32_t i = 0; i < points_.size(); ++i) order_[i] = i;
+            return;
+        }
+        constexpr uint32_t kCells = (kTileSize / kRegionCell) * (kTileSize / kRegionCell);
+        groups_.clear();
+        bucketOf_.resize(points_.size());
+        for (size_t i = 0; i < points_.size(); ++i) {
+            uint32_t rank = 0;
+            if (i > 0 && points_[i].group == points_[i - 1].group) {
+                rank = bucketOf_[i - 1] / kCells;
+            } else {
+                rank = static_cast<uint32_t>(
+                    std::find(groups_.begin(), groups_.end(), points_[i].group) - groups_.begin());
+                if (rank == groups_.size()) groups_.push_back(points_[i].group);
+            }
+            bucketOf_[i] = rank * kCells + points_[i].cell;
+        }
+        bucketStart_.assign(groups_.size() * kCells + 1, 0);
+        for (uint32_t b : bucketOf_) ++bucketStart_[b + 1];
+        for (size_t b = 1; b < bucketStart_.size(); ++b) bucketStart_[b] += bucketStart_[b - 1];
+        for (uint32_t i = 0; i < points_.size(); ++i) order_[bucketStart_[bucketOf_[i]]++] = i;
+    }
 
     void collectPoints(const Tile& tile) {
         points_.clear();
@@ -220,9 +251,9 @@ class TileShader {
                     const std::vector<uint32_t>& lights = in_.scene.lights;
                     const auto light = std::find_if(lights.begin(), lights.end(),
                                                     [f](uint32_t l) { return l != f; });
-                    const uint32_t patch = light != lights.end()
-                                               ? in_.store.keyAt(f, p.x, *light).patch
-                                               : in_.store.patches(f).find(p.x);
+                    if (light != lights.end()) tp.firstKey = in_.store.keyAt(f, p.x, *light);
+                    const uint32_t patch =
+                        tp.firstKey ? tp.firstKey->patch : in_.store.patches(f).find(p.x);
                     tp.group = (static_cast<uint64_t>(f) << 32) | patch;
                 }
                 points_.push_back(tp);
@@ -233,14 +264,15 @@ class TileShader {
     void shadeGroup(size_t begin, size_t end, std::vector<Vec3>& image) {
         if (in_.exact) {
             vis::Bounds3 box;
-            for (size_t q = begin; q < end; ++q) box.add(points_[q].point.x);
+            for (size_t q = begin; q < end; ++q) box.add(points_[order_[q]].point.x);
             boxCorners(box, scratch.regionCorners);
             scratch.regionId = ++regionCounter_;
         }
         const RenderSettings& settings = in_.settings;
         for (size_t q = begin; q < end; ++q) {
-            const SurfacePoint& p = points_[q].point;
-            const int x = points_[q].x, y = points_[q].y;
+            const TilePoint& tp = points_[order_[q]];
+            const SurfacePoint& p = tp.point;
+            const int x = tp.x, y = tp.y;
             Vec3 radiance = p.material->isEmissive() ? p.material->ke : Vec3{};
             SplitMix64 rng = SplitMix64::forIndices(
                 {kLightStream, settings.lightSeed, static_cast<uint64_t>(in_.pass),
@@ -249,6 +281,7 @@ class TileShader {
             if (in_.exact) {
                 scratch.pixel = static_cast<uint64_t>(y) * static_cast<uint64_t>(settings.width) +
                                 static_cast<uint64_t>(x);
+                scratch.pointKey = tp.firstKey;
                 radiance += in_.lighting.exactAreaLights(p, settings.glossySamples,
                                                          settings.lightSamples, rng, scratch);
             } else {
@@ -268,6 +301,9 @@ class TileShader {
     vis::FromPointQuery& pooled_;
     std::vector<PrimaryHit> hits_;
     std::vector<TilePoint> points_;
+    std::vector<uint32_t> order_;
+    std::vector<uint64_t> groups_;                  // orderPoints' scratch
+    std::vector<uint32_t> bucketOf_, bucketStart_;  // (the same)
     uint64_t regionCounter_ = 0;
 };
 

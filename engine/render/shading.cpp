@@ -113,7 +113,10 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
     for (size_t k = 0; k < lights_.size(); ++k) {
         const AreaLight& light = lights_[k];
         if (light.face == p.face) continue;  // a light does not light itself
-        const PairKey key = store_->keyAt(p.face, p.x, light.face);
+        const PairKey key = scratch.pointKey && scratch.pointKey->receiver == p.face &&
+                                    scratch.pointKey->lightFace == light.face
+                                ? *scratch.pointKey
+                                : store_->keyAt(p.face, p.x, light.face);
         const PairRecord* record = scratch.lastTree[k];
         if ((record == nullptr && !scratch.lastDirect[k]) || scratch.lastKey[k] != key) {
             // Without a tree and not to be built: evaluated point by point (buildMissing).

@@ -22,6 +22,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <unordered_set>
 #include <vector>
@@ -120,6 +121,10 @@ struct OverLimitPoint {
 // the receiver's front half-space, whatever x: it is cached per light for the last receiver face
 // (the same polygon FPQuery would return, without walking or allocating per point).
 struct ExactScratch {
+    // The key of the next point's first light (the first that is not its own face), when the
+    // caller looked it up already (the renderer groups a tile's points by it): exactAreaLights
+    // takes it instead of a second VisibilityStore::keyAt.
+    std::optional<PairKey> pointKey;
     std::vector<PairKey> lastKey;             // per light
     std::vector<const PairRecord*> lastTree;  // per light (nullptr: none yet)
     std::vector<uint32_t> clippedFace;        // per light: the receiver of clippedLight
