@@ -203,10 +203,16 @@ class FromPointQuery {
     void clipCandidates(const PolygonMesh& mesh);
     // Whether x lies exactly in one of tree.contactPlanes.
     bool onContact(const HistoryTree& tree, const Vec3& x) const;
-    // Whether x lies strictly in front of B's plane and an inserted occluder may meet the sliver
-    // between x and B's plane that the lines from x to L cross behind x (conservative: a box
-    // test against a rigorous bound of that sliver; HistoryTree::contactBoxes).
-    static bool nearContact(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x);
+    // Whether x may lie strictly in front of B's plane with an inserted occluder that may meet
+    // the sliver between x and B's plane that the lines from x to L cross behind x
+    // (conservative: a box test against a rigorous bound of that sliver;
+    // HistoryTree::contactBoxes). B's plane and L's vertices come from preparePair, their
+    // values at L's vertices from contactLightLow_.
+    bool nearContact(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x);
+    // Per vertex of light_, a lower bound of B's plane's orient3d value there (nearContact's;
+    // valid until preparePair prepares another pair).
+    std::vector<double> contactLightLow_;
+    bool contactLightLowValid_ = false;
     // B's (0) or L's (1) plane evaluated at x_, once per run (the pencil planes of chords).
     const BoundedValue& clipPlaneAt(int which);
     // A node's split with the predicates of mode_ (input edges) or the filtered ones (chords).
