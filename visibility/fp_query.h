@@ -209,6 +209,9 @@ class FromPointQuery {
     // HistoryTree::contactBoxes). B's plane and L's vertices come from preparePair, their
     // values at L's vertices from contactLightLow_.
     bool nearContact(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x);
+    // Its tests for a point x with b(x) at most bx.value + bx.error (B's orient3d value): false
+    // only where no inserted occluder can meet the sliver; monotone in that bound.
+    bool mayMeetSliver(const HistoryTree& tree, const Vec3& x, const BoundedValue& bx);
     // Per vertex of light_, a lower bound of B's plane's orient3d value there (nearContact's;
     // valid until preparePair prepares another pair).
     std::vector<double> contactLightLow_;
