@@ -1796,6 +1796,21 @@ const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTr
         for (const DeferredOccluder& d : tree.deferred) candidates_.push_back(d.face);
         std::sort(candidates_.begin(), candidates_.end());
         candidates_.erase(std::unique(candidates_.begin(), candidates_.end()), candidates_.end());
+        // A face whose every vertex lies strictly farther from L's plane than x (the filter's
+        // bounds, which hold whether or not it certifies a sign) meets no segment from x to L:
+        // those lie between L's plane and its parallel through x. (The common contact answer:
+        // the floor below a wall whose plane cuts the light, an occluder of the wall's grown
+        // patches; activating it took the exact stage for its chords' pencil planes.)
+        BoundedValue bound;
+        lightPlane_.filtered(x, bound);
+        const double xHigh = bound.value + bound.error;
+        std::erase_if(candidates_, [&](uint32_t f) {
+            for (uint32_t v : mesh.faces[f]) {
+                lightPlane_.filtered(mesh.vertices[v], bound);
+                if (!(bound.value - bound.error > xHigh)) return false;
+            }
+            return true;
+        });
         preparePyramid();
         clipCandidates(mesh);
         return fragments_;
