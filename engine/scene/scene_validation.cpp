@@ -1,7 +1,5 @@
 #include "engine/scene/scene_validation.h"
 
-#include <gmpxx.h>
-
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -10,74 +8,18 @@
 #include <string>
 #include <vector>
 
+#include "visibility/orient2d.h"
+#include "visibility/predicates.h"
+
 namespace penumbra {
 namespace {
 
 using vis::Vec3;
-
-// ---- exact orient2d -----------------------------------------------------------------------------
-
-// Shewchuk (1997), ccwerrboundA: for det = (a.u-c.u)(b.v-c.v) - (a.v-c.v)(b.u-c.u) evaluated in
-// doubles, |det - exact| <= (3 + 16 eps) eps (|detleft| + |detright|), eps = 2^-53, as long as
-// nothing overflows or underflows. Below kUnderflowGuard or on overflow the filter is skipped.
-constexpr double kEps = DBL_EPSILON / 2;
-constexpr double kOrient2dBound = (3.0 + 16.0 * kEps) * kEps;
-constexpr double kUnderflowGuard = 0x1p-960;
-
-using P2 = FaceCheckScratch::P2;
-
-int orient2dExact(const P2& a, const P2& b, const P2& c) {
-    // mpq_class(double) is exact, so is the rest.
-    const mpq_class cu(c.u), cv(c.v);
-    const mpq_class det = (mpq_class(a.u) - cu) * (mpq_class(b.v) - cv) -
-                          (mpq_class(a.v) - cv) * (mpq_class(b.u) - cu);
-    return sgn(det);
-}
-
-// The sign of orient2d when the floating-point filter alone settles it, 0 when it does not.
-int orient2dFiltered(const P2& a, const P2& b, const P2& c) {
-    const double detLeft = (a.u - c.u) * (b.v - c.v);
-    const double detRight = (a.v - c.v) * (b.u - c.u);
-    const double det = detLeft - detRight;
-    const double sum = std::fabs(detLeft) + std::fabs(detRight);
-    if (!std::isfinite(sum) || sum < kUnderflowGuard) return 0;
-    const double bound = kOrient2dBound * sum;
-    return det > bound ? 1 : (det < -bound ? -1 : 0);
-}
-
-int signOf(double x) { return (x > 0) - (x < 0); }
-
-// Exact sign of the turn a -> b -> c: +1 left (counter-clockwise), -1 right, 0 collinear.
-// Inputs must be finite.
-int orient2d(const P2& a, const P2& b, const P2& c) {
-    // The sign of a difference of doubles is exact. When a factor of one product is exactly zero
-    // that product is exactly zero, and the sign of the determinant is the sign of the other
-    // product, a product of two exact signs. This settles faces in coordinate planes without GMP.
-    const double l1 = a.u - c.u, l2 = b.v - c.v, r1 = a.v - c.v, r2 = b.u - c.u;
-    if (l1 == 0 || l2 == 0) return -signOf(r1) * signOf(r2);
-    if (r1 == 0 || r2 == 0) return signOf(l1) * signOf(l2);
-    if (const int sign = orient2dFiltered(a, b, c)) return sign;
-    return orient2dExact(a, b, c);
-}
-
-P2 project(const Vec3& p, int u, int v) { return {p[u], p[v]}; }
-
-// Exact: is c on the line through a and b (a != b)? True iff the three coordinate-plane
-// projections of the cross product (b-a) x (c-a) all vanish. The filters are tried on all three
-// first: one certain nonzero settles it.
-bool collinear3(const Vec3& a, const Vec3& b, const Vec3& c) {
-    for (int axis = 0; axis < 3; ++axis) {
-        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-        if (orient2dFiltered(project(a, u, v), project(b, u, v), project(c, u, v)) != 0) {
-            return false;
-        }
-    }
-    for (int axis = 0; axis < 3; ++axis) {
-        const int u = (axis + 1) % 3, v = (axis + 2) % 3;
-        if (orient2d(project(a, u, v), project(b, u, v), project(c, u, v)) != 0) return false;
-    }
-    return true;
-}
+using P2 = vis::Point2;
+using vis::collinear3;
+using vis::orient2d;
+using vis::orient2dFiltered;
+using vis::project;
 
 // ---- per-face checks ----------------------------------------------------------------------------
 
@@ -87,12 +29,16 @@ std::string fmt(double x) {
     return buf;
 }
 
-FaceDefect degenerate(std::string message) { return FaceDefect{true, std::move(message)}; }
-FaceDefect invalid(std::string message) { return FaceDefect{false, std::move(message)}; }
+using Kind = FaceDefect::Kind;
+FaceDefect degenerate(std::string message) { return FaceDefect{Kind::Degenerate, std::move(message)}; }
+FaceDefect invalid(std::string message) { return FaceDefect{Kind::Invalid, std::move(message)}; }
+FaceDefect nonPlanar(std::string message) { return FaceDefect{Kind::NonPlanar, std::move(message)}; }
+FaceDefect nonConvex(std::string message) { return FaceDefect{Kind::NonConvex, std::move(message)}; }
 
-// The face's indices alone: at least 3, all in range, none repeated.
+// The face's indices alone: at least 3, all in range. A repeated index goes to `repeated`.
 std::optional<FaceDefect> indexDefect(const std::vector<uint32_t>& idx, size_t nv,
-                                      std::vector<uint32_t>& sorted) {
+                                      std::vector<uint32_t>& sorted,
+                                      std::optional<std::string>& repeated) {
     const size_t k = idx.size();
     if (k < 3) {
         return invalid("only " + std::to_string(k) + " vertices (a face needs at least 3)");
@@ -106,15 +52,15 @@ std::optional<FaceDefect> indexDefect(const std::vector<uint32_t>& idx, size_t n
     sorted.assign(idx.begin(), idx.end());
     std::sort(sorted.begin(), sorted.end());
     const auto dup = std::adjacent_find(sorted.begin(), sorted.end());
-    if (dup != sorted.end()) {
-        return degenerate("vertex index " + std::to_string(*dup) + " repeated (degenerate face)");
-    }
+    if (dup != sorted.end()) repeated = "vertex index " + std::to_string(*dup) + " repeated";
     return std::nullopt;
 }
 
-// Reads the face's positions into p: all coordinates finite, no two consecutive positions equal.
+// Reads the face's positions into p: all coordinates finite. Two consecutive positions equal go
+// to `repeated`.
 std::optional<FaceDefect> positionDefect(const vis::PolygonMesh& mesh,
-                                         const std::vector<uint32_t>& idx, std::vector<Vec3>& p) {
+                                         const std::vector<uint32_t>& idx, std::vector<Vec3>& p,
+                                         std::optional<std::string>& repeated) {
     const size_t k = idx.size();
     p.resize(k);
     for (size_t i = 0; i < k; ++i) {
@@ -123,10 +69,10 @@ std::optional<FaceDefect> positionDefect(const vis::PolygonMesh& mesh,
             return invalid("vertex " + std::to_string(idx[i]) + " has a non-finite coordinate");
         }
     }
-    for (size_t i = 0; i < k; ++i) {
+    for (size_t i = 0; i < k && !repeated; ++i) {
         if (p[i] == p[(i + 1) % k]) {
-            return degenerate("zero-length edge: vertices " + std::to_string(idx[i]) + " and " +
-                              std::to_string(idx[(i + 1) % k]) + " coincide (degenerate)");
+            repeated = "zero-length edge: vertices " + std::to_string(idx[i]) + " and " +
+                       std::to_string(idx[(i + 1) % k]) + " coincide";
         }
     }
     return std::nullopt;
@@ -140,6 +86,17 @@ size_t firstVertexOffLine(const std::vector<Vec3>& p) {
         if (!collinear3(p[0], p[1], p[i])) offLine = i;
     }
     return offLine;
+}
+
+// Whether the face's distinct positions all lie on one line (zero area), exactly; for a face
+// with repeated positions.
+bool allCollinear(const std::vector<Vec3>& p) {
+    size_t second = 1;
+    while (second < p.size() && p[second] == p[0]) ++second;
+    for (size_t i = second + 1; i < p.size(); ++i)
+        if (!(p[i] == p[0]) && !(p[i] == p[second]) && !collinear3(p[0], p[second], p[i]))
+            return false;
+    return true;
 }
 
 // An approximate normal of the face, computed on copies q of its vertices scaled so that nothing
@@ -207,14 +164,20 @@ double diameterOf(const std::vector<Vec3>& q) {
     return diameter;
 }
 
-// Planarity with the documented tolerance, on the centred and scaled vertices q.
+// Exact planarity: every vertex in the plane of p[0], p[1] and p[offLine] (not collinear), by the
+// exact orient3d sign. The message gives the largest deviation, approximately (on the centred and
+// scaled vertices q).
 std::optional<FaceDefect> planarityDefect(const std::vector<uint32_t>& idx,
+                                          const std::vector<Vec3>& p, size_t offLine,
                                           const std::vector<Vec3>& q, const ScaledFace& face) {
-    const size_t k = q.size();
+    const size_t k = p.size();
+    size_t off = 0;
+    for (size_t i = 2; i < k && off == 0; ++i)
+        if (i != offLine && vis::orientSign(p[0], p[1], p[offLine], p[i]) != vis::Sign::Zero)
+            off = i;
+    if (off == 0) return std::nullopt;
     const Vec3 unit = vis::normalize(face.normal);
-    const double diameter = diameterOf(q);
-    const double tolerance = kPlanarityTolerance * diameter;
-    size_t worst = 0;
+    size_t worst = off;
     double deviation = -1;
     for (size_t i = 0; i < k; ++i) {
         const double d = std::fabs(dot(q[i], unit));
@@ -223,16 +186,13 @@ std::optional<FaceDefect> planarityDefect(const std::vector<uint32_t>& idx,
             worst = i;
         }
     }
-    if (!(deviation <= tolerance)) {
-        const int exponent = face.exponent;
-        return invalid("non-planar: vertex " + std::to_string(idx[worst]) + " lies " +
-                       fmt(std::ldexp(deviation, exponent)) +
-                       " from the plane through the centroid (tolerance " +
-                       fmt(kPlanarityTolerance) + " x face diameter " +
-                       fmt(std::ldexp(diameter, exponent)) + " = " +
-                       fmt(std::ldexp(tolerance, exponent)) + ")");
-    }
-    return std::nullopt;
+    return nonPlanar("non-planar: vertex " + std::to_string(idx[off]) +
+                     " lies off the plane of vertices " + std::to_string(idx[0]) + ", " +
+                     std::to_string(idx[1]) + " and " + std::to_string(idx[offLine]) +
+                     " (exact test; the largest deviation, vertex " + std::to_string(idx[worst]) +
+                     ", is about " + fmt(std::ldexp(deviation, face.exponent)) +
+                     " from the plane through the centroid, face diameter " +
+                     fmt(std::ldexp(diameterOf(q), face.exponent)) + ")");
 }
 
 // The coordinate axis d whose dropping projects the face with every turn strict: into `axis`,
@@ -264,7 +224,7 @@ std::optional<FaceDefect> strictProjection(const std::vector<uint32_t>& idx,
             turn[i] = orient2d(s[prev], s[i], s[next]);
             if (turn[i] != 0) continue;
             if (collinear3(p[prev], p[i], p[next])) {
-                return invalid("collinear vertices: vertex " + std::to_string(idx[i]) +
+                return nonConvex("collinear vertices: vertex " + std::to_string(idx[i]) +
                                " lies on the line through its neighbours " +
                                std::to_string(idx[prev]) + " and " + std::to_string(idx[next]) +
                                " (zero turn)");
@@ -273,7 +233,7 @@ std::optional<FaceDefect> strictProjection(const std::vector<uint32_t>& idx,
         }
         if (!spurious) d = candidate;
     }
-    if (d < 0) return invalid("non-convex: no projection keeps every turn strict");
+    if (d < 0) return nonConvex("non-convex: no projection keeps every turn strict");
     axis = d;
     return std::nullopt;
 }
@@ -313,14 +273,14 @@ std::optional<FaceDefect> convexityDefect(const std::vector<uint32_t>& idx, cons
         const int expected = n[axis] > 0 ? 1 : -1;
         for (size_t i = 0; i < k; ++i) {
             if (turn[i] != expected) {
-                return invalid("non-convex: reflex vertex " + std::to_string(idx[i]) +
+                return nonConvex("non-convex: reflex vertex " + std::to_string(idx[i]) +
                                " (the face turns the other way there)");
             }
         }
     }
     const size_t count = revolutions(scratch.s, allPositive ? 1.0 : -1.0);
     if (count != 1) {
-        return invalid("non-convex: self-intersecting (the boundary winds " +
+        return nonConvex("non-convex: self-intersecting (the boundary winds " +
                        std::to_string(count) + " times around)");
     }
     return std::nullopt;
@@ -331,14 +291,23 @@ std::optional<FaceDefect> convexityDefect(const std::vector<uint32_t>& idx, cons
 std::optional<FaceDefect> checkFace(const vis::PolygonMesh& mesh, uint32_t f,
                                     FaceCheckScratch& scratch) {
     const std::vector<uint32_t>& idx = mesh.faces[f];
-    if (auto defect = indexDefect(idx, mesh.vertices.size(), scratch.sorted)) return defect;
-    if (auto defect = positionDefect(mesh, idx, scratch.p)) return defect;
+    std::optional<std::string> repeated;
+    if (auto defect = indexDefect(idx, mesh.vertices.size(), scratch.sorted, repeated))
+        return defect;
+    if (auto defect = positionDefect(mesh, idx, scratch.p, repeated)) return defect;
+    if (repeated) {
+        if (allCollinear(scratch.p))
+            return degenerate("degenerate (zero area): " + *repeated +
+                              ", and the other vertices are collinear");
+        return nonConvex(*repeated);
+    }
     const size_t offLine = firstVertexOffLine(scratch.p);
     if (offLine == 0) return degenerate("degenerate (zero area): all vertices are collinear");
     const ScaledFace scaled = scaledNormal(scratch.p, offLine, scratch.q);
     // Triangles are planar.
     if (idx.size() > 3) {
-        if (auto defect = planarityDefect(idx, scratch.q, scaled)) return defect;
+        if (auto defect = planarityDefect(idx, scratch.p, offLine, scratch.q, scaled))
+            return defect;
     }
     int axis = -1;
     if (auto defect = strictProjection(idx, scratch.p, scaled.normal, scratch, axis)) return defect;

@@ -1,24 +1,26 @@
 // Scene validation: the geometric contract the visibility core relies on, checked once on load.
 //
-// Every face must be a planar, strictly convex, non-degenerate polygon:
-//   - at least 3 vertices, all indices in range, no vertex index repeated, finite coordinates;
-//   - no two consecutive vertices at the same position ("zero-length edge");
+// Every face must be an exactly planar, strictly convex, non-degenerate polygon:
+//   - at least 3 vertices, all indices in range, finite coordinates;
+//   - no vertex index repeated, no two consecutive vertices at the same position;
 //   - not all vertices collinear ("degenerate (zero area)"), decided exactly;
-//   - planar: with n the Newell normal and c the centroid of the face's vertices, every vertex lies
-//     within 1e-9 * D of the plane through c with normal n, where D is the face diameter (the
-//     largest distance between two of its vertices; for faces of more than 1024 vertices the
-//     diagonal of their bounding box is used instead, which is at most sqrt(3) times larger).
-//     Triangles are always planar. The error reports the measured deviation;
+//   - exactly planar: every vertex in the plane of the first two and the first vertex off their
+//     line, by the exact orient3d sign (no tolerance: a quad planar only to rounding is not
+//     planar). Triangles are always planar. So the face's plane is the same from any three of
+//     its vertices that are not collinear, whichever vertex its list starts at (face_plane.h);
 //   - strictly convex: projected onto the coordinate plane that drops the dominant axis of n, every
 //     turn (p[i-1], p[i], p[i+1]) has the same strict sign, decided exactly (filtered orient2d with
-//     a GMP fallback). A zero turn is an error ("collinear vertices": it would make a zero-length
-//     edge hyperplane downstream), a turn of the other sign is a reflex vertex ("non-convex"), and
-//     a polygon whose turns all agree but whose edges wind around more than once (a pentagram) is
-//     self-intersecting ("non-convex").
-// Messages name faces and vertices by their 0-based index in the scene (for a scene read from an
-// OBJ file the vertex's OBJ index is one more), and give the face's source line as the location.
-// Scene-wide: at most 2^30 vertices and 2^30 faces (so 32-bit ids are safe), faceMaterial and
-// faceSourceLine either empty or one per face, material indices in range, lights naming faces.
+//     a GMP fallback). A zero turn is "collinear vertices", a turn of the other sign is a reflex
+//     vertex ("non-convex"), and a polygon whose turns all agree but whose edges wind around more
+//     than once (a pentagram) is self-intersecting ("non-convex").
+// What breaks it is one of four kinds (FaceDefect::Kind): a zero-area face (Degenerate, which a
+// loader drops in repair mode), a non-planar one (NonPlanar) or one that is planar but not strictly
+// convex, or has repeated vertices (NonConvex), both split into triangles of their own vertices in
+// repair mode (face_check.h, polygon_triangulation.h), and anything else (Invalid: always an
+// error). Messages name faces and vertices by their 0-based index in the scene (for a scene read
+// from an OBJ file the vertex's OBJ index is one more), and give the face's source line as the
+// location. Scene-wide: at most 2^30 vertices and 2^30 faces (so 32-bit ids are safe), faceMaterial
+// and faceSourceLine either empty or one per face, material indices in range, lights naming faces.
 #pragma once
 
 #include <cstddef>
@@ -27,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "visibility/orient2d.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_error.h"
 
@@ -80,9 +83,6 @@ std::optional<std::string> lightAreaProblem(const vis::PolygonMesh& mesh, uint32
 // once the loader has collected the lights).
 void validateLights(const Scene& scene);
 
-// The planarity tolerance, relative to the face diameter.
-inline constexpr double kPlanarityTolerance = 1e-9;
-
 // Throws SceneError naming scene.sourcePath, the face index and the face's source line on the first
 // face (in face order) that breaks the contract above. Returns normally when the scene is valid.
 // Equivalent to validateSceneStructure followed by checkFace on every face.
@@ -94,21 +94,25 @@ void validateSceneStructure(const Scene& scene);
 
 // Why one face breaks the contract.
 struct FaceDefect {
-    // True when the face has zero area: a repeated vertex index, two consecutive vertices at the
-    // same position, or all vertices collinear (decided exactly). Loaders may drop such faces on
-    // request (engine/scene/face_check.h); every other defect is always an error.
-    bool degenerate = false;
+    enum class Kind : uint8_t {
+        Degenerate,  // zero area: every distinct vertex on one line (exact), or an area that rounds
+                     // to zero; dropped in repair mode
+        NonPlanar,   // a vertex off the plane of three others (exact); split in repair mode
+        NonConvex,   // planar, but concave, self-touching, with collinear vertices or with a
+                     // vertex repeated; split in repair mode
+        Invalid,     // an index out of range, a non-finite coordinate, fewer than 3 vertices
+    };
+    Kind kind = Kind::Invalid;
     std::string message;  // without location, e.g. "non-planar: vertex 7 lies ..."
+    bool degenerate() const { return kind == Kind::Degenerate; }
+    bool splittable() const { return kind == Kind::NonPlanar || kind == Kind::NonConvex; }
 };
 
 // Buffers checkFace reuses from face to face; one per thread.
 struct FaceCheckScratch {
-    struct P2 {
-        double u, v;
-    };
     std::vector<uint32_t> sorted;
     std::vector<Vec3> p, q;
-    std::vector<P2> s;
+    std::vector<vis::Point2> s;
     std::vector<int> turn;
 };
 

@@ -209,7 +209,17 @@ TEST(ObjIo, ConvexQuadInAnInexactPlaneIsAccepted) {
         obj += line;
     }
     obj += "f 1 2 3 4\n";
-    EXPECT_NO_THROW(loadObjFromString(obj, "", "tilted.obj"));
+    // Strict: refused as non-planar (exactly: no tolerance); repaired: split into two triangles
+    // of its own vertices, with a warning.
+    expectError(obj, "", 5, "face 0: non-planar");
+    const Scene s = loadObjFromString(obj, "", "tilted.obj", DegenerateFaces::kDrop);
+    ASSERT_EQ(s.faceCount(), 2u);
+    EXPECT_EQ(s.faceSourceLine, (std::vector<int32_t>{5, 5}));
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_NE(s.warnings[0].find("tilted.obj: split 1 non-planar faces into 2 triangles (first: "
+                                 "face 0, line 5: non-planar"),
+              std::string::npos)
+        << s.warnings[0];
 }
 
 // ---- errors -------------------------------------------------------------------------------------
@@ -333,10 +343,9 @@ const std::string kQuadBase = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
 
 TEST(ObjValidation, PlanarConvexQuadIsAccepted) {
     EXPECT_NO_THROW(loadObjFromString(kQuadBase, "", "ok.obj"));
-    // Off the plane by less than 1e-9 of the diameter (sqrt 2).
-    EXPECT_NO_THROW(loadObjFromString(kQuadBase + "v 0 0 1\nv 1 0 1\nv 1 1 1.000000000001\n"
-                                                  "v 0 1 1\nf 5 6 7 8\n",
-                                      "", "ok.obj"));
+    // Off the plane by 1e-12 of the diameter: planarity is exact, so this one is not planar.
+    expectError(kQuadBase + "v 0 0 1\nv 1 0 1\nv 1 1 1.000000000001\nv 0 1 1\nf 5 6 7 8\n", "",
+                10, "face 1: non-planar");
 }
 
 TEST(ObjValidation, NonPlanarQuadIsRejected) {
@@ -379,7 +388,8 @@ TEST(ObjValidation, DegenerateFacesAreRejected) {
     expectError(kQuadBase + "v 2 0 0\nv 3 0 0\nf 2 5 6\n", "", 8, "face 1: degenerate (zero area)");
     expectError(kQuadBase + "v 2 2 2\nv 3 3 3\nf 1 5 6\n", "", 8, "degenerate (zero area)");
     // Distinct indices at the same position.
-    expectError(kQuadBase + "v 0 0 0\nf 1 5 2\n", "", 7, "face 1: zero-length edge");
+    expectError(kQuadBase + "v 0 0 0\nf 1 5 2\n", "", 7,
+                "face 1: degenerate (zero area): zero-length edge");
     // A sliver: the third vertex is one ulp off the line through the others. Not degenerate.
     EXPECT_NO_THROW(loadObjFromString(
         "v 0 0 0\nv 1e8 1e8 1e8\nv 1e8 1e8 100000000.00000001490116119384765625\nf 1 2 3\n"
