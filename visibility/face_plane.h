@@ -1,7 +1,9 @@
-// FacePlane: the plane of a mesh face for exact side tests, from its first three input vertices
-// (faces are validated planar and strictly convex on load). Every side test of a point against a
-// face's plane, and every PlaneOrient of one, goes through facePlane(), so that all of them take
-// the same three vertices in the same order.
+// FacePlane: the plane of a mesh face for exact side tests, from its first three input vertices.
+// Loaded faces are exactly planar and strictly convex (engine/scene/scene_validation.h: a face
+// that is not is split into triangles on load), so any three consecutive vertices span the same
+// plane with the same orientation: the exact sign of a point against it does not depend on where
+// the face's vertex list starts. Every side test of a point against a face's plane, and every
+// PlaneOrient of one, goes through facePlane().
 #pragma once
 
 #include <cstdint>

@@ -430,10 +430,12 @@ void FromPointQuery::activateSurface() {
 
 int FromPointQuery::sideAt(uint32_t slot) {
     const int8_t decided = surface_->sides[slot];
-    if (decided != 0) return decided;  // x in Q
+    // x in Q (decided for x_, not for a moved point's input: its contacts are tested below).
+    if (decided != 0 && !moved_) return decided;
     if (slotStamp_[slot] == runStamp_) return slotSide_[slot];
     if (!spend()) return 0;
-    const Sign s = exactSign(facePlane(*mesh_, tree_->deferred[slot].face).orient(), x_);
+    const PlaneOrient plane = facePlane(*mesh_, tree_->deferred[slot].face).orient();
+    const Sign s = moved_ && plane.sign(input_) == Sign::Zero ? Sign::Zero : exactSign(plane, x_);
     slotStamp_[slot] = runStamp_;
     slotSide_[slot] = static_cast<int8_t>(s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0);
     return slotSide_[slot];
@@ -1171,7 +1173,7 @@ void FromPointQuery::activateFace(const PolygonMesh& mesh, uint32_t face) {
     // point x is not blocked).
     const auto& ids = mesh.faces[face];
     const PlaneOrient plane = facePlane(mesh, face).orient();
-    const Sign side = plane.sign(x_);
+    const Sign side = occluderSide(plane);
     if (side == Sign::Zero) return;
     // Seen from behind on a closed surface taken as a solid: the faces seen from the front block
     // every segment that this one would (prepareSolids).
@@ -1298,7 +1300,7 @@ int FromPointQuery::exactFacing(std::span<const uint32_t> faces) {
     int side = 0;
     for (uint32_t face : faces) {
         if (!spend()) return 0;
-        const Sign s = facePlane(*preparedMesh_, face).orient().sign(x_);
+        const Sign s = occluderSide(facePlane(*preparedMesh_, face).orient());
         const int f = s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
         if (f == 0 || (side != 0 && f != side)) return 0;
         side = f;
@@ -1313,7 +1315,9 @@ bool FromPointQuery::walkClusters(uint32_t node, const ClusterWalk& w) {
     const uint32_t cluster = w.clusters.clusterAt(node);
     if (cluster != FaceClusters::kNone && w.behindB.negative(box.lo, box.hi) &&
         w.behindL.negative(box.lo, box.hi)) {
-        int side = w.clusters.facing(cluster, x_);
+        // (The cone test certifies x_'s side with some slack, not the input's contacts: a moved
+        // point takes the exact sides.)
+        int side = moved_ ? 0 : w.clusters.facing(cluster, x_);
         if (side == 0 && w.faces.nodeItems(node).size() <= kExactFacingMax) {
             side = exactFacing(w.faces.nodeItems(node));
             clustersByExactSides_ += side != 0 ? 1 : 0;
@@ -1460,7 +1464,7 @@ bool FromPointQuery::prepareSolids() {
             continue;
         }
         if (!box.containsGrown(x_, 0)) continue;
-        if (!spend() || facePlane(mesh, f).orient().sign(x_) != Sign::Zero) continue;
+        if (!spend() || occluderSide(facePlane(mesh, f).orient()) != Sign::Zero) continue;
         bool inB = xB == Sign::Zero;
         for (size_t i = 0; inB && i < ids.size(); ++i)
             inB = frontB_.orient.sign(mesh.vertices[ids[i]]) == Sign::Zero;
@@ -1645,10 +1649,14 @@ void FromPointQuery::clipCandidates(const PolygonMesh& mesh) {
 }
 
 const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t receiver,
-                                              uint32_t light, const Vec3& x, const BoxTree& faces,
+                                              uint32_t light, const AnsweredPoint& point,
+                                              const BoxTree& faces,
                                               const FaceClusters* clusters) {
     startRun();
     if (receiver == light) return fragments_;
+    const Vec3& x = point.at;
+    input_ = point.input;
+    moved_ = point.moved();
     if (!startPair(mesh, receiver, light, x)) return fragments_;
     x_ = x;
     preparePyramid();
@@ -1769,14 +1777,19 @@ void FromPointQuery::preparePair(const PolygonMesh& mesh, uint32_t receiver, uin
 }
 
 const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTree& tree,
-                                        const Vec3& x, std::vector<TraceStep>* trace,
+                                        const AnsweredPoint& point, std::vector<TraceStep>* trace,
                                         RegionDecisions* region) {
     if (region != nullptr && region->tree() != &tree)
         throw std::invalid_argument("FromPointQuery::run: region decisions of another tree");
     startRun();
     if (tree.kind == PairKind::BackFacing) return fragments_;
+    const Vec3& x = point.at;
+    input_ = point.input;
+    moved_ = point.moved();
     // (A fully hidden pair is answered without touching the pair's setup unless x is on contact.)
-    const bool contact = onContact(tree, x) || nearContact(mesh, tree, x);
+    // A moved point is on contact where its input is (answered_point.h).
+    const bool contact = onContact(tree, x) || (moved_ && onContact(tree, input_)) ||
+                         nearContact(mesh, tree, x);
     if (tree.kind == PairKind::FullyHidden && !contact) return fragments_;
     if (!startPair(mesh, tree.receiver, tree.light, x)) return fragments_;
     if (tree.kind == PairKind::FullyVisible) {
@@ -1837,7 +1850,8 @@ std::vector<uint32_t> traceNodes(std::span<const TraceStep> trace) {
     return out;
 }
 
-FromPointResult fromPointQuery(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x) {
+FromPointResult fromPointQuery(const PolygonMesh& mesh, const HistoryTree& tree,
+                               const AnsweredPoint& x) {
     FromPointQuery query;
     FromPointResult out;
     const FragmentList& fragments = query.run(mesh, tree, x, &out.trace);

@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "visibility/answered_point.h"
 #include "visibility/boundary_chain.h"
 #include "visibility/clipped_occluder.h"
 #include "visibility/edge_line.h"
@@ -102,9 +103,17 @@ class FromPointQuery {
     // directly, as runDirect() does (answeredOnContact() says so, and no trace is recorded). So
     // is an x a rounding in front of B's plane next to such an occluder (nearContact): the
     // tree's lines run on to B's plane behind x, and may meet the occluder there.
+    // x.at is the point answered; every occluder whose plane holds x.input exactly is taken as
+    // touching x (it blocks nothing; answered_point.h), at x.at as at x.input.
+    const FragmentList& run(const PolygonMesh& mesh, const HistoryTree& tree,
+                            const AnsweredPoint& x, std::vector<TraceStep>* trace = nullptr,
+                            RegionDecisions* region = nullptr);
+    // A point answered as given (answeredAsGiven).
     const FragmentList& run(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x,
                             std::vector<TraceStep>* trace = nullptr,
-                            RegionDecisions* region = nullptr);
+                            RegionDecisions* region = nullptr) {
+        return run(mesh, tree, answeredAsGiven(x), trace, region);
+    }
     // The same answer without a tree: the visible fragments of `light` from x on `receiver`, with
     // every face of `faces` (a hierarchy over the mesh's face boxes) that may meet the pyramid from
     // x over the light clipped from x directly (as a partial tree's deferred occluders are). Exact
@@ -119,8 +128,13 @@ class FromPointQuery {
     // and groups seen from behind left out, or blocks the whole light where x lies inside it (the
     // same answer; solidGroupsLeftOut, hiddenBySolid).
     const FragmentList& runDirect(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
-                                  const Vec3& x, const BoxTree& faces,
+                                  const AnsweredPoint& x, const BoxTree& faces,
                                   const FaceClusters* clusters = nullptr);
+    const FragmentList& runDirect(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
+                                  const Vec3& x, const BoxTree& faces,
+                                  const FaceClusters* clusters = nullptr) {
+        return runDirect(mesh, receiver, light, answeredAsGiven(x), faces, clusters);
+    }
     uint32_t nodesVisited() const { return nodesVisited_; }
     // The last run() answered by the contact rule from the pair's occluders, not by the walk.
     bool answeredOnContact() const { return contactAnswer_; }
@@ -203,6 +217,14 @@ class FromPointQuery {
     void clipCandidates(const PolygonMesh& mesh);
     // Whether x lies exactly in one of tree.contactPlanes.
     bool onContact(const HistoryTree& tree, const Vec3& x) const;
+    // The side of x_ against an occluder's plane under the contact rule: Zero where the run's
+    // input point lies exactly in it (a moved point touches what its input touches:
+    // answered_point.h), else x_'s exact side. Every strategy decides "x on the occluder's plane"
+    // through it.
+    Sign occluderSide(const PlaneOrient& plane) const {
+        if (moved_ && plane.sign(input_) == Sign::Zero) return Sign::Zero;
+        return plane.sign(x_);
+    }
     // Whether x may lie strictly in front of B's plane with an inserted occluder that may meet
     // the sliver between x and B's plane that the lines from x to L cross behind x
     // (conservative: a box test against a rigorous bound of that sliver;
@@ -401,6 +423,10 @@ class FromPointQuery {
     const PolygonMesh* mesh_ = nullptr;
     const HistoryTree* tree_ = nullptr;
     Vec3 x_;
+    // The run's input point (AnsweredPoint::input) and whether x_ was moved off it: the contact
+    // rule is decided there (occluderSide).
+    Vec3 input_;
+    bool moved_ = false;
     std::vector<TraceStep>* trace_ = nullptr;
     RegionDecisions* region_ = nullptr;
     uint32_t nodesVisited_ = 0;
@@ -601,6 +627,11 @@ struct FromPointResult {
 std::vector<uint32_t> traceNodes(std::span<const TraceStep> trace);
 
 // One-shot FromPointQuery::run with the trace recorded.
-FromPointResult fromPointQuery(const PolygonMesh& mesh, const HistoryTree& tree, const Vec3& x);
+FromPointResult fromPointQuery(const PolygonMesh& mesh, const HistoryTree& tree,
+                               const AnsweredPoint& x);
+inline FromPointResult fromPointQuery(const PolygonMesh& mesh, const HistoryTree& tree,
+                                      const Vec3& x) {
+    return fromPointQuery(mesh, tree, answeredAsGiven(x));
+}
 
 }  // namespace penumbra::vis

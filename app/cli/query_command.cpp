@@ -10,7 +10,7 @@
 //    "pair":"penumbra|fully-visible|fully-hidden|back-facing"}]}
 // A point strictly behind its face's plane (a rounding: a point within findFaceContaining's
 // tolerance of the face, or given with --face) is answered from the nearest point the filter
-// certifies in front, some ulps away (pointOnFrontSide), printed as "answered_point".
+// certifies in front, some ulps away (answeredPointOn), printed as "answered_point".
 // A pair with a partial tree (its build stopped at the budget, --max-lp-solves) adds
 // "deferred_occluders" (how many the tree left to the query) and "deferred_clipped" (how many of
 // them this point's query clipped against): its answer is exact all the same.
@@ -186,7 +186,8 @@ nlohmann::ordered_json toJson(const QueryPoint& p, uint32_t face, const Vec3& an
     out["point"] = toJson(p.x);
     out["face"] = face;
     // A point behind its face's plane by a rounding is answered from its front side
-    // (pointOnFrontSide): the point answered, some ulps away.
+    // (answeredPointOn): the point answered, some ulps away; the contact rule is decided at the
+    // point given.
     if (answered != p.x) out["answered_point"] = toJson(answered);
     nlohmann::ordered_json lightsJson = nlohmann::ordered_json::array();
     for (const LightAtPoint& l : lights) {
@@ -258,6 +259,8 @@ void runQuery(const CLI::App& sub, const QueryOptions& options) {
                 throw inputError(p.where + ": face " + std::to_string(*p.face) +
                                  " out of range: " + options.scene + " has " +
                                  std::to_string(scene.faceCount()) + " faces");
+            if (const auto problem = pointOffFace(scene, *p.face, p.x))
+                throw inputError(p.where + ": " + *problem);
             faces.push_back(*p.face);
             continue;
         }
@@ -270,8 +273,8 @@ void runQuery(const CLI::App& sub, const QueryOptions& options) {
     options.exact.applyTo(storeOptions);
     VisibilityStore store(scene, nullptr, storeOptions);
     for (size_t i = 0; i < points.size(); ++i) {
-        const Vec3 answered = pointOnFrontSide(scene, faces[i], points[i].x);
-        const std::vector<LightAtPoint> lights = queryPoint(store, faces[i], answered, lightFlag);
+        const Vec3 answered = answeredPointOn(scene, faces[i], points[i].x).at;
+        const std::vector<LightAtPoint> lights = queryPoint(store, faces[i], points[i].x, lightFlag);
         const nlohmann::json answer = toJson(points[i], faces[i], answered, lights);
         requireFinite(answer, "the answer for point " + std::to_string(i));
         std::cout << answer.dump() << '\n';

@@ -12,7 +12,8 @@ std::optional<PickedPoint> pickSurface(const Scene& scene, const EmbreeScene& bv
         camera.ray(px - viewport.x + 0.5, py - viewport.y + 0.5, viewport.width, viewport.height);
     const std::optional<EmbreeScene::Hit> hit = bvh.intersect(ray.origin, ray.direction);
     if (!hit) return std::nullopt;
-    return PickedPoint{hit->face, shadingPoint(scene.mesh, hit->face, hit->point)};
+    // The projected hit: the queries answer it at its answered point (shading_point.h).
+    return PickedPoint{hit->face, shadingPoint(scene.mesh, hit->face, hit->point).input};
 }
 
 }  // namespace penumbra::viewer

@@ -1,8 +1,8 @@
 // Picking: the surface point under a pixel, by casting the camera ray through the pixel centre
 // into the Embree BVH (EmbreeScene::intersect). The hit (float precision in Embree) becomes the
-// point the renderer's direct query takes there (shadingPoint: projected onto the face's plane in
-// double, then onto its closed front side), so that the from-point query, which answers a click
-// without trees, gets a point on the face.
+// point the renderer takes there (shadingPoint's input: projected onto the face's plane in
+// double); every query answers it at the same point as the renderer does (answeredPointOn: on the
+// face's closed front side, with the contact rule decided at the projection).
 #pragma once
 
 #include <optional>

@@ -6,7 +6,6 @@
 #include <limits>
 #include <stdexcept>
 
-#include "engine/render/shading_point.h"
 #include "visibility/face_plane.h"
 #include "visibility/form_factor.h"
 #include "visibility/pair_occluders.h"
@@ -44,10 +43,9 @@ double planeDistance(const vis::PolygonMesh& mesh, uint32_t f, const Vec3& n, co
     return std::fabs(dot(n, p - mesh.vertices[mesh.faces[f][0]]));
 }
 
-// x projected onto the coordinate plane that drops the dominant axis of n, inside face f's
-// polygon or within tol of its boundary.
-bool insideProjected(const vis::PolygonMesh& mesh, uint32_t f, const Vec3& n, const Vec3& x,
-                     double tol) {
+// How far x, projected onto the coordinate plane that drops the dominant axis of n, lies outside
+// face f's polygon: the largest 2D distance to the outer side of an edge's line (<= 0 inside).
+double outsideProjected(const vis::PolygonMesh& mesh, uint32_t f, const Vec3& n, const Vec3& x) {
     // Dominant axis k; the other two (u, v) in cyclic order, so a polygon counter-clockwise about
     // +axis k stays counter-clockwise in (u, v).
     int k = 2;
@@ -60,15 +58,23 @@ bool insideProjected(const vis::PolygonMesh& mesh, uint32_t f, const Vec3& n, co
     const double orientation = n[k] >= 0 ? 1.0 : -1.0;
     const auto face = mesh.face(f);
     const double px = x[u], py = x[v];
+    double outside = -std::numeric_limits<double>::infinity();
     for (size_t i = 0; i < face.size(); ++i) {
         const Vec3 a = mesh.vertices[face[i]], b = mesh.vertices[face[(i + 1) % face.size()]];
         const double ex = b[u] - a[u], ey = b[v] - a[v];
         const double len = std::hypot(ex, ey);
         if (len == 0) continue;  // an edge seen end-on: its neighbours bound the polygon
         const double side = orientation * (ex * (py - a[v]) - ey * (px - a[u])) / len;
-        if (side < -tol) return false;
+        outside = std::max(outside, -side);
     }
-    return true;
+    return outside;
+}
+
+// x projected as above, inside face f's polygon or within tol of its boundary (the 2D distance
+// to each edge's line).
+bool insideProjected(const vis::PolygonMesh& mesh, uint32_t f, const Vec3& n, const Vec3& x,
+                     double tol) {
+    return !(outsideProjected(mesh, f, n, x) > tol);
 }
 
 std::vector<Vec3> facePolygon(const vis::PolygonMesh& mesh, uint32_t f) {
@@ -119,6 +125,26 @@ FaceLookup findFaceContaining(const Scene& scene, const Vec3& x) {
                     ", which are not one plane with one orientation (name the face)";
     }
     return out;
+}
+
+std::optional<std::string> pointOffFace(const Scene& scene, uint32_t face, const Vec3& x) {
+    if (face >= scene.faceCount())
+        return "face " + std::to_string(face) + " out of range (the scene has " +
+               std::to_string(scene.faceCount()) + " faces)";
+    if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z))
+        return "point " + formatPoint(x) + " is not finite";
+    const vis::PolygonMesh& mesh = scene.mesh;
+    const double tol = pointTolerance(scene, x);
+    const Vec3 n = unitNormal(mesh, face);
+    const double off = planeDistance(mesh, face, n, x);
+    const std::string what = "point " + formatPoint(x) + " is not on face " + std::to_string(face);
+    const std::string tolerance = " (the lookup tolerance here is " + formatNumber(tol) +
+                                  ": 1e-9 of the scene's diagonal + 1e-12 |x|)";
+    if (!(off <= tol)) return what + ": it lies " + formatNumber(off) + " from its plane" + tolerance;
+    const double outside = outsideProjected(mesh, face, n, x);
+    if (outside > tol)
+        return what + ": it lies " + formatNumber(outside) + " outside its boundary" + tolerance;
+    return std::nullopt;
 }
 
 namespace {
@@ -178,16 +204,19 @@ std::vector<LightAtPoint> forEachLight(const Scene& scene, uint32_t face, const 
 
 }  // namespace
 
-vis::Vec3 pointOnFrontSide(const Scene& scene, uint32_t face, const vis::Vec3& x) {
-    const bool behind = vis::facePlane(scene.mesh, face).orient().sign(x) == vis::Sign::Negative;
-    return behind ? shadingPoint(scene.mesh, face, x) : x;
+vis::AnsweredPoint answeredPointOn(const Scene& scene, uint32_t face, const vis::Vec3& x) {
+    checkQueryRange(scene, face, std::nullopt);
+    return vis::answeredPoint(vis::facePlane(scene.mesh, face).orient(), x);
 }
 
-std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, const Vec3& x,
+std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, const Vec3& input,
                                      std::optional<uint32_t> onlyLight) {
     const vis::PolygonMesh& mesh = store.scene().mesh;
-    return forEachLight(store.scene(), face, x, onlyLight, [&](LightAtPoint& r) {
-        const vis::HistoryTree& tree = store.getOrBuild(store.keyAt(face, x, r.lightFace)).tree;
+    checkQueryRange(store.scene(), face, onlyLight);
+    const vis::AnsweredPoint x = answeredPointOn(store.scene(), face, input);
+    return forEachLight(store.scene(), face, x.at, onlyLight, [&](LightAtPoint& r) {
+        const vis::HistoryTree& tree =
+            store.getOrBuild(store.keyAt(face, x.at, r.lightFace)).tree;
         r.kind = tree.kind;
         vis::FromPointResult q = vis::fromPointQuery(mesh, tree, x);
         r.fragments = std::move(q.fragments);
@@ -201,12 +230,14 @@ std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, cons
 }
 
 std::vector<LightAtPoint> queryPointDirect(const Scene& scene, const vis::BoxTree& faces,
-                                           uint32_t face, const Vec3& x,
+                                           uint32_t face, const Vec3& input,
                                            std::optional<uint32_t> onlyLight, uint64_t workLimit,
                                            const vis::FaceClusters* groups) {
+    checkQueryRange(scene, face, onlyLight);
+    const vis::AnsweredPoint x = answeredPointOn(scene, face, input);
     vis::FromPointQuery query;
     query.setWorkLimit(workLimit);
-    return forEachLight(scene, face, x, onlyLight, [&](LightAtPoint& r) {
+    return forEachLight(scene, face, x.at, onlyLight, [&](LightAtPoint& r) {
         r.fromTree = false;
         const vis::FragmentList& fragments =
             query.runDirect(scene.mesh, face, r.lightFace, x, faces, groups);

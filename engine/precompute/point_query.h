@@ -13,6 +13,7 @@
 
 #include "engine/precompute/visibility_store.h"
 #include "engine/scene/scene.h"
+#include "visibility/answered_point.h"
 #include "visibility/face_clusters.h"
 #include "visibility/fp_query.h"
 #include "visibility/history_tree.h"
@@ -48,17 +49,20 @@ double pointTolerance(const Scene& scene, const Vec3& x);
 // the error lists the candidate faces.
 FaceLookup findFaceContaining(const Scene& scene, const Vec3& x);
 
-// The point a query for x on `face` answers: x itself where it lies on or in front of the face's
-// plane (vis::facePlane, exact sign), else shadingPoint(x) (engine/render/shading_point.h): x
-// projected onto the plane, then moved along its normal by the least step the filter certifies
-// strictly in front, some ulps. A point behind the plane by a rounding (one typed with decimals, or
-// found within findFaceContaining's tolerance) has an exact answer of its own, but not one anybody
-// asks for: the occluders that cross the receiver's plane cut the light, seen from under it, into
-// slivers some ulps wide along the line where that plane meets the light, at a cost of seconds (one
-// motorbike point: 93,674 fragments, a visible fraction of 8.4e-7, 8.1 s; from its front point
-// none, in milliseconds). The viewer's click takes that point too, and the renderer's tree-less
-// queries the front point of the projected hit.
-vis::Vec3 pointOnFrontSide(const Scene& scene, uint32_t face, const vis::Vec3& x);
+// Why x is not a point of face `face`, or nullopt when it is: off the face's plane by more than
+// pointTolerance, or outside its boundary by more than that (measured as findFaceContaining
+// measures), or `face` out of range. A point off the face it names is outside the contract: its
+// answer would come from trees built for another place (query --face refuses it with this text).
+std::optional<std::string> pointOffFace(const Scene& scene, uint32_t face, const Vec3& x);
+
+// The point a query for x on `face` answers (visibility/answered_point.h): x itself where it lies
+// on or in front of the face's plane (vis::facePlane, exact sign), else x moved to its front side
+// by some ulps, with the contact rule decided at x. A point behind the plane by a rounding (one
+// typed with decimals, or found within findFaceContaining's tolerance) has an exact answer of its
+// own, but not one anybody asks for (slivers along the plane, seconds on a large mesh). The
+// viewer's click and the renderer take the same point (engine/render/shading_point.h). Throws
+// std::out_of_range for a face out of range.
+vis::AnsweredPoint answeredPointOn(const Scene& scene, uint32_t face, const vis::Vec3& x);
 
 // One light as seen from a point x on a receiver face.
 struct LightAtPoint {
@@ -101,7 +105,8 @@ struct LightAtPoint {
 };
 
 // Every light (or only light `onlyLight`) of the store's scene as seen from x on face `face` (x is
-// not projected onto the face). A point behind a light's plane gets fraction 0 and form factors 0;
+// not projected onto the face; it is answered at answeredPointOn(x), the point every path
+// answers for it, with the contact rule decided at x). A point behind a light's plane gets fraction 0 and form factors 0;
 // so does the light's own face (kind BackFacing, no tree built). Missing trees are built on the
 // calling thread (VisibilityStore::getOrBuild). Throws std::out_of_range for a face or light
 // number out of range.

@@ -19,6 +19,7 @@
 #include "engine/render/random.h"
 #include "engine/render/shading.h"
 #include "engine/render/shading_point.h"
+#include "visibility/face_plane.h"
 
 namespace penumbra {
 namespace {
@@ -240,7 +241,11 @@ class TileShader {
                 tp.y = y;
                 SurfacePoint& p = tp.point;
                 p.face = f;
-                p.x = surfacePoint(ph.hit->point, n, in_.faceOrigin[f]);
+                p.input = p.x = surfacePoint(ph.hit->point, n, in_.faceOrigin[f]);
+                // The exact method answers the point on the face's closed front side, every path
+                // the same one (shading_point.h); the sampled ones trace from the projection.
+                if (in_.exact)
+                    p.x = vis::answeredPoint(vis::facePlane(in_.scene.mesh, f).orient(), p.input).at;
                 p.n = n;
                 p.wo = -ph.ray.direction;
                 p.material = &in_.scene.material(f);
@@ -436,7 +441,10 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
                             const Vec3 n = faceNormal_[f];
                             if (!(dot(ray.direction, n) < 0)) continue;  // back side
                             if (faces.empty() || faces.back() != f) faces.push_back(f);
-                            const Vec3 xs = surfacePoint(hit->point, n, faceOrigin_[f]);
+                            // The point the exact method answers (collectPoints).
+                            const Vec3 xs = vis::answeredPoint(
+                                vis::facePlane(scene_.mesh, f).orient(),
+                                surfacePoint(hit->point, n, faceOrigin_[f])).at;
                             for (uint32_t lf : scene_.lights)
                                 if (lf != f) ++local[store_.keyAt(f, xs, lf)];
                         }

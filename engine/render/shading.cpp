@@ -106,10 +106,6 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         scratch.clippedLight.assign(lights_.size(), vis::Polygon3{});
     }
     Vec3 out{};
-    // The point the direct query takes, on the face's closed front side (frontPoint: no chord of
-    // B's plane cuts the light), a point as good for the pixel; formed at its first use, once for
-    // all lights.
-    std::optional<SurfacePoint> front;
     for (size_t k = 0; k < lights_.size(); ++k) {
         const AreaLight& light = lights_[k];
         if (light.face == p.face) continue;  // a light does not light itself
@@ -207,12 +203,9 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         // answered without it (the same exact answer; see answeredByGroups).
         const bool byGroups = record != nullptr && answeredByGroups(*record);
         if (record == nullptr || byGroups) {  // the faces in the pyramid from x, clipped from x
-            if (!front) {
-                front = p;
-                front->x = frontPoint(vis::facePlane(scene_.mesh, p.face).orient(), p.x);
-            }
             const vis::FragmentList& list = scratch.query.runDirect(
-                scene_.mesh, p.face, light.face, front->x, bvh_.faceBoxes(), &bvh_.faceClusters());
+                scene_.mesh, p.face, light.face, p.answered(), bvh_.faceBoxes(),
+                &bvh_.faceClusters());
             if (record == nullptr) {
                 const vis::FromPointQuery& q = scratch.query;
                 scratch.evaluations.directGrouped += q.clustersUsed() > 0;
@@ -226,7 +219,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                 out += overLimit(true);
                 continue;
             }
-            out += shadeFragments(*front, light, list, {}, glossySamples, rng, scratch);
+            out += shadeFragments(p, light, list, {}, glossySamples, rng, scratch);
             exactDone(Answer::Direct, list.size());
             continue;
         }
@@ -265,7 +258,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
                     scratch.regionOf[k] = scratch.regionId;
                 }
             }
-            list = &scratch.query.run(scene_.mesh, record->tree, p.x, nullptr, region);
+            list = &scratch.query.run(scene_.mesh, record->tree, p.answered(), nullptr, region);
             countWork(0);
             if (scratch.query.limitReached()) {
                 out += overLimit(true);

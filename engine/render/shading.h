@@ -32,6 +32,7 @@
 #include "engine/render/effects_summary.h"
 #include "engine/render/random.h"
 #include "engine/scene/scene.h"
+#include "visibility/answered_point.h"
 #include "visibility/fp_query.h"
 #include "visibility/pair_occluders.h"
 
@@ -87,8 +88,11 @@ struct AreaLight {
 // towards the viewer (in n's hemisphere).
 struct SurfacePoint {
     uint32_t face = 0;
-    Vec3 x, n, wo;
+    // x: the point answered, on the face's closed front side; input: the point it stands for
+    // (the projected hit), where the exact queries decide the contact rule (shadingPoint).
+    Vec3 x, input, n, wo;
     const Material* material = nullptr;
+    vis::AnsweredPoint answered() const { return {x, input}; }
 };
 
 // Whether the renderer answers the points of `record`'s pair without its tree, by the direct
