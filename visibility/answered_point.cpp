@@ -23,12 +23,34 @@ Vec3 frontPoint(const PlaneOrient& plane, const Vec3& x) {
     return x;
 }
 
-AnsweredPoint answeredPoint(const PlaneOrient& receiverPlane, const Vec3& x) {
-    // The filter first: most points are certified one way or the other without the exact stage.
+namespace {
+
+// Whether x is certainly on or in front of the plane, by cheap tests only: the filter, then for a
+// plane of a coordinate (its three points share coordinate k, as a floor's or a box's) the exact
+// sign, that of x[k] - a[k] (a difference of doubles) times that of the normal's k-th component
+// (certain where it exceeds its rounding, 4u of its permanent, claimed 8u). No exact stage: a
+// projected hit lies within ulps of its plane, so the filter alone almost never decides it, and
+// the exact stage for every shading point cost the Cornell box's exact render some 12% of its
+// time. A point these tests leave undecided is taken as behind (moved), which is always sound:
+// the contact rule is decided at the input point whatever is answered.
+bool certainlyNotBehind(const PlaneOrient& plane, const Vec3& x) {
     BoundedValue v;
-    const Sign side = receiverPlane.filtered(x, v) ? v.sign() : receiverPlane.value(x).sign();
-    if (side != Sign::Negative) return {x, x};
-    // Behind: projected onto the plane (rounded), then onto its front side by the least step.
+    if (plane.filtered(x, v)) return v.value > 0;
+    for (int k = 0; k < 3; ++k) {
+        if (plane.a[k] != plane.b[k] || plane.a[k] != plane.c[k]) continue;
+        if (!(std::fabs(plane.n[k]) > 0x1p-50 * plane.perm[k])) return false;
+        const double d = x[k] - plane.a[k];
+        return plane.n[k] > 0 ? d >= 0 : d <= 0;
+    }
+    return false;
+}
+
+}  // namespace
+
+AnsweredPoint answeredPoint(const PlaneOrient& receiverPlane, const Vec3& x) {
+    if (certainlyNotBehind(receiverPlane, x)) return {x, x};
+    // Behind, or not certainly in front: projected onto the plane (rounded), then onto its front
+    // side by the least step.
     const Vec3 n{receiverPlane.n[0], receiverPlane.n[1], receiverPlane.n[2]};
     const double nn = dot(n, n);
     const Vec3 projected = nn > 0 ? x - n * (dot(n, x - receiverPlane.a) / nn) : x;

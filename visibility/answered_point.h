@@ -7,8 +7,10 @@
 // the light, at a cost of seconds (one motorbike point: 93,674 fragments, a visible fraction of
 // 8.4e-7, 8.1 s; from the front point none, in milliseconds). So such a point is answered at
 // `at`: x projected onto B's plane, then moved along B's normal by the least step the filter
-// certifies strictly in front (some ulps). A point on or in front of B's plane (exact sign) is
-// answered as given.
+// certifies strictly in front (some ulps). A point that cheap tests certify on or in front of B's
+// plane (the filter; for a plane of constant coordinate, the exact sign) is answered as given;
+// one they leave undecided (within the filter's error of a tilted plane) is moved like a point
+// behind: no exact stage per shading point, and either way the answer is exact for `at`.
 //
 // The move is a rounded construction, and it can take x off another occluder's plane (a wall
 // standing on a tilted floor, x exactly in the wall's plane): the contact rule (a segment that
@@ -41,8 +43,8 @@ inline AnsweredPoint answeredAsGiven(const Vec3& x) { return {x, x}; }
 Vec3 frontPoint(const PlaneOrient& plane, const Vec3& x);
 
 // The point answered for x given on the face whose plane is `receiverPlane` (facePlane(...)
-// .orient()): x where it lies on or in front (exact sign), else frontPoint of x projected onto the
-// plane.
+// .orient()): x where it is certainly on or in front (above), else frontPoint of x projected onto
+// the plane. Deterministic: a function of the doubles given.
 AnsweredPoint answeredPoint(const PlaneOrient& receiverPlane, const Vec3& x);
 
 }  // namespace penumbra::vis

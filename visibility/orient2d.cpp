@@ -9,13 +9,6 @@ namespace penumbra::vis {
 // (A named namespace: unity builds compile several files as one.)
 namespace orient2d_detail {
 
-// Shewchuk (1997), ccwerrboundA: for det = (a.u-c.u)(b.v-c.v) - (a.v-c.v)(b.u-c.u) evaluated in
-// doubles, |det - exact| <= (3 + 16 eps) eps (|detleft| + |detright|), eps = 2^-53, as long as
-// nothing overflows or underflows. Below kUnderflowGuard or on overflow the filter is skipped.
-constexpr double kEps = DBL_EPSILON / 2;
-constexpr double kOrient2dBound = (3.0 + 16.0 * kEps) * kEps;
-constexpr double kUnderflowGuard = 0x1p-960;
-
 int orient2dExact(const Point2& a, const Point2& b, const Point2& c) {
     // mpq_class(double) is exact, so is the rest.
     const mpq_class cu(c.u), cv(c.v);
@@ -29,16 +22,6 @@ int signOf(double x) { return (x > 0) - (x < 0); }
 }  // namespace orient2d_detail
 
 using namespace orient2d_detail;
-
-int orient2dFiltered(const Point2& a, const Point2& b, const Point2& c) {
-    const double detLeft = (a.u - c.u) * (b.v - c.v);
-    const double detRight = (a.v - c.v) * (b.u - c.u);
-    const double det = detLeft - detRight;
-    const double sum = std::fabs(detLeft) + std::fabs(detRight);
-    if (!std::isfinite(sum) || sum < kUnderflowGuard) return 0;
-    const double bound = kOrient2dBound * sum;
-    return det > bound ? 1 : (det < -bound ? -1 : 0);
-}
 
 int orient2d(const Point2& a, const Point2& b, const Point2& c) {
     // The sign of a difference of doubles is exact. When a factor of one product is exactly zero

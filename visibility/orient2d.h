@@ -3,6 +3,8 @@
 // double input: a floating-point filter (Shewchuk's bound) settles the common case, GMP the rest.
 #pragma once
 
+#include <cmath>
+
 #include "visibility/vec3.h"
 
 namespace penumbra::vis {
@@ -20,7 +22,21 @@ inline Point2 project(const Vec3& p, int u, int v) { return {p[u], p[v]}; }
 int orient2d(const Point2& a, const Point2& b, const Point2& c);
 
 // The sign of orient2d when the floating-point filter alone settles it, 0 when it does not.
-int orient2dFiltered(const Point2& a, const Point2& b, const Point2& c);
+// Shewchuk (1997), ccwerrboundA: for det = (a.u-c.u)(b.v-c.v) - (a.v-c.v)(b.u-c.u) evaluated in
+// doubles, |det - exact| <= (3 + 16 eps) eps (|detleft| + |detright|), eps = 2^-53, as long as
+// nothing overflows or underflows; below 2^-960 or on overflow the filter gives up. Inline: the
+// receiver patches' lookup calls it per point.
+inline int orient2dFiltered(const Point2& a, const Point2& b, const Point2& c) {
+    constexpr double eps = 0x1p-53;
+    constexpr double bound = (3.0 + 16.0 * eps) * eps;
+    const double detLeft = (a.u - c.u) * (b.v - c.v);
+    const double detRight = (a.v - c.v) * (b.u - c.u);
+    const double det = detLeft - detRight;
+    const double sum = std::fabs(detLeft) + std::fabs(detRight);
+    if (!(sum >= 0x1p-960 && sum <= 1.7976931348623157e308)) return 0;
+    const double error = bound * sum;
+    return det > error ? 1 : (det < -error ? -1 : 0);
+}
 
 // Exact: is c on the line through a and b (a != b)? True iff the three coordinate-plane
 // projections of the cross product (b - a) x (c - a) all vanish.

@@ -3,6 +3,7 @@
 #include "visibility/orient2d.h"
 
 #include <algorithm>
+#include <array>
 #include <cfloat>
 #include <cmath>
 #include <limits>
@@ -42,17 +43,28 @@ bool barycentric(const Point2& a, const Point2& b, const Point2& c, const Point2
 }  // namespace
 
 bool ReceiverPatches::contains(uint32_t patch, const Vec3& x) const {
-    const std::vector<Vec3>& p = patches[patch];
     const Point2 q = project(x, dropAxis);
-    const Point2 a = project(p[0], dropAxis);
-    int turn = 0;  // the patch's own turn in the projection (a triangle: any corner's)
-    for (size_t i = 1; i + 1 < p.size() && turn == 0; ++i)
-        turn = orient2d(a, project(p[i], dropAxis), project(p[i + 1], dropAxis));
-    if (turn == 0) return false;
-    for (size_t i = 0; i < p.size(); ++i) {
-        const Point2 e0 = project(p[i], dropAxis), e1 = project(p[(i + 1) % p.size()], dropAxis);
-        if (orient2d(e0, e1, q) * turn < 0) return false;
+    if (patch < corners2d.size() && faceTurn != 0) {
+        // A grid's triangle, projected once (subdivideReceiverGrid); it turns as the face does.
+        const std::array<Point2, 3>& t = corners2d[patch];
+        for (int i = 0; i < 3; ++i) {
+            // The filter inline (a point of a patch is rarely within its rounding of an edge).
+            int side = orient2dFiltered(t[i], t[(i + 1) % 3], q);
+            if (side == 0) side = orient2d(t[i], t[(i + 1) % 3], q);
+            if (side * faceTurn < 0) return false;
+        }
+        return true;
     }
+    const std::vector<Vec3>& p = patches[patch];
+    int turn = faceTurn;
+    for (size_t i = 1; i + 1 < p.size() && turn == 0; ++i)
+        turn = orient2d(project(p[0], dropAxis), project(p[i], dropAxis),
+                        project(p[i + 1], dropAxis));
+    if (turn == 0) return false;
+    for (size_t i = 0; i < p.size(); ++i)
+        if (orient2d(project(p[i], dropAxis), project(p[(i + 1) % p.size()], dropAxis), q) * turn <
+            0)
+            return false;
     return true;
 }
 
@@ -76,11 +88,12 @@ uint32_t ReceiverPatches::find(const Vec3& x) const {
         bool upper = false;
         double out = std::numeric_limits<double>::infinity();
     };
+    const Point2 origin = project(face[0], dropAxis);
     auto guess = [&](size_t t) {
         Guess g;
         double u = 0, v = 0;
-        if (!barycentric(project(face[0], dropAxis), project(face[t], dropAxis),
-                         project(face[t + 1], dropAxis), q, u, v))
+        if (!barycentric(origin, project(face[t], dropAxis), project(face[t + 1], dropAxis), q, u,
+                         v))
             return g;
         g.out = std::max({-u, -v, u + v - 1});
         const double su = std::clamp(u, 0.0, 1.0) * k, sv = std::clamp(v, 0.0, 1.0) * k;
@@ -138,6 +151,9 @@ ReceiverPatches subdivideReceiverGrid(std::span<const Vec3> face, int k, int dro
     out.dropAxis = dropAxis >= 0 && dropAxis < 3 ? dropAxis
                                                  : (ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2));
     out.face.assign(face.begin(), face.end());
+    for (size_t i = 1; i + 1 < face.size() && out.faceTurn == 0; ++i)
+        out.faceTurn = orient2d(project(face[0], out.dropAxis), project(face[i], out.dropAxis),
+                                project(face[i + 1], out.dropAxis));
     if (k <= 1) {  // each fan triangle: k*k triangles
         out.patches.emplace_back(face.begin(), face.end());
         return out;
@@ -173,6 +189,10 @@ ReceiverPatches subdivideReceiverGrid(std::span<const Vec3> face, int k, int dro
             const Vec3 centroid = (p + q + r) / 3.0;
             out.patches.push_back({p + (p - centroid) * grow, q + (q - centroid) * grow,
                                    r + (r - centroid) * grow});
+            const std::vector<Vec3>& added = out.patches.back();
+            out.corners2d.push_back({project(added[0], out.dropAxis),
+                                     project(added[1], out.dropAxis),
+                                     project(added[2], out.dropAxis)});
         };
         for (int i = 0; i < k; ++i)
             for (int j = 0; i + j < k; ++j) {

@@ -12,11 +12,13 @@
 // axis of the face's normal, at every magnitude and every refinement level.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "visibility/orient2d.h"
 #include "visibility/vec3.h"
 
 namespace penumbra::vis {
@@ -35,6 +37,9 @@ struct ReceiverPatches {
     std::vector<Vec3> face;  // the face's vertices (fan triangles (0, t, t+1))
     int cellsPerSide = 1;    // k: each fan triangle is a k x k triangular grid
     int dropAxis = 2;        // coordinate dropped to work in 2D (the normal's dominant axis)
+    int faceTurn = 0;        // the face's turn in that projection (exact; 0 if unknown)
+    // The grid's triangles projected (dropAxis), one per patch when the face is subdivided.
+    std::vector<std::array<Point2, 3>> corners2d;
 
   private:
     // The index of cell (i, j) (upper or lower half) of fan triangle `fan`'s grid.
