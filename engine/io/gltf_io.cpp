@@ -382,7 +382,7 @@ class GltfReader {
 
 }  // namespace
 
-Scene loadGltf(const fs::path& path, DegenerateFaces degenerate) {
+Scene loadGltf(const fs::path& path, const LoadOptions& options) {
     const std::string file = path.string();
     std::ifstream in(path, std::ios::binary);
     if (!in) throw makeSceneError(file, 0, "cannot open file");
@@ -437,7 +437,7 @@ Scene loadGltf(const fs::path& path, DegenerateFaces degenerate) {
     };
     while (!warn.empty() && (warn.back() == '\n' || warn.back() == ' ')) warn.pop_back();
     if (!warn.empty()) scene.warnings.push_back(file + ": tinygltf: " + warn);
-    checkLoadedFaces(scene, degenerate, namer);
+    checkLoadedFaces(scene, options.faces, namer);
     return scene;
 }
 

@@ -23,12 +23,13 @@
 // accessor that is sparse, of the wrong type or reaches past its buffer view or buffer, an index
 // out of range of the POSITION accessor, a non-finite position ("node 2 mesh 0 primitive 1:
 // POSITION 7: non-finite coordinate"), a triangle count not divisible by 3. Faces are checked
-// by checkLoadedFaces (engine/scene/face_check.h) and named "node N mesh M primitive P triangle T".
+// by checkLoadedFaces (engine/scene/face_check.h) and named "node N mesh M primitive P triangle T";
+// in repair mode (LoadOptions, the default) degenerate triangles are dropped with one warning.
 #pragma once
 
 #include <filesystem>
 
-#include "engine/scene/face_check.h"
+#include "engine/io/load_options.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_error.h"
 
@@ -36,7 +37,6 @@ namespace penumbra {
 
 // Reads a .gltf or .glb file (binary when it starts with the GLB magic "glTF"); external buffers
 // are resolved relative to the file's directory.
-Scene loadGltf(const std::filesystem::path& path,
-               DegenerateFaces degenerate = DegenerateFaces::kReject);
+Scene loadGltf(const std::filesystem::path& path, const LoadOptions& options = {});
 
 }  // namespace penumbra

@@ -351,8 +351,8 @@ struct MtlSource {
 
 class ObjParser {
   public:
-    ObjParser(const std::string& file, MtlSource mtl, DegenerateFaces degenerate)
-        : file_(file), mtl_(std::move(mtl)), degenerate_(degenerate) {}
+    ObjParser(const std::string& file, MtlSource mtl, const LoadOptions& options)
+        : file_(file), mtl_(std::move(mtl)), options_(options) {}
 
     Scene parse(std::string_view text) {
         LineReader lines(text, file_);
@@ -493,7 +493,7 @@ class ObjParser {
         std::sort(sorted.begin(), sorted.end());
         const auto dup = std::adjacent_find(sorted.begin(), sorted.end());
         // Under kDrop a repeated vertex is a degenerate face for checkLoadedFaces to drop.
-        if (dup != sorted.end() && degenerate_ == DegenerateFaces::kReject) {
+        if (dup != sorted.end() && options_.faces == DegenerateFaces::kReject) {
             failFace(where, faceIndex,
                      "vertex " + std::to_string(*dup + 1ull) + " repeated (degenerate face)");
         }
@@ -577,13 +577,13 @@ class ObjParser {
         for (int32_t u : faceUseMtl_) {
             scene_.faceMaterial.push_back(u < 0 ? -1 : useMtlMaterial[static_cast<size_t>(u)]);
         }
-        checkLoadedFaces(scene_, degenerate_);
+        checkLoadedFaces(scene_, options_.faces);
         return std::move(scene_);
     }
 
     const std::string& file_;
     MtlSource mtl_;
-    DegenerateFaces degenerate_;
+    LoadOptions options_;
     Scene scene_;
     MaterialTable table_;
     std::vector<UseMtl> useMtl_;
@@ -617,19 +617,18 @@ void writeAtomically(const fs::path& target, const std::string& text) {
 
 }  // namespace
 
-Scene loadObj(const std::filesystem::path& objPath, DegenerateFaces degenerate) {
+Scene loadObj(const std::filesystem::path& objPath, const LoadOptions& options) {
     const std::string file = objPath.string();
     std::string why;
     const std::optional<std::string> text = readFile(objPath, why);
     if (!text) throw makeSceneError(file, 0, "cannot read file: " + why);
-    ObjParser parser(file, MtlSource{std::nullopt, objPath.parent_path()}, degenerate);
+    ObjParser parser(file, MtlSource{std::nullopt, objPath.parent_path()}, options);
     return parser.parse(*text);
 }
 
 Scene loadObjFromString(std::string_view objText, std::string_view mtlText, std::string sourceName,
-                        DegenerateFaces degenerate) {
-    ObjParser parser(sourceName, MtlSource{mtlText, fs::path(sourceName).parent_path()},
-                     degenerate);
+                        const LoadOptions& options) {
+    ObjParser parser(sourceName, MtlSource{mtlText, fs::path(sourceName).parent_path()}, options);
     return parser.parse(objText);
 }
 

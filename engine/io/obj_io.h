@@ -22,7 +22,9 @@
 // faceMaterial the index into `materials` (MTL definition order) or -1 before any usemtl, lights
 // the faces whose material has a nonzero Ke (Scene::collectLights). The result is validated
 // (checkLoadedFaces, engine/scene/face_check.h): faces must be planar, strictly convex and
-// non-degenerate; with DegenerateFaces::kDrop zero-area faces are dropped with a warning instead.
+// non-degenerate; under DegenerateFaces::kDrop (the default) zero-area faces are dropped and other
+// polygons repaired with a warning instead (face numbers then refer to the repaired mesh). A
+// repeated vertex index in a face is a degenerate face.
 //
 // Every problem is a SceneError "file:line: message"; a face problem says "face N: ...". An empty
 // file, or one without faces, is the error "no faces".
@@ -32,21 +34,21 @@
 #include <string>
 #include <string_view>
 
-#include "engine/scene/face_check.h"
+#include "engine/io/load_options.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_error.h"
 
 namespace penumbra {
 
 // Reads the OBJ file and its MTL libraries, validates the scene, sets sourcePath to objPath.
-Scene loadObj(const std::filesystem::path& objPath,
-              DegenerateFaces degenerate = DegenerateFaces::kReject);
+// `options`: repair (the default) or strict mode, engine/io/load_options.h.
+Scene loadObj(const std::filesystem::path& objPath, const LoadOptions& options = {});
 
 // The same from memory: `mtlText` is the text of every MTL library the OBJ names (read once, even
 // if several mtllib names appear). sourceName is the OBJ name used in errors and sourcePath; MTL
 // errors name the library as the OBJ names it, relative to sourceName's directory.
 Scene loadObjFromString(std::string_view objText, std::string_view mtlText, std::string sourceName,
-                        DegenerateFaces degenerate = DegenerateFaces::kReject);
+                        const LoadOptions& options = {});
 
 // Writes the scene (validated first) as objPath and a sibling MTL file with the same stem and the
 // extension .mtl; both start with the comment "# penumbra scene v1". Positions are printed with 17

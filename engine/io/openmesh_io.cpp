@@ -671,7 +671,7 @@ StlFacts inspectStl(const std::string& data, const std::string& file) {
 
 }  // namespace
 
-Scene loadOpenMeshFile(const fs::path& path, DegenerateFaces degenerate) {
+Scene loadOpenMeshFile(const fs::path& path, const LoadOptions& options) {
     const std::string file = path.string();
     const std::string extension = lower(path.extension().string());
     if (extension != ".ply" && extension != ".off" && extension != ".stl") {
@@ -708,7 +708,7 @@ Scene loadOpenMeshFile(const fs::path& path, DegenerateFaces degenerate) {
         stl = inspectStl(data, file);
         expectedFaces = stl.facets - stl.coincident.size();
         checkVertexCount = false;  // merged corners
-        if (!stl.coincident.empty() && degenerate == DegenerateFaces::kReject) {
+        if (!stl.coincident.empty() && options.faces == DegenerateFaces::kReject) {
             throw makeSceneError(file, 0,
                                  "face " + std::to_string(stl.coincident.front()) +
                                      ": degenerate (zero area): two corners coincide (" +
@@ -720,13 +720,13 @@ Scene loadOpenMeshFile(const fs::path& path, DegenerateFaces degenerate) {
     }
 
     PolygonImporter importer(scene.mesh);
-    OMIO::Options options = OMIO::Options::Default;
+    OMIO::Options readOptions = OMIO::Options::Default;
     bool read = false;
     if (extension == ".off") {
         std::istringstream in(off.text);
-        read = OMIO::IOManager().read(in, "off", importer, options);
+        read = OMIO::IOManager().read(in, "off", importer, readOptions);
     } else {
-        read = OMIO::IOManager().read(file, importer, options);
+        read = OMIO::IOManager().read(file, importer, readOptions);
     }
     if (!read) {
         throw makeSceneError(file, 0, "OpenMesh could not read the file (malformed or truncated)");
@@ -763,7 +763,7 @@ Scene loadOpenMeshFile(const fs::path& path, DegenerateFaces degenerate) {
                                  std::to_string(skipped.front()) + ")");
     }
     scene.faceMaterial.assign(scene.mesh.faces.size(), -1);
-    checkLoadedFaces(scene, degenerate, namer);
+    checkLoadedFaces(scene, options.faces, namer);
     return scene;
 }
 

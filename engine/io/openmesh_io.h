@@ -27,15 +27,14 @@
 
 #include <filesystem>
 
-#include "engine/scene/face_check.h"
+#include "engine/io/load_options.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_error.h"
 
 namespace penumbra {
 
-// Reads a .ply, .off or .stl file (by extension, case-insensitive). Throws SceneError naming the
-// file.
-Scene loadOpenMeshFile(const std::filesystem::path& path,
-                       DegenerateFaces degenerate = DegenerateFaces::kReject);
+// Reads a .ply, .off or .stl file (by extension, case-insensitive) in repair mode (the default)
+// or strict mode (engine/io/load_options.h). Throws SceneError naming the file.
+Scene loadOpenMeshFile(const std::filesystem::path& path, const LoadOptions& options = {});
 
 }  // namespace penumbra

@@ -255,16 +255,24 @@ TEST_F(GltfIo, MalformedAndTruncatedFilesAreErrors) {
     expectLoadError([&] { loadGltf(n); }, n, {});
 }
 
-TEST_F(GltfIo, DegenerateTriangleNamesPrimitiveAndTriangle) {
+TEST_F(GltfIo, DegenerateTriangleIsDroppedByDefaultAndNamedWhenStrict) {
     Json g = testGltf();
     // The second quad triangle (0, 2, 2) repeats a vertex.
-    const fs::path p = write("deg.gltf", embedded(g, testBuffer(0, 2)));
-    expectLoadError([&] { loadGltf(p); }, p, {"node 1 mesh 0 primitive 0 triangle 1", "repeated"});
-    const Scene scene = loadGltf(p, DegenerateFaces::kDrop);
-    EXPECT_EQ(scene.faceCount(), 2u);
-    EXPECT_EQ(scene.lights, (std::vector<uint32_t>{1}));
-    ASSERT_EQ(scene.warnings.size(), 1u);
-    EXPECT_NE(scene.warnings[0].find("dropped 1"), std::string::npos) << scene.warnings[0];
+    for (const bool binary : {false, true}) {
+        const fs::path p = binary ? write("deg.glb", glb(g, testBuffer(0, 2)))
+                                  : write("deg.gltf", embedded(g, testBuffer(0, 2)));
+        expectLoadError([&] { loadGltf(p, LoadOptions::strictMode()); }, p,
+                        {"node 1 mesh 0 primitive 0 triangle 1", "repeated"});
+        const Scene scene = loadGltf(p);
+        EXPECT_EQ(scene.mesh.faces, (std::vector<std::vector<uint32_t>>{{0, 1, 2}, {4, 5, 6}}));
+        EXPECT_EQ(scene.faceMaterial, (std::vector<int32_t>{0, 1}));
+        EXPECT_EQ(scene.lights, (std::vector<uint32_t>{1}));
+        ASSERT_EQ(scene.warnings.size(), 1u);
+        EXPECT_NE(scene.warnings[0].find(p.string() + ": dropped 1 degenerate"), std::string::npos)
+            << scene.warnings[0];
+        EXPECT_NE(scene.warnings[0].find("node 1 mesh 0 primitive 0 triangle 1"), std::string::npos)
+            << scene.warnings[0];
+    }
 }
 
 }  // namespace

@@ -27,11 +27,13 @@ uint64_t bits(double x) {
 }
 
 // Loads from memory and expects a SceneError at `line` of `file` whose message contains `keyword`.
+// Repair mode by default (the loaders' default); the repairs' own errors need strict mode.
 void expectError(const std::string& obj, const std::string& mtl, int64_t line,
-                 const std::string& keyword, const std::string& file = "bad.obj") {
+                 const std::string& keyword, const std::string& file = "bad.obj",
+                 const LoadOptions& options = {}) {
     SCOPED_TRACE("OBJ text:\n" + obj);
     try {
-        loadObjFromString(obj, mtl, "bad.obj");
+        loadObjFromString(obj, mtl, "bad.obj", options);
         ADD_FAILURE() << "no SceneError; expected line " << line << " '" << keyword << "'";
     } catch (const SceneError& e) {
         const std::string what = e.what();
@@ -250,8 +252,26 @@ TEST(ObjErrors, BadIndices) {
 TEST(ObjErrors, TooFewOrRepeatedVertices) {
     expectError(kTri + "f 1 2\n", "", 4, "face 0: too few vertices");
     expectError(kTri + "f\n", "", 4, "too few vertices");
-    expectError(kTri + "f 1 2 3\nf 1 2 1\n", "", 5, "face 1: vertex 1 repeated");
-    expectError(kTri + "f 1 2 3\nf 3 2 -1\n", "", 5, "face 1: vertex 3 repeated");
+    // A repeated vertex is a degenerate face: refused while parsing in strict mode.
+    const LoadOptions strict = LoadOptions::strictMode();
+    expectError(kTri + "f 1 2 3\nf 1 2 1\n", "", 5, "face 1: vertex 1 repeated", "bad.obj", strict);
+    expectError(kTri + "f 1 2 3\nf 3 2 -1\n", "", 5, "face 1: vertex 3 repeated", "bad.obj",
+                strict);
+}
+
+TEST(ObjRepairs, RepeatedVertexIsDroppedWithOneWarning) {
+    // Faces 1 and 3 repeat a vertex (line 5 and 7); faces 0 and 2 stay, renumbered 0 and 1.
+    const Scene s =
+        loadObjFromString(kTri + "v 0 0 1\nf 1 2 3\nf 1 2 1\nf 3 2 4\nf 3 2 -2\n", "", "rep.obj");
+    ASSERT_EQ(s.faceCount(), 2u);
+    EXPECT_EQ(s.mesh.faces[0], (std::vector<uint32_t>{0, 1, 2}));
+    EXPECT_EQ(s.mesh.faces[1], (std::vector<uint32_t>{2, 1, 3}));
+    EXPECT_EQ(s.faceSourceLine, (std::vector<int32_t>{5, 7}));
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_NE(s.warnings[0].find("rep.obj: dropped 2 degenerate"), std::string::npos)
+        << s.warnings[0];
+    EXPECT_NE(s.warnings[0].find("face 1"), std::string::npos) << s.warnings[0];
+    EXPECT_NE(s.warnings[0].find("line 6"), std::string::npos) << s.warnings[0];
 }
 
 TEST(ObjErrors, TruncatedFiles) {
@@ -296,10 +316,14 @@ TEST(ObjErrors, LineNumbersCountCrLfAndCrOnlyEndings) {
 }
 
 TEST(ObjErrors, Materials) {
-    // Unknown usemtl names the OBJ line of the usemtl.
-    expectError(kTri + "usemtl nothere\nf 1 2 3\n", "", 4, "unknown material 'nothere'");
+    // Strict mode: an unknown usemtl names the OBJ line of the usemtl.
+    const LoadOptions strict = LoadOptions::strictMode();
+    expectError(kTri + "usemtl nothere\nf 1 2 3\n", "", 4,
+                "usemtl: unknown material 'nothere' (0 materials defined, no mtllib)", "bad.obj",
+                strict);
     expectError("mtllib m.mtl\n" + kTri + "f 1 2 3\nusemtl Lamp\nf 1 2 3\n",
-                "newmtl lamp\nKe 1 1 1\n", 6, "unknown material 'Lamp'");
+                "newmtl lamp\nKe 1 1 1\n", 6,
+                "usemtl: unknown material 'Lamp' (1 materials defined)", "bad.obj", strict);
     // MTL errors name the MTL (relative to the OBJ's directory) and its line.
     const std::string obj = "mtllib lib/m.mtl\n" + kTri + "f 1 2 3\n";
     try {
@@ -323,9 +347,11 @@ TEST(ObjErrors, Materials) {
     mtlError("newmtl a\nNs 1 2\n", 2, "Ns: unexpected");
     mtlError("newmtl a\nNs nan\n", 2, "non-finite");
     mtlError("newmtl a\nnewmtl b\n\nnewmtl a\n", 4, "defined twice");
-    mtlError("newmtl\n", 1, "without a material name");
     mtlError("newmtl a\n\x01\x02\n", 2, "binary");
+    expectError("mtllib m.mtl\n" + kTri + "f 1 2 3\n", "newmtl a\nnewmtl  \nKd 1 1 1\n", 2,
+                "newmtl without a material name", "m.mtl", strict);
 }
+// --------
 
 // ---- validation ---------------------------------------------------------------------------------
 
@@ -339,31 +365,34 @@ TEST(ObjValidation, PlanarConvexQuadIsAccepted) {
                                       "", "ok.obj"));
 }
 
+// These polygons are errors in strict mode (in repair mode they are split into triangles).
+const LoadOptions kStrict = LoadOptions::strictMode();
+
 TEST(ObjValidation, NonPlanarQuadIsRejected) {
     expectError(kQuadBase + "v 0 0 1\nv 1 0 1\nv 1 1 1.001\nv 0 1 1\nf 5 6 7 8\n", "", 10,
-                "face 1: non-planar");
+                "face 1: non-planar", "bad.obj", kStrict);
     try {
         loadObjFromString(kQuadBase + "v 0 0 1\nv 1 0 1\nv 1 1 1.001\nv 0 1 1\nf 5 6 7 8\n", "",
-                          "np.obj");
+                          "np.obj", kStrict);
     } catch (const SceneError& e) {
         // The measured deviation: a quarter of the lift (0.001 / 4) from the centroid plane.
         EXPECT_NE(std::string(e.what()).find("0.00025"), std::string::npos) << e.what();
     }
     // Just beyond the tolerance.
     expectError(kQuadBase + "v 0 0 1\nv 1 0 1\nv 1 1 1.00000001\nv 0 1 1\nf 5 6 7 8\n", "", 10,
-                "non-planar");
+                "non-planar", "bad.obj", kStrict);
 }
 
 TEST(ObjValidation, NonConvexQuadIsRejected) {
     // A dart: vertex 7 (0-based 6) is reflex.
     expectError(kQuadBase + "v 0 0 1\nv 2 0 1\nv 0.5 0.5 1\nv 0 2 1\nf 5 6 7 8\n", "", 10,
-                "face 1: non-convex: reflex vertex 6");
+                "face 1: non-convex: reflex vertex 6", "bad.obj", kStrict);
     // The same dart clockwise.
     expectError(kQuadBase + "v 0 0 1\nv 2 0 1\nv 0.5 0.5 1\nv 0 2 1\nf 8 7 6 5\n", "", 10,
-                "face 1: non-convex: reflex vertex 6");
+                "face 1: non-convex: reflex vertex 6", "bad.obj", kStrict);
     // A bow tie (self-intersecting, zero net area).
     expectError(kQuadBase + "v 0 0 1\nv 1 1 1\nv 1 0 1\nv 0 1 1\nf 5 6 7 8\n", "", 10,
-                "face 1: non-convex");
+                "face 1: non-convex", "bad.obj", kStrict);
     // A pentagram: every turn agrees but the boundary winds twice.
     std::string star = kQuadBase;
     for (int i = 0; i < 5; ++i) {
@@ -372,14 +401,17 @@ TEST(ObjValidation, NonConvexQuadIsRejected) {
         star += "v " + std::to_string(std::cos(a)) + " " + std::to_string(std::sin(a)) + " 3\n";
     }
     star += "f 5 6 7 8 9\n";  // line 11
-    expectError(star, "", 11, "face 1: non-convex: self-intersecting");
+    expectError(star, "", 11, "face 1: non-convex: self-intersecting", "bad.obj", kStrict);
 }
 
 TEST(ObjValidation, DegenerateFacesAreRejected) {
-    expectError(kQuadBase + "v 2 0 0\nv 3 0 0\nf 2 5 6\n", "", 8, "face 1: degenerate (zero area)");
-    expectError(kQuadBase + "v 2 2 2\nv 3 3 3\nf 1 5 6\n", "", 8, "degenerate (zero area)");
+    expectError(kQuadBase + "v 2 0 0\nv 3 0 0\nf 2 5 6\n", "", 8, "face 1: degenerate (zero area)",
+                "bad.obj", kStrict);
+    expectError(kQuadBase + "v 2 2 2\nv 3 3 3\nf 1 5 6\n", "", 8, "degenerate (zero area)",
+                "bad.obj", kStrict);
     // Distinct indices at the same position.
-    expectError(kQuadBase + "v 0 0 0\nf 1 5 2\n", "", 7, "face 1: zero-length edge");
+    expectError(kQuadBase + "v 0 0 0\nf 1 5 2\n", "", 7, "face 1: zero-length edge", "bad.obj",
+                kStrict);
     // A sliver: the third vertex is one ulp off the line through the others. Not degenerate.
     EXPECT_NO_THROW(loadObjFromString(
         "v 0 0 0\nv 1e8 1e8 1e8\nv 1e8 1e8 100000000.00000001490116119384765625\nf 1 2 3\n"
@@ -387,13 +419,29 @@ TEST(ObjValidation, DegenerateFacesAreRejected) {
         "", "thin.obj"));
 }
 
+TEST(ObjRepairs, DegenerateFacesAreDroppedByDefault) {
+    // Face 1 (line 8) is three collinear points, face 2 (line 10) has a zero-length edge.
+    const Scene s = loadObjFromString(
+        kQuadBase + "v 2 0 0\nv 3 0 0\nf 2 5 6\nv 0 0 0\nf 1 7 2\nf 1 2 3\n", "", "deg.obj");
+    ASSERT_EQ(s.faceCount(), 2u);
+    EXPECT_EQ(s.mesh.faces[0], (std::vector<uint32_t>{0, 1, 2, 3}));
+    EXPECT_EQ(s.mesh.faces[1], (std::vector<uint32_t>{0, 1, 2}));
+    EXPECT_EQ(s.faceSourceLine, (std::vector<int32_t>{5, 11}));
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_NE(s.warnings[0].find("deg.obj: dropped 2 degenerate"), std::string::npos)
+        << s.warnings[0];
+    EXPECT_NE(s.warnings[0].find("face 1: degenerate (zero area)"), std::string::npos)
+        << s.warnings[0];
+    EXPECT_NE(s.warnings[0].find("line 8"), std::string::npos) << s.warnings[0];
+}
+
 TEST(ObjValidation, CollinearVerticesAreRejected) {
     // A triangle with an extra vertex in the middle of an edge.
     expectError(kQuadBase + "v 0 0 1\nv 1 0 1\nv 2 0 1\nv 0 1 1\nf 5 6 7 8\n", "", 10,
-                "face 1: collinear vertices: vertex 5");
+                "face 1: collinear vertices: vertex 5", "bad.obj", kStrict);
     // Exactly collinear with non-representable-looking coordinates: 0.25 steps are exact.
     expectError("v 0 0 0\nv 0.25 0.5 0.75\nv 0.5 1 1.5\nv 0 1 0\nf 1 2 3 4\n", "", 5,
-                "collinear vertices");
+                "collinear vertices", "bad.obj", kStrict);
 }
 
 TEST(ObjValidation, ValidateSceneChecksProgrammaticScenes) {
@@ -557,7 +605,7 @@ TEST_F(ObjFiles, MissingOrUnreadableFiles) {
     EXPECT_THROW(loadObj(dir_), SceneError);  // a directory
     write(dir_ / "a.obj", "# x\nmtllib missing.mtl\n" + kTri + "f 1 2 3\n");
     try {
-        loadObj(dir_ / "a.obj");
+        loadObj(dir_ / "a.obj", LoadOptions::strictMode());
         ADD_FAILURE();
     } catch (const SceneError& e) {
         EXPECT_EQ(e.line, 2);

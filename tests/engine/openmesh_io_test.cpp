@@ -109,26 +109,44 @@ TEST_F(OpenMeshIo, PlyIndexOutOfRangeNamesTheFace) {
 TEST_F(OpenMeshIo, PlyNonPlanarFaceNamesTheFace) {
     const fs::path p =
         write("bent.ply", asciiPly("0 0 0\n1 0 0\n1 1 0.1\n0 1 0\n0.5 0 1\n", kPlyFaces, 5, 2));
-    expectLoadError([&] { loadOpenMeshFile(p); }, p, {"face 0", "non-planar"});
+    expectLoadError([&] { loadOpenMeshFile(p, LoadOptions::strictMode()); }, p,
+                    {"face 0", "non-planar"});
 }
 
 TEST_F(OpenMeshIo, PlyNonConvexFaceNamesTheFace) {
     // An arrow head: vertex 2 is reflex.
     const fs::path p = write("reflex.ply", asciiPly("0 0 0\n2 0 0\n1 0.5 0\n2 2 0\n0.5 0 1\n",
                                                     "3 0 1 4\n4 0 1 2 3\n", 5, 2));
-    expectLoadError([&] { loadOpenMeshFile(p); }, p, {"face 1", "non-convex"});
+    expectLoadError([&] { loadOpenMeshFile(p, LoadOptions::strictMode()); }, p,
+                    {"face 1", "non-convex"});
 }
 
-TEST_F(OpenMeshIo, DegenerateFaceIsAnErrorOrDroppedOnRequest) {
+TEST_F(OpenMeshIo, DegenerateFaceIsDroppedByDefaultAndAnErrorWhenStrict) {
     // Face 1 is collinear (zero area), face 2 repeats a vertex.
     const std::string text =
         asciiPly(kPlyVertices + "2 0 0\n", "4 0 1 2 3\n3 0 1 5\n3 0 4 4\n3 0 1 4\n", 6, 4);
     const fs::path p = write("degenerate.ply", text);
-    expectLoadError([&] { loadOpenMeshFile(p); }, p, {"face 1", "degenerate"});
-    const Scene scene = loadOpenMeshFile(p, DegenerateFaces::kDrop);
+    expectLoadError([&] { loadOpenMeshFile(p, LoadOptions::strictMode()); }, p,
+                    {"face 1", "degenerate"});
+    const Scene scene = loadOpenMeshFile(p);
     EXPECT_EQ(scene.mesh.faces, kFaces);
     ASSERT_EQ(scene.warnings.size(), 1u);
-    EXPECT_NE(scene.warnings[0].find("dropped 2 degenerate"), std::string::npos)
+    EXPECT_NE(scene.warnings[0].find(p.string() + ": dropped 2 degenerate"), std::string::npos)
+        << scene.warnings[0];
+    EXPECT_NE(scene.warnings[0].find("face 1"), std::string::npos) << scene.warnings[0];
+}
+
+TEST_F(OpenMeshIo, OffDegenerateFaceIsDroppedByDefaultAndAnErrorWhenStrict) {
+    // Face 1 repeats vertex 4.
+    const fs::path p = write("degenerate.off",
+                             "OFF\n5 3 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n0.5 0 1\n"
+                             "4 0 1 2 3\n3 0 4 4\n3 0 1 4\n");
+    expectLoadError([&] { loadOpenMeshFile(p, LoadOptions::strictMode()); }, p,
+                    {"face 1", "repeated"});
+    const Scene scene = loadOpenMeshFile(p);
+    EXPECT_EQ(scene.mesh.faces, kFaces);
+    ASSERT_EQ(scene.warnings.size(), 1u);
+    EXPECT_NE(scene.warnings[0].find(p.string() + ": dropped 1 degenerate"), std::string::npos)
         << scene.warnings[0];
     EXPECT_NE(scene.warnings[0].find("face 1"), std::string::npos) << scene.warnings[0];
 }
@@ -236,14 +254,15 @@ TEST_F(OpenMeshIo, StlNonFiniteIsAnError) {
     expectLoadError([&] { loadOpenMeshFile(a); }, a, {"facet 0"});
 }
 
-TEST_F(OpenMeshIo, StlDegenerateFacetIsAnErrorOrDropped) {
+TEST_F(OpenMeshIo, StlDegenerateFacetIsDroppedByDefaultAndAnErrorWhenStrict) {
     auto t = stlSquare();
     t.insert(t.begin() + 1, std::array<float, 9>{0, 0, 0, 1, 0, 0, 1, 0, 0});  // corners 1 == 2
     for (const bool binary : {true, false}) {
         const fs::path p =
             write(binary ? "deg.stl" : "deg_ascii.stl", binary ? binaryStl(t) : asciiStl(t));
-        expectLoadError([&] { loadOpenMeshFile(p); }, p, {"face 1", "degenerate"});
-        const Scene scene = loadOpenMeshFile(p, DegenerateFaces::kDrop);
+        expectLoadError([&] { loadOpenMeshFile(p, LoadOptions::strictMode()); }, p,
+                        {"face 1", "degenerate"});
+        const Scene scene = loadOpenMeshFile(p);
         expectStlSquare(scene);
         ASSERT_EQ(scene.warnings.size(), 1u);
         EXPECT_NE(scene.warnings[0].find("dropped 1"), std::string::npos) << scene.warnings[0];
@@ -252,7 +271,8 @@ TEST_F(OpenMeshIo, StlDegenerateFacetIsAnErrorOrDropped) {
     auto c = stlSquare();
     c.push_back({0, 0, 0, 1, 1, 0, 2, 2, 0});
     const fs::path q = write("collinear.stl", binaryStl(c));
-    expectLoadError([&] { loadOpenMeshFile(q); }, q, {"face 2", "degenerate"});
+    expectLoadError([&] { loadOpenMeshFile(q, LoadOptions::strictMode()); }, q,
+                    {"face 2", "degenerate"});
 }
 
 }  // namespace

@@ -49,17 +49,18 @@ TEST_F(SceneLoader, UnknownExtensionListsTheSupportedOnes) {
     expectLoadError([&] { loadScene(q); }, q, {"(no extension)"});
 }
 
-TEST_F(SceneLoader, ObjDegenerateFacesRejectedOrDropped) {
+TEST_F(SceneLoader, ObjDegenerateFacesDroppedByDefaultOrRejectedWhenStrict) {
     // Face 1 (line 6) is collinear, face 2 (line 7) repeats a vertex.
     const fs::path p = write("deg.obj",
                              "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 3 3\n"
                              "f 2 3 1\n");
-    // The repeated vertex is found while parsing, before any geometry is checked.
-    expectLoadError([&] { loadScene(p); }, p, {"deg.obj:7: face 2", "repeated"});
+    // Strict: the repeated vertex is found while parsing, before any geometry is checked.
+    const LoadOptions strict = LoadOptions::strictMode();
+    expectLoadError([&] { loadScene(p, strict); }, p, {"deg.obj:7: face 2", "repeated"});
     const fs::path q =
         write("collinear.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n");
-    expectLoadError([&] { loadScene(q); }, q, {"collinear.obj:6: face 1", "degenerate"});
-    const Scene scene = loadScene(p, DegenerateFaces::kDrop);
+    expectLoadError([&] { loadScene(q, strict); }, q, {"collinear.obj:6: face 1", "degenerate"});
+    const Scene scene = loadScene(p);
     EXPECT_EQ(scene.faceCount(), 2u);
     EXPECT_EQ(scene.faceSourceLine, (std::vector<int32_t>{5, 8}));
     ASSERT_EQ(scene.warnings.size(), 1u);
