@@ -351,7 +351,65 @@ TEST(ObjErrors, Materials) {
     expectError("mtllib m.mtl\n" + kTri + "f 1 2 3\n", "newmtl a\nnewmtl  \nKd 1 1 1\n", 2,
                 "newmtl without a material name", "m.mtl", strict);
 }
+
+// ---- repairs of missing materials (issue 41): a default material and one warning per kind
 // --------
+
+TEST(ObjRepairs, UsemtlWithoutMtllibGetsADefaultMaterial) {
+    const std::string obj = kTri + "f 1 2 3\nusemtl Default\nf 1 2 3\nf 3 2 1\n";  // 5-7
+    const Scene s = loadObjFromString(obj, "", "model.obj");
+    ASSERT_EQ(s.faceCount(), 3u);
+    ASSERT_EQ(s.materials.size(), 1u);
+    EXPECT_EQ(s.materials[0].name, "Default");
+    EXPECT_EQ(s.materials[0].kd, Material{}.kd);
+    EXPECT_FALSE(s.materials[0].isEmissive());
+    EXPECT_FALSE(s.materials[0].isGlossy());
+    EXPECT_EQ(s.faceMaterial, (std::vector<int32_t>{-1, 0, 0}));
+    EXPECT_TRUE(s.lights.empty());
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_EQ(s.warnings[0],
+              "model.obj: usemtl 'Default' on line 5 names no material (no mtllib): 2 faces use a "
+              "default diffuse material");
+}
+
+TEST(ObjRepairs, UsemtlNamesAMaterialTheMtlDoesNotDefine) {
+    // 'Lamp' is not 'lamp'; 'x' twice: one material for both, one warning line for all three.
+    const std::string obj = "mtllib m.mtl\n" + kTri +
+                            "usemtl lamp\nf 1 2 3\nusemtl Lamp\nf 1 2 3\nusemtl x\nf 1 2 3\n"
+                            "usemtl lamp\nf 3 2 1\nusemtl x\nf 3 2 1\n";  // usemtl: 5 7 9 11 13
+    const Scene s = loadObjFromString(obj, "newmtl lamp\nKe 1 1 1\n", "model.obj");
+    ASSERT_EQ(s.faceCount(), 5u);
+    ASSERT_EQ(s.materials.size(), 3u);
+    EXPECT_EQ(s.materials[0].name, "lamp");
+    EXPECT_EQ(s.materials[1].name, "Lamp");
+    EXPECT_EQ(s.materials[2].name, "x");
+    EXPECT_FALSE(s.materials[1].isEmissive());
+    EXPECT_EQ(s.faceMaterial, (std::vector<int32_t>{0, 1, 2, 0, 2}));
+    EXPECT_EQ(s.lights, (std::vector<uint32_t>{0, 3}));  // only the defined lamp emits
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_EQ(s.warnings[0],
+              "model.obj: 3 usemtl lines name no material (first: 'Lamp' on line 7; 1 materials "
+              "defined): 3 faces use a default diffuse material");
+}
+
+TEST(ObjRepairs, NewmtlWithoutANameIsIgnoredWithItsStatements) {
+    // The unnamed material's Ke would make it a light: its statements go with it.
+    const std::string mtl =
+        "newmtl a\nKd 0.5 0.5 0.5\nnewmtl\nKe 9 9 9\nKd 2 x 2\nnewmtl b\n"
+        "Kd 0.1 0.1 0.1\nnewmtl \n";
+    const Scene s = loadObjFromString("mtllib m.mtl\n" + kTri +
+                                          "usemtl a\nf 1 2 3\n"
+                                          "usemtl b\nf 3 2 1\n",
+                                      mtl, "dir/model.obj");
+    ASSERT_EQ(s.materials.size(), 2u);
+    EXPECT_EQ(s.materials[1].kd, (Vec3{0.1, 0.1, 0.1}));
+    EXPECT_EQ(s.faceMaterial, (std::vector<int32_t>{0, 1}));
+    EXPECT_TRUE(s.lights.empty());
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_EQ(s.warnings[0],
+              "dir/m.mtl: newmtl without a material name on line 3 (and 1 more): those materials "
+              "are ignored, with their statements");
+}
 
 // ---- validation ---------------------------------------------------------------------------------
 
@@ -614,6 +672,31 @@ TEST_F(ObjFiles, MissingOrUnreadableFiles) {
                   std::string::npos)
             << e.what();
     }
+}
+
+TEST_F(ObjFiles, UnreadableMtllibIsSkippedWithAWarning) {
+    // One library missing, one read: the missing one's material is a default one, its faces
+    // counted in the usemtl warning.
+    write(dir_ / "b.mtl", "newmtl lamp\nKe 2 2 2\n");
+    write(dir_ / "a.obj", "mtllib missing.mtl\nmtllib b.mtl\n" + kTri +
+                              "usemtl wood\nf 1 2 3\nusemtl lamp\nf 3 2 1\n");  // usemtl: 6, 8
+    const Scene s = loadObj(dir_ / "a.obj");
+    ASSERT_EQ(s.faceCount(), 2u);
+    ASSERT_EQ(s.materials.size(), 2u);
+    EXPECT_EQ(s.materials[0].name, "lamp");
+    EXPECT_EQ(s.materials[1].name, "wood");
+    EXPECT_EQ(s.materials[1].kd, Material{}.kd);
+    EXPECT_EQ(s.faceMaterial, (std::vector<int32_t>{1, 0}));
+    EXPECT_EQ(s.lights, (std::vector<uint32_t>{1}));
+    const std::string file = (dir_ / "a.obj").string();
+    ASSERT_EQ(s.warnings.size(), 2u);
+    EXPECT_EQ(s.warnings[0], file + ":1: mtllib: cannot read material library 'missing.mtl' (" +
+                                 (dir_ / "missing.mtl").string() +
+                                 "): No such file or directory; its materials are missing");
+    EXPECT_EQ(s.warnings[1], file +
+                                 ": usemtl 'wood' on line 6 names no material (1 materials "
+                                 "defined, a material library unreadable): 1 face uses a default "
+                                 "diffuse material");
 }
 
 TEST_F(ObjFiles, WriteThenReadIsBitIdentical) {

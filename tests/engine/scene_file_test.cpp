@@ -181,6 +181,27 @@ TEST_F(SceneFile, DegenerateFacesDroppedUnlessStrictOrRefusedOnRequest) {
                 {"strict: expected true or false"});
 }
 
+TEST_F(SceneFile, MissingMaterialsRepairedUnlessStrict) {
+    // The default material keeps the usemtl's name, so the scene can give it colours.
+    write("meshes/m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl Default\nf 1 2 3\n");
+    const Scene scene = load(R"({"meshes": [{"file": "meshes/m.obj",
+                                             "materials": {"Default": {"kd": 0.3}}}]})");
+    ASSERT_EQ(scene.materials.size(), 1u);
+    EXPECT_EQ(scene.materials[0].name, "Default");
+    EXPECT_EQ(scene.materials[0].kd, Vec3(0.3, 0.3, 0.3));
+    EXPECT_EQ(scene.faceMaterial, (std::vector<int32_t>{0}));
+    ASSERT_EQ(scene.warnings.size(), 1u);
+    EXPECT_NE(scene.warnings[0].find("meshes[0]: "), std::string::npos) << scene.warnings[0];
+    EXPECT_NE(scene.warnings[0].find("m.obj: usemtl 'Default' on line 4 names no material (no "
+                                     "mtllib): 1 face uses a default diffuse material"),
+              std::string::npos)
+        << scene.warnings[0];
+    // "drop_degenerate_faces" decides faces only: the materials stay strict.
+    expectError(R"({"strict": true, "meshes": [{"file": "meshes/m.obj",
+                                                "drop_degenerate_faces": true}]})",
+                {"meshes[0]", "m.obj:4: usemtl: unknown material 'Default'"});
+}
+
 TEST_F(SceneFile, ErrorsNameTheJsonPath) {
     {
         const fs::path p =
