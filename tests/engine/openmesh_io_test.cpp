@@ -7,6 +7,7 @@
 #include <array>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tests/support/loader_test_support.h"
@@ -209,9 +210,10 @@ std::string asciiStl(const std::vector<std::array<float, 9>>& triangles, bool en
     return s;
 }
 
-void expectStlSquare(const Scene& scene) {
+// `extraVertices`: the corners of dropped facets that no other facet has.
+void expectStlSquare(const Scene& scene, size_t extraVertices = 0) {
     ASSERT_EQ(scene.mesh.faces.size(), 2u);
-    EXPECT_EQ(scene.mesh.vertices.size(), 4u);  // corners are merged
+    EXPECT_EQ(scene.mesh.vertices.size(), 4u + extraVertices);  // corners are merged
     for (size_t f = 0; f < 2; ++f) {
         ASSERT_EQ(scene.mesh.faces[f].size(), 3u);
         for (size_t k = 0; k < 3; ++k) {
@@ -255,17 +257,28 @@ TEST_F(OpenMeshIo, StlNonFiniteIsAnError) {
 }
 
 TEST_F(OpenMeshIo, StlDegenerateFacetIsDroppedByDefaultAndAnErrorWhenStrict) {
+    // Facet 1: corners 1 and 2 coincide (OpenMesh skips it); facet 3: three distinct collinear
+    // corners (validation finds it). One warning counts both, facets numbered as in the file.
     auto t = stlSquare();
-    t.insert(t.begin() + 1, std::array<float, 9>{0, 0, 0, 1, 0, 0, 1, 0, 0});  // corners 1 == 2
+    t.insert(t.begin() + 1, std::array<float, 9>{0, 0, 0, 1, 0, 0, 1, 0, 0});
+    t.push_back({0, 0, 0, 0.5f, 0.5f, 0, 1, 1, 0});
     for (const bool binary : {true, false}) {
         const fs::path p =
             write(binary ? "deg.stl" : "deg_ascii.stl", binary ? binaryStl(t) : asciiStl(t));
+        // Strict: the first facet, with its line in ASCII (7 lines a facet: facet 1 on line 9).
         expectLoadError([&] { loadOpenMeshFile(p, LoadOptions::strictMode()); }, p,
-                        {"face 1", "degenerate"});
+                        {binary ? ": face 1" : ":9: face 1", "degenerate", "corners coincide"});
         const Scene scene = loadOpenMeshFile(p);
-        expectStlSquare(scene);
+        expectStlSquare(scene, 1);  // (0.5, 0.5, 0), the collinear facet's middle corner
         ASSERT_EQ(scene.warnings.size(), 1u);
-        EXPECT_NE(scene.warnings[0].find("dropped 1"), std::string::npos) << scene.warnings[0];
+        EXPECT_NE(scene.warnings[0].find(p.string() + ": dropped 2 degenerate"), std::string::npos)
+            << scene.warnings[0];
+        EXPECT_NE(scene.warnings[0].find("(first: face 1: "), std::string::npos)
+            << scene.warnings[0];
+        if (!binary) {
+            EXPECT_NE(scene.warnings[0].find("line 9)"), std::string::npos) << scene.warnings[0];
+            EXPECT_EQ(scene.faceSourceLine, (std::vector<int32_t>{2, 16}));
+        }
     }
     // A collinear facet with distinct corners is found by validation, named by its facet index.
     auto c = stlSquare();
@@ -273,6 +286,34 @@ TEST_F(OpenMeshIo, StlDegenerateFacetIsDroppedByDefaultAndAnErrorWhenStrict) {
     const fs::path q = write("collinear.stl", binaryStl(c));
     expectLoadError([&] { loadOpenMeshFile(q, LoadOptions::strictMode()); }, q,
                     {"face 2", "degenerate"});
+}
+
+// Solids one after the other in one ASCII file (as tools concatenate them): every facet is read,
+// as one mesh whose equal corners are merged across the solids.
+TEST_F(OpenMeshIo, MultiSolidAsciiStlLoadsEverySolid) {
+    const auto t = stlSquare();
+    const std::string first = asciiStl({t[0]});
+    std::string second = asciiStl({t[1]});
+    second.replace(0, std::string("solid square").size(), "SOLID other part");
+    second.replace(second.find("endsolid square"), 15, "endsolid other part");
+    // The second solid starts on line 10, after two blank lines on 12.
+    const std::pair<std::string, int32_t> files[] = {
+        {first + second, 11}, {first + "\n\n" + second + "trailing junk\n", 13}};
+    for (const auto& [text, secondFacetLine] : files) {
+        const fs::path p = write("two.stl", text);
+        const Scene scene = loadOpenMeshFile(p);
+        expectStlSquare(scene);
+        EXPECT_TRUE(scene.warnings.empty());
+        EXPECT_EQ(scene.faceSourceLine, (std::vector<int32_t>{2, secondFacetLine}));
+    }
+    // A solid left open is still a truncated file.
+    const fs::path p = write("open.stl", first + asciiStl({t[1]}, false));
+    expectLoadError([&] { loadOpenMeshFile(p); }, p, {"no endsolid"});
+    // A facet cut short by endsolid too.
+    std::string cut = first;
+    cut.insert(cut.find("endloop"), "endsolid square\n");
+    const fs::path q = write("cut_facet.stl", cut);
+    expectLoadError([&] { loadOpenMeshFile(q); }, q, {"facet 0", "no endfacet"});
 }
 
 }  // namespace
