@@ -145,6 +145,10 @@ struct PlyHeader {
     std::vector<PlyElement> elements;
     size_t bodyOffset = 0;  // first byte after "end_header\n"
     int bodyLine = 0;       // 1-based line number of the first body line
+    // Repair mode: header lines of no PLY keyword, skipped (byte ranges, their newline included),
+    // and the warning that says so.
+    std::vector<std::pair<size_t, size_t>> skippedLines;
+    std::string skippedWarning;
     uint64_t count(std::string_view element) const {
         for (const PlyElement& e : elements)
             if (e.name == element) return e.count;
@@ -171,11 +175,28 @@ int plyTypeSize(const std::string& t, bool* isSigned = nullptr) {
     return 0;
 }
 
-PlyHeader parsePlyHeader(const std::string& data, const std::string& file) {
+// A header line as a message quotes it: without surrounding blanks, at most 60 characters, bytes
+// outside printable ASCII as '?'.
+std::string quotedLine(std::string_view s) {
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+    std::string out = "'";
+    for (char c : s.substr(0, 60)) {
+        const auto u = static_cast<unsigned char>(c);
+        out += u >= 0x20 && u < 0x7f ? c : '?';
+    }
+    return out + (s.size() > 60 ? "...'" : "'");
+}
+
+// Parses and checks the header. A line of no PLY keyword (a tool's "Created by ..." outside a
+// comment) is an error when `strict`, else skipped (PlyHeader::skippedLines).
+PlyHeader parsePlyHeader(const std::string& data, const std::string& file, bool strict) {
     PlyHeader header;
     size_t pos = 0;
     int lineNo = 0;
     bool sawFormat = false;
+    int firstSkipped = 0;
+    std::string firstSkippedText;
     const auto fail = [&](const std::string& why) -> SceneError {
         return makeSceneError(file, lineNo, "PLY header: " + why);
     };
@@ -184,6 +205,7 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file) {
         size_t end = data.find('\n', pos);
         if (end == std::string::npos) throw fail("no end_header (truncated header)");
         std::string line = data.substr(pos, end - pos);
+        const size_t lineStart = pos;
         pos = end + 1;
         ++lineNo;
         if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -256,8 +278,20 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file) {
                                p.name + "' declared twice");
             header.elements.back().properties.push_back(p);
         } else {
-            throw fail("unknown keyword '" + key + "'");
+            if (strict) throw fail("unknown keyword '" + key + "'");
+            if (header.skippedLines.empty()) {
+                firstSkipped = lineNo;
+                firstSkippedText = line;
+            }
+            header.skippedLines.emplace_back(lineStart, pos);
         }
+    }
+    if (!header.skippedLines.empty()) {
+        const size_t n = header.skippedLines.size();
+        header.skippedWarning =
+            file + ":" + std::to_string(firstSkipped) + ": PLY header: line " +
+            quotedLine(firstSkippedText) + " is no header keyword (not a comment): skipped" +
+            (n > 1 ? " with " + std::to_string(n - 1) + " more such lines" : std::string());
     }
     if (!sawFormat) throw makeSceneError(file, 0, "PLY header: no format line");
     // Declarations a reader can rely on, before any reader sees the file: every item of an
@@ -773,8 +807,9 @@ Scene loadOpenMeshFile(const fs::path& path, const LoadOptions& options) {
     StlFacts stl;
     CleanOff off;
     std::string trailingWarning;
+    std::string cleanPly;  // the PLY without its skipped header lines, when it has any
     if (extension == ".ply") {
-        const PlyHeader header = parsePlyHeader(data, file);
+        const PlyHeader header = parsePlyHeader(data, file, options.strict);
         expectedVertices = header.count("vertex");
         expectedFaces = header.count("face");
         if (header.format == PlyHeader::kAscii) {
@@ -785,6 +820,15 @@ Scene loadOpenMeshFile(const fs::path& path, const LoadOptions& options) {
                 trailingWarning = file + ": " + std::to_string(extra) +
                                   " bytes after the last PLY element ignored";
             }
+        }
+        if (!header.skippedLines.empty()) {
+            scene.warnings.push_back(header.skippedWarning);
+            size_t from = 0;
+            for (const auto& [begin, end] : header.skippedLines) {
+                cleanPly.append(data, from, begin - from);
+                from = end;
+            }
+            cleanPly.append(data, from, std::string::npos);
         }
     } else if (extension == ".off") {
         off = cleanAsciiOff(data, file);
@@ -815,6 +859,9 @@ Scene loadOpenMeshFile(const fs::path& path, const LoadOptions& options) {
     } else if (extension == ".stl" && !stl.binary) {
         std::istringstream in(stl.text);
         read = OMIO::IOManager().read(in, "stl", importer, readOptions);
+    } else if (!cleanPly.empty()) {
+        std::istringstream in(cleanPly);
+        read = OMIO::IOManager().read(in, "ply", importer, readOptions);
     } else {
         read = OMIO::IOManager().read(file, importer, readOptions);
     }

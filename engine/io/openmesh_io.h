@@ -24,6 +24,9 @@
 //     corners and skips facets whose corners coincide: those are put back in their place as
 //     degenerate faces (face N is facet N; ASCII faces keep the line of their "facet"), dropped
 //     with the other degenerate faces in repair mode, an error in strict mode.
+//   - PLY header lines of no PLY keyword (a tool's "Created by ..." outside a comment) are
+//     skipped with one warning in repair mode when the rest of the header is consistent; strict
+//     mode refuses them ("PLY header: unknown keyword").
 // Vertex coordinates must be finite ("vertex N: non-finite coordinate"). Faces are then checked
 // by checkLoadedFaces (engine/scene/face_check.h): errors read "file: face N: <reason>" with N the
 // 0-based face index in the file (for STL the index of the facet).
