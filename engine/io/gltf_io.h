@@ -19,6 +19,13 @@
 //   - the first node (in traversal order) that holds a perspective camera becomes Scene::camera:
 //     eye at the node's origin, looking down its -Z axis, up its +Y axis, fov_y = yfov. An
 //     orthographic camera is ignored with a warning.
+// Refused before tinygltf parses the file, with a message that says what is unsupported: glTF 1.0
+// (asset.version "1.x", a GLB of version 1, or, without asset.version, 1.0's dictionaries in place
+// of arrays) and any other version than 2.x; a required extension (extensionsRequired) the loader
+// does not implement, named (KHR_draco_mesh_compression with its own message; the loader implements
+// KHR_materials_emissive_strength and accepts the texture extensions KHR_texture_transform,
+// KHR_texture_basisu, EXT_texture_webp, EXT_texture_avif and MSFT_texture_dds, since images are
+// never decoded); a primitive compressed with Draco that keeps no uncompressed POSITION data.
 // Errors are SceneErrors naming the file and the element: tinygltf's own parse errors, an
 // accessor that is sparse, of the wrong type or reaches past its buffer view or buffer, an index
 // out of range of the POSITION accessor, a non-finite position ("node 2 mesh 0 primitive 1:
