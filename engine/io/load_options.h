@@ -5,9 +5,11 @@
 // Repairs that depend on `faces` (engine/scene/face_check.h, checkLoadedFaces): degenerate faces
 // dropped, non-planar and non-convex polygons split into triangles, and each loader's own early
 // checks of degenerate data (an OBJ face repeating a vertex index, STL facets whose corners
-// coincide). `strict` is for the repairs that do not concern faces.
+// coincide). Repairs that depend on `strict`: OBJ materials that are missing (a usemtl naming no
+// material, an unreadable mtllib, a newmtl without a name) and unknown PLY header lines.
 // Broken data (indices out of range, non-finite or out-of-contract coordinates, truncated files,
-// numbers that do not parse) is refused in both modes.
+// numbers that do not parse, unsupported glTF versions and required extensions) is refused in
+// both modes.
 #pragma once
 
 #include "engine/scene/face_check.h"

@@ -6,8 +6,9 @@
 //   .json         engine/io/scene_file.h  (composition of the above, with lights and a camera)
 // Every face is validated (engine/scene/scene_validation.h via engine/scene/face_check.h); problems
 // are SceneErrors naming the file and the element. What other tools repair (degenerate faces,
-// non-planar and non-convex polygons) is repaired by default with a warning in Scene::warnings,
-// and refused in strict mode (engine/io/load_options.h).
+// non-planar and non-convex polygons, missing OBJ materials, unknown PLY header lines) is repaired
+// by default with one warning line per kind and file in Scene::warnings, and refused in strict
+// mode (engine/io/load_options.h; docs/formats.md lists both).
 #pragma once
 
 #include <filesystem>
