@@ -104,6 +104,13 @@ Vec3 parseDirection(std::string_view flag, std::string_view text) {
     return {v[0], v[1], v[2]};
 }
 
+void addStrictOption(CLI::App& sub, bool& strict) {
+    sub.add_flag("--strict", strict,
+                 "Refuse what the loaders would repair with a warning (degenerate faces, "
+                 "non-planar or non-convex polygons, missing OBJ materials, unknown PLY header "
+                 "lines): an error naming the file, the line and the problem");
+}
+
 void addExactOptions(CLI::App& sub, ExactOptions& o, ExactOptionSet set) {
     sub.add_option("--max-lp-solves", o.maxLpSolves,
                    "Exact: build budget of one history tree in linear programs; a tree that "

@@ -46,4 +46,9 @@ Vec3 parseDirection(std::string_view flag, std::string_view text);
 enum class ExactOptionSet { BuildOnly, Render };
 void addExactOptions(CLI::App& sub, ExactOptions& options, ExactOptionSet set);
 
+// --strict, on every subcommand that loads a scene: what the loaders repair with a warning by
+// default (degenerate faces, non-planar and non-convex polygons, missing OBJ materials, unknown
+// PLY header lines; engine/io/load_options.h) is an error instead.
+void addStrictOption(CLI::App& sub, bool& strict);
+
 }  // namespace penumbra::cli

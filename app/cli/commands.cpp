@@ -7,8 +7,8 @@
 
 namespace penumbra::cli {
 
-Scene loadSceneFile(const std::filesystem::path& path) {
-    Scene scene = loadScene(path);
+Scene loadSceneFile(const std::filesystem::path& path, bool strict) {
+    Scene scene = loadScene(path, strict ? LoadOptions::strictMode() : LoadOptions{});
     for (const std::string& warning : scene.warnings) {
         std::cerr << "penumbra: warning: " << warning << '\n';
     }

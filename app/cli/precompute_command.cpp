@@ -47,6 +47,7 @@ struct PrecomputeCommandOptions {
     double patchFraction = 1.0 / 4;
     ExactOptions exact;
     int threads = 0;
+    bool strict = false;
 };
 
 // The one piece of global state here: a signal handler can only reach a global, and only a
@@ -104,7 +105,7 @@ void printProgress(const PrecomputeProgress& p, bool tty) {
 }
 
 void runPrecompute(const PrecomputeCommandOptions& o) {
-    const Scene scene = loadSceneFile(o.scene);
+    const Scene scene = loadSceneFile(o.scene, o.strict);
     const EmbreeScene bvh(scene.mesh);
     VisibilityStore::Options storeOptions;
     storeOptions.patchFraction = o.patchFraction;
@@ -229,6 +230,7 @@ void registerPrecomputeCommand(CLI::App& app) {
     sub->add_option("--threads", options->threads,
                     "Concurrent builds (default: the number of cores)")
         ->check(CLI::PositiveNumber);
+    addStrictOption(*sub, options->strict);
     sub->callback([options] { runPrecompute(*options); });
 }
 

@@ -50,6 +50,7 @@ struct QueryOptions {
     std::string face;
     std::string light;
     ExactOptions exact;
+    bool strict = false;
 };
 
 // One point to query, and where it came from ("--point" or "FILE:LINE") for messages.
@@ -236,7 +237,7 @@ void runQuery(const CLI::App& sub, const QueryOptions& options) {
     std::vector<QueryPoint> points;
     if (hasPoint) points.push_back({parsePointFlag(options.point), faceFlag, "--point"});
 
-    const Scene scene = loadSceneFile(options.scene);
+    const Scene scene = loadSceneFile(options.scene, options.strict);
     if (hasPoints) {
         points = readPointsFile(options.pointsFile);
         for (QueryPoint& p : points)
@@ -310,6 +311,7 @@ void registerQueryCommand(CLI::App& app) {
     sub->add_option("--light", options->light, "Only light K (default: every light)")
         ->type_name("K");
     addExactOptions(*sub, options->exact, ExactOptionSet::BuildOnly);
+    addStrictOption(*sub, options->strict);
     sub->callback([sub, options] { runQuery(*sub, *options); });
 }
 

@@ -23,6 +23,7 @@ struct ViewOptions {
     double quitAfter = 0;
     bool noPreview = false;
     bool precompute = false;
+    bool strict = false;
     ExactOptions exact;
 };
 
@@ -37,7 +38,7 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
         throw usageError("--view: expected " + std::string(viewer::kViewNames) + ", got '" +
                          o.view + "'");
     // Scene problems are reported before any window opens.
-    (void)loadSceneFile(o.scene);
+    (void)loadSceneFile(o.scene, o.strict);
     const std::string why = viewer::windowUnavailableReason();
     if (why.empty()) {
         viewer::WindowOptions w;
@@ -49,6 +50,7 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
         w.quitAfterSeconds = o.quitAfter;
         w.viewer.preview = !o.noPreview;
         w.viewer.exact = o.exact;
+        w.viewer.strict = o.strict;
         w.viewer.view = view;
         w.viewer.previewSettings.mode = mode;
         w.precompute = o.precompute;
@@ -71,6 +73,7 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
     h.camera = camera;
     h.viewer.preview = !o.noPreview;
     h.viewer.exact = o.exact;
+    h.viewer.strict = o.strict;
     h.viewer.view = view;
     h.viewer.previewSettings.mode = mode;
     const std::filesystem::path dir(o.outDir);
@@ -126,6 +129,7 @@ void registerViewCommand(CLI::App& app) {
     addExactOptions(*sub, o->exact, ExactOptionSet::Render);
     sub->add_flag("--precompute", o->precompute,
                   "Start precomputing every pair in the background when the scene opens");
+    addStrictOption(*sub, o->strict);
     sub->callback([sub, o] { runView(*sub, *o); });
 }
 

@@ -4,11 +4,11 @@
 
 namespace penumbra::viewer {
 
-std::shared_ptr<LoadedScene> loadScene(const std::filesystem::path& path,
-                                       const ExactOptions& exact) {
+std::shared_ptr<LoadedScene> loadScene(const std::filesystem::path& path, const ExactOptions& exact,
+                                       bool strict) {
     auto s = std::make_shared<LoadedScene>();
     s->path = path;
-    s->scene = penumbra::loadScene(path);
+    s->scene = penumbra::loadScene(path, strict ? LoadOptions::strictMode() : LoadOptions{});
     s->bounds = s->scene.mesh.bounds();
     s->bvh = std::make_unique<EmbreeScene>(s->scene.mesh);
     VisibilityStore::Options storeOptions;

@@ -22,9 +22,10 @@ struct LoadedScene {
     std::unique_ptr<VisibilityStore> store;
 };
 
-// Loads the file (engine/io/scene_loader.h: errors as SceneError) and builds the BVH and an empty
-// store whose trees follow `exact` (the build budget).
-std::shared_ptr<LoadedScene> loadScene(const std::filesystem::path& path,
-                                       const ExactOptions& exact);
+// Loads the file (engine/io/scene_loader.h: errors as SceneError; repairs as warnings in
+// scene.warnings, or errors when `strict`) and builds the BVH and an empty store whose trees
+// follow `exact` (the build budget).
+std::shared_ptr<LoadedScene> loadScene(const std::filesystem::path& path, const ExactOptions& exact,
+                                       bool strict = false);
 
 }  // namespace penumbra::viewer

@@ -54,7 +54,7 @@ Viewer::~Viewer() {
 bool Viewer::openScene(const std::filesystem::path& path) {
     std::shared_ptr<LoadedScene> loaded;
     try {
-        loaded = loadScene(path, options_.exact);
+        loaded = loadScene(path, options_.exact, options_.strict);
     } catch (const std::exception& e) {
         status_ = "cannot open " + path.string() + ": " + e.what();
         return false;

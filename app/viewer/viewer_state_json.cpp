@@ -119,6 +119,7 @@ nlohmann::json Viewer::stateJson() const {
     using nlohmann::json;
     json s;
     s["scene"] = scene_ ? scene_->path.string() : "";
+    s["sceneWarnings"] = scene_ ? scene_->scene.warnings : std::vector<std::string>{};
     s["status"] = status_;
     s["size"] = {layout_.width, layout_.height};
     s["viewport"] = {{"x", layout_.view.x},

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <exception>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
 #include <system_error>
@@ -64,6 +65,125 @@ bool refuseWrite(std::string* err, const std::string& path, const std::vector<un
                  void*) {
     if (err) *err += path + ": the glTF loader writes no files\n";
     return false;
+}
+
+// ---- what tinygltf does not check: the version and the required extensions --------------------
+
+// Required extensions the loader reads (KHR_materials_emissive_strength) or whose content it never
+// looks at (textures: images are not decoded, so their format or transform changes nothing read).
+constexpr std::string_view kSupportedRequiredExtensions[] = {"KHR_materials_emissive_strength",
+                                                             "KHR_texture_transform",
+                                                             "KHR_texture_basisu",
+                                                             "EXT_texture_webp",
+                                                             "EXT_texture_avif",
+                                                             "MSFT_texture_dds"};
+constexpr const char* kDraco = "KHR_draco_mesh_compression";
+
+std::string supportedExtensionList() {
+    std::string list;
+    for (std::string_view e : kSupportedRequiredExtensions)
+        list += std::string(list.empty() ? "" : ", ") + std::string(e);
+    return list;
+}
+
+// Refuses, before tinygltf parses the file, what it would misreport: glTF 1.0 (an "asset" object
+// not found, "no faces"), Draco-compressed meshes ("accessor[0] invalid bufferView") and other
+// required extensions it would silently ignore. Text that is no JSON, or a GLB without a JSON
+// chunk, is left for tinygltf to report.
+void checkVersionAndExtensions(const std::string& data, bool binary, const std::string& file) {
+    const auto refuse = [&](const std::string& why) { throw makeSceneError(file, 0, why); };
+    const std::string kOnly2 = "; only glTF 2.0 is (re-export or convert the file to glTF 2.0)";
+    std::string_view text = data;
+    if (binary) {
+        if (data.size() < 12) return;
+        uint32_t version = 0;
+        std::memcpy(&version, data.data() + 4, 4);
+        if (version == 1)
+            refuse("GLB: binary glTF 1.0 (GLB version 1, KHR_binary_glTF) is not supported" +
+                   kOnly2);
+        if (version != 2) return;  // tinygltf names it
+        uint32_t length = 0, type = 0;
+        if (data.size() < 20) return;
+        std::memcpy(&length, data.data() + 12, 4);
+        std::memcpy(&type, data.data() + 16, 4);
+        if (type != 0x4E4F534Au || length > data.size() - 20) return;  // "JSON"
+        text = std::string_view(data).substr(20, length);
+    }
+    using Json = nlohmann::json;
+    const Json root = Json::parse(text.begin(), text.end(), nullptr, false);
+    if (root.is_discarded() || !root.is_object()) return;
+    const auto member = [](const Json& j, const char* key) -> const Json* {
+        if (!j.is_object()) return nullptr;
+        const auto it = j.find(key);
+        return it == j.end() ? nullptr : &*it;
+    };
+
+    // The version: asset.version's major number, else the shape of the top-level collections
+    // (dictionaries keyed by id in glTF 1.0, arrays in 2.0).
+    const Json* asset = member(root, "asset");
+    const Json* version = asset ? member(*asset, "version") : nullptr;
+    if (version && version->is_string()) {
+        const std::string v = version->get<std::string>();
+        const std::string major = v.substr(0, v.find('.'));
+        if (major == "1")
+            refuse("glTF 1.0 is not supported (asset.version \"" + v + "\")" + kOnly2);
+        if (major != "2")
+            refuse("glTF version \"" + v.substr(0, 20) + "\" is not supported" + kOnly2);
+    } else {
+        for (const char* key :
+             {"meshes", "accessors", "bufferViews", "buffers", "nodes", "materials", "scenes"}) {
+            const Json* collection = member(root, key);
+            if (collection && collection->is_object())
+                refuse(std::string("glTF 1.0 is not supported (\"") + key +
+                       "\" is a dictionary, as in glTF 1.0, and there is no asset.version)" +
+                       kOnly2);
+        }
+    }
+
+    if (const Json* required = member(root, "extensionsRequired");
+        required && required->is_array()) {
+        for (const Json& e : *required) {
+            if (!e.is_string()) continue;
+            const std::string name = e.get<std::string>();
+            if (name == kDraco)
+                refuse(
+                    "required extension KHR_draco_mesh_compression: Draco-compressed meshes are "
+                    "not supported (export the file without Draco compression)");
+            if (std::find(std::begin(kSupportedRequiredExtensions),
+                          std::end(kSupportedRequiredExtensions),
+                          name) == std::end(kSupportedRequiredExtensions))
+                refuse("required extension \"" + name.substr(0, 80) +
+                       "\" is not supported (supported: " + supportedExtensionList() + ")");
+        }
+    }
+
+    // Draco on a primitive without the extension required: loadable only where the primitive
+    // keeps its uncompressed data (a POSITION accessor with a buffer view), as the extension's
+    // fallback.
+    const Json* meshes = member(root, "meshes");
+    const Json* accessors = member(root, "accessors");
+    if (!meshes || !meshes->is_array()) return;
+    for (size_t m = 0; m < meshes->size(); ++m) {
+        const Json* primitives = member((*meshes)[m], "primitives");
+        if (!primitives || !primitives->is_array()) continue;
+        for (size_t p = 0; p < primitives->size(); ++p) {
+            const Json& prim = (*primitives)[p];
+            const Json* extensions = member(prim, "extensions");
+            if (!extensions || !member(*extensions, kDraco)) continue;
+            const Json* attributes = member(prim, "attributes");
+            const Json* position = attributes ? member(*attributes, "POSITION") : nullptr;
+            bool fallback = false;
+            if (position && position->is_number_unsigned() && accessors && accessors->is_array()) {
+                const auto a = position->get<uint64_t>();
+                fallback = a < accessors->size() && member((*accessors)[a], "bufferView");
+            }
+            if (!fallback)
+                refuse("mesh " + std::to_string(m) + " primitive " + std::to_string(p) +
+                       ": compressed with KHR_draco_mesh_compression (Draco), which is not "
+                       "supported, and without uncompressed data (export the file without Draco "
+                       "compression)");
+        }
+    }
 }
 
 // Where a face came from, for messages.
@@ -382,7 +502,7 @@ class GltfReader {
 
 }  // namespace
 
-Scene loadGltf(const fs::path& path, DegenerateFaces degenerate) {
+Scene loadGltf(const fs::path& path, const LoadOptions& options) {
     const std::string file = path.string();
     std::ifstream in(path, std::ios::binary);
     if (!in) throw makeSceneError(file, 0, "cannot open file");
@@ -391,13 +511,15 @@ Scene loadGltf(const fs::path& path, DegenerateFaces degenerate) {
     if (data.empty()) throw makeSceneError(file, 0, "empty file");
     if (data.size() > 0x7fffffffu) throw makeSceneError(file, 0, "file too large for tinygltf");
 
+    const bool binary = data.compare(0, 4, "glTF") == 0;
+    checkVersionAndExtensions(data, binary, file);
+
     tinygltf::TinyGLTF loader;
     loader.SetImageLoader(skipImage, nullptr);
     loader.SetFsCallbacks({pathExists, samePath, readRegularFile, refuseWrite, nullptr});
     tinygltf::Model model;
     std::string err, warn;
     const std::string baseDir = path.parent_path().string();
-    const bool binary = data.compare(0, 4, "glTF") == 0;
     bool ok = false;
     try {
         ok = binary ? loader.LoadBinaryFromMemory(
@@ -437,7 +559,7 @@ Scene loadGltf(const fs::path& path, DegenerateFaces degenerate) {
     };
     while (!warn.empty() && (warn.back() == '\n' || warn.back() == ' ')) warn.pop_back();
     if (!warn.empty()) scene.warnings.push_back(file + ": tinygltf: " + warn);
-    checkLoadedFaces(scene, degenerate, namer);
+    checkLoadedFaces(scene, options.faces, namer);
     return scene;
 }
 

@@ -19,16 +19,24 @@
 //   - the first node (in traversal order) that holds a perspective camera becomes Scene::camera:
 //     eye at the node's origin, looking down its -Z axis, up its +Y axis, fov_y = yfov. An
 //     orthographic camera is ignored with a warning.
+// Refused before tinygltf parses the file, with a message that says what is unsupported: glTF 1.0
+// (asset.version "1.x", a GLB of version 1, or, without asset.version, 1.0's dictionaries in place
+// of arrays) and any other version than 2.x; a required extension (extensionsRequired) the loader
+// does not implement, named (KHR_draco_mesh_compression with its own message; the loader implements
+// KHR_materials_emissive_strength and accepts the texture extensions KHR_texture_transform,
+// KHR_texture_basisu, EXT_texture_webp, EXT_texture_avif and MSFT_texture_dds, since images are
+// never decoded); a primitive compressed with Draco that keeps no uncompressed POSITION data.
 // Errors are SceneErrors naming the file and the element: tinygltf's own parse errors, an
 // accessor that is sparse, of the wrong type or reaches past its buffer view or buffer, an index
 // out of range of the POSITION accessor, a non-finite position ("node 2 mesh 0 primitive 1:
 // POSITION 7: non-finite coordinate"), a triangle count not divisible by 3. Faces are checked
-// by checkLoadedFaces (engine/scene/face_check.h) and named "node N mesh M primitive P triangle T".
+// by checkLoadedFaces (engine/scene/face_check.h) and named "node N mesh M primitive P triangle T";
+// in repair mode (LoadOptions, the default) degenerate triangles are dropped with one warning.
 #pragma once
 
 #include <filesystem>
 
-#include "engine/scene/face_check.h"
+#include "engine/io/load_options.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_error.h"
 
@@ -36,7 +44,6 @@ namespace penumbra {
 
 // Reads a .gltf or .glb file (binary when it starts with the GLB magic "glTF"); external buffers
 // are resolved relative to the file's directory.
-Scene loadGltf(const std::filesystem::path& path,
-               DegenerateFaces degenerate = DegenerateFaces::kReject);
+Scene loadGltf(const std::filesystem::path& path, const LoadOptions& options = {});
 
 }  // namespace penumbra

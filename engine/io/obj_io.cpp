@@ -264,6 +264,19 @@ struct MaterialTable {
     std::unordered_map<std::string, int32_t> byName;
 };
 
+// A repair seen while reading one file: the first occurrence and how many there were.
+struct Repair {
+    int64_t line = 0;
+    std::string what;  // the first occurrence, as its message
+    size_t count = 0;
+    void note(int64_t at, std::string message) {
+        if (count++ == 0) {
+            line = at;
+            what = std::move(message);
+        }
+    }
+};
+
 Vec3 parseColor(Tokens& tokens, const Where& where, std::string_view key) {
     std::vector<std::string_view> parts;
     std::string_view token;
@@ -286,9 +299,15 @@ Vec3 parseColor(Tokens& tokens, const Where& where, std::string_view key) {
     return {c[0], c[1], c[2]};
 }
 
-void parseMtl(std::string_view text, const std::string& file, MaterialTable& table) {
+// Reads one MTL library into `table`. A newmtl without a name is an error when `strict`; otherwise
+// that material (its statements up to the next newmtl) is ignored and one line per file is added to
+// `warnings`.
+void parseMtl(std::string_view text, const std::string& file, MaterialTable& table, bool strict,
+              std::vector<std::string>& warnings) {
     LineReader lines(text, file);
-    int32_t current = -1;
+    constexpr int32_t kNone = -1, kUnnamed = -2;
+    int32_t current = kNone;
+    Repair unnamed;
     while (lines.next()) {
         const Where where{file, lines.lineNumber()};
         const std::string_view content = stripComment(lines.line());
@@ -297,7 +316,12 @@ void parseMtl(std::string_view text, const std::string& file, MaterialTable& tab
         if (!tokens.next(key)) continue;
         if (equalsIgnoreCase(key, "newmtl")) {
             const std::string name(tokens.rest());
-            if (name.empty()) where.fail("newmtl without a material name");
+            if (name.empty()) {
+                if (strict) where.fail("newmtl without a material name");
+                unnamed.note(where.line, "");
+                current = kUnnamed;
+                continue;
+            }
             if (table.byName.count(name))
                 where.fail("material " + quoteForMessage(name) + " defined twice");
             if (table.materials.size() >= kMaxSceneElements) where.fail("too many materials");
@@ -311,7 +335,8 @@ void parseMtl(std::string_view text, const std::string& file, MaterialTable& tab
         const bool isKd = equalsIgnoreCase(key, "Kd"), isKs = equalsIgnoreCase(key, "Ks"),
                    isKe = equalsIgnoreCase(key, "Ke"), isNs = equalsIgnoreCase(key, "Ns");
         if (!isKd && !isKs && !isKe && !isNs) continue;  // Ka, Ni, d, Tr, illum, map_*, ...
-        if (current < 0) where.fail(quoteForMessage(key) + " before any newmtl");
+        if (current == kNone) where.fail(quoteForMessage(key) + " before any newmtl");
+        if (current == kUnnamed) continue;  // the unnamed material's, ignored with it
         Material& m = table.materials[static_cast<size_t>(current)];
         if (isNs) {
             std::string_view value;
@@ -323,6 +348,14 @@ void parseMtl(std::string_view text, const std::string& file, MaterialTable& tab
         } else {
             (isKd ? m.kd : isKs ? m.ks : m.ke) = parseColor(tokens, where, key);
         }
+    }
+    if (unnamed.count > 0) {
+        warnings.push_back(
+            file + ": newmtl without a material name on line " + std::to_string(unnamed.line) +
+            (unnamed.count > 1 ? " (and " + std::to_string(unnamed.count - 1) + " more)"
+                               : std::string()) +
+            (unnamed.count > 1 ? ": those materials are ignored, with their statements"
+                               : ": that material is ignored, with its statements"));
     }
 }
 
@@ -351,8 +384,8 @@ struct MtlSource {
 
 class ObjParser {
   public:
-    ObjParser(const std::string& file, MtlSource mtl, DegenerateFaces degenerate)
-        : file_(file), mtl_(std::move(mtl)), degenerate_(degenerate) {}
+    ObjParser(const std::string& file, MtlSource mtl, const LoadOptions& options)
+        : file_(file), mtl_(std::move(mtl)), options_(options) {}
 
     Scene parse(std::string_view text) {
         LineReader lines(text, file_);
@@ -493,7 +526,7 @@ class ObjParser {
         std::sort(sorted.begin(), sorted.end());
         const auto dup = std::adjacent_find(sorted.begin(), sorted.end());
         // Under kDrop a repeated vertex is a degenerate face for checkLoadedFaces to drop.
-        if (dup != sorted.end() && degenerate_ == DegenerateFaces::kReject) {
+        if (dup != sorted.end() && options_.faces == DegenerateFaces::kReject) {
             failFace(where, faceIndex,
                      "vertex " + std::to_string(*dup + 1ull) + " repeated (degenerate face)");
         }
@@ -511,7 +544,7 @@ class ObjParser {
             if (!mtlTextRead_) {
                 mtlTextRead_ = true;
                 const std::string name = (mtl_.directory / fs::path(std::string(whole))).string();
-                parseMtl(*mtl_.text, name, table_);
+                parseMtl(*mtl_.text, name, table_, options_.strict, scene_.warnings);
             }
             return;
         }
@@ -531,10 +564,14 @@ class ObjParser {
             std::string why;
             const std::optional<std::string> text = readFile(path, why);
             if (!text) {
-                where.fail("mtllib: cannot read material library " + quoteForMessage(name) + " (" +
-                           path.string() + "): " + why);
+                const std::string message = "cannot read material library " +
+                                            quoteForMessage(name) + " (" + path.string() +
+                                            "): " + why;
+                if (options_.strict) where.fail("mtllib: " + message);
+                unreadableMtl_.note(where.line, message);
+                continue;
             }
-            parseMtl(*text, path.string(), table_);
+            parseMtl(*text, path.string(), table_, options_.strict, scene_.warnings);
         }
     }
 
@@ -556,17 +593,47 @@ class ObjParser {
             }
             if (errorLine != INT64_MAX) break;
         }
+        // Why a usemtl can name no material: "no mtllib" or the count of those defined.
+        const bool noMtllib = mtlFilesRead_.empty() && !mtlTextRead_ && unreadableMtl_.count == 0;
+        const std::string context =
+            noMtllib ? "no mtllib"
+                     : std::to_string(table_.materials.size()) + " materials defined" +
+                           (unreadableMtl_.count > 0 ? ", a material library unreadable" : "");
         std::vector<int32_t> useMtlMaterial(useMtl_.size(), -1);
+        Repair unknown;
+        const size_t knownMaterials = table_.materials.size();
         for (size_t u = 0; u < useMtl_.size(); ++u) {
             const auto it = table_.byName.find(useMtl_[u].name);
+            if (it != table_.byName.end() && static_cast<size_t>(it->second) < knownMaterials) {
+                useMtlMaterial[u] = it->second;
+                continue;
+            }
+            if (options_.strict) {
+                if (useMtl_[u].line < errorLine) {
+                    errorLine = useMtl_[u].line;
+                    error = "usemtl: unknown material " + quoteForMessage(useMtl_[u].name) + " (" +
+                            std::to_string(table_.materials.size()) + " materials defined" +
+                            (noMtllib ? ", no mtllib" : "") + ")";
+                }
+                continue;
+            }
+            // A default material under the name the file uses (so a JSON scene can still give it
+            // colours by name), one per name, after the libraries' materials.
+            unknown.note(useMtl_[u].line, quoteForMessage(useMtl_[u].name) + " on line " +
+                                              std::to_string(useMtl_[u].line));
             if (it != table_.byName.end()) {
                 useMtlMaterial[u] = it->second;
-            } else if (useMtl_[u].line < errorLine) {
-                errorLine = useMtl_[u].line;
-                error = "usemtl: unknown material " + quoteForMessage(useMtl_[u].name) + " (" +
-                        std::to_string(table_.materials.size()) + " materials defined" +
-                        (mtlFilesRead_.empty() && !mtlTextRead_ ? ", no mtllib" : "") + ")";
+                continue;
             }
+            if (table_.materials.size() >= kMaxSceneElements) {
+                throw makeSceneError(file_, useMtl_[u].line, "too many materials");
+            }
+            const auto index = static_cast<int32_t>(table_.materials.size());
+            table_.byName.emplace(useMtl_[u].name, index);
+            Material m;
+            m.name = useMtl_[u].name;
+            table_.materials.push_back(std::move(m));
+            useMtlMaterial[u] = index;
         }
         if (errorLine != INT64_MAX) throw makeSceneError(file_, errorLine, error);
         if (scene_.mesh.faces.empty()) throw makeSceneError(file_, 0, "no faces");
@@ -577,13 +644,42 @@ class ObjParser {
         for (int32_t u : faceUseMtl_) {
             scene_.faceMaterial.push_back(u < 0 ? -1 : useMtlMaterial[static_cast<size_t>(u)]);
         }
-        checkLoadedFaces(scene_, degenerate_);
+        // One warning line per kind, the material ones before the faces': the MTL files' own
+        // (newmtl without a name) came first; the default material's faces are counted in the
+        // repaired mesh.
+        if (unreadableMtl_.count > 0) {
+            scene_.warnings.push_back(
+                file_ + ":" + std::to_string(unreadableMtl_.line) +
+                ": mtllib: " + unreadableMtl_.what +
+                (unreadableMtl_.count > 1
+                     ? " (and " + std::to_string(unreadableMtl_.count - 1) + " more libraries)"
+                     : std::string()) +
+                "; its materials are missing");
+        }
+        const size_t unknownWarning = scene_.warnings.size();
+        checkLoadedFaces(scene_, options_.faces);
+        if (unknown.count > 0) {
+            const auto defaultFaces = static_cast<size_t>(std::count_if(
+                scene_.faceMaterial.begin(), scene_.faceMaterial.end(),
+                [&](int32_t m) { return m >= 0 && static_cast<size_t>(m) >= knownMaterials; }));
+            const std::string faces =
+                std::to_string(defaultFaces) + (defaultFaces == 1 ? " face uses" : " faces use");
+            scene_.warnings.insert(
+                scene_.warnings.begin() + static_cast<std::ptrdiff_t>(unknownWarning),
+                file_ + ": " +
+                    (unknown.count == 1
+                         ? "usemtl " + unknown.what + " names no material (" + context + ")"
+                         : std::to_string(unknown.count) +
+                               " usemtl lines name no material (first: " + unknown.what + "; " +
+                               context + ")") +
+                    ": " + faces + " a default diffuse material");
+        }
         return std::move(scene_);
     }
 
     const std::string& file_;
     MtlSource mtl_;
-    DegenerateFaces degenerate_;
+    LoadOptions options_;
     Scene scene_;
     MaterialTable table_;
     std::vector<UseMtl> useMtl_;
@@ -591,6 +687,7 @@ class ObjParser {
     int32_t currentUseMtl_ = -1;
     std::unordered_set<std::string> mtlFilesRead_;
     bool mtlTextRead_ = false;
+    Repair unreadableMtl_;  // mtllib lines whose library cannot be read (repair mode)
     std::vector<uint32_t> sortedScratch_;
 };
 
@@ -617,19 +714,18 @@ void writeAtomically(const fs::path& target, const std::string& text) {
 
 }  // namespace
 
-Scene loadObj(const std::filesystem::path& objPath, DegenerateFaces degenerate) {
+Scene loadObj(const std::filesystem::path& objPath, const LoadOptions& options) {
     const std::string file = objPath.string();
     std::string why;
     const std::optional<std::string> text = readFile(objPath, why);
     if (!text) throw makeSceneError(file, 0, "cannot read file: " + why);
-    ObjParser parser(file, MtlSource{std::nullopt, objPath.parent_path()}, degenerate);
+    ObjParser parser(file, MtlSource{std::nullopt, objPath.parent_path()}, options);
     return parser.parse(*text);
 }
 
 Scene loadObjFromString(std::string_view objText, std::string_view mtlText, std::string sourceName,
-                        DegenerateFaces degenerate) {
-    ObjParser parser(sourceName, MtlSource{mtlText, fs::path(sourceName).parent_path()},
-                     degenerate);
+                        const LoadOptions& options) {
+    ObjParser parser(sourceName, MtlSource{mtlText, fs::path(sourceName).parent_path()}, options);
     return parser.parse(objText);
 }
 

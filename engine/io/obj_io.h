@@ -6,7 +6,7 @@
 //   f a b c ...      faces; each vertex `v`, `v/vt`, `v//vn` or `v/vt/vn`, indices 1-based or
 //                    negative (relative: -1 is the last vertex so far); only v is used, vt and vn
 //                    must be nonzero integers
-//   usemtl NAME      material of the faces that follow (an unknown name is an error)
+//   usemtl NAME      material of the faces that follow
 //   mtllib FILE...   MTL libraries, relative to the OBJ's directory (the whole rest of the line
 //                    if that names a file, else whitespace-separated names)
 //   ignored: vt vn vp o g s l p mg lod bevel c_interp d_interp usemap maplib shadow_obj trace_obj
@@ -18,11 +18,25 @@
 // MTL: newmtl NAME, Kd, Ks, Ke (1 or 3 non-negative numbers), Ns (one non-negative number); key
 // case is ignored; every other key is ignored. A material defined twice is an error.
 //
+// Missing materials are repaired (LoadOptions, engine/io/load_options.h), each kind with one
+// warning line in Scene::warnings, and are errors in strict mode:
+//   - a usemtl naming no material (no mtllib, or a name the libraries do not define): its faces
+//     get a default diffuse material (Material's defaults, not emissive) named as the usemtl
+//     names it, appended after the libraries' materials ("model.obj: usemtl 'Default' on line 12
+//     names no material (no mtllib): 340 faces use a default diffuse material");
+//   - an mtllib whose library cannot be read: skipped ("model.obj:2: mtllib: cannot read material
+//     library ...; its materials are missing"); its usemtl names are then unknown, as above;
+//   - a newmtl without a name: that material and its statements are ignored (the warning names
+//     the MTL file and the line).
+// A repeated vertex index in a face is a degenerate face: dropped with the others under
+// DegenerateFaces::kDrop, an error under kReject.
+//
 // The scene: faces numbered from 0 in file order, faceSourceLine the 1-based OBJ line of each face,
 // faceMaterial the index into `materials` (MTL definition order) or -1 before any usemtl, lights
 // the faces whose material has a nonzero Ke (Scene::collectLights). The result is validated
 // (checkLoadedFaces, engine/scene/face_check.h): faces must be planar, strictly convex and
-// non-degenerate; with DegenerateFaces::kDrop zero-area faces are dropped with a warning instead.
+// non-degenerate; under DegenerateFaces::kDrop (the default) zero-area faces are dropped and other
+// polygons repaired with a warning instead (face numbers then refer to the repaired mesh).
 //
 // Every problem is a SceneError "file:line: message"; a face problem says "face N: ...". An empty
 // file, or one without faces, is the error "no faces".
@@ -32,21 +46,21 @@
 #include <string>
 #include <string_view>
 
-#include "engine/scene/face_check.h"
+#include "engine/io/load_options.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_error.h"
 
 namespace penumbra {
 
 // Reads the OBJ file and its MTL libraries, validates the scene, sets sourcePath to objPath.
-Scene loadObj(const std::filesystem::path& objPath,
-              DegenerateFaces degenerate = DegenerateFaces::kReject);
+// `options`: repair (the default) or strict mode, engine/io/load_options.h.
+Scene loadObj(const std::filesystem::path& objPath, const LoadOptions& options = {});
 
 // The same from memory: `mtlText` is the text of every MTL library the OBJ names (read once, even
 // if several mtllib names appear). sourceName is the OBJ name used in errors and sourcePath; MTL
 // errors name the library as the OBJ names it, relative to sourceName's directory.
 Scene loadObjFromString(std::string_view objText, std::string_view mtlText, std::string sourceName,
-                        DegenerateFaces degenerate = DegenerateFaces::kReject);
+                        const LoadOptions& options = {});
 
 // Writes the scene (validated first) as objPath and a sibling MTL file with the same stem and the
 // extension .mtl; both start with the comment "# penumbra scene v1". Positions are printed with 17

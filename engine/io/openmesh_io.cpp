@@ -4,6 +4,7 @@
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cctype>
 #include <charconv>
@@ -16,6 +17,7 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include "engine/scene/scene_validation.h"
@@ -143,6 +145,10 @@ struct PlyHeader {
     std::vector<PlyElement> elements;
     size_t bodyOffset = 0;  // first byte after "end_header\n"
     int bodyLine = 0;       // 1-based line number of the first body line
+    // Repair mode: header lines of no PLY keyword, skipped (byte ranges, their newline included),
+    // and the warning that says so.
+    std::vector<std::pair<size_t, size_t>> skippedLines;
+    std::string skippedWarning;
     uint64_t count(std::string_view element) const {
         for (const PlyElement& e : elements)
             if (e.name == element) return e.count;
@@ -169,11 +175,28 @@ int plyTypeSize(const std::string& t, bool* isSigned = nullptr) {
     return 0;
 }
 
-PlyHeader parsePlyHeader(const std::string& data, const std::string& file) {
+// A header line as a message quotes it: without surrounding blanks, at most 60 characters, bytes
+// outside printable ASCII as '?'.
+std::string quotedLine(std::string_view s) {
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+    std::string out = "'";
+    for (char c : s.substr(0, 60)) {
+        const auto u = static_cast<unsigned char>(c);
+        out += u >= 0x20 && u < 0x7f ? c : '?';
+    }
+    return out + (s.size() > 60 ? "...'" : "'");
+}
+
+// Parses and checks the header. A line of no PLY keyword (a tool's "Created by ..." outside a
+// comment) is an error when `strict`, else skipped (PlyHeader::skippedLines).
+PlyHeader parsePlyHeader(const std::string& data, const std::string& file, bool strict) {
     PlyHeader header;
     size_t pos = 0;
     int lineNo = 0;
     bool sawFormat = false;
+    int firstSkipped = 0;
+    std::string firstSkippedText;
     const auto fail = [&](const std::string& why) -> SceneError {
         return makeSceneError(file, lineNo, "PLY header: " + why);
     };
@@ -182,6 +205,7 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file) {
         size_t end = data.find('\n', pos);
         if (end == std::string::npos) throw fail("no end_header (truncated header)");
         std::string line = data.substr(pos, end - pos);
+        const size_t lineStart = pos;
         pos = end + 1;
         ++lineNo;
         if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -254,8 +278,20 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file) {
                                p.name + "' declared twice");
             header.elements.back().properties.push_back(p);
         } else {
-            throw fail("unknown keyword '" + key + "'");
+            if (strict) throw fail("unknown keyword '" + key + "'");
+            if (header.skippedLines.empty()) {
+                firstSkipped = lineNo;
+                firstSkippedText = line;
+            }
+            header.skippedLines.emplace_back(lineStart, pos);
         }
+    }
+    if (!header.skippedLines.empty()) {
+        const size_t n = header.skippedLines.size();
+        header.skippedWarning =
+            file + ":" + std::to_string(firstSkipped) + ": PLY header: line " +
+            quotedLine(firstSkippedText) + " is no header keyword (not a comment): skipped" +
+            (n > 1 ? " with " + std::to_string(n - 1) + " more such lines" : std::string());
     }
     if (!sawFormat) throw makeSceneError(file, 0, "PLY header: no format line");
     // Declarations a reader can rely on, before any reader sees the file: every item of an
@@ -565,6 +601,11 @@ struct StlFacts {
     bool binary = false;
     uint64_t facets = 0;
     std::vector<uint64_t> coincident;  // facets whose corners coincide (skipped by OpenMesh)
+    std::vector<std::array<float, 9>> coincidentCorners;  // their corners
+    // ASCII: every solid's facets as one solid in the plainest form, for OpenMesh to read, and
+    // the line of each facet (its "facet" keyword).
+    std::string text;
+    std::vector<int32_t> facetLines;
 };
 
 bool sameCorner(const float* a, const float* b) {
@@ -591,8 +632,11 @@ StlFacts inspectStl(const std::string& data, const std::string& file) {
                     }
                 }
                 if (sameCorner(c + 3, c + 6) || sameCorner(c + 3, c + 9) ||
-                    sameCorner(c + 6, c + 9))
+                    sameCorner(c + 6, c + 9)) {
                     facts.coincident.push_back(f);
+                    std::array<float, 9>& corners = facts.coincidentCorners.emplace_back();
+                    std::copy(c + 3, c + 12, corners.begin());
+                }
             }
             return facts;
         }
@@ -612,8 +656,10 @@ StlFacts inspectStl(const std::string& data, const std::string& file) {
         }
         throw makeSceneError(file, 0, why);
     }
-    // ASCII: count facets, check corners are finite, find facets with coinciding corners.
-    bool endSolid = false;
+    // ASCII: count facets, check corners are finite, find facets with coinciding corners, and
+    // write the facets out again as one solid. A file may hold several solids one after the other
+    // ("solid a ... endsolid a solid b ... endsolid b", as tools concatenate them): all are read.
+    // Anything after the last endsolid that does not start another solid is ignored.
     std::vector<float> corners;
     size_t pos = start;
     int line = 1;
@@ -628,13 +674,29 @@ StlFacts inspectStl(const std::string& data, const std::string& file) {
         token = std::string_view(data).substr(b, pos - b);
         return !token.empty();
     };
+    const auto skipRestOfLine = [&] {
+        while (pos < data.size() && data[pos] != '\n') ++pos;
+    };
+    const auto facetName = [&] { return "ASCII STL: facet " + std::to_string(facts.facets); };
+    facts.text = "solid penumbra\n";
     std::string_view token;
-    next(token);  // "solid"
-    // The solid's name: the rest of the first line.
-    while (pos < data.size() && data[pos] != '\n') ++pos;
+    next(token);       // "solid"
+    skipRestOfLine();  // the solid's name
+    bool endSolid = false;
+    int32_t facetLine = 0;
     while (next(token)) {
         const std::string t = lower(std::string(token));
-        if (t == "vertex") {
+        if (endSolid) {
+            // Between solids: another one, or the end of what is read.
+            if (t != "solid") break;
+            endSolid = false;
+            skipRestOfLine();
+            continue;
+        }
+        if (t == "facet") {
+            facetLine = line;
+        } else if (t == "vertex") {
+            if (facetLine == 0) facetLine = line;
             for (int k = 0; k < 3; ++k) {
                 std::string_view num;
                 if (!next(num)) throw makeSceneError(file, line, "ASCII STL: truncated vertex");
@@ -643,35 +705,93 @@ StlFacts inspectStl(const std::string& data, const std::string& file) {
                 const float v = std::strtof(s.c_str(), &endPtr);
                 if (endPtr != s.c_str() + s.size() || !std::isfinite(v)) {
                     throw makeSceneError(file, line,
-                                         "ASCII STL: facet " + std::to_string(facts.facets) +
-                                             ": bad vertex coordinate '" + s + "'");
+                                         facetName() + ": bad vertex coordinate '" + s + "'");
                 }
                 corners.push_back(v);
             }
         } else if (t == "endfacet") {
             if (corners.size() != 9) {
                 throw makeSceneError(file, line,
-                                     "ASCII STL: facet " + std::to_string(facts.facets) + " has " +
-                                         std::to_string(corners.size() / 3) +
+                                     facetName() + " has " + std::to_string(corners.size() / 3) +
                                          " vertices (expected 3)");
             }
             const float* c = corners.data();
-            if (sameCorner(c, c + 3) || sameCorner(c, c + 6) || sameCorner(c + 3, c + 6))
+            if (sameCorner(c, c + 3) || sameCorner(c, c + 6) || sameCorner(c + 3, c + 6)) {
                 facts.coincident.push_back(facts.facets);
+                std::array<float, 9>& kept = facts.coincidentCorners.emplace_back();
+                std::copy(c, c + 9, kept.begin());
+            }
+            facts.text += "facet normal 0 0 0\nouter loop\n";
+            for (int k = 0; k < 3; ++k) {
+                char buf[64];
+                // Nine significant digits give the float back exactly.
+                std::snprintf(buf, sizeof buf, "vertex %.9g %.9g %.9g\n", double(c[3 * k]),
+                              double(c[3 * k + 1]), double(c[3 * k + 2]));
+                facts.text += buf;
+            }
+            facts.text += "endloop\nendfacet\n";
+            facts.facetLines.push_back(facetLine);
+            facetLine = 0;
             corners.clear();
             ++facts.facets;
         } else if (t == "endsolid") {
+            if (!corners.empty()) {
+                throw makeSceneError(file, line, facetName() + " has no endfacet before endsolid");
+            }
             endSolid = true;
-            break;
+            skipRestOfLine();  // the solid's name
         }
     }
     if (!endSolid) throw makeSceneError(file, 0, "ASCII STL: no endsolid (truncated file)");
+    facts.text += "endsolid penumbra\n";
     return facts;
+}
+
+// OpenMesh skips the STL facets whose corners coincide: they are put back in their place, as
+// triangles of the vertices at their corners (existing ones where OpenMesh merged that corner,
+// else new), so that face numbers are facet numbers and checkLoadedFaces drops them (or refuses
+// them) with every other degenerate face, in one warning.
+void restoreCoincidentFacets(vis::PolygonMesh& mesh, const StlFacts& stl) {
+    struct Key {
+        double x, y, z;
+        bool operator==(const Key& o) const { return x == o.x && y == o.y && z == o.z; }
+    };
+    struct Hash {
+        size_t operator()(const Key& k) const {
+            const std::hash<double> h;
+            return h(k.x) ^ (h(k.y) * 31) ^ (h(k.z) * 1000003);
+        }
+    };
+    std::unordered_map<Key, uint32_t, Hash> byPosition;
+    for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+        const Vec3& p = mesh.vertices[v];
+        byPosition.emplace(Key{p.x, p.y, p.z}, static_cast<uint32_t>(v));
+    }
+    std::vector<std::vector<uint32_t>> faces;
+    faces.reserve(stl.facets);
+    size_t read = 0, skipped = 0;
+    for (uint64_t facet = 0; facet < stl.facets; ++facet) {
+        if (skipped < stl.coincident.size() && stl.coincident[skipped] == facet) {
+            const std::array<float, 9>& c = stl.coincidentCorners[skipped++];
+            std::vector<uint32_t> face;
+            for (int k = 0; k < 3; ++k) {
+                const Key key{c[3 * k], c[3 * k + 1], c[3 * k + 2]};
+                const auto [it, added] =
+                    byPosition.emplace(key, static_cast<uint32_t>(mesh.vertices.size()));
+                if (added) mesh.vertices.push_back({key.x, key.y, key.z});
+                face.push_back(it->second);
+            }
+            faces.push_back(std::move(face));
+        } else {
+            faces.push_back(std::move(mesh.faces[read++]));
+        }
+    }
+    mesh.faces = std::move(faces);
 }
 
 }  // namespace
 
-Scene loadOpenMeshFile(const fs::path& path, DegenerateFaces degenerate) {
+Scene loadOpenMeshFile(const fs::path& path, const LoadOptions& options) {
     const std::string file = path.string();
     const std::string extension = lower(path.extension().string());
     if (extension != ".ply" && extension != ".off" && extension != ".stl") {
@@ -687,8 +807,9 @@ Scene loadOpenMeshFile(const fs::path& path, DegenerateFaces degenerate) {
     StlFacts stl;
     CleanOff off;
     std::string trailingWarning;
+    std::string cleanPly;  // the PLY without its skipped header lines, when it has any
     if (extension == ".ply") {
-        const PlyHeader header = parsePlyHeader(data, file);
+        const PlyHeader header = parsePlyHeader(data, file, options.strict);
         expectedVertices = header.count("vertex");
         expectedFaces = header.count("face");
         if (header.format == PlyHeader::kAscii) {
@@ -700,6 +821,15 @@ Scene loadOpenMeshFile(const fs::path& path, DegenerateFaces degenerate) {
                                   " bytes after the last PLY element ignored";
             }
         }
+        if (!header.skippedLines.empty()) {
+            scene.warnings.push_back(header.skippedWarning);
+            size_t from = 0;
+            for (const auto& [begin, end] : header.skippedLines) {
+                cleanPly.append(data, from, begin - from);
+                from = end;
+            }
+            cleanPly.append(data, from, std::string::npos);
+        }
     } else if (extension == ".off") {
         off = cleanAsciiOff(data, file);
         expectedVertices = off.vertices;
@@ -708,9 +838,10 @@ Scene loadOpenMeshFile(const fs::path& path, DegenerateFaces degenerate) {
         stl = inspectStl(data, file);
         expectedFaces = stl.facets - stl.coincident.size();
         checkVertexCount = false;  // merged corners
-        if (!stl.coincident.empty() && degenerate == DegenerateFaces::kReject) {
-            throw makeSceneError(file, 0,
-                                 "face " + std::to_string(stl.coincident.front()) +
+        if (!stl.coincident.empty() && options.faces == DegenerateFaces::kReject) {
+            const uint64_t first = stl.coincident.front();
+            throw makeSceneError(file, first < stl.facetLines.size() ? stl.facetLines[first] : 0,
+                                 "face " + std::to_string(first) +
                                      ": degenerate (zero area): two corners coincide (" +
                                      std::to_string(stl.coincident.size()) + " such facets)");
         }
@@ -720,13 +851,19 @@ Scene loadOpenMeshFile(const fs::path& path, DegenerateFaces degenerate) {
     }
 
     PolygonImporter importer(scene.mesh);
-    OMIO::Options options = OMIO::Options::Default;
+    OMIO::Options readOptions = OMIO::Options::Default;
     bool read = false;
     if (extension == ".off") {
         std::istringstream in(off.text);
-        read = OMIO::IOManager().read(in, "off", importer, options);
+        read = OMIO::IOManager().read(in, "off", importer, readOptions);
+    } else if (extension == ".stl" && !stl.binary) {
+        std::istringstream in(stl.text);
+        read = OMIO::IOManager().read(in, "stl", importer, readOptions);
+    } else if (!cleanPly.empty()) {
+        std::istringstream in(cleanPly);
+        read = OMIO::IOManager().read(in, "ply", importer, readOptions);
     } else {
-        read = OMIO::IOManager().read(file, importer, options);
+        read = OMIO::IOManager().read(file, importer, readOptions);
     }
     if (!read) {
         throw makeSceneError(file, 0, "OpenMesh could not read the file (malformed or truncated)");
@@ -749,21 +886,10 @@ Scene loadOpenMeshFile(const fs::path& path, DegenerateFaces degenerate) {
     }
     if (!trailingWarning.empty()) scene.warnings.push_back(trailingWarning);
 
-    FaceNamer namer;
-    if (!stl.coincident.empty()) {
-        // Faces read skip the facets with coinciding corners: name faces by facet index.
-        const std::vector<uint64_t> skipped = stl.coincident;
-        namer = [skipped](uint32_t f) {
-            uint64_t facet = f;
-            for (uint64_t s : skipped) facet += s <= facet;
-            return "face " + std::to_string(facet);
-        };
-        scene.warnings.push_back(file + ": dropped " + std::to_string(skipped.size()) +
-                                 " degenerate STL facets whose corners coincide (first: face " +
-                                 std::to_string(skipped.front()) + ")");
-    }
+    if (!stl.coincident.empty()) restoreCoincidentFacets(scene.mesh, stl);
+    if (extension == ".stl" && !stl.binary) scene.faceSourceLine = std::move(stl.facetLines);
     scene.faceMaterial.assign(scene.mesh.faces.size(), -1);
-    checkLoadedFaces(scene, degenerate, namer);
+    checkLoadedFaces(scene, options.faces);
     return scene;
 }
 

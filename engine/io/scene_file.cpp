@@ -26,8 +26,8 @@ using Json = nlohmann::json;
 
 class SceneFileReader {
   public:
-    SceneFileReader(std::string file, fs::path baseDirectory)
-        : file_(std::move(file)), base_(std::move(baseDirectory)) {}
+    SceneFileReader(std::string file, fs::path baseDirectory, const LoadOptions& options)
+        : file_(std::move(file)), base_(std::move(baseDirectory)), options_(options) {}
 
     Scene read(std::string_view text) {
         Json root;
@@ -96,9 +96,11 @@ class SceneFileReader {
                 where() + ": the number " + token + " is beyond the range of a double");
         }
         if (!root.is_object()) fail("(root)", "expected a JSON object");
-        allowKeys(root, "(root)",
-                  {"meshes", "polygons", "area_lights", "point_lights", "camera", "comment"});
+        allowKeys(
+            root, "(root)",
+            {"meshes", "polygons", "area_lights", "point_lights", "camera", "strict", "comment"});
         scene_.sourcePath = file_;
+        if (root.contains("strict")) strict_ = boolean(root["strict"], "strict");
 
         std::optional<Camera> meshCamera;
         if (root.contains("meshes")) {
@@ -179,6 +181,10 @@ class SceneFileReader {
         }
     }
 
+    bool boolean(const Json& j, const std::string& path) const {
+        if (!j.is_boolean()) fail(path, "expected true or false");
+        return j.get<bool>();
+    }
     const Json& array(const Json& j, const std::string& path) const {
         if (!j.is_array()) fail(path, "expected an array");
         return j;
@@ -361,7 +367,7 @@ class SceneFileReader {
     void addMesh(const Json& j, const std::string& path, std::optional<Camera>& meshCamera) {
         object(j, path);
         allowKeys(j, path,
-                  {"file", "transform", "fit_into", "material", "materials",
+                  {"file", "transform", "fit_into", "material", "materials", "strict",
                    "drop_degenerate_faces", "comment"});
         if (!j.contains("file") || !j["file"].is_string() || j["file"].get<std::string>().empty())
             fail(path + ".file", "expected a file name");
@@ -374,12 +380,17 @@ class SceneFileReader {
             fail(path + ".file", "unknown format '" + ext + "' (supported: " +
                                      supportedSceneExtensions() + ", except .json)");
         }
-        DegenerateFaces policy = DegenerateFaces::kReject;
+        // The caller's options (the command line's --strict), made strict by the file's or the
+        // entry's "strict"; "drop_degenerate_faces" then decides the faces alone.
+        LoadOptions options = options_;
+        const bool strict = j.contains("strict") ? boolean(j["strict"], path + ".strict") : strict_;
+        if (strict) options = LoadOptions::strictMode();
         if (j.contains("drop_degenerate_faces")) {
-            if (!j["drop_degenerate_faces"].is_boolean())
-                fail(path + ".drop_degenerate_faces", "expected true or false");
-            if (j["drop_degenerate_faces"].get<bool>()) policy = DegenerateFaces::kDrop;
+            options.faces = boolean(j["drop_degenerate_faces"], path + ".drop_degenerate_faces")
+                                ? DegenerateFaces::kDrop
+                                : DegenerateFaces::kReject;
         }
+        const DegenerateFaces policy = options.faces;
         // Validate the entry before the (possibly slow) load.
         Affine3 toWorld;
         if (j.contains("transform")) toWorld = transform(j["transform"], path + ".transform");
@@ -397,7 +408,7 @@ class SceneFileReader {
 
         Scene part;
         try {
-            part = loadScene(meshPath, policy);
+            part = loadScene(meshPath, options);
         } catch (const SceneError& e) {
             fail(path, e.what());
         }
@@ -503,6 +514,8 @@ class SceneFileReader {
 
     std::string file_;
     fs::path base_;
+    LoadOptions options_;
+    bool strict_ = false;  // the file's "strict"
     Scene scene_;
     std::unordered_set<std::string> materialNames_;
     int meshIndex_ = 0;
@@ -510,18 +523,18 @@ class SceneFileReader {
 
 }  // namespace
 
-Scene loadJsonScene(const fs::path& path) {
+Scene loadJsonScene(const fs::path& path, const LoadOptions& options) {
     const std::string file = path.string();
     std::ifstream in(path, std::ios::binary);
     if (!in) throw makeSceneError(file, 0, "cannot open file");
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
     if (in.bad()) throw makeSceneError(file, 0, "cannot read file");
-    return loadJsonSceneFromString(text, path.parent_path(), file);
+    return loadJsonSceneFromString(text, path.parent_path(), file, options);
 }
 
 Scene loadJsonSceneFromString(std::string_view json, const fs::path& baseDirectory,
-                              std::string sourceName) {
-    SceneFileReader reader(std::move(sourceName), baseDirectory);
+                              std::string sourceName, const LoadOptions& options) {
+    SceneFileReader reader(std::move(sourceName), baseDirectory, options);
     return reader.read(json);
 }
 

@@ -13,8 +13,13 @@
 //     "material": M,                     //   optional: every face gets this one material
 //     "materials": {"NAME": M, ...},     //   optional: changes the given fields of the mesh's
 //                                        //   own materials (by name)
-//     "drop_degenerate_faces": false     //   optional: drop zero-area faces, with a warning
+//     "strict": false,                   //   optional: this mesh's repairs are errors
+//                                        //   (overrides the file's "strict")
+//     "drop_degenerate_faces": true      //   optional: true drops degenerate faces (and repairs
+//                                        //   non-planar and non-convex ones) with a warning even
+//                                        //   when strict; false refuses them even when not
 //   }],
+//   "strict": false,                     // optional: every mesh loads in strict mode
 //   "polygons": [{"vertices": [[x, y, z], ...], "material": M}],   // optional: plain faces
 //   "area_lights": [{"vertices": [[x, y, z], ...], "emission": E, "kd": C}],   // optional
 //   "point_lights": [{"position": [x, y, z], "intensity": E}],        // optional
@@ -36,6 +41,12 @@
 // box's lamp, stay lights). The camera is "camera", else the first mesh's camera (transformed),
 // else none. Point lights are those of the file plus the meshes' (transformed). Materials are the
 // meshes' (names made unique with a suffix "_2", "_3", ...) followed by the file's own.
+// Repairs (engine/io/load_options.h, docs/formats.md): a mesh file loads in repair mode, its
+// repairs reported as warnings ("scene.json: meshes[0]: <the mesh file's warning>"), unless the
+// caller asks for strict mode (the command line's --strict: every mesh strict, whatever the file
+// says) or the file does ("strict" at the top level or in the mesh entry, the entry's winning);
+// "drop_degenerate_faces" then sets the face policy alone. Polygons and area lights are never
+// repaired.
 // Unknown keys are errors (they are usually typos). Every error is a SceneError naming the JSON
 // file and the JSON path of the element: "scene.json: meshes[2].transform.scale: expected a
 // number or 3 numbers"; an error inside a mesh file reads "scene.json: meshes[2]: <the mesh
@@ -46,18 +57,20 @@
 #include <string>
 #include <string_view>
 
+#include "engine/io/load_options.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_error.h"
 
 namespace penumbra {
 
-// Reads a JSON scene file and every mesh file it names.
-Scene loadJsonScene(const std::filesystem::path& path);
+// Reads a JSON scene file and every mesh file it names; `options` is the caller's (strict mode
+// makes every mesh strict).
+Scene loadJsonScene(const std::filesystem::path& path, const LoadOptions& options = {});
 
 // The same from memory: mesh paths are relative to `baseDirectory`; `sourceName` names the file in
 // errors and becomes sourcePath.
 Scene loadJsonSceneFromString(std::string_view json, const std::filesystem::path& baseDirectory,
-                              std::string sourceName);
+                              std::string sourceName, const LoadOptions& options = {});
 
 // The text of a JSON scene file, to be written at `target`, that shows the scene of `source` (a
 // JSON scene or a mesh file of any supported format) from `camera`: a JSON source is kept as it is

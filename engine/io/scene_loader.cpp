@@ -41,7 +41,7 @@ bool isSupportedSceneExtension(std::string_view extension) {
     return false;
 }
 
-Scene loadScene(const std::filesystem::path& path, DegenerateFaces degenerate) {
+Scene loadScene(const std::filesystem::path& path, const LoadOptions& options) {
     std::error_code ec;
     const std::filesystem::file_status status = std::filesystem::status(path, ec);
     if (!std::filesystem::exists(status)) throw makeSceneError(path.string(), 0, "no such file");
@@ -53,11 +53,11 @@ Scene loadScene(const std::filesystem::path& path, DegenerateFaces degenerate) {
         validateLights(scene);
         return scene;
     };
-    if (e == ".obj") return lightsChecked(loadObj(path, degenerate));
+    if (e == ".obj") return lightsChecked(loadObj(path, options));
     if (e == ".ply" || e == ".off" || e == ".stl")
-        return lightsChecked(loadOpenMeshFile(path, degenerate));
-    if (e == ".gltf" || e == ".glb") return lightsChecked(loadGltf(path, degenerate));
-    if (e == ".json") return lightsChecked(loadJsonScene(path));
+        return lightsChecked(loadOpenMeshFile(path, options));
+    if (e == ".gltf" || e == ".glb") return lightsChecked(loadGltf(path, options));
+    if (e == ".json") return lightsChecked(loadJsonScene(path, options));
     throw makeSceneError(path.string(), 0,
                          "unknown scene format '" +
                              (e.empty() ? std::string("(no extension)") : e) +

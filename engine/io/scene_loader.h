@@ -5,15 +5,17 @@
 //                                       transforms, camera)
 //   .json         engine/io/scene_file.h  (composition of the above, with lights and a camera)
 // Every face is validated (engine/scene/scene_validation.h via engine/scene/face_check.h); problems
-// are SceneErrors naming the file and the element. Warnings (e.g. dropped degenerate faces) are in
-// Scene::warnings.
+// are SceneErrors naming the file and the element. What other tools repair (degenerate faces,
+// non-planar and non-convex polygons, missing OBJ materials, unknown PLY header lines) is repaired
+// by default with one warning line per kind and file in Scene::warnings, and refused in strict
+// mode (engine/io/load_options.h; docs/formats.md lists both).
 #pragma once
 
 #include <filesystem>
 #include <string>
 #include <string_view>
 
-#include "engine/scene/face_check.h"
+#include "engine/io/load_options.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_error.h"
 
@@ -25,10 +27,10 @@ std::string supportedSceneExtensions();
 // True when loadScene can read files with this extension ("." included, any case).
 bool isSupportedSceneExtension(std::string_view extension);
 
-// Reads the file. `degenerate` applies to mesh formats; a JSON file decides per mesh entry
-// ("drop_degenerate_faces"). Throws SceneError; an unknown extension is the SceneError
+// Reads the file in repair mode (the default) or strict mode; a JSON scene file takes `options`
+// for its meshes unless it says otherwise ("strict", "drop_degenerate_faces":
+// engine/io/scene_file.h). Throws SceneError; an unknown extension is the SceneError
 // "unknown scene format '.xyz' (supported: ...)".
-Scene loadScene(const std::filesystem::path& path,
-                DegenerateFaces degenerate = DegenerateFaces::kReject);
+Scene loadScene(const std::filesystem::path& path, const LoadOptions& options = {});
 
 }  // namespace penumbra

@@ -278,6 +278,66 @@ TEST_F(CliTest, MalformedSceneIsAnInputError) {
     expectError({"query", path("broken.obj").string(), "--point", "0,0,0"}, 1, {"broken.obj:3"});
 }
 
+// The test scene with what other tools repair: a degenerate face after the floor (line 20) and a
+// usemtl naming no material (line 25) for the ceiling.
+const char* kRepairObj =
+    "mtllib scene.mtl\n"
+    "v -2 -2 0\nv 2 -2 0\nv 2 2 0\nv -2 2 0\n"                  // lines 2-5
+    "v -0.5 -0.5 2\nv -0.5 0.5 2\nv 0.5 0.5 2\nv 0.5 -0.5 2\n"  // 6-9
+    "v 0 -0.5 1\nv 0 0.5 1\nv 1 0.5 1\nv 1 -0.5 1\n"            // 10-13
+    "v -2 -2 3\nv -2 2 3\nv 2 2 3\nv 2 -2 3\n"                  // 14-17
+    "usemtl white\nf 1 2 3 4\nf 1 2 1\n"                        // 18-20
+    "usemtl lamp\nf 5 6 7 8\n"                                  // 21-22
+    "usemtl white\nf 9 10 11 12\n"                              // 23-24
+    "usemtl wood\nf 13 14 15 16\n";                             // 25-26
+
+TEST_F(CliTest, RepairsAreWarningsAndTheRepairedMeshIsQueried) {
+    write("repair.obj", kRepairObj);
+    const std::string file = path("repair.obj").string();
+    const ProcessResult r = runPenumbra({"query", file, "--point", "0,0,0"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::vector<std::string> err = lines(r.err);
+    ASSERT_EQ(err.size(), 2u) << r.err;
+    EXPECT_EQ(err[0], "penumbra: warning: " + file +
+                          ": usemtl 'wood' on line 25 names no material (2 materials defined): 1 "
+                          "face uses a default diffuse material");
+    EXPECT_EQ(err[1].rfind("penumbra: warning: " + file + ": dropped 1 degenerate", 0), 0u)
+        << err[1];
+    EXPECT_NE(err[1].find("(first: face 1, line 20: "), std::string::npos) << err[1];
+    // Faces are the repaired mesh's: the light, the file's face 2, is face 1.
+    const std::vector<std::string> out = lines(r.out);
+    ASSERT_EQ(out.size(), 1u) << r.out;
+    const json j = json::parse(out[0]);
+    EXPECT_EQ(j["face"], 0);
+    ASSERT_EQ(j["lights"].size(), 1u);
+    EXPECT_EQ(j["lights"][0]["light_face"], 1);
+    EXPECT_NEAR(j["lights"][0]["fraction"].get<double>(), 0.5, 1e-12);
+}
+
+TEST_F(CliTest, StrictTurnsRepairsIntoErrorsInEveryCommand) {
+    write("repair.obj", kRepairObj);
+    const std::string file = path("repair.obj").string();
+    const std::vector<std::string> degenerate = {file + ":20: face 1: vertex 1 repeated"};
+    expectError({"query", file, "--point", "0,0,0", "--strict"}, 1, degenerate);
+    expectError({"render", file, "--out", path("x.png").string(), "--size", "8x8", "--strict"}, 1,
+                degenerate);
+    expectError({"precompute", file, "-o", path("x.pvis").string(), "--strict"}, 1, degenerate);
+    EXPECT_FALSE(fs::exists(path("x.png")));
+    EXPECT_FALSE(fs::exists(path("x.pvis")));
+    // Without the degenerate face, the missing material is the error.
+    std::string materials = kRepairObj;
+    materials.replace(materials.find("f 1 2 1\n"), 8, "# no face\n");
+    write("materials.obj", materials);
+    expectError({"query", path("materials.obj").string(), "--point", "0,0,0", "--strict"}, 1,
+                {path("materials.obj").string() + ":25: usemtl: unknown material 'wood'"});
+    // Every command that loads a scene takes --strict.
+    for (const char* command : {"query", "render", "precompute", "view", "screenshot", "bench"}) {
+        const ProcessResult help = runPenumbra({command, "--help"});
+        EXPECT_EQ(help.exitCode, 0) << command;
+        EXPECT_NE(help.out.find("--strict"), std::string::npos) << command << "\n" << help.out;
+    }
+}
+
 TEST_F(CliTest, MalformedPointIsAUsageError) {
     expectError({"query", scene(), "--point", "1,2"}, 2, {"--point", "'1,2'"});
     expectError({"query", scene(), "--point", "1,2,3,4"}, 2, {"--point"});

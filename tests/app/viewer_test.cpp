@@ -175,6 +175,51 @@ TEST(ViewerScreenshot, ExactOptionsInTheUiAreTheCommandLines) {
     EXPECT_EQ(g["lightSamples"], 9);
 }
 
+// A scene the loader repairs: its warnings are on stderr, in the status line and in the Scene
+// panel (the state JSON's "sceneWarnings"); --strict refuses it with the loader's error.
+TEST(ViewerScreenshot, LoaderWarningsReachTheSceneStatusAndStderr) {
+    const fs::path dir = test::scratchDir("viewer_loader_warnings");
+    std::ofstream(dir / "lamp.mtl") << "newmtl lamp\nKe 5 5 5\n";
+    std::ofstream(dir / "repair.obj")
+        << "mtllib lamp.mtl\nv -2 0 -2\nv -2 0 2\nv 2 0 2\nv 2 0 -2\n"    // lines 1-5
+           "v -1 2 -1\nv 1 2 -1\nv 1 2 1\nv -1 2 1\n"                     // 6-9
+           "usemtl floor\nf 1 2 3 4\nf 1 2 2\nusemtl lamp\nf 5 6 7 8\n";  // 10-14
+    const std::string scene = (dir / "repair.obj").string();
+    const std::vector<std::string> args = {"screenshot",
+                                           scene,
+                                           "--size",
+                                           "640x400",
+                                           "--no-preview",
+                                           "--out",
+                                           (dir / "shot.png").string(),
+                                           "--state-out",
+                                           (dir / "state.json").string()};
+    const test::ProcessResult r = test::runPenumbraGl(args);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string usemtl = scene +
+                               ": usemtl 'floor' on line 10 names no material (1 materials "
+                               "defined): 1 face uses a default diffuse material";
+    EXPECT_NE(r.err.find("penumbra: warning: " + usemtl + "\n"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("penumbra: warning: " + scene + ": dropped 1 degenerate"),
+              std::string::npos)
+        << r.err;
+    const json state = test::readJson(dir / "state.json");
+    ASSERT_EQ(state["sceneWarnings"].size(), 2u) << state["sceneWarnings"].dump();
+    EXPECT_EQ(state["sceneWarnings"][0], usemtl);
+    EXPECT_NE(state["sceneWarnings"][1].get<std::string>().find("line 12"), std::string::npos)
+        << state["sceneWarnings"][1];
+    EXPECT_NE(state["status"].get<std::string>().find("2 faces, 1 area lights; 2 warnings, the "
+                                                      "first: " +
+                                                      usemtl),
+              std::string::npos)
+        << state["status"];
+    std::vector<std::string> strict = args;
+    strict.push_back("--strict");
+    const test::ProcessResult s = test::runPenumbraGl(strict);
+    EXPECT_EQ(s.exitCode, 1) << s.err;
+    EXPECT_NE(s.err.find(scene + ":12: face 1: vertex 2 repeated"), std::string::npos) << s.err;
+}
+
 TEST(ViewerLayout, ViewBetweenTheColumns) {
     const viewer::Layout l = viewer::computeLayout(1280, 800);
     EXPECT_EQ(l.view.x, l.leftWidth);

@@ -255,16 +255,100 @@ TEST_F(GltfIo, MalformedAndTruncatedFilesAreErrors) {
     expectLoadError([&] { loadGltf(n); }, n, {});
 }
 
-TEST_F(GltfIo, DegenerateTriangleNamesPrimitiveAndTriangle) {
+TEST_F(GltfIo, DegenerateTriangleIsDroppedByDefaultAndNamedWhenStrict) {
     Json g = testGltf();
     // The second quad triangle (0, 2, 2) repeats a vertex.
-    const fs::path p = write("deg.gltf", embedded(g, testBuffer(0, 2)));
-    expectLoadError([&] { loadGltf(p); }, p, {"node 1 mesh 0 primitive 0 triangle 1", "repeated"});
-    const Scene scene = loadGltf(p, DegenerateFaces::kDrop);
-    EXPECT_EQ(scene.faceCount(), 2u);
-    EXPECT_EQ(scene.lights, (std::vector<uint32_t>{1}));
-    ASSERT_EQ(scene.warnings.size(), 1u);
-    EXPECT_NE(scene.warnings[0].find("dropped 1"), std::string::npos) << scene.warnings[0];
+    for (const bool binary : {false, true}) {
+        const fs::path p = binary ? write("deg.glb", glb(g, testBuffer(0, 2)))
+                                  : write("deg.gltf", embedded(g, testBuffer(0, 2)));
+        expectLoadError([&] { loadGltf(p, LoadOptions::strictMode()); }, p,
+                        {"node 1 mesh 0 primitive 0 triangle 1", "repeated"});
+        const Scene scene = loadGltf(p);
+        EXPECT_EQ(scene.mesh.faces, (std::vector<std::vector<uint32_t>>{{0, 1, 2}, {4, 5, 6}}));
+        EXPECT_EQ(scene.faceMaterial, (std::vector<int32_t>{0, 1}));
+        EXPECT_EQ(scene.lights, (std::vector<uint32_t>{1}));
+        ASSERT_EQ(scene.warnings.size(), 1u);
+        EXPECT_NE(scene.warnings[0].find(p.string() + ": dropped 1 degenerate"), std::string::npos)
+            << scene.warnings[0];
+        EXPECT_NE(scene.warnings[0].find("node 1 mesh 0 primitive 0 triangle 1"), std::string::npos)
+            << scene.warnings[0];
+    }
+}
+
+// glTF 1.0, unsupported versions and required extensions are refused with a message that says what
+// is unsupported, before tinygltf misreports them.
+TEST_F(GltfIo, GltfOneIsRefusedSayingSo) {
+    // asset.version "1.0" with 1.0's dictionaries.
+    const Json v1 = Json::parse(R"({
+      "asset": {"version": "1.0"},
+      "meshes": {"mesh0": {"primitives": [{"attributes": {"POSITION": "acc0"}, "mode": 4}]}},
+      "accessors": {"acc0": {"bufferView": "bv0", "componentType": 5126, "type": "VEC3",
+                             "count": 3}}
+    })");
+    const fs::path a = write("v1.gltf", v1.dump());
+    expectLoadError([&] { loadGltf(a); }, a,
+                    {"glTF 1.0 is not supported (asset.version \"1.0\"); only glTF 2.0 is"});
+    // No asset object: the dictionaries say 1.0.
+    Json noAsset = v1;
+    noAsset.erase("asset");
+    const fs::path b = write("v1_noasset.gltf", noAsset.dump());
+    expectLoadError([&] { loadGltf(b); }, b,
+                    {"glTF 1.0 is not supported (\"meshes\" is a dictionary", "only glTF 2.0 is"});
+    // A binary glTF 1.0 (GLB version 1).
+    std::string glb1 = "glTF";
+    putU32(glb1, 1);
+    putU32(glb1, 20);
+    putU32(glb1, 0);
+    putU32(glb1, 0);
+    const fs::path c = write("v1.glb", glb1);
+    expectLoadError([&] { loadGltf(c); }, c, {"GLB version 1", "glTF 1.0", "only glTF 2.0 is"});
+    // A version from the future.
+    Json v3 = testGltf();
+    v3["asset"]["version"] = "3.0";
+    const fs::path d = write("v3.gltf", embedded(v3, testBuffer()));
+    expectLoadError([&] { loadGltf(d); }, d, {"glTF version \"3.0\" is not supported"});
+    // 2.x minor versions are 2.0's.
+    Json v21 = testGltf();
+    v21["asset"]["version"] = "2.1";
+    expectTestScene(loadGltf(write("v21.gltf", embedded(v21, testBuffer()))));
+}
+
+TEST_F(GltfIo, DracoAndUnknownRequiredExtensionsAreRefusedByName) {
+    // Draco required: the primitive's accessors have no buffer view (the data is compressed).
+    Json draco = testGltf();
+    draco["extensionsUsed"].push_back("KHR_draco_mesh_compression");
+    draco["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+    draco["meshes"][0]["primitives"][0]["extensions"] = {
+        {"KHR_draco_mesh_compression", {{"bufferView", 0}, {"attributes", {{"POSITION", 0}}}}}};
+    draco["accessors"][0].erase("bufferView");
+    for (const bool binary : {false, true}) {
+        const fs::path p = binary ? write("draco.glb", glb(draco, testBuffer()))
+                                  : write("draco.gltf", embedded(draco, testBuffer()));
+        expectLoadError([&] { loadGltf(p); }, p,
+                        {"required extension KHR_draco_mesh_compression",
+                         "Draco-compressed meshes are not supported"});
+    }
+    // Draco used, not required, without the uncompressed fallback: refused naming the primitive.
+    Json optional = draco;
+    optional.erase("extensionsRequired");
+    const fs::path q = write("draco_used.gltf", embedded(optional, testBuffer()));
+    expectLoadError([&] { loadGltf(q); }, q,
+                    {"mesh 0 primitive 0: compressed with KHR_draco_mesh_compression"});
+    // With the fallback (POSITION keeps its buffer view), the uncompressed data loads.
+    Json fallback = optional;
+    fallback["accessors"][0]["bufferView"] = 0;
+    expectTestScene(loadGltf(write("draco_fallback.gltf", embedded(fallback, testBuffer()))));
+    // Any other required extension the loader does not implement is named.
+    Json quantized = testGltf();
+    quantized["extensionsRequired"] = {"KHR_materials_emissive_strength", "KHR_mesh_quantization"};
+    const fs::path r = write("quantized.gltf", embedded(quantized, testBuffer()));
+    expectLoadError([&] { loadGltf(r); }, r,
+                    {"required extension \"KHR_mesh_quantization\" is not supported (supported: "
+                     "KHR_materials_emissive_strength"});
+    // Required extensions it implements or whose content it never reads are fine.
+    Json fine = testGltf();
+    fine["extensionsRequired"] = {"KHR_materials_emissive_strength", "KHR_texture_transform"};
+    expectTestScene(loadGltf(write("fine.gltf", embedded(fine, testBuffer()))));
 }
 
 }  // namespace

@@ -26,10 +26,10 @@ class HostileInput : public test::LoaderFiles {
     // Loading `bytes` as `name` fails with a SceneError about that file whose message has every
     // one of `needles`.
     void refused(const std::string& name, const std::string& bytes,
-                 std::initializer_list<const char*> needles) {
+                 std::initializer_list<const char*> needles, const LoadOptions& options = {}) {
         const fs::path p = write(name, bytes);
         try {
-            (void)loadScene(p);
+            (void)loadScene(p, options);
             ADD_FAILURE() << name << ": loaded";
         } catch (const SceneError& e) {
             EXPECT_EQ(e.file, p.string()) << e.what();
@@ -85,12 +85,22 @@ TEST_F(HostileInput, LightsThinnerThanDoublesResolveAreRefused) {
     write("s.mtl", kMtl);
     // The fuzzed glb's light as an OBJ: 2 units long, area 6e-39, whose edge vectors from its
     // first vertex round to the same vector: its area rounds to zero.
-    refused("sliver.obj",
-            "mtllib s.mtl\nv -2 0 -2\nv 2 0 -2\nv 0 0 2\n"
-            "v -0.5 -1.99969482421875 -0.50001519918441772\nv 0 2 1.7540579766176321e-38\n"
-            "v 5.4182942733214815e-39 2 5.6051938572992683e-45\nusemtl white\nf 1 3 2\n"
-            "usemtl lamp\nf 4 5 6\n",
-            {"face 1", "its area rounds to zero"});
+    // A face whose area rounds to zero is degenerate: refused in strict mode, dropped (with the
+    // light it was) in repair mode.
+    const std::string sliver =
+        "mtllib s.mtl\nv -2 0 -2\nv 2 0 -2\nv 0 0 2\n"
+        "v -0.5 -1.99969482421875 -0.50001519918441772\nv 0 2 1.7540579766176321e-38\n"
+        "v 5.4182942733214815e-39 2 5.6051938572992683e-45\nusemtl white\nf 1 3 2\n"
+        "usemtl lamp\nf 4 5 6\n";
+    refused("sliver.obj", sliver, {"face 1", "its area rounds to zero"}, LoadOptions::strictMode());
+    const Scene repaired = loadScene(write("sliver.obj", sliver));
+    EXPECT_EQ(repaired.faceCount(), 1u);
+    EXPECT_TRUE(repaired.lights.empty());
+    ASSERT_EQ(repaired.warnings.size(), 1u);
+    EXPECT_NE(repaired.warnings[0].find("dropped 1 degenerate"), std::string::npos)
+        << repaired.warnings[0];
+    EXPECT_NE(repaired.warnings[0].find("its area rounds to zero"), std::string::npos)
+        << repaired.warnings[0];
     refused("sliver.json",
             R"({"polygons": [{"vertices": [[-2,0,-2],[0,0,2],[2,0,-2]]}],
                 "area_lights": [{"vertices": [[0,3,0],[1e-30,3,1e-30],[1000,3,1e-30]],

@@ -27,11 +27,13 @@ uint64_t bits(double x) {
 }
 
 // Loads from memory and expects a SceneError at `line` of `file` whose message contains `keyword`.
+// Repair mode by default (the loaders' default); the repairs' own errors need strict mode.
 void expectError(const std::string& obj, const std::string& mtl, int64_t line,
-                 const std::string& keyword, const std::string& file = "bad.obj") {
+                 const std::string& keyword, const std::string& file = "bad.obj",
+                 const LoadOptions& options = {}) {
     SCOPED_TRACE("OBJ text:\n" + obj);
     try {
-        loadObjFromString(obj, mtl, "bad.obj");
+        loadObjFromString(obj, mtl, "bad.obj", options);
         ADD_FAILURE() << "no SceneError; expected line " << line << " '" << keyword << "'";
     } catch (const SceneError& e) {
         const std::string what = e.what();
@@ -211,8 +213,8 @@ TEST(ObjIo, ConvexQuadInAnInexactPlaneIsAccepted) {
     obj += "f 1 2 3 4\n";
     // Strict: refused as non-planar (exactly: no tolerance); repaired: split into two triangles
     // of its own vertices, with a warning.
-    expectError(obj, "", 5, "face 0: non-planar");
-    const Scene s = loadObjFromString(obj, "", "tilted.obj", DegenerateFaces::kDrop);
+    expectError(obj, "", 5, "face 0: non-planar", "bad.obj", LoadOptions::strictMode());
+    const Scene s = loadObjFromString(obj, "", "tilted.obj");
     ASSERT_EQ(s.faceCount(), 2u);
     EXPECT_EQ(s.faceSourceLine, (std::vector<int32_t>{5, 5}));
     ASSERT_EQ(s.warnings.size(), 1u);
@@ -260,8 +262,26 @@ TEST(ObjErrors, BadIndices) {
 TEST(ObjErrors, TooFewOrRepeatedVertices) {
     expectError(kTri + "f 1 2\n", "", 4, "face 0: too few vertices");
     expectError(kTri + "f\n", "", 4, "too few vertices");
-    expectError(kTri + "f 1 2 3\nf 1 2 1\n", "", 5, "face 1: vertex 1 repeated");
-    expectError(kTri + "f 1 2 3\nf 3 2 -1\n", "", 5, "face 1: vertex 3 repeated");
+    // A repeated vertex is a degenerate face: refused while parsing in strict mode.
+    const LoadOptions strict = LoadOptions::strictMode();
+    expectError(kTri + "f 1 2 3\nf 1 2 1\n", "", 5, "face 1: vertex 1 repeated", "bad.obj", strict);
+    expectError(kTri + "f 1 2 3\nf 3 2 -1\n", "", 5, "face 1: vertex 3 repeated", "bad.obj",
+                strict);
+}
+
+TEST(ObjRepairs, RepeatedVertexIsDroppedWithOneWarning) {
+    // Faces 1 and 3 repeat a vertex (line 5 and 7); faces 0 and 2 stay, renumbered 0 and 1.
+    const Scene s =
+        loadObjFromString(kTri + "v 0 0 1\nf 1 2 3\nf 1 2 1\nf 3 2 4\nf 3 2 -2\n", "", "rep.obj");
+    ASSERT_EQ(s.faceCount(), 2u);
+    EXPECT_EQ(s.mesh.faces[0], (std::vector<uint32_t>{0, 1, 2}));
+    EXPECT_EQ(s.mesh.faces[1], (std::vector<uint32_t>{2, 1, 3}));
+    EXPECT_EQ(s.faceSourceLine, (std::vector<int32_t>{5, 7}));
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_NE(s.warnings[0].find("rep.obj: dropped 2 degenerate"), std::string::npos)
+        << s.warnings[0];
+    EXPECT_NE(s.warnings[0].find("face 1"), std::string::npos) << s.warnings[0];
+    EXPECT_NE(s.warnings[0].find("line 6"), std::string::npos) << s.warnings[0];
 }
 
 TEST(ObjErrors, TruncatedFiles) {
@@ -306,10 +326,14 @@ TEST(ObjErrors, LineNumbersCountCrLfAndCrOnlyEndings) {
 }
 
 TEST(ObjErrors, Materials) {
-    // Unknown usemtl names the OBJ line of the usemtl.
-    expectError(kTri + "usemtl nothere\nf 1 2 3\n", "", 4, "unknown material 'nothere'");
+    // Strict mode: an unknown usemtl names the OBJ line of the usemtl.
+    const LoadOptions strict = LoadOptions::strictMode();
+    expectError(kTri + "usemtl nothere\nf 1 2 3\n", "", 4,
+                "usemtl: unknown material 'nothere' (0 materials defined, no mtllib)", "bad.obj",
+                strict);
     expectError("mtllib m.mtl\n" + kTri + "f 1 2 3\nusemtl Lamp\nf 1 2 3\n",
-                "newmtl lamp\nKe 1 1 1\n", 6, "unknown material 'Lamp'");
+                "newmtl lamp\nKe 1 1 1\n", 6,
+                "usemtl: unknown material 'Lamp' (1 materials defined)", "bad.obj", strict);
     // MTL errors name the MTL (relative to the OBJ's directory) and its line.
     const std::string obj = "mtllib lib/m.mtl\n" + kTri + "f 1 2 3\n";
     try {
@@ -333,46 +357,109 @@ TEST(ObjErrors, Materials) {
     mtlError("newmtl a\nNs 1 2\n", 2, "Ns: unexpected");
     mtlError("newmtl a\nNs nan\n", 2, "non-finite");
     mtlError("newmtl a\nnewmtl b\n\nnewmtl a\n", 4, "defined twice");
-    mtlError("newmtl\n", 1, "without a material name");
     mtlError("newmtl a\n\x01\x02\n", 2, "binary");
+    expectError("mtllib m.mtl\n" + kTri + "f 1 2 3\n", "newmtl a\nnewmtl  \nKd 1 1 1\n", 2,
+                "newmtl without a material name", "m.mtl", strict);
+}
+
+// ---- repairs of missing materials (issue 41): a default material and one warning per kind
+// --------
+
+TEST(ObjRepairs, UsemtlWithoutMtllibGetsADefaultMaterial) {
+    const std::string obj = kTri + "f 1 2 3\nusemtl Default\nf 1 2 3\nf 3 2 1\n";  // 5-7
+    const Scene s = loadObjFromString(obj, "", "model.obj");
+    ASSERT_EQ(s.faceCount(), 3u);
+    ASSERT_EQ(s.materials.size(), 1u);
+    EXPECT_EQ(s.materials[0].name, "Default");
+    EXPECT_EQ(s.materials[0].kd, Material{}.kd);
+    EXPECT_FALSE(s.materials[0].isEmissive());
+    EXPECT_FALSE(s.materials[0].isGlossy());
+    EXPECT_EQ(s.faceMaterial, (std::vector<int32_t>{-1, 0, 0}));
+    EXPECT_TRUE(s.lights.empty());
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_EQ(s.warnings[0],
+              "model.obj: usemtl 'Default' on line 5 names no material (no mtllib): 2 faces use a "
+              "default diffuse material");
+}
+
+TEST(ObjRepairs, UsemtlNamesAMaterialTheMtlDoesNotDefine) {
+    // 'Lamp' is not 'lamp'; 'x' twice: one material for both, one warning line for all three.
+    const std::string obj = "mtllib m.mtl\n" + kTri +
+                            "usemtl lamp\nf 1 2 3\nusemtl Lamp\nf 1 2 3\nusemtl x\nf 1 2 3\n"
+                            "usemtl lamp\nf 3 2 1\nusemtl x\nf 3 2 1\n";  // usemtl: 5 7 9 11 13
+    const Scene s = loadObjFromString(obj, "newmtl lamp\nKe 1 1 1\n", "model.obj");
+    ASSERT_EQ(s.faceCount(), 5u);
+    ASSERT_EQ(s.materials.size(), 3u);
+    EXPECT_EQ(s.materials[0].name, "lamp");
+    EXPECT_EQ(s.materials[1].name, "Lamp");
+    EXPECT_EQ(s.materials[2].name, "x");
+    EXPECT_FALSE(s.materials[1].isEmissive());
+    EXPECT_EQ(s.faceMaterial, (std::vector<int32_t>{0, 1, 2, 0, 2}));
+    EXPECT_EQ(s.lights, (std::vector<uint32_t>{0, 3}));  // only the defined lamp emits
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_EQ(s.warnings[0],
+              "model.obj: 3 usemtl lines name no material (first: 'Lamp' on line 7; 1 materials "
+              "defined): 3 faces use a default diffuse material");
+}
+
+TEST(ObjRepairs, NewmtlWithoutANameIsIgnoredWithItsStatements) {
+    // The unnamed material's Ke would make it a light: its statements go with it.
+    const std::string mtl =
+        "newmtl a\nKd 0.5 0.5 0.5\nnewmtl\nKe 9 9 9\nKd 2 x 2\nnewmtl b\n"
+        "Kd 0.1 0.1 0.1\nnewmtl \n";
+    const Scene s = loadObjFromString("mtllib m.mtl\n" + kTri +
+                                          "usemtl a\nf 1 2 3\n"
+                                          "usemtl b\nf 3 2 1\n",
+                                      mtl, "dir/model.obj");
+    ASSERT_EQ(s.materials.size(), 2u);
+    EXPECT_EQ(s.materials[1].kd, (Vec3{0.1, 0.1, 0.1}));
+    EXPECT_EQ(s.faceMaterial, (std::vector<int32_t>{0, 1}));
+    EXPECT_TRUE(s.lights.empty());
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_EQ(s.warnings[0],
+              "dir/m.mtl: newmtl without a material name on line 3 (and 1 more): those materials "
+              "are ignored, with their statements");
 }
 
 // ---- validation ---------------------------------------------------------------------------------
 
 const std::string kQuadBase = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";  // lines 1-5
 
+// These polygons are errors in strict mode (in repair mode they are split into triangles).
+const LoadOptions kStrict = LoadOptions::strictMode();
+
 TEST(ObjValidation, PlanarConvexQuadIsAccepted) {
     EXPECT_NO_THROW(loadObjFromString(kQuadBase, "", "ok.obj"));
     // Off the plane by 1e-12 of the diameter: planarity is exact, so this one is not planar.
     expectError(kQuadBase + "v 0 0 1\nv 1 0 1\nv 1 1 1.000000000001\nv 0 1 1\nf 5 6 7 8\n", "",
-                10, "face 1: non-planar");
+                10, "face 1: non-planar", "bad.obj", kStrict);
 }
 
 TEST(ObjValidation, NonPlanarQuadIsRejected) {
     expectError(kQuadBase + "v 0 0 1\nv 1 0 1\nv 1 1 1.001\nv 0 1 1\nf 5 6 7 8\n", "", 10,
-                "face 1: non-planar");
+                "face 1: non-planar", "bad.obj", kStrict);
     try {
         loadObjFromString(kQuadBase + "v 0 0 1\nv 1 0 1\nv 1 1 1.001\nv 0 1 1\nf 5 6 7 8\n", "",
-                          "np.obj");
+                          "np.obj", kStrict);
     } catch (const SceneError& e) {
         // The measured deviation: a quarter of the lift (0.001 / 4) from the centroid plane.
         EXPECT_NE(std::string(e.what()).find("0.00025"), std::string::npos) << e.what();
     }
     // Just beyond the tolerance.
     expectError(kQuadBase + "v 0 0 1\nv 1 0 1\nv 1 1 1.00000001\nv 0 1 1\nf 5 6 7 8\n", "", 10,
-                "non-planar");
+                "non-planar", "bad.obj", kStrict);
 }
 
 TEST(ObjValidation, NonConvexQuadIsRejected) {
     // A dart: vertex 7 (0-based 6) is reflex.
     expectError(kQuadBase + "v 0 0 1\nv 2 0 1\nv 0.5 0.5 1\nv 0 2 1\nf 5 6 7 8\n", "", 10,
-                "face 1: non-convex: reflex vertex 6");
+                "face 1: non-convex: reflex vertex 6", "bad.obj", kStrict);
     // The same dart clockwise.
     expectError(kQuadBase + "v 0 0 1\nv 2 0 1\nv 0.5 0.5 1\nv 0 2 1\nf 8 7 6 5\n", "", 10,
-                "face 1: non-convex: reflex vertex 6");
+                "face 1: non-convex: reflex vertex 6", "bad.obj", kStrict);
     // A bow tie (self-intersecting, zero net area).
     expectError(kQuadBase + "v 0 0 1\nv 1 1 1\nv 1 0 1\nv 0 1 1\nf 5 6 7 8\n", "", 10,
-                "face 1: non-convex");
+                "face 1: non-convex", "bad.obj", kStrict);
     // A pentagram: every turn agrees but the boundary winds twice.
     std::string star = kQuadBase;
     for (int i = 0; i < 5; ++i) {
@@ -381,15 +468,17 @@ TEST(ObjValidation, NonConvexQuadIsRejected) {
         star += "v " + std::to_string(std::cos(a)) + " " + std::to_string(std::sin(a)) + " 3\n";
     }
     star += "f 5 6 7 8 9\n";  // line 11
-    expectError(star, "", 11, "face 1: non-convex: self-intersecting");
+    expectError(star, "", 11, "face 1: non-convex: self-intersecting", "bad.obj", kStrict);
 }
 
 TEST(ObjValidation, DegenerateFacesAreRejected) {
-    expectError(kQuadBase + "v 2 0 0\nv 3 0 0\nf 2 5 6\n", "", 8, "face 1: degenerate (zero area)");
-    expectError(kQuadBase + "v 2 2 2\nv 3 3 3\nf 1 5 6\n", "", 8, "degenerate (zero area)");
+    expectError(kQuadBase + "v 2 0 0\nv 3 0 0\nf 2 5 6\n", "", 8, "face 1: degenerate (zero area)",
+                "bad.obj", kStrict);
+    expectError(kQuadBase + "v 2 2 2\nv 3 3 3\nf 1 5 6\n", "", 8, "degenerate (zero area)",
+                "bad.obj", kStrict);
     // Distinct indices at the same position.
     expectError(kQuadBase + "v 0 0 0\nf 1 5 2\n", "", 7,
-                "face 1: degenerate (zero area): zero-length edge");
+                "face 1: degenerate (zero area): zero-length edge", "bad.obj", kStrict);
     // A sliver: the third vertex is one ulp off the line through the others. Not degenerate.
     EXPECT_NO_THROW(loadObjFromString(
         "v 0 0 0\nv 1e8 1e8 1e8\nv 1e8 1e8 100000000.00000001490116119384765625\nf 1 2 3\n"
@@ -397,13 +486,29 @@ TEST(ObjValidation, DegenerateFacesAreRejected) {
         "", "thin.obj"));
 }
 
+TEST(ObjRepairs, DegenerateFacesAreDroppedByDefault) {
+    // Face 1 (line 8) is three collinear points, face 2 (line 10) has a zero-length edge.
+    const Scene s = loadObjFromString(
+        kQuadBase + "v 2 0 0\nv 3 0 0\nf 2 5 6\nv 0 0 0\nf 1 7 2\nf 1 2 3\n", "", "deg.obj");
+    ASSERT_EQ(s.faceCount(), 2u);
+    EXPECT_EQ(s.mesh.faces[0], (std::vector<uint32_t>{0, 1, 2, 3}));
+    EXPECT_EQ(s.mesh.faces[1], (std::vector<uint32_t>{0, 1, 2}));
+    EXPECT_EQ(s.faceSourceLine, (std::vector<int32_t>{5, 11}));
+    ASSERT_EQ(s.warnings.size(), 1u);
+    EXPECT_NE(s.warnings[0].find("deg.obj: dropped 2 degenerate"), std::string::npos)
+        << s.warnings[0];
+    EXPECT_NE(s.warnings[0].find("(first: face 1, line 8: degenerate (zero area)"),
+              std::string::npos)
+        << s.warnings[0];
+}
+
 TEST(ObjValidation, CollinearVerticesAreRejected) {
     // A triangle with an extra vertex in the middle of an edge.
     expectError(kQuadBase + "v 0 0 1\nv 1 0 1\nv 2 0 1\nv 0 1 1\nf 5 6 7 8\n", "", 10,
-                "face 1: collinear vertices: vertex 5");
+                "face 1: collinear vertices: vertex 5", "bad.obj", kStrict);
     // Exactly collinear with non-representable-looking coordinates: 0.25 steps are exact.
     expectError("v 0 0 0\nv 0.25 0.5 0.75\nv 0.5 1 1.5\nv 0 1 0\nf 1 2 3 4\n", "", 5,
-                "collinear vertices");
+                "collinear vertices", "bad.obj", kStrict);
 }
 
 TEST(ObjValidation, ValidateSceneChecksProgrammaticScenes) {
@@ -567,7 +672,7 @@ TEST_F(ObjFiles, MissingOrUnreadableFiles) {
     EXPECT_THROW(loadObj(dir_), SceneError);  // a directory
     write(dir_ / "a.obj", "# x\nmtllib missing.mtl\n" + kTri + "f 1 2 3\n");
     try {
-        loadObj(dir_ / "a.obj");
+        loadObj(dir_ / "a.obj", LoadOptions::strictMode());
         ADD_FAILURE();
     } catch (const SceneError& e) {
         EXPECT_EQ(e.line, 2);
@@ -576,6 +681,31 @@ TEST_F(ObjFiles, MissingOrUnreadableFiles) {
                   std::string::npos)
             << e.what();
     }
+}
+
+TEST_F(ObjFiles, UnreadableMtllibIsSkippedWithAWarning) {
+    // One library missing, one read: the missing one's material is a default one, its faces
+    // counted in the usemtl warning.
+    write(dir_ / "b.mtl", "newmtl lamp\nKe 2 2 2\n");
+    write(dir_ / "a.obj", "mtllib missing.mtl\nmtllib b.mtl\n" + kTri +
+                              "usemtl wood\nf 1 2 3\nusemtl lamp\nf 3 2 1\n");  // usemtl: 6, 8
+    const Scene s = loadObj(dir_ / "a.obj");
+    ASSERT_EQ(s.faceCount(), 2u);
+    ASSERT_EQ(s.materials.size(), 2u);
+    EXPECT_EQ(s.materials[0].name, "lamp");
+    EXPECT_EQ(s.materials[1].name, "wood");
+    EXPECT_EQ(s.materials[1].kd, Material{}.kd);
+    EXPECT_EQ(s.faceMaterial, (std::vector<int32_t>{1, 0}));
+    EXPECT_EQ(s.lights, (std::vector<uint32_t>{1}));
+    const std::string file = (dir_ / "a.obj").string();
+    ASSERT_EQ(s.warnings.size(), 2u);
+    EXPECT_EQ(s.warnings[0], file + ":1: mtllib: cannot read material library 'missing.mtl' (" +
+                                 (dir_ / "missing.mtl").string() +
+                                 "): No such file or directory; its materials are missing");
+    EXPECT_EQ(s.warnings[1], file +
+                                 ": usemtl 'wood' on line 6 names no material (1 materials "
+                                 "defined, a material library unreadable): 1 face uses a default "
+                                 "diffuse material");
 }
 
 TEST_F(ObjFiles, WriteThenReadIsBitIdentical) {

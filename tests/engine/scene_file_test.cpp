@@ -146,20 +146,60 @@ TEST_F(SceneFile, MaterialOverridesByNameAndPolygons) {
     EXPECT_EQ(scene.faceMaterial, (std::vector<int32_t>{0, 1, 2}));
 }
 
-TEST_F(SceneFile, DegenerateFacesDroppedOnlyOnRequest) {
+TEST_F(SceneFile, DegenerateFacesDroppedUnlessStrictOrRefusedOnRequest) {
     write("meshes/deg.ply",
           "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
           "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n"
           "0 0 0\n1 0 0\n0 1 0\n2 0 0\n3 0 1 2\n3 0 1 3\n");
-    expectError(R"({"meshes": [{"file": "meshes/deg.ply"}]})",
-                {"meshes[0]", "face 1", "degenerate"});
-    const Scene scene =
-        load(R"({"meshes": [{"file": "meshes/deg.ply", "drop_degenerate_faces": true}]})");
-    EXPECT_EQ(scene.faceCount(), 1u);
+    const auto expectDropped = [&](const std::string& json) {
+        SCOPED_TRACE(json);
+        const Scene scene = load(json);
+        EXPECT_EQ(scene.faceCount(), 1u);
+        EXPECT_EQ(scene.mesh.faces[0], (std::vector<uint32_t>{0, 1, 2}));
+        ASSERT_EQ(scene.warnings.size(), 1u);
+        EXPECT_NE(scene.warnings[0].find("scene.json: meshes[0]: "), std::string::npos)
+            << scene.warnings[0];
+        EXPECT_NE(scene.warnings[0].find("deg.ply: dropped 1 degenerate"), std::string::npos)
+            << scene.warnings[0];
+    };
+    // Repair mode by default; "drop_degenerate_faces": true drops them even when strict.
+    expectDropped(R"({"meshes": [{"file": "meshes/deg.ply"}]})");
+    expectDropped(R"({"meshes": [{"file": "meshes/deg.ply", "drop_degenerate_faces": true}]})");
+    expectDropped(R"({"strict": true,
+                      "meshes": [{"file": "meshes/deg.ply", "drop_degenerate_faces": true}]})");
+    expectDropped(R"({"strict": true, "meshes": [{"file": "meshes/deg.ply", "strict": false}]})");
+    // Refused: the file's "strict", the entry's, "drop_degenerate_faces": false, the caller's.
+    for (const char* json :
+         {R"({"strict": true, "meshes": [{"file": "meshes/deg.ply"}]})",
+          R"({"meshes": [{"file": "meshes/deg.ply", "strict": true}]})",
+          R"({"meshes": [{"file": "meshes/deg.ply", "drop_degenerate_faces": false}]})"})
+        expectError(json, {"meshes[0]", "deg.ply", "face 1", "degenerate"});
+    const fs::path p = write("scene.json", R"({"meshes": [{"file": "meshes/deg.ply"}]})");
+    expectLoadError([&] { loadJsonScene(p, LoadOptions::strictMode()); }, p,
+                    {"meshes[0]", "face 1", "degenerate"});
+    expectError(R"({"strict": 1, "meshes": [{"file": "meshes/deg.ply"}]})",
+                {"strict: expected true or false"});
+}
+
+TEST_F(SceneFile, MissingMaterialsRepairedUnlessStrict) {
+    // The default material keeps the usemtl's name, so the scene can give it colours.
+    write("meshes/m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl Default\nf 1 2 3\n");
+    const Scene scene = load(R"({"meshes": [{"file": "meshes/m.obj",
+                                             "materials": {"Default": {"kd": 0.3}}}]})");
+    ASSERT_EQ(scene.materials.size(), 1u);
+    EXPECT_EQ(scene.materials[0].name, "Default");
+    EXPECT_EQ(scene.materials[0].kd, Vec3(0.3, 0.3, 0.3));
+    EXPECT_EQ(scene.faceMaterial, (std::vector<int32_t>{0}));
     ASSERT_EQ(scene.warnings.size(), 1u);
-    EXPECT_NE(scene.warnings[0].find("dropped 1 degenerate"), std::string::npos)
+    EXPECT_NE(scene.warnings[0].find("meshes[0]: "), std::string::npos) << scene.warnings[0];
+    EXPECT_NE(scene.warnings[0].find("m.obj: usemtl 'Default' on line 4 names no material (no "
+                                     "mtllib): 1 face uses a default diffuse material"),
+              std::string::npos)
         << scene.warnings[0];
-    EXPECT_NE(scene.warnings[0].find("deg.ply"), std::string::npos) << scene.warnings[0];
+    // "drop_degenerate_faces" decides faces only: the materials stay strict.
+    expectError(R"({"strict": true, "meshes": [{"file": "meshes/m.obj",
+                                                "drop_degenerate_faces": true}]})",
+                {"meshes[0]", "m.obj:4: usemtl: unknown material 'Default'"});
 }
 
 TEST_F(SceneFile, ErrorsNameTheJsonPath) {
@@ -205,7 +245,7 @@ TEST_F(SceneFile, ErrorsNameTheJsonPath) {
           "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
           "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
           "0 0 0\n1 0 0\n1 1 0.2\n0 1 0\n4 0 1 2 3\n");
-    expectError(R"({"meshes": [{"file": "meshes/bent.ply"}]})",
+    expectError(R"({"strict": true, "meshes": [{"file": "meshes/bent.ply"}]})",
                 {"meshes[0]", "bent.ply", "face 0", "non-planar"});
 }
 

@@ -49,23 +49,64 @@ TEST_F(SceneLoader, UnknownExtensionListsTheSupportedOnes) {
     expectLoadError([&] { loadScene(q); }, q, {"(no extension)"});
 }
 
-TEST_F(SceneLoader, ObjDegenerateFacesRejectedOrDropped) {
+TEST_F(SceneLoader, ObjDegenerateFacesDroppedByDefaultOrRejectedWhenStrict) {
     // Face 1 (line 6) is collinear, face 2 (line 7) repeats a vertex.
     const fs::path p = write("deg.obj",
                              "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\nf 1 3 3\n"
                              "f 2 3 1\n");
-    // The repeated vertex is found while parsing, before any geometry is checked.
-    expectLoadError([&] { loadScene(p); }, p, {"deg.obj:7: face 2", "repeated"});
+    // Strict: the repeated vertex is found while parsing, before any geometry is checked.
+    const LoadOptions strict = LoadOptions::strictMode();
+    expectLoadError([&] { loadScene(p, strict); }, p, {"deg.obj:7: face 2", "repeated"});
     const fs::path q =
         write("collinear.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\nf 1 2 3\nf 1 2 4\n");
-    expectLoadError([&] { loadScene(q); }, q, {"collinear.obj:6: face 1", "degenerate"});
-    const Scene scene = loadScene(p, DegenerateFaces::kDrop);
+    expectLoadError([&] { loadScene(q, strict); }, q, {"collinear.obj:6: face 1", "degenerate"});
+    const Scene scene = loadScene(p);
     EXPECT_EQ(scene.faceCount(), 2u);
     EXPECT_EQ(scene.faceSourceLine, (std::vector<int32_t>{5, 8}));
     ASSERT_EQ(scene.warnings.size(), 1u);
     EXPECT_NE(scene.warnings[0].find("dropped 2 degenerate"), std::string::npos)
         << scene.warnings[0];
     EXPECT_NE(scene.warnings[0].find("line 6"), std::string::npos) << scene.warnings[0];
+}
+
+// The repairs reach every format through loadScene, and strict mode refuses them all.
+TEST_F(SceneLoader, EveryFormatRepairsByDefaultAndRefusesWhenStrict) {
+    struct Case {
+        std::string name, text, warning, error;
+        uint32_t faces;
+    };
+    const std::string plyHeader =
+        "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n";
+    const std::vector<Case> cases = {
+        {"m.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl Default\nf 1 2 3\n",
+         "usemtl 'Default' on line 4 names no material", "m.obj:4: usemtl: unknown material", 1},
+        {"d.ply", plyHeader + "0 0 0\n1 0 0\n0 1 0\n2 0 0\n3 0 1 2\n3 0 1 3\n",
+         "dropped 1 degenerate", "face 1", 1},
+        {"h.ply",
+         "ply\nformat ascii 1.0\nCreated by Blender\nelement vertex 3\nproperty float x\n"
+         "property float y\nproperty float z\nelement face 1\n"
+         "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+         "h.ply:3: PLY header: line 'Created by Blender' is no header keyword",
+         "h.ply:3: PLY header: unknown keyword 'Created'", 1},
+        {"d.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n2 0 0\n3 0 1 2\n3 0 1 3\n",
+         "dropped 1 degenerate", "face 1", 1},
+        {"d.stl",
+         "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\n"
+         "endloop\nendfacet\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\n"
+         "vertex 1 0 0\nendloop\nendfacet\nendsolid s\n",
+         "dropped 1 degenerate", "d.stl:9: face 1", 1},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        const fs::path p = write(c.name, c.text);
+        const Scene scene = loadScene(p);
+        EXPECT_EQ(scene.faceCount(), c.faces);
+        ASSERT_EQ(scene.warnings.size(), 1u);
+        EXPECT_EQ(scene.warnings[0].rfind(p.string(), 0), 0u) << scene.warnings[0];
+        EXPECT_NE(scene.warnings[0].find(c.warning), std::string::npos) << scene.warnings[0];
+        expectLoadError([&] { loadScene(p, LoadOptions::strictMode()); }, p, {c.error});
+    }
 }
 
 }  // namespace

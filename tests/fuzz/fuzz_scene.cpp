@@ -1,6 +1,7 @@
 // libFuzzer harness for one scene format (PENUMBRA_FUZZ_EXTENSION: ".obj", ".ply", ".off",
 // ".stl", ".gltf", ".glb" or ".json"). Every input is written to a file of that extension (the
-// loaders, OpenMesh and tinygltf included, read files) and loaded. The contract it checks:
+// loaders, OpenMesh and tinygltf included, read files) and loaded, in repair mode (the default)
+// and in strict mode (engine/io/load_options.h). The contract it checks:
 //   - a load succeeds or throws SceneError naming the file; any other exception, a crash, a
 //     sanitizer report, a hang (libFuzzer's -timeout) or a flood of memory is a finding;
 //   - a scene that loads is inside the coordinate contract and its first pair's exact answer is
@@ -48,14 +49,16 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
         std::ofstream out(inputPath(), std::ios::binary | std::ios::trunc);
         out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
     }
-    try {
-        const Scene scene = loadScene(inputPath());
-        checkAnswer(scene);
-    } catch (const SceneError& e) {
-        if (e.file != inputPath().string())
-            finding(std::string("error about another file: ") + e.what());
-    } catch (const std::exception& e) {
-        finding(std::string("not a SceneError: ") + e.what());
+    for (const LoadOptions& options : {LoadOptions{}, LoadOptions::strictMode()}) {
+        try {
+            const Scene scene = loadScene(inputPath(), options);
+            checkAnswer(scene);
+        } catch (const SceneError& e) {
+            if (e.file != inputPath().string())
+                finding(std::string("error about another file: ") + e.what());
+        } catch (const std::exception& e) {
+            finding(std::string("not a SceneError: ") + e.what());
+        }
     }
     return 0;
 }

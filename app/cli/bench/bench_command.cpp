@@ -81,6 +81,7 @@ struct BenchOptions {
     bool quick = false;
     bool skipLarge = false;
     bool noPlots = false;
+    bool strict = false;
     // The image of the per-point cost with every point exact, for the scenes whose Table 1 image
     // is too costly to render without the work limit (the large ones, and those above
     // kAllPairsMaxFaces faces): one sample per pixel.
@@ -253,7 +254,7 @@ json costJson(const EffectsSummary& fx, const RenderSettings& s, bool complete, 
 }
 
 json table1Row(const std::string& path, const BenchOptions& o, const fs::path& dir, bool large) {
-    const Scene scene = loadSceneFile(path);
+    const Scene scene = loadSceneFile(path, o.strict);
     const auto [w, h] =
         parseSize(large ? "--large-size" : "--size", large ? o.largeSize : o.size, kImageSize);
     const EmbreeScene bvh(scene.mesh);
@@ -454,7 +455,7 @@ json pointJson(const AccuracyPoint& p) {
 }
 
 json accuracy(const BenchOptions& o) {
-    const Scene scene = loadSceneFile(o.accuracyScene);
+    const Scene scene = loadSceneFile(o.accuracyScene, o.strict);
     const EmbreeScene bvh(scene.mesh);
     VisibilityStore store(scene, &bvh);
     AccuracyStudyOptions a;
@@ -578,7 +579,7 @@ double queryMicros(const Scene& scene, const VisibilityStore& store, int points)
 json buildOptions(const std::vector<std::string>& scenes, const BenchOptions& o) {
     json rows = json::array();
     for (const std::string& path : scenes) {
-        const Scene scene = loadSceneFile(path);
+        const Scene scene = loadSceneFile(path, o.strict);
         const EmbreeScene bvh(scene.mesh);
         for (int merge = 1; merge >= 0; --merge)
             for (int quadric = 1; quadric >= 0; --quadric) {
@@ -613,7 +614,7 @@ json scaling(const std::vector<std::string>& scenes, const BenchOptions& o, json
     for (const std::string& path : scenes) {
         if (!canMeasure(path, "scaling", skipped)) continue;
         const auto l0 = Clock::now();
-        const Scene scene = loadSceneFile(path);
+        const Scene scene = loadSceneFile(path, o.strict);
         const EmbreeScene bvh(scene.mesh);
         const double loadSeconds = seconds(l0, Clock::now());
         VisibilityStore store(scene, &bvh);
@@ -668,7 +669,7 @@ Quantiles quantiles(std::vector<double> v) {
 }
 
 json perPoint(const std::string& path, const BenchOptions& o) {
-    const Scene scene = loadSceneFile(path);
+    const Scene scene = loadSceneFile(path, o.strict);
     const vis::PolygonMesh& mesh = scene.mesh;
     const EmbreeScene embree(mesh);
     VisibilityStore store(scene, &embree);
@@ -1043,6 +1044,7 @@ void registerBenchCommand(CLI::App& app) {
                     "the scenes whose Table 1 image is too costly to render so");
     sub->add_flag("--skip-large", o->skipLarge, "Skip the scenes above 300k triangles");
     sub->add_flag("--no-plots", o->noPlots, "Do not run scripts/plot_bench.py");
+    addStrictOption(*sub, o->strict);
     sub->callback([o, sub] {
         BenchOptions opt = *o;
         if (opt.quick) {
@@ -1065,6 +1067,7 @@ void registerBenchCommand(CLI::App& app) {
                opt.exactCostSize;
         if (opt.quick) cmd += " --quick";
         if (opt.skipLarge) cmd += " --skip-large";
+        if (opt.strict) cmd += " --strict";
         runBench(opt, cmd);
     });
 }

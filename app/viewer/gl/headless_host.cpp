@@ -24,6 +24,9 @@ void runHeadless(const HeadlessOptions& o) {
 
     Viewer viewer(o.viewer);
     if (!viewer.openScene(o.scene)) throw cli::inputError(viewer.status());
+    if (o.printWarnings)
+        for (const std::string& warning : viewer.scene()->scene.warnings)
+            std::cerr << "penumbra: warning: " << warning << '\n';
     if (o.camera) viewer.setCamera(*o.camera);
     const double dt = 1.0 / 60;
     viewer.frame(o.width, o.height, dt);  // lays out the panels, builds the font atlas

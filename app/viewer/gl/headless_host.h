@@ -29,6 +29,9 @@ struct HeadlessOptions {
     // Run the "Accuracy vs time" study of the view and draw frames until it ends: the panel is
     // in the screenshot and the study in the state JSON ("accuracy").
     bool accuracy = false;
+    // Print the scene's loader warnings to stderr ("penumbra: warning: ..."), as the commands that
+    // load a scene do (screenshot; view has printed them already).
+    bool printWarnings = false;
     ViewerOptions viewer;
 };
 

@@ -37,6 +37,21 @@ ScenePanel::Actions ScenePanel::draw(const PanelRect& rect, const LoadedScene* s
             ImGui::Text("%u faces, %zu area lights, %zu trees (%s)", scene->scene.faceCount(),
                         scene->scene.lights.size(), scene->store->treeCount(),
                         humanBytes(scene->store->bytes()).c_str());
+            // What the loader repaired (or skipped), one line per kind and file: in a scrolled
+            // box of at most half the room left, so that the scene list keeps the other half.
+            const std::vector<std::string>& warnings = scene->scene.warnings;
+            if (!warnings.empty()) {
+                ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.8f, 0.3f, 1.0f));
+                ImGui::Text("%zu loader warning%s (repairs):", warnings.size(),
+                            warnings.size() == 1 ? "" : "s");
+                const float line = ImGui::GetTextLineHeightWithSpacing();
+                const float height =
+                    std::clamp(0.5f * ImGui::GetContentRegionAvail().y, 2.5f * line, 6.5f * line);
+                ImGui::BeginChild("##warnings", ImVec2(-1, height), true);
+                for (const std::string& w : warnings) ImGui::TextWrapped("- %s", w.c_str());
+                ImGui::EndChild();
+                ImGui::PopStyleColor();
+            }
         } else {
             ImGui::TextUnformatted("No scene: pick one below or drop a scene file here.");
         }
