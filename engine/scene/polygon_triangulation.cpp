@@ -34,6 +34,9 @@ std::optional<std::string> PolygonTriangulation::run(std::span<const vis::Vec3> 
     while (ring_.size() > 1 && points[ring_.back()] == points[ring_.front()]) ring_.pop_back();
     const size_t n = ring_.size();
     if (n < 3) return "fewer than 3 distinct vertices";
+    if (n > kMaxVertices)
+        return "it has " + std::to_string(n) + " vertices, more than the " +
+               std::to_string(kMaxVertices) + " a split takes (its cost grows as their square)";
     // The canonical start: the rotation whose sequence of positions is lexicographically least
     // (a position can occur several times in a weakly simple polygon; ties go on to the next).
     size_t start = 0;
@@ -128,6 +131,15 @@ bool PolygonTriangulation::clipEars(int sign) {
         prev_[i] = static_cast<uint32_t>((i + n - 1) % n);
         next_[i] = static_cast<uint32_t>((i + 1) % n);
     }
+    // Whether a position occurs twice (a weakly simple polygon).
+    bool repeats = false;
+    {
+        std::vector<Point2> sorted(q_.begin(), q_.end());
+        std::sort(sorted.begin(), sorted.end(), [](const Point2& x, const Point2& y) {
+            return x.u < y.u || (x.u == y.u && x.v < y.v);
+        });
+        repeats = std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end();
+    }
     size_t remaining = n;
     uint32_t b = 0;
     size_t sinceClip = 0;  // vertices looked at since the last ear
@@ -135,10 +147,13 @@ bool PolygonTriangulation::clipEars(int sign) {
         const Point2 &a = q_[ia], &pb = q_[ib], &c = q_[ic];
         if (orient2d(a, pb, c) != sign) return false;
         // No other remaining vertex in the closed triangle (positions of a, b and c aside: a
-        // weakly simple polygon visits them twice).
+        // weakly simple polygon visits them twice). In a simple polygon a vertex that turns the
+        // polygon's way strictly cannot lie in an ear without a reflex or straight one there
+        // too, so only those are tested; with a position visited twice (a bridge), every one.
         for (uint32_t p = next_[ic]; p != ia; p = next_[p]) {
             const Point2& r = q_[p];
             if (r == a || r == pb || r == c) continue;
+            if (!repeats && orient2d(q_[prev_[p]], r, q_[next_[p]]) == sign) continue;
             if (orient2d(a, pb, r) * sign >= 0 && orient2d(pb, c, r) * sign >= 0 &&
                 orient2d(c, a, r) * sign >= 0)
                 return false;

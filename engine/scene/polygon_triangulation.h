@@ -12,7 +12,8 @@
 // positions, and everything after that is deterministic.
 //
 // Refused (an error, nothing split): a polygon whose projections all self-intersect (two edges
-// that cross, or a vertex on another edge's interior), or whose vertices are all collinear.
+// that cross, or a vertex on another edge's interior), whose vertices are all collinear, or that
+// has more than kMaxVertices vertices.
 #pragma once
 
 #include <array>
@@ -30,6 +31,9 @@ namespace penumbra {
 class PolygonTriangulation {
   public:
     using Triangle = std::array<uint32_t, 3>;  // positions in the input list, in its order
+    // The most distinct vertices a polygon may have to be split (ear clipping costs their square,
+    // their cube at worst): a larger one is refused, never a hang.
+    static constexpr size_t kMaxVertices = 512;
 
     // Splits the polygon `points` (in order, counter-clockwise seen from its front) into
     // triangles, turning the same way; positions repeated one after the other are taken once, and
