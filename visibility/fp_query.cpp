@@ -1650,8 +1650,7 @@ void FromPointQuery::clipCandidates(const PolygonMesh& mesh) {
 
 const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t receiver,
                                               uint32_t light, const AnsweredPoint& point,
-                                              const BoxTree& faces,
-                                              const FaceClusters* clusters) {
+                                              const BoxTree& faces, const FaceClusters* clusters) {
     startRun();
     if (receiver == light) return fragments_;
     const Vec3& x = point.at;
@@ -1788,8 +1787,8 @@ const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTr
     moved_ = point.moved();
     // (A fully hidden pair is answered without touching the pair's setup unless x is on contact.)
     // A moved point is on contact where its input is (answered_point.h).
-    const bool contact = onContact(tree, x) || (moved_ && onContact(tree, input_)) ||
-                         nearContact(mesh, tree, x);
+    const bool contact =
+        onContact(tree, x) || (moved_ && onContact(tree, input_)) || nearContact(mesh, tree, x);
     if (tree.kind == PairKind::FullyHidden && !contact) return fragments_;
     if (!startPair(mesh, tree.receiver, tree.light, x)) return fragments_;
     if (tree.kind == PairKind::FullyVisible) {

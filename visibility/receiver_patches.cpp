@@ -1,12 +1,12 @@
 #include "visibility/receiver_patches.h"
 
-#include "visibility/orient2d.h"
-
 #include <algorithm>
 #include <array>
 #include <cfloat>
 #include <cmath>
 #include <limits>
+
+#include "visibility/orient2d.h"
 
 namespace penumbra::vis {
 namespace {
@@ -58,8 +58,8 @@ bool ReceiverPatches::contains(uint32_t patch, const Vec3& x) const {
     const std::vector<Vec3>& p = patches[patch];
     int turn = faceTurn;
     for (size_t i = 1; i + 1 < p.size() && turn == 0; ++i)
-        turn = orient2d(project(p[0], dropAxis), project(p[i], dropAxis),
-                        project(p[i + 1], dropAxis));
+        turn =
+            orient2d(project(p[0], dropAxis), project(p[i], dropAxis), project(p[i + 1], dropAxis));
     if (turn == 0) return false;
     for (size_t i = 0; i < p.size(); ++i)
         if (orient2d(project(p[i], dropAxis), project(p[(i + 1) % p.size()], dropAxis), q) * turn <
@@ -133,6 +133,10 @@ uint32_t ReceiverPatches::find(const Vec3& x) const {
                 }
             }
     }
+    // The scan of every patch only for a point inside the face (a point outside it, e.g. a
+    // float ray hit a hair past its edge, takes the nearest guess: scanning a face's thousands of
+    // patches for each such point would cost more than its query).
+    if (!(bestOut <= 0)) return best;
     for (uint32_t index = 0; index < patches.size(); ++index)
         if (contains(index, x)) return index;
     return best;
@@ -148,8 +152,8 @@ ReceiverPatches subdivideReceiverGrid(std::span<const Vec3> face, int k, int dro
     for (size_t i = 1; i + 1 < face.size(); ++i)
         n += cross(face[i] - face[0], face[i + 1] - face[0]);
     const double ax = std::fabs(n.x), ay = std::fabs(n.y), az = std::fabs(n.z);
-    out.dropAxis = dropAxis >= 0 && dropAxis < 3 ? dropAxis
-                                                 : (ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2));
+    out.dropAxis =
+        dropAxis >= 0 && dropAxis < 3 ? dropAxis : (ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2));
     out.face.assign(face.begin(), face.end());
     for (size_t i = 1; i + 1 < face.size() && out.faceTurn == 0; ++i)
         out.faceTurn = orient2d(project(face[0], out.dropAxis), project(face[i], out.dropAxis),
@@ -177,9 +181,9 @@ ReceiverPatches subdivideReceiverGrid(std::span<const Vec3> face, int k, int dro
                      pc = project(c, out.dropAxis);
         const double area2 =
             std::fabs((pb.u - pa.u) * (pc.v - pa.v) - (pb.v - pa.v) * (pc.u - pa.u));
-        const double longest = std::max({std::hypot(pb.u - pa.u, pb.v - pa.v),
-                                         std::hypot(pc.u - pb.u, pc.v - pb.v),
-                                         std::hypot(pa.u - pc.u, pa.v - pc.v)});
+        const double longest =
+            std::max({std::hypot(pb.u - pa.u, pb.v - pa.v), std::hypot(pc.u - pb.u, pc.v - pb.v),
+                      std::hypot(pa.u - pc.u, pa.v - pc.v)});
         const double height = longest > 0 ? area2 / longest : 0;
         const double magnitude = std::max({maxAbs(a), maxAbs(b), maxAbs(c), DBL_MIN});
         const double ulp = magnitude * 0x1p-52;
@@ -187,8 +191,8 @@ ReceiverPatches subdivideReceiverGrid(std::span<const Vec3> face, int k, int dro
         grow = std::min(grow, 0.5);
         auto add = [&](Vec3 p, Vec3 q, Vec3 r) {
             const Vec3 centroid = (p + q + r) / 3.0;
-            out.patches.push_back({p + (p - centroid) * grow, q + (q - centroid) * grow,
-                                   r + (r - centroid) * grow});
+            out.patches.push_back(
+                {p + (p - centroid) * grow, q + (q - centroid) * grow, r + (r - centroid) * grow});
             const std::vector<Vec3>& added = out.patches.back();
             out.corners2d.push_back({project(added[0], out.dropAxis),
                                      project(added[1], out.dropAxis),

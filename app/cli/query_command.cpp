@@ -275,7 +275,8 @@ void runQuery(const CLI::App& sub, const QueryOptions& options) {
     VisibilityStore store(scene, nullptr, storeOptions);
     for (size_t i = 0; i < points.size(); ++i) {
         const Vec3 answered = answeredPointOn(scene, faces[i], points[i].x).at;
-        const std::vector<LightAtPoint> lights = queryPoint(store, faces[i], points[i].x, lightFlag);
+        const std::vector<LightAtPoint> lights =
+            queryPoint(store, faces[i], points[i].x, lightFlag);
         const nlohmann::json answer = toJson(points[i], faces[i], answered, lights);
         requireFinite(answer, "the answer for point " + std::to_string(i));
         std::cout << answer.dump() << '\n';

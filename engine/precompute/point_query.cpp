@@ -140,7 +140,8 @@ std::optional<std::string> pointOffFace(const Scene& scene, uint32_t face, const
     const std::string what = "point " + formatPoint(x) + " is not on face " + std::to_string(face);
     const std::string tolerance = " (the lookup tolerance here is " + formatNumber(tol) +
                                   ": 1e-9 of the scene's diagonal + 1e-12 |x|)";
-    if (!(off <= tol)) return what + ": it lies " + formatNumber(off) + " from its plane" + tolerance;
+    if (!(off <= tol))
+        return what + ": it lies " + formatNumber(off) + " from its plane" + tolerance;
     const double outside = outsideProjected(mesh, face, n, x);
     if (outside > tol)
         return what + ": it lies " + formatNumber(outside) + " outside its boundary" + tolerance;
@@ -215,8 +216,7 @@ std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, cons
     checkQueryRange(store.scene(), face, onlyLight);
     const vis::AnsweredPoint x = answeredPointOn(store.scene(), face, input);
     return forEachLight(store.scene(), face, x.at, onlyLight, [&](LightAtPoint& r) {
-        const vis::HistoryTree& tree =
-            store.getOrBuild(store.keyAt(face, x.at, r.lightFace)).tree;
+        const vis::HistoryTree& tree = store.getOrBuild(store.keyAt(face, x.at, r.lightFace)).tree;
         r.kind = tree.kind;
         vis::FromPointResult q = vis::fromPointQuery(mesh, tree, x);
         r.fragments = std::move(q.fragments);

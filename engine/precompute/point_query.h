@@ -106,10 +106,10 @@ struct LightAtPoint {
 
 // Every light (or only light `onlyLight`) of the store's scene as seen from x on face `face` (x is
 // not projected onto the face; it is answered at answeredPointOn(x), the point every path
-// answers for it, with the contact rule decided at x). A point behind a light's plane gets fraction 0 and form factors 0;
-// so does the light's own face (kind BackFacing, no tree built). Missing trees are built on the
-// calling thread (VisibilityStore::getOrBuild). Throws std::out_of_range for a face or light
-// number out of range.
+// answers for it, with the contact rule decided at x). A point behind a light's plane gets fraction
+// 0 and form factors 0; so does the light's own face (kind BackFacing, no tree built). Missing
+// trees are built on the calling thread (VisibilityStore::getOrBuild). Throws std::out_of_range for
+// a face or light number out of range.
 std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, const Vec3& x,
                                      std::optional<uint32_t> onlyLight);
 

@@ -149,8 +149,7 @@ bool VisibilityStore::refine(const PairKey& key) {
     if (refinedPatches(key) != nullptr) return true;
     const std::vector<Vec3> polygon = region(key);  // checks the key
     auto sub = std::make_unique<vis::ReceiverPatches>(
-        vis::subdivideReceiverGrid(polygon, kRefineCellsPerSide,
-                                   patches(key.receiver).dropAxis));
+        vis::subdivideReceiverGrid(polygon, kRefineCellsPerSide, patches(key.receiver).dropAxis));
     if (sub->patches.size() < 2 || sub->patches.size() > kMaxSubPatches) return false;
     std::unique_lock lock(refinedMutex_);
     refined_.try_emplace(key, std::move(sub));

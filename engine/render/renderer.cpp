@@ -245,7 +245,8 @@ class TileShader {
                 // The exact method answers the point on the face's closed front side, every path
                 // the same one (shading_point.h); the sampled ones trace from the projection.
                 if (in_.exact)
-                    p.x = vis::answeredPoint(vis::facePlane(in_.scene.mesh, f).orient(), p.input).at;
+                    p.x =
+                        vis::answeredPoint(vis::facePlane(in_.scene.mesh, f).orient(), p.input).at;
                 p.n = n;
                 p.wo = -ph.ray.direction;
                 p.material = &in_.scene.material(f);
@@ -442,9 +443,10 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
                             if (!(dot(ray.direction, n) < 0)) continue;  // back side
                             if (faces.empty() || faces.back() != f) faces.push_back(f);
                             // The point the exact method answers (collectPoints).
-                            const Vec3 xs = vis::answeredPoint(
-                                vis::facePlane(scene_.mesh, f).orient(),
-                                surfacePoint(hit->point, n, faceOrigin_[f])).at;
+                            const Vec3 xs =
+                                vis::answeredPoint(vis::facePlane(scene_.mesh, f).orient(),
+                                                   surfacePoint(hit->point, n, faceOrigin_[f]))
+                                    .at;
                             for (uint32_t lf : scene_.lights)
                                 if (lf != f) ++local[store_.keyAt(f, xs, lf)];
                         }

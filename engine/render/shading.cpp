@@ -203,9 +203,9 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         // answered without it (the same exact answer; see answeredByGroups).
         const bool byGroups = record != nullptr && answeredByGroups(*record);
         if (record == nullptr || byGroups) {  // the faces in the pyramid from x, clipped from x
-            const vis::FragmentList& list = scratch.query.runDirect(
-                scene_.mesh, p.face, light.face, p.answered(), bvh_.faceBoxes(),
-                &bvh_.faceClusters());
+            const vis::FragmentList& list =
+                scratch.query.runDirect(scene_.mesh, p.face, light.face, p.answered(),
+                                        bvh_.faceBoxes(), &bvh_.faceClusters());
             if (record == nullptr) {
                 const vis::FromPointQuery& q = scratch.query;
                 scratch.evaluations.directGrouped += q.clustersUsed() > 0;

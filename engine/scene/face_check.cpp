@@ -81,9 +81,10 @@ void checkLoadedFaces(Scene& scene, DegenerateFaces policy, const FaceNamer& nam
             const FaceDefect d = defectOf(static_cast<uint32_t>(f));
             std::string message = faceName(static_cast<uint32_t>(f)) + ": " + d.message;
             if (kind != Kind::Invalid)
-                message += d.degenerate() ? " (repair mode drops such faces; strict mode refuses them)"
-                                          : " (repair mode splits such faces into triangles; "
-                                            "strict mode refuses them)";
+                message += d.degenerate()
+                               ? " (repair mode drops such faces; strict mode refuses them)"
+                               : " (repair mode splits such faces into triangles; "
+                                 "strict mode refuses them)";
             throw makeSceneError(scene.sourcePath, lineOf(f), message);
         }
     }
@@ -112,7 +113,8 @@ void checkLoadedFaces(Scene& scene, DegenerateFaces policy, const FaceNamer& nam
             }
             const FaceDefect d = defectOf(static_cast<uint32_t>(f));
             if (d.degenerate()) {
-                if (dropped.faces++ == 0) dropped.first = describe(static_cast<uint32_t>(f), d.message);
+                if (dropped.faces++ == 0)
+                    dropped.first = describe(static_cast<uint32_t>(f), d.message);
                 continue;
             }
             const std::vector<uint32_t>& ids = scene.mesh.faces[f];
@@ -125,7 +127,8 @@ void checkLoadedFaces(Scene& scene, DegenerateFaces policy, const FaceNamer& nam
             RepairCount& count = d.kind == Kind::NonPlanar ? splitNonPlanar : splitNonConvex;
             if (count.faces++ == 0) count.first = describe(static_cast<uint32_t>(f), d.message);
             count.triangles += triangulation.triangles().size();
-            for (const auto& t : triangulation.triangles()) keep(f, {ids[t[0]], ids[t[1]], ids[t[2]]});
+            for (const auto& t : triangulation.triangles())
+                keep(f, {ids[t[0]], ids[t[1]], ids[t[2]]});
         }
         scene.mesh.faces = std::move(faces);
         if (!scene.faceMaterial.empty()) scene.faceMaterial = std::move(material);

@@ -58,9 +58,8 @@ std::optional<std::string> PolygonTriangulation::run(std::span<const vis::Vec3> 
     for (size_t i = 0; i < n; ++i)
         normal += vis::cross(points[ring_[i]] - o, points[ring_[(i + 1) % n]] - o);
     int order[3] = {0, 1, 2};
-    std::stable_sort(order, order + 3, [&](int a, int b) {
-        return std::fabs(normal[a]) > std::fabs(normal[b]);
-    });
+    std::stable_sort(order, order + 3,
+                     [&](int a, int b) { return std::fabs(normal[a]) > std::fabs(normal[b]); });
     for (int d : order) {
         if (!(normal[d] != 0)) continue;
         const int u = (d + 1) % 3, v = (d + 2) % 3;
@@ -84,7 +83,7 @@ bool PolygonTriangulation::simpleIn(int u, int v) {
         const int o1 = orient2d(a, b, c), o2 = orient2d(a, b, d);
         const int o3 = orient2d(c, d, a), o4 = orient2d(c, d, b);
         const bool sharedC = c == a || c == b, sharedD = d == a || d == b;
-        if (o1 == 0 && o2 == 0) {  // collinear: overlap beyond shared end points?
+        if (o1 == 0 && o2 == 0) {                  // collinear: overlap beyond shared end points?
             if (sharedC && sharedD) return false;  // the same segment (a bridge)
             // An end point of one strictly inside the other, or a shared end with an overlap.
             auto inside = [&](const Point2& p, const Point2& s0, const Point2& s1) {

@@ -47,9 +47,9 @@ class PolygonTriangulation {
     bool clipEars(int sign);      // ear clipping in the projection q_, turning `sign`
 
     std::span<const vis::Vec3> points_;
-    std::vector<uint32_t> ring_;  // the canonical cycle: indices into points_
-    std::vector<vis::Point2> q_;                 // ring_'s points projected
-    std::vector<uint32_t> prev_, next_;     // the remaining polygon, a cyclic list over ring_
+    std::vector<uint32_t> ring_;         // the canonical cycle: indices into points_
+    std::vector<vis::Point2> q_;         // ring_'s points projected
+    std::vector<uint32_t> prev_, next_;  // the remaining polygon, a cyclic list over ring_
     std::vector<Triangle> triangles_;
 };
 

@@ -30,10 +30,16 @@ std::string fmt(double x) {
 }
 
 using Kind = FaceDefect::Kind;
-FaceDefect degenerate(std::string message) { return FaceDefect{Kind::Degenerate, std::move(message)}; }
+FaceDefect degenerate(std::string message) {
+    return FaceDefect{Kind::Degenerate, std::move(message)};
+}
 FaceDefect invalid(std::string message) { return FaceDefect{Kind::Invalid, std::move(message)}; }
-FaceDefect nonPlanar(std::string message) { return FaceDefect{Kind::NonPlanar, std::move(message)}; }
-FaceDefect nonConvex(std::string message) { return FaceDefect{Kind::NonConvex, std::move(message)}; }
+FaceDefect nonPlanar(std::string message) {
+    return FaceDefect{Kind::NonPlanar, std::move(message)};
+}
+FaceDefect nonConvex(std::string message) {
+    return FaceDefect{Kind::NonConvex, std::move(message)};
+}
 
 // The face's indices alone: at least 3, all in range. A repeated index goes to `repeated`.
 std::optional<FaceDefect> indexDefect(const std::vector<uint32_t>& idx, size_t nv,
@@ -225,9 +231,9 @@ std::optional<FaceDefect> strictProjection(const std::vector<uint32_t>& idx,
             if (turn[i] != 0) continue;
             if (collinear3(p[prev], p[i], p[next])) {
                 return nonConvex("collinear vertices: vertex " + std::to_string(idx[i]) +
-                               " lies on the line through its neighbours " +
-                               std::to_string(idx[prev]) + " and " + std::to_string(idx[next]) +
-                               " (zero turn)");
+                                 " lies on the line through its neighbours " +
+                                 std::to_string(idx[prev]) + " and " + std::to_string(idx[next]) +
+                                 " (zero turn)");
             }
             spurious = true;
         }
@@ -274,14 +280,14 @@ std::optional<FaceDefect> convexityDefect(const std::vector<uint32_t>& idx, cons
         for (size_t i = 0; i < k; ++i) {
             if (turn[i] != expected) {
                 return nonConvex("non-convex: reflex vertex " + std::to_string(idx[i]) +
-                               " (the face turns the other way there)");
+                                 " (the face turns the other way there)");
             }
         }
     }
     const size_t count = revolutions(scratch.s, allPositive ? 1.0 : -1.0);
     if (count != 1) {
         return nonConvex("non-convex: self-intersecting (the boundary winds " +
-                       std::to_string(count) + " times around)");
+                         std::to_string(count) + " times around)");
     }
     return std::nullopt;
 }

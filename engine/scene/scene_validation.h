@@ -29,9 +29,9 @@
 #include <string>
 #include <vector>
 
-#include "visibility/orient2d.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_error.h"
+#include "visibility/orient2d.h"
 
 namespace penumbra {
 

@@ -431,8 +431,8 @@ const LoadOptions kStrict = LoadOptions::strictMode();
 TEST(ObjValidation, PlanarConvexQuadIsAccepted) {
     EXPECT_NO_THROW(loadObjFromString(kQuadBase, "", "ok.obj"));
     // Off the plane by 1e-12 of the diameter: planarity is exact, so this one is not planar.
-    expectError(kQuadBase + "v 0 0 1\nv 1 0 1\nv 1 1 1.000000000001\nv 0 1 1\nf 5 6 7 8\n", "",
-                10, "face 1: non-planar", "bad.obj", kStrict);
+    expectError(kQuadBase + "v 0 0 1\nv 1 0 1\nv 1 1 1.000000000001\nv 0 1 1\nf 5 6 7 8\n", "", 10,
+                "face 1: non-planar", "bad.obj", kStrict);
 }
 
 TEST(ObjValidation, NonPlanarQuadIsRejected) {

@@ -158,12 +158,13 @@ TEST_F(OpenMeshIo, OffDegenerateFaceIsDroppedByDefaultAndAnErrorWhenStrict) {
 // in PLY and OFF alike, with one warning per kind; strict mode refuses them.
 TEST_F(OpenMeshIo, ConcaveAndNonPlanarPolygonsAreSplitIntoTriangles) {
     const std::string vertices =
-        "0 0 0\n2 0 0\n2 2 0\n1 0.5 0\n0 2 0\n"  // a concave pentagon (a dart at vertex 3)
+        "0 0 0\n2 0 0\n2 2 0\n1 0.5 0\n0 2 0\n"   // a concave pentagon (a dart at vertex 3)
         "0 0 1\n1 0 1\n1 1 1.00000025\n0 1 1\n";  // a quad planar only to 2.5e-7
-    const std::string ply = "ply\nformat ascii 1.0\nelement vertex 9\nproperty float x\n"
-                            "property float y\nproperty float z\nelement face 2\n"
-                            "property list uchar int vertex_indices\nend_header\n" +
-                            vertices + "5 0 1 2 3 4\n4 5 6 7 8\n";
+    const std::string ply =
+        "ply\nformat ascii 1.0\nelement vertex 9\nproperty float x\n"
+        "property float y\nproperty float z\nelement face 2\n"
+        "property list uchar int vertex_indices\nend_header\n" +
+        vertices + "5 0 1 2 3 4\n4 5 6 7 8\n";
     const std::string off = "OFF\n9 2 0\n" + vertices + "5 0 1 2 3 4\n4 5 6 7 8\n";
     for (const auto& [name, text] : {std::pair{"poly.ply", ply}, std::pair{"poly.off", off}}) {
         SCOPED_TRACE(name);
@@ -180,11 +181,13 @@ TEST_F(OpenMeshIo, ConcaveAndNonPlanarPolygonsAreSplitIntoTriangles) {
         for (uint32_t f = 0; f < 3; ++f) area += scene.mesh.faceArea(f);
         EXPECT_NEAR(area, 2.5, 1e-12);
         ASSERT_EQ(scene.warnings.size(), 2u);
-        EXPECT_NE(scene.warnings[0].find("split 1 non-planar faces into 2 triangles (first: face 1"),
-                  std::string::npos)
+        EXPECT_NE(
+            scene.warnings[0].find("split 1 non-planar faces into 2 triangles (first: face 1"),
+            std::string::npos)
             << scene.warnings[0];
-        EXPECT_NE(scene.warnings[1].find("split 1 non-convex faces into 3 triangles (first: face 0"),
-                  std::string::npos)
+        EXPECT_NE(
+            scene.warnings[1].find("split 1 non-convex faces into 3 triangles (first: face 0"),
+            std::string::npos)
             << scene.warnings[1];
         expectLoadError([&] { loadOpenMeshFile(p, LoadOptions::strictMode()); }, p,
                         {"face 0", "non-convex", "strict mode refuses them"});

@@ -87,8 +87,14 @@ TEST(PolygonTriangulation, ConcavePolygonsAllRotations) {
 
 TEST(PolygonTriangulation, CollinearVerticesAndDecimalCoordinates) {
     // Vertices in the middle of edges (a T-junction written into the polygon), with decimals.
-    checkRotations({{0, 0, 0}, {0.1, 0, 0}, {0.3, 0, 0}, {0.3, 0.1, 0}, {0.3, 0.7, 0},
-                    {0.2, 0.7, 0}, {0.2, 0.2, 0}, {0, 0.2, 0}});
+    checkRotations({{0, 0, 0},
+                    {0.1, 0, 0},
+                    {0.3, 0, 0},
+                    {0.3, 0.1, 0},
+                    {0.3, 0.7, 0},
+                    {0.2, 0.7, 0},
+                    {0.2, 0.2, 0},
+                    {0, 0.2, 0}});
     // Clockwise polygons turn the other way and stay so.
     checkRotations({{0, 0, 0}, {0, 1, 0}, {0.5, 0.5, 0}, {1, 1, 0}, {1, 0, 0}});
 }
@@ -161,8 +167,7 @@ TEST(PolygonTriangulation, SelfIntersectingAndCollinearPolygonsAreRefused) {
     ASSERT_TRUE(problem);
     EXPECT_NE(problem->find("self-intersecting"), std::string::npos) << *problem;
     // A vertex on another edge's interior (touching, not a bridge).
-    EXPECT_TRUE(t.run(std::vector<Vec3>{
-        {0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {2, 0, 0}, {0, 4, 0}}));
+    EXPECT_TRUE(t.run(std::vector<Vec3>{{0, 0, 0}, {4, 0, 0}, {4, 4, 0}, {2, 0, 0}, {0, 4, 0}}));
     // Fewer than three distinct positions.
     EXPECT_TRUE(t.run(std::vector<Vec3>{{0, 0, 0}, {0, 0, 0}, {1, 0, 0}}));
 }
