@@ -77,8 +77,9 @@ uint32_t ReceiverPatches::cellIndex(size_t fan, int i, int j, bool upper) const 
     return index + static_cast<uint32_t>(2 * j) + (upper ? 1 : 0);
 }
 
-uint32_t ReceiverPatches::find(const Vec3& x) const {
+uint32_t ReceiverPatches::find(const Vec3& x, uint32_t hint) const {
     if (patches.size() <= 1) return 0;
+    if (hint < patches.size() && contains(hint, x)) return hint;
     const int k = cellsPerSide;
     const Point2 q = project(x, dropAxis);
     // The cell of fan triangle t that x's rounded barycentric coordinates give (clamped into the

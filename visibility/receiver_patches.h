@@ -15,6 +15,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -29,7 +30,11 @@ struct ReceiverPatches {
     // constant time per fan triangle from x's rounded barycentric coordinates, then checked, then
     // the cells around the guess, then (never seen but for points on patch edges at extreme
     // magnitudes) every patch. The nearest guess when x is outside the face.
-    uint32_t find(const Vec3& x) const;
+    // With a hint (a patch that held a neighbouring point: the renderer's previous pixel), that
+    // patch where it contains x, the one exact test instead of the guess: any patch containing x
+    // answers it exactly.
+    uint32_t find(const Vec3& x, uint32_t hint = kNoHint) const;
+    static constexpr uint32_t kNoHint = UINT32_MAX;
     // Whether x, projected (dropAxis), lies in patch `patch`'s closed projected polygon: exact
     // orientation signs of the doubles given.
     bool contains(uint32_t patch, const Vec3& x) const;

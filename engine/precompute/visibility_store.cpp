@@ -89,9 +89,10 @@ size_t VisibilityStore::patchCount(uint32_t face) const {
     return std::max<size_t>(1, vis::receiverPatchCount(polygon, maxPatchDiameter_));
 }
 
-PairKey VisibilityStore::keyAt(uint32_t face, const Vec3& x, uint32_t lightFace) const {
+PairKey VisibilityStore::keyAt(uint32_t face, const Vec3& x, uint32_t lightFace,
+                               uint32_t patchHint) const {
     const vis::ReceiverPatches& p = patches(face);
-    PairKey key{face, p.patches.size() <= 1 ? 0u : p.find(x), lightFace};
+    PairKey key{face, p.patches.size() <= 1 ? 0u : p.find(x, patchHint), lightFace};
     if (!patchSlots_[face]->refined.load(std::memory_order_acquire)) return key;
     std::shared_lock lock(refinedMutex_);
     for (auto it = refined_.find(key); it != refined_.end(); it = refined_.find(key)) {

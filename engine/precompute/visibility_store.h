@@ -81,7 +81,9 @@ class VisibilityStore {
     size_t patchCount(uint32_t face) const;
     // The key of the tree serving point x on `face` for light face `lightFace`: its patch's, or
     // where that pair was refined, the finest built sub-patch's tree holding x (below).
-    PairKey keyAt(uint32_t face, const Vec3& x, uint32_t lightFace) const;
+    // `patchHint`: a patch of `face` that held a neighbouring point (ReceiverPatches::find).
+    PairKey keyAt(uint32_t face, const Vec3& x, uint32_t lightFace,
+                  uint32_t patchHint = vis::ReceiverPatches::kNoHint) const;
 
     // Query-driven refinement. A pair whose queries the renderer found too expensive (a partial
     // tree of a patch under foliage) is refined: its patch is split into sub-patches

@@ -111,6 +111,7 @@ struct PassInputs {
     const DirectLighting& lighting;
     const std::vector<Vec3>& faceNormal;  // unit, per face
     const std::vector<Vec3>& faceOrigin;  // first vertex, per face
+    const std::vector<vis::PlaneOrient>& facePlane;  // vis::facePlane's, per face
     const CameraRays& rays;
     const RenderSettings& settings;
     int pass = 0;
@@ -225,6 +226,7 @@ class TileShader {
 
     void collectPoints(const Tile& tile) {
         points_.clear();
+        uint32_t hintFace = UINT32_MAX, hintPatch = vis::ReceiverPatches::kNoHint;
         size_t i = 0;
         for (int y = tile.y0; y < tile.y1; ++y) {
             for (int x = tile.x0; x < tile.x1; ++x, ++i) {
@@ -244,9 +246,7 @@ class TileShader {
                 p.input = p.x = surfacePoint(ph.hit->point, n, in_.faceOrigin[f]);
                 // The exact method answers the point on the face's closed front side, every path
                 // the same one (shading_point.h); the sampled ones trace from the projection.
-                if (in_.exact)
-                    p.x =
-                        vis::answeredPoint(vis::facePlane(in_.scene.mesh, f).orient(), p.input).at;
+                if (in_.exact) p.x = vis::answeredPoint(in_.facePlane[f], p.input).at;
                 p.n = n;
                 p.wo = -ph.ray.direction;
                 p.material = &in_.scene.material(f);
@@ -257,9 +257,14 @@ class TileShader {
                     const std::vector<uint32_t>& lights = in_.scene.lights;
                     const auto light = std::find_if(lights.begin(), lights.end(),
                                                     [f](uint32_t l) { return l != f; });
-                    if (light != lights.end()) tp.firstKey = in_.store.keyAt(f, p.x, *light);
+                    // The previous point's patch first (ReceiverPatches::find): neighbouring
+                    // pixels mostly share one, and one exact test then replaces the lookup.
+                    const uint32_t hint = f == hintFace ? hintPatch : vis::ReceiverPatches::kNoHint;
+                    if (light != lights.end()) tp.firstKey = in_.store.keyAt(f, p.x, *light, hint);
                     const uint32_t patch =
-                        tp.firstKey ? tp.firstKey->patch : in_.store.patches(f).find(p.x);
+                        tp.firstKey ? tp.firstKey->patch : in_.store.patches(f).find(p.x, hint);
+                    hintFace = f;
+                    hintPatch = tp.firstKey ? VisibilityStore::patchOf(*tp.firstKey) : patch;
                     tp.group = (static_cast<uint64_t>(f) << 32) | patch;
                 }
                 points_.push_back(tp);
@@ -361,8 +366,12 @@ ProgressiveRenderer::ProgressiveRenderer(const Scene& scene, const EmbreeScene& 
       queries_(std::make_unique<QueryPool>()) {
     faceNormal_.reserve(scene.faceCount());
     faceOrigin_.reserve(scene.faceCount());
+    facePlane_.reserve(scene.faceCount());
     for (uint32_t f = 0; f < scene.faceCount(); ++f) {
         faceNormal_.push_back(normalize(scene.mesh.faceAreaNormal(f)));
+        facePlane_.push_back(scene.mesh.faces[f].size() < 3
+                                 ? vis::PlaneOrient{}
+                                 : vis::facePlane(scene.mesh, f).orient());
         faceOrigin_.push_back(
             scene.mesh.faces[f].empty() ? Vec3{} : scene.mesh.vertices[scene.mesh.faces[f][0]]);
     }
@@ -444,7 +453,7 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
                             if (faces.empty() || faces.back() != f) faces.push_back(f);
                             // The point the exact method answers (collectPoints).
                             const Vec3 xs =
-                                vis::answeredPoint(vis::facePlane(scene_.mesh, f).orient(),
+                                vis::answeredPoint(facePlane_[f],
                                                    surfacePoint(hit->point, n, faceOrigin_[f]))
                                     .at;
                             for (uint32_t lf : scene_.lights)
@@ -544,6 +553,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                         *lighting_,
                         faceNormal_,
                         faceOrigin_,
+                        facePlane_,
                         rays,
                         settings,
                         pass,
