@@ -8,6 +8,8 @@
 //    "fragments":[[[x,y,z],...],...],"outline":{"loops":[[[x,y,z],...],...],"edges":e,
 //    "form_factor":f'},"nodes_visited":n,"path":[node ids],
 //    "pair":"penumbra|fully-visible|fully-hidden|back-facing"}]}
+// "source_line" follows "face" where the scene file has lines: face numbers are the repaired
+// mesh's (docs/formats.md), the line says which face of the file it came from.
 // A point strictly behind its face's plane (a rounding: a point within findFaceContaining's
 // tolerance of the face, or given with --face) is answered from the nearest point the filter
 // certifies in front, some ulps away (answeredPointOn), printed as "answered_point".
@@ -181,11 +183,14 @@ nlohmann::ordered_json toJson(const std::vector<vis::Polygon3>& polygons) {
     return out;
 }
 
-nlohmann::ordered_json toJson(const QueryPoint& p, uint32_t face, const Vec3& answered,
-                              const std::vector<LightAtPoint>& lights) {
+nlohmann::ordered_json toJson(const QueryPoint& p, uint32_t face, int32_t sourceLine,
+                              const Vec3& answered, const std::vector<LightAtPoint>& lights) {
     nlohmann::ordered_json out;
     out["point"] = toJson(p.x);
     out["face"] = face;
+    // Face numbers are the repaired mesh's (a split face's triangles, a dropped face's absence):
+    // the line of the scene file the face came from, where the format has lines.
+    if (sourceLine > 0) out["source_line"] = sourceLine;
     // A point behind its face's plane by a rounding is answered from its front side
     // (answeredPointOn): the point answered, some ulps away; the contact rule is decided at the
     // point given.
@@ -277,7 +282,9 @@ void runQuery(const CLI::App& sub, const QueryOptions& options) {
         const Vec3 answered = answeredPointOn(scene, faces[i], points[i].x).at;
         const std::vector<LightAtPoint> lights =
             queryPoint(store, faces[i], points[i].x, lightFlag);
-        const nlohmann::json answer = toJson(points[i], faces[i], answered, lights);
+        const int32_t line =
+            faces[i] < scene.faceSourceLine.size() ? scene.faceSourceLine[faces[i]] : 0;
+        const nlohmann::json answer = toJson(points[i], faces[i], line, answered, lights);
         requireFinite(answer, "the answer for point " + std::to_string(i));
         std::cout << answer.dump() << '\n';
     }

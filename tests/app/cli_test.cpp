@@ -309,9 +309,16 @@ TEST_F(CliTest, RepairsAreWarningsAndTheRepairedMeshIsQueried) {
     ASSERT_EQ(out.size(), 1u) << r.out;
     const json j = json::parse(out[0]);
     EXPECT_EQ(j["face"], 0);
+    EXPECT_EQ(j["source_line"], 19);  // the face's line in the file
     ASSERT_EQ(j["lights"].size(), 1u);
     EXPECT_EQ(j["lights"][0]["light_face"], 1);
     EXPECT_NEAR(j["lights"][0]["fraction"].get<double>(), 0.5, 1e-12);
+    // The blocker, the file's face 3 (line 24), is face 2 of the repaired mesh.
+    const ProcessResult b = runPenumbra({"query", file, "--point", "0.5,0,1"});
+    ASSERT_EQ(b.exitCode, 0) << b.err;
+    const json k = json::parse(lines(b.out).at(0));
+    EXPECT_EQ(k["face"], 2);
+    EXPECT_EQ(k["source_line"], 24);
 }
 
 TEST_F(CliTest, StrictTurnsRepairsIntoErrorsInEveryCommand) {
