@@ -3,9 +3,10 @@
 //
 // Embree's hit, computed in float, lies a hair off the face's plane, so it is projected onto the
 // plane in double; the projection is rounded and lands on either side of it. A projection behind
-// the plane is answered from its front side, some ulps away, with the contact rule decided at the
-// projection itself (visibility/answered_point.h): by the tree walk and by the direct query alike,
-// so that the renderer's two paths, the viewer's click and `query` answer one point.
+// the plane, or one that cheap tests cannot certify on or in front of it, is answered from its
+// front side, some ulps away, with the contact rule decided at the projection itself
+// (visibility/answered_point.h): by the tree walk and by the direct query alike, so that the
+// renderer's two paths, the viewer's click and `query` answer one point.
 #pragma once
 
 #include <cstdint>
