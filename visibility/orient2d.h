@@ -17,6 +17,12 @@ struct Point2 {
 // The projection of p onto the coordinate plane (u, v) = (p[u], p[v]).
 inline Point2 project(const Vec3& p, int u, int v) { return {p[u], p[v]}; }
 
+// The projection that drops coordinate `axis`: (p[axis + 1], p[axis + 2]) cyclically, so that a
+// polygon counter-clockwise about +axis stays counter-clockwise.
+inline Point2 projectDropping(const Vec3& p, int axis) {
+    return project(p, (axis + 1) % 3, (axis + 2) % 3);
+}
+
 // Exact sign of the turn a -> b -> c: +1 left (counter-clockwise), -1 right, 0 collinear.
 // Inputs must be finite.
 int orient2d(const Point2& a, const Point2& b, const Point2& c);

@@ -25,10 +25,6 @@ int cellsPerSide(double d, double maxDiameter) {
     return 1 << std::min(8, static_cast<int>(std::ceil(std::log2(d / maxDiameter))));
 }
 
-Point2 project(const Vec3& p, int drop) {
-    return drop == 0 ? Point2{p.y, p.z} : (drop == 1 ? Point2{p.z, p.x} : Point2{p.x, p.y});
-}
-
 // The rounded barycentric coordinates of q in the projected fan triangle (a, b, c): u along
 // a -> b, v along a -> c; false for a triangle of zero projected area.
 bool barycentric(const Point2& a, const Point2& b, const Point2& c, const Point2& q, double& u,
@@ -43,7 +39,7 @@ bool barycentric(const Point2& a, const Point2& b, const Point2& c, const Point2
 }  // namespace
 
 bool ReceiverPatches::contains(uint32_t patch, const Vec3& x) const {
-    const Point2 q = project(x, dropAxis);
+    const Point2 q = projectDropping(x, dropAxis);
     if (patch < corners2d.size() && faceTurn != 0) {
         // A grid's triangle, projected once (subdivideReceiverGrid); it turns as the face does.
         const std::array<Point2, 3>& t = corners2d[patch];
@@ -58,11 +54,13 @@ bool ReceiverPatches::contains(uint32_t patch, const Vec3& x) const {
     const std::vector<Vec3>& p = patches[patch];
     int turn = faceTurn;
     for (size_t i = 1; i + 1 < p.size() && turn == 0; ++i)
-        turn =
-            orient2d(project(p[0], dropAxis), project(p[i], dropAxis), project(p[i + 1], dropAxis));
+        turn = orient2d(projectDropping(p[0], dropAxis), projectDropping(p[i], dropAxis),
+                        projectDropping(p[i + 1], dropAxis));
     if (turn == 0) return false;
     for (size_t i = 0; i < p.size(); ++i)
-        if (orient2d(project(p[i], dropAxis), project(p[(i + 1) % p.size()], dropAxis), q) * turn <
+        if (orient2d(projectDropping(p[i], dropAxis),
+                     projectDropping(p[(i + 1) % p.size()], dropAxis), q) *
+                turn <
             0)
             return false;
     return true;
@@ -81,7 +79,7 @@ uint32_t ReceiverPatches::find(const Vec3& x, uint32_t hint) const {
     if (patches.size() <= 1) return 0;
     if (hint < patches.size() && contains(hint, x)) return hint;
     const int k = cellsPerSide;
-    const Point2 q = project(x, dropAxis);
+    const Point2 q = projectDropping(x, dropAxis);
     // The cell of fan triangle t that x's rounded barycentric coordinates give (clamped into the
     // triangle), and how far outside the triangle they put x (<= 0 inside).
     struct Guess {
@@ -89,12 +87,12 @@ uint32_t ReceiverPatches::find(const Vec3& x, uint32_t hint) const {
         bool upper = false;
         double out = std::numeric_limits<double>::infinity();
     };
-    const Point2 origin = project(face[0], dropAxis);
+    const Point2 origin = projectDropping(face[0], dropAxis);
     auto guess = [&](size_t t) {
         Guess g;
         double u = 0, v = 0;
-        if (!barycentric(origin, project(face[t], dropAxis), project(face[t + 1], dropAxis), q, u,
-                         v))
+        if (!barycentric(origin, projectDropping(face[t], dropAxis),
+                         projectDropping(face[t + 1], dropAxis), q, u, v))
             return g;
         g.out = std::max({-u, -v, u + v - 1});
         const double su = std::clamp(u, 0.0, 1.0) * k, sv = std::clamp(v, 0.0, 1.0) * k;
@@ -157,8 +155,9 @@ ReceiverPatches subdivideReceiverGrid(std::span<const Vec3> face, int k, int dro
         dropAxis >= 0 && dropAxis < 3 ? dropAxis : (ax >= ay && ax >= az ? 0 : (ay >= az ? 1 : 2));
     out.face.assign(face.begin(), face.end());
     for (size_t i = 1; i + 1 < face.size() && out.faceTurn == 0; ++i)
-        out.faceTurn = orient2d(project(face[0], out.dropAxis), project(face[i], out.dropAxis),
-                                project(face[i + 1], out.dropAxis));
+        out.faceTurn =
+            orient2d(projectDropping(face[0], out.dropAxis), projectDropping(face[i], out.dropAxis),
+                     projectDropping(face[i + 1], out.dropAxis));
     if (k <= 1) {  // each fan triangle: k*k triangles
         out.patches.emplace_back(face.begin(), face.end());
         return out;
@@ -178,8 +177,8 @@ ReceiverPatches subdivideReceiverGrid(std::span<const Vec3> face, int k, int dro
         // moves every edge out by at least 21 ulps of M, so neighbouring patches overlap and every
         // point of the face lies inside one of them at every magnitude (at 1e12 with a unit
         // face, patches grow by about 1e-2 of their size instead of 1e-7).
-        const Point2 pa = project(a, out.dropAxis), pb = project(b, out.dropAxis),
-                     pc = project(c, out.dropAxis);
+        const Point2 pa = projectDropping(a, out.dropAxis), pb = projectDropping(b, out.dropAxis),
+                     pc = projectDropping(c, out.dropAxis);
         const double area2 =
             std::fabs((pb.u - pa.u) * (pc.v - pa.v) - (pb.v - pa.v) * (pc.u - pa.u));
         const double longest =
@@ -195,9 +194,9 @@ ReceiverPatches subdivideReceiverGrid(std::span<const Vec3> face, int k, int dro
             out.patches.push_back(
                 {p + (p - centroid) * grow, q + (q - centroid) * grow, r + (r - centroid) * grow});
             const std::vector<Vec3>& added = out.patches.back();
-            out.corners2d.push_back({project(added[0], out.dropAxis),
-                                     project(added[1], out.dropAxis),
-                                     project(added[2], out.dropAxis)});
+            out.corners2d.push_back({projectDropping(added[0], out.dropAxis),
+                                     projectDropping(added[1], out.dropAxis),
+                                     projectDropping(added[2], out.dropAxis)});
         };
         for (int i = 0; i < k; ++i)
             for (int j = 0; i + j < k; ++j) {

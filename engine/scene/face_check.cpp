@@ -3,12 +3,14 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <array>
 #include <optional>
 #include <vector>
 
 #include "engine/scene/polygon_triangulation.h"
 #include "engine/scene/scene_error.h"
 #include "engine/scene/scene_validation.h"
+#include "visibility/form_factor.h"
 
 namespace penumbra {
 namespace {
@@ -111,10 +113,13 @@ void checkLoadedFaces(Scene& scene, DegenerateFaces policy, const FaceNamer& nam
                 keep(f, std::move(scene.mesh.faces[f]));
                 continue;
             }
-            const FaceDefect d = defectOf(static_cast<uint32_t>(f));
-            if (d.degenerate()) {
+            // The kind is known from the check above; the message (a second checkFace) only for
+            // the first face of each kind, and for an error.
+            const Kind kind = static_cast<Kind>(status[f] - 1);
+            const auto message = [&] { return defectOf(static_cast<uint32_t>(f)).message; };
+            if (kind == Kind::Degenerate) {
                 if (dropped.faces++ == 0)
-                    dropped.first = describe(static_cast<uint32_t>(f), d.message);
+                    dropped.first = describe(static_cast<uint32_t>(f), message());
                 continue;
             }
             const std::vector<uint32_t>& ids = scene.mesh.faces[f];
@@ -122,45 +127,32 @@ void checkLoadedFaces(Scene& scene, DegenerateFaces policy, const FaceNamer& nam
             for (uint32_t v : ids) points.push_back(scene.mesh.vertices[v]);
             if (const auto problem = triangulation.run(points))
                 throw makeSceneError(scene.sourcePath, lineOf(f),
-                                     faceName(static_cast<uint32_t>(f)) + ": " + d.message +
+                                     faceName(static_cast<uint32_t>(f)) + ": " + message() +
                                          ", and it cannot be split into triangles: " + *problem);
-            RepairCount& count = d.kind == Kind::NonPlanar ? splitNonPlanar : splitNonConvex;
-            if (count.faces++ == 0) count.first = describe(static_cast<uint32_t>(f), d.message);
+            RepairCount& count = kind == Kind::NonPlanar ? splitNonPlanar : splitNonConvex;
+            if (count.faces++ == 0) count.first = describe(static_cast<uint32_t>(f), message());
             count.triangles += triangulation.triangles().size();
-            for (const auto& t : triangulation.triangles())
+            for (const auto& t : triangulation.triangles()) {
+                // A triangle of the split turns strictly in its projection, so its vertices are
+                // distinct and not collinear: of checkFace's tests only the last can fail, an
+                // area that rounds to zero (the same formula as PolygonMesh::faceArea). Such a
+                // triangle is dropped as degenerate.
+                const std::array<vis::Vec3, 3> corners = {points[t[0]], points[t[1]], points[t[2]]};
+                if (!(vis::polygonArea(corners) > 0)) {
+                    if (dropped.faces++ == 0)
+                        dropped.first =
+                            "a triangle of a split face" +
+                            (lineOf(f) > 0 ? ", line " + std::to_string(lineOf(f)) : "") +
+                            ": degenerate: its area rounds to zero (a sliver below double "
+                            "precision)";
+                    continue;
+                }
                 keep(f, {ids[t[0]], ids[t[1]], ids[t[2]]});
+            }
         }
         scene.mesh.faces = std::move(faces);
         if (!scene.faceMaterial.empty()) scene.faceMaterial = std::move(material);
         if (!scene.faceSourceLine.empty()) scene.faceSourceLine = std::move(line);
-        // The triangles of the splits: one whose area rounds to zero is dropped (degenerate).
-        const size_t count = scene.mesh.faces.size();
-        std::vector<uint8_t> after(count, kOk);
-        checkFaces(scene.mesh, 0, count, after);
-        size_t out = 0;
-        for (size_t f = 0; f < count; ++f) {
-            if (after[f] != kOk) {
-                const FaceDefect d = defectOf(static_cast<uint32_t>(f));
-                if (!d.degenerate())  // a triangle of input vertices is planar and convex
-                    throw makeSceneError(scene.sourcePath, lineOf(f),
-                                         "a triangle of a split face: " + d.message);
-                if (dropped.faces++ == 0)
-                    dropped.first = "a triangle of a split face" +
-                                    (lineOf(f) > 0 ? ", line " + std::to_string(lineOf(f)) : "") +
-                                    ": " + d.message;
-                continue;
-            }
-            if (out != f) {
-                scene.mesh.faces[out] = std::move(scene.mesh.faces[f]);
-                if (f < scene.faceMaterial.size()) scene.faceMaterial[out] = scene.faceMaterial[f];
-                if (f < scene.faceSourceLine.size())
-                    scene.faceSourceLine[out] = scene.faceSourceLine[f];
-            }
-            ++out;
-        }
-        scene.mesh.faces.resize(out);
-        if (!scene.faceMaterial.empty()) scene.faceMaterial.resize(out);
-        if (!scene.faceSourceLine.empty()) scene.faceSourceLine.resize(out);
     }
     const std::string& file = scene.sourcePath;
     if (dropped.faces > 0)

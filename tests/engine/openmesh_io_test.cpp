@@ -152,8 +152,6 @@ TEST_F(OpenMeshIo, OffDegenerateFaceIsDroppedByDefaultAndAnErrorWhenStrict) {
     EXPECT_NE(scene.warnings[0].find("face 1"), std::string::npos) << scene.warnings[0];
 }
 
-// A tool's line between the header lines, outside a comment: skipped with a warning in repair
-// mode, in ASCII and binary files alike; strict mode refuses it.
 // Repair mode splits a concave polygon and a non-planar quad into triangles of their own vertices,
 // in PLY and OFF alike, with one warning per kind; strict mode refuses them.
 TEST_F(OpenMeshIo, ConcaveAndNonPlanarPolygonsAreSplitIntoTriangles) {
@@ -194,6 +192,8 @@ TEST_F(OpenMeshIo, ConcaveAndNonPlanarPolygonsAreSplitIntoTriangles) {
     }
 }
 
+// A tool's line between the header lines, outside a comment: skipped with a warning in repair
+// mode, in ASCII and binary files alike; strict mode refuses it.
 TEST_F(OpenMeshIo, PlyUnknownHeaderLineIsSkippedWithAWarning) {
     std::string ascii = asciiPly(kPlyVertices, kPlyFaces, 5, 2);
     ascii.insert(ascii.find("comment test"), "Created by Blender 2.93\n");  // line 3
