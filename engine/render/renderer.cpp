@@ -103,6 +103,26 @@ Ray primaryRay(const CameraRays& rays, const RenderSettings& s, int pass, int x,
     return rays(x + u, y + v);
 }
 
+// The plane of the face the last point lay on (vis::facePlane), formed again only when the face
+// changes: consecutive pixels mostly share a face, and a table of every face's plane would cost
+// 120 bytes a face (100 MB on the dragon).
+class LastFacePlane {
+  public:
+    explicit LastFacePlane(const vis::PolygonMesh& mesh) : mesh_(mesh) {}
+    const vis::PlaneOrient& of(uint32_t face) {
+        if (face != face_) {
+            plane_ = vis::facePlane(mesh_, face).orient();
+            face_ = face;
+        }
+        return plane_;
+    }
+
+  private:
+    const vis::PolygonMesh& mesh_;
+    uint32_t face_ = UINT32_MAX;
+    vis::PlaneOrient plane_;
+};
+
 // What every tile of one pass reads.
 struct PassInputs {
     const Scene& scene;
@@ -111,7 +131,6 @@ struct PassInputs {
     const DirectLighting& lighting;
     const std::vector<Vec3>& faceNormal;  // unit, per face
     const std::vector<Vec3>& faceOrigin;  // first vertex, per face
-    const std::vector<vis::PlaneOrient>& facePlane;  // vis::facePlane's, per face
     const CameraRays& rays;
     const RenderSettings& settings;
     int pass = 0;
@@ -226,6 +245,7 @@ class TileShader {
 
     void collectPoints(const Tile& tile) {
         points_.clear();
+        LastFacePlane plane{in_.scene.mesh};
         uint32_t hintFace = UINT32_MAX, hintPatch = vis::ReceiverPatches::kNoHint;
         size_t i = 0;
         for (int y = tile.y0; y < tile.y1; ++y) {
@@ -246,7 +266,7 @@ class TileShader {
                 p.input = p.x = surfacePoint(ph.hit->point, n, in_.faceOrigin[f]);
                 // The exact method answers the point on the face's closed front side, every path
                 // the same one (shading_point.h); the sampled ones trace from the projection.
-                if (in_.exact) p.x = vis::answeredPoint(in_.facePlane[f], p.input).at;
+                if (in_.exact) p.x = vis::answeredPoint(plane.of(f), p.input).at;
                 p.n = n;
                 p.wo = -ph.ray.direction;
                 p.material = &in_.scene.material(f);
@@ -366,12 +386,8 @@ ProgressiveRenderer::ProgressiveRenderer(const Scene& scene, const EmbreeScene& 
       queries_(std::make_unique<QueryPool>()) {
     faceNormal_.reserve(scene.faceCount());
     faceOrigin_.reserve(scene.faceCount());
-    facePlane_.reserve(scene.faceCount());
     for (uint32_t f = 0; f < scene.faceCount(); ++f) {
         faceNormal_.push_back(normalize(scene.mesh.faceAreaNormal(f)));
-        facePlane_.push_back(scene.mesh.faces[f].size() < 3
-                                 ? vis::PlaneOrient{}
-                                 : vis::facePlane(scene.mesh, f).orient());
         faceOrigin_.push_back(
             scene.mesh.faces[f].empty() ? Vec3{} : scene.mesh.vertices[scene.mesh.faces[f][0]]);
     }
@@ -438,6 +454,7 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
         [&](const tbb::blocked_range<int>& range) {
             std::unordered_map<PairKey, uint64_t, PairKeyHash> local;
             std::vector<uint32_t> faces;
+            LastFacePlane plane{scene_.mesh};
             for (int t = range.begin(); t != range.end(); ++t) {
                 if (cancelled()) return;
                 const Tile tile = tileAt(t, settings);
@@ -453,7 +470,7 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
                             if (faces.empty() || faces.back() != f) faces.push_back(f);
                             // The point the exact method answers (collectPoints).
                             const Vec3 xs =
-                                vis::answeredPoint(facePlane_[f],
+                                vis::answeredPoint(plane.of(f),
                                                    surfacePoint(hit->point, n, faceOrigin_[f]))
                                     .at;
                             for (uint32_t lf : scene_.lights)
@@ -553,7 +570,6 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                         *lighting_,
                         faceNormal_,
                         faceOrigin_,
-                        facePlane_,
                         rays,
                         settings,
                         pass,

@@ -175,8 +175,6 @@ class ProgressiveRenderer {
     std::unique_ptr<DirectLighting> lighting_;
     std::vector<Vec3> faceNormal_;      // unit, per face
     std::vector<Vec3> faceOrigin_;      // first vertex, per face
-    // Per face, its plane for exact sides (vis::facePlane): the answered points' (shading_point.h).
-    std::vector<vis::PlaneOrient> facePlane_;
     std::vector<uint8_t> passAnswers_;  // renderPass's, kept for its capacity
 
     // What the images used (effects()); guarded by mutex_.
