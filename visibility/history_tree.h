@@ -117,7 +117,7 @@ struct HistoryTree {
     DeferredSilhouettes silhouettes;
     // The occluder faces the build inserted, in insertion order (with `deferred`: every occluder
     // of the pair). The contact rule needs them: a query point on an occluder that reaches B's
-    // plane is answered from these faces directly (fp_query.h).
+    // plane is answered from these faces directly (fp_query/contact_rule.h).
     std::vector<uint32_t> occluders;
     // Derived (prepareForQueries), not stored: the planes of the inserted occluders that reach
     // B's plane (a vertex on or behind it). A query point exactly on one of these planes is

@@ -1,6 +1,6 @@
 // Point queries: which face a point lies on, and what each light looks like from a point on a face
 // (the exactly visible fragments of the light, their area and form factor), through the history
-// tree of each (receiver, light) pair (visibility/fp_query.h).
+// tree of each (receiver, light) pair (visibility/fp_query/from_point_query.h).
 #pragma once
 
 #include <cstdint>
@@ -15,7 +15,7 @@
 #include "engine/scene/scene.h"
 #include "visibility/answered_point.h"
 #include "visibility/face_clusters.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 #include "visibility/history_tree.h"
 #include "visibility/history_tree_builder.h"
 #include "visibility/visible_outline.h"

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "engine/render/cost_histogram.h"
-#include "visibility/work_stage.h"
+#include "visibility/fp_query/work_budget.h"
 
 namespace penumbra {
 

@@ -35,7 +35,7 @@
 #include "engine/render/effects_summary.h"
 #include "engine/scene/camera.h"
 #include "engine/scene/scene.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 
 namespace penumbra {
 

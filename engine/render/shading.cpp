@@ -10,7 +10,7 @@
 #include "engine/render/shading_point.h"
 #include "visibility/face_plane.h"
 #include "visibility/form_factor.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 #include "visibility/polygon_clip.h"
 
 namespace penumbra {

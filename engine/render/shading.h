@@ -33,7 +33,7 @@
 #include "engine/render/random.h"
 #include "engine/scene/scene.h"
 #include "visibility/answered_point.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 #include "visibility/pair_occluders.h"
 
 namespace penumbra {

@@ -12,7 +12,7 @@
 #include "engine/scene/procedural_scenes.h"
 #include "tools/devkit/headless_imgui.h"
 #include "tools/devkit/random_history_tree.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 #include "visibility/history_tree_builder.h"
 
 namespace {

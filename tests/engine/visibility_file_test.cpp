@@ -25,7 +25,7 @@
 #include "tests/support/random_points.h"
 #include "tests/support/test_scale.h"
 #include "tests/support/tree_reference.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 
 namespace penumbra {
 namespace {

@@ -15,7 +15,7 @@
 #include "engine/precompute/visibility_store.h"
 #include "engine/scene/procedural_scenes.h"
 #include "visibility/form_factor.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 
 namespace {
 

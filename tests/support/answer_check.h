@@ -16,7 +16,7 @@
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_validation.h"
 #include "visibility/form_factor.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 #include "visibility/history_tree_builder.h"
 
 namespace penumbra::test {

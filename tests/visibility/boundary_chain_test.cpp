@@ -23,7 +23,7 @@
 #include "visibility/face_clusters.h"
 #include "visibility/face_plane.h"
 #include "visibility/form_factor.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 #include "visibility/history_tree_builder.h"
 #include "visibility/pair_occluders.h"
 #include "visibility/visible_outline.h"

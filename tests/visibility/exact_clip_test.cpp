@@ -20,7 +20,7 @@
 #include "visibility/edge_line.h"
 #include "visibility/exact_orient.h"
 #include "visibility/form_factor.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 #include "visibility/history_tree_builder.h"
 #include "visibility/pair_occluders.h"
 

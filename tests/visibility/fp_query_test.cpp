@@ -1,7 +1,7 @@
 // FPQuery against independent references: the exact CGAL computation of L minus the central
 // projections of the occluders (tests/support/exact_reference.h), and a Monte Carlo estimate with
 // independent double-precision segment tests. Plus the properties of the fragments.
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 
 #include <gtest/gtest.h>
 

@@ -12,7 +12,7 @@
 #include "engine/scene/procedural_scenes.h"
 #include "tests/support/random_points.h"
 #include "tests/support/test_scale.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 #include "visibility/history_tree_builder.h"
 #include "visibility/pair_occluders.h"
 #include "visibility/predicates.h"

@@ -29,7 +29,7 @@
 #include "tests/support/random_points.h"
 #include "tests/support/test_scale.h"
 #include "visibility/form_factor.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 #include "visibility/pair_occluders.h"
 
 namespace penumbra {

@@ -15,7 +15,7 @@
 #include "tests/support/test_scale.h"
 #include "visibility/exact_orient.h"
 #include "visibility/form_factor.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 
 namespace penumbra {
 namespace {

@@ -17,7 +17,7 @@
 #include "tests/support/random_points.h"
 #include "tests/support/test_scale.h"
 #include "visibility/form_factor.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 #include "visibility/history_tree_builder.h"
 
 // (Its own namespace: in a unity build it shares a file with other tests.)

@@ -51,7 +51,7 @@
 #include "engine/studies/accuracy_study.h"
 #include "engine/studies/predicate_study.h"
 #include "visibility/form_factor.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 #include "visibility/visible_outline.h"
 
 #ifndef PENUMBRA_BUILD_TYPE

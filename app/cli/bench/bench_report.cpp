@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "engine/render/answers.h"
-#include "visibility/work_stage.h"
+#include "visibility/fp_query/work_budget.h"
 
 namespace penumbra::cli {
 namespace {
