@@ -9,7 +9,7 @@
 
 namespace penumbra::vis {
 
-namespace {
+namespace silhouettes_detail {
 
 // Q: B's box grown by a margin that holds the renderer's points on B (an Embree hit, rounded in
 // float, then projected onto B's plane in doubles). Only a size: a point outside Q is answered
@@ -43,28 +43,29 @@ int8_t sideOver(const PlaneOrient& plane, const Bounds3& box) {
     return side;
 }
 
-}  // namespace
+using Use = DeferredSilhouettes::Use;
+using EdgeKey = std::pair<uint32_t, uint32_t>;
 
-void prepareSilhouettes(const PolygonMesh& mesh, HistoryTree& tree,
-                        std::span<const Vec3> receiverRegion, uint64_t maxKeptPercent) {
-    DeferredSilhouettes& s = tree.silhouettes;
-    s = DeferredSilhouettes{};
-    if (tree.deferred.empty() || tree.kind != PairKind::Penumbra ||
-        tree.deferred.size() > kMaxSilhouetteFaces)
-        return;
-    // B's and L's planes as the query takes them (fp_query.cpp preparePair).
-    const FacePlane pb = facePlane(mesh, tree.receiver), pl = facePlane(mesh, tree.light);
-    const PlaneOrient planes[2] = {pb.orient(), pl.orient()};
-    const Bounds3 region = regionBox(mesh, tree.receiver, receiverRegion);
+EdgeKey edgeKey(const Use& u) { return {std::min(u.v0, u.v1), std::max(u.v0, u.v1)}; }
+uint64_t packed(EdgeKey k) { return (static_cast<uint64_t>(k.first) << 32) | k.second; }
 
-    // Each deferred face's kind and, for a Surface face, its uses.
-    std::vector<DeferredSilhouettes::Use> uses;
-    std::vector<std::pair<uint32_t, uint32_t>> clippedEdges;  // (lo, hi) of the Clipped faces
+// The deferred faces sorted by kind: their slots and, for a Surface face, its uses; the edges of
+// the Clipped faces (sorted); the slots in face order.
+struct FaceKinds {
+    std::vector<Use> uses;
+    std::vector<EdgeKey> clippedEdges;
+    std::vector<uint32_t> order;
+};
+
+FaceKinds classifyFaces(const PolygonMesh& mesh, const HistoryTree& tree,
+                        const PlaneOrient (&planes)[2], DeferredSilhouettes& s) {
+    FaceKinds out;
     s.slots.assign(tree.deferred.size(), DeferredSilhouettes::Slot::Empty);
     s.sides.assign(tree.deferred.size(), 0);
     // In face order (the deferred order is the insertion heuristic's: random over the mesh, and
     // a large mesh's faces and vertices are then one cache miss each).
-    std::vector<uint32_t> order(tree.deferred.size());
+    std::vector<uint32_t>& order = out.order;
+    order.resize(tree.deferred.size());
     for (uint32_t slot = 0; slot < order.size(); ++slot) order[slot] = slot;
     std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
         return tree.deferred[a].face < tree.deferred[b].face;
@@ -89,77 +90,67 @@ void prepareSilhouettes(const PolygonMesh& mesh, HistoryTree& tree,
             s.clipped.push_back(slot);
             for (size_t i = 0; i < n; ++i) {
                 const uint32_t a = ids[i], b = ids[(i + 1) % n];
-                clippedEdges.emplace_back(std::min(a, b), std::max(a, b));
+                out.clippedEdges.emplace_back(std::min(a, b), std::max(a, b));
             }
             continue;
         }
         s.slots[slot] = DeferredSilhouettes::Slot::Surface;
-        for (size_t i = 0; i < n; ++i) uses.push_back({ids[i], ids[(i + 1) % n], slot, 0});
+        for (size_t i = 0; i < n; ++i) out.uses.push_back({ids[i], ids[(i + 1) % n], slot, 0});
     }
-    std::sort(clippedEdges.begin(), clippedEdges.end());
+    std::sort(out.clippedEdges.begin(), out.clippedEdges.end());
     std::sort(s.clipped.begin(), s.clipped.end());
+    return out;
+}
 
-    // First only count the lone uses (an edge no other face shares) and the Clipped faces': where
-    // they are too many (separate faces) nothing more is worth computing. (On the edges' keys
-    // alone: a CAD model's partial trees defer some 100k faces each.)
-    auto key = [](const DeferredSilhouettes::Use& u) {
-        return std::pair{std::min(u.v0, u.v1), std::max(u.v0, u.v1)};
-    };
-    auto packed = [](std::pair<uint32_t, uint32_t> k) {
-        return (static_cast<uint64_t>(k.first) << 32) | k.second;
-    };
+// The lone uses (an edge no other face shares) and the Clipped faces' (on the edges' keys alone:
+// a CAD model's partial trees defer some 100k faces each).
+uint64_t countLoneUses(const PolygonMesh& mesh, const HistoryTree& tree,
+                       const DeferredSilhouettes& s, const FaceKinds& kinds) {
     uint64_t loneUses = 0;
     for (uint32_t slot : s.clipped) loneUses += mesh.faces[tree.deferred[slot].face].size();
-    {
-        std::vector<uint64_t> keys;
-        keys.reserve(uses.size());
-        for (const DeferredSilhouettes::Use& u : uses) keys.push_back(packed(key(u)));
-        std::sort(keys.begin(), keys.end());
-        std::vector<uint64_t> clippedKeys;
-        clippedKeys.reserve(clippedEdges.size());
-        for (const auto& e : clippedEdges) clippedKeys.push_back(packed(e));
-        for (size_t i = 0; i < keys.size();) {
-            size_t j = i + 1;
-            while (j < keys.size() && keys[j] == keys[i]) ++j;
-            if (j - i == 1 && !std::binary_search(clippedKeys.begin(), clippedKeys.end(), keys[i]))
-                ++loneUses;
-            i = j;
-        }
+    std::vector<uint64_t> keys;
+    keys.reserve(kinds.uses.size());
+    for (const Use& u : kinds.uses) keys.push_back(packed(edgeKey(u)));
+    std::sort(keys.begin(), keys.end());
+    std::vector<uint64_t> clippedKeys;
+    clippedKeys.reserve(kinds.clippedEdges.size());
+    for (const auto& e : kinds.clippedEdges) clippedKeys.push_back(packed(e));
+    for (size_t i = 0; i < keys.size();) {
+        size_t j = i + 1;
+        while (j < keys.size() && keys[j] == keys[i]) ++j;
+        if (j - i == 1 && !std::binary_search(clippedKeys.begin(), clippedKeys.end(), keys[i]))
+            ++loneUses;
+        i = j;
     }
-    s.loneUses = loneUses;
-    if (loneUses * kSilhouetteGain > s.totalUses) {
-        // Separate faces (leaves): nothing can cancel, the per-point chain would only add work.
-        DeferredSilhouettes totals;
-        totals.totalUses = s.totalUses;
-        totals.keptUses = s.uses.size();  // (0: not computed)
-        totals.loneUses = loneUses;
-        s = std::move(totals);
-        return;
-    }
+    return loneUses;
+}
 
-    // Each Surface face's side over Q, then the groups that cancel for every point of Q dropped:
-    // every face's side decided, no Clipped face on the edge (its use is the query's), and the
-    // signed directions summing to zero.
-    for (uint32_t slot : order) {
+// Each Surface face's side over Q, then the groups that cancel for every point of Q dropped:
+// every face's side decided, no Clipped face on the edge (its use is the query's), and the
+// signed directions summing to zero. Returns the kept groups' boxes.
+std::vector<Bounds3> keepGroups(const PolygonMesh& mesh, const HistoryTree& tree,
+                                const Bounds3& region, FaceKinds& kinds, DeferredSilhouettes& s) {
+    for (uint32_t slot : kinds.order) {
         if (s.slots[slot] != DeferredSilhouettes::Slot::Surface) continue;
         s.sides[slot] = sideOver(facePlane(mesh, tree.deferred[slot].face).orient(), region);
     }
-    for (DeferredSilhouettes::Use& u : uses) u.side = s.sides[u.slot];
+    std::vector<Use>& uses = kinds.uses;
+    for (Use& u : uses) u.side = s.sides[u.slot];
     // Grouped by undirected edge (stable: a group keeps its faces' order).
     std::stable_sort(uses.begin(), uses.end(),
-                     [&](const auto& a, const auto& b) { return key(a) < key(b); });
+                     [&](const auto& a, const auto& b) { return edgeKey(a) < edgeKey(b); });
     std::vector<Bounds3> boxes;
     s.groupBegin.push_back(0);
     for (size_t i = 0; i < uses.size();) {
         size_t j = i;
         int sum = 0;
         bool decided = true;
-        for (; j < uses.size() && key(uses[j]) == key(uses[i]); ++j) {
+        for (; j < uses.size() && edgeKey(uses[j]) == edgeKey(uses[i]); ++j) {
             decided = decided && uses[j].side != 0;
             sum += uses[j].side * (uses[j].v0 < uses[j].v1 ? 1 : -1);
         }
-        const bool withClipped =
-            std::binary_search(clippedEdges.begin(), clippedEdges.end(), key(uses[i]));
+        const bool withClipped = std::binary_search(kinds.clippedEdges.begin(),
+                                                    kinds.clippedEdges.end(), edgeKey(uses[i]));
         if (!(decided && sum == 0 && !withClipped)) {
             s.uses.insert(s.uses.end(), uses.begin() + static_cast<ptrdiff_t>(i),
                           uses.begin() + static_cast<ptrdiff_t>(j));
@@ -172,16 +163,48 @@ void prepareSilhouettes(const PolygonMesh& mesh, HistoryTree& tree,
         }
         i = j;
     }
+    return boxes;
+}
+
+// Only the totals of `s` (what the bench reports of a patch whose silhouettes do not pay).
+DeferredSilhouettes totalsOnly(const DeferredSilhouettes& s, uint64_t keptUses) {
+    DeferredSilhouettes totals;
+    totals.totalUses = s.totalUses;
+    totals.keptUses = keptUses;
+    totals.loneUses = s.loneUses;
+    return totals;
+}
+
+}  // namespace silhouettes_detail
+
+void prepareSilhouettes(const PolygonMesh& mesh, HistoryTree& tree,
+                        std::span<const Vec3> receiverRegion, uint64_t maxKeptPercent) {
+    using namespace silhouettes_detail;
+    DeferredSilhouettes& s = tree.silhouettes;
+    s = DeferredSilhouettes{};
+    if (tree.deferred.empty() || tree.kind != PairKind::Penumbra ||
+        tree.deferred.size() > kMaxSilhouetteFaces)
+        return;
+    // B's and L's planes as the query takes them (fp_query/pair_setup.cpp).
+    const FacePlane pb = facePlane(mesh, tree.receiver), pl = facePlane(mesh, tree.light);
+    const PlaneOrient planes[2] = {pb.orient(), pl.orient()};
+    const Bounds3 region = regionBox(mesh, tree.receiver, receiverRegion);
+    FaceKinds kinds = classifyFaces(mesh, tree, planes, s);
+    // First only count the lone uses and the Clipped faces': where they are too many (separate
+    // faces) nothing more is worth computing.
+    s.loneUses = countLoneUses(mesh, tree, s, kinds);
+    if (s.loneUses * kSilhouetteGain > s.totalUses) {
+        // Separate faces (leaves): nothing can cancel, the per-point chain would only add work.
+        s = totalsOnly(s, s.uses.size());  // (0: not computed)
+        return;
+    }
+    const std::vector<Bounds3> boxes = keepGroups(mesh, tree, region, kinds, s);
     s.keptUses = s.uses.size();
     for (uint32_t slot : s.clipped) s.keptUses += mesh.faces[tree.deferred[slot].face].size();
     if (s.keptUses * 100 > s.totalUses * maxKeptPercent) {
         // Too little cancels for the whole patch: the query would look at nearly every edge
         // anyway, and Algorithm 1 costs less (only the totals are kept).
-        DeferredSilhouettes totals;
-        totals.totalUses = s.totalUses;
-        totals.keptUses = s.keptUses;
-        totals.loneUses = loneUses;
-        s = std::move(totals);
+        s = totalsOnly(s, s.keptUses);
         return;
     }
     s.groups = BoxTree(boxes);

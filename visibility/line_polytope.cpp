@@ -97,6 +97,57 @@ void restrictRowInto(const HyperplaneRow& row, const PieceWeights& w, size_t nB,
         }
 }
 
+// The multipliers m with sum_q m_q a[q][g] = c[g] on s = a.size() independent generators, chosen
+// greedily in the order of `tight`; empty where no s of them are independent. Exact (rationals).
+std::optional<std::vector<mpq_class>> solveOnTight(
+    const std::vector<std::vector<mpq_class>>& a, const std::vector<mpq_class>& c,
+    const std::vector<std::pair<double, size_t>>& tight) {
+    const size_t s = a.size();
+    // Solve sum_q m_q a[q][g] = c[g] on s independent tight generators (Gaussian elimination in
+    // rationals, choosing generators greedily), then verify m >= 0 and every residual >= 0.
+    std::vector<std::vector<mpq_class>> sys;  // rows: [a[0][g] .. a[s-1][g] | c[g]]
+    for (const auto& [res, g] : tight) {
+        if (sys.size() == s) break;
+        std::vector<mpq_class> row(s + 1);
+        for (size_t q = 0; q < s; ++q) row[q] = a[q][g];
+        row[s] = c[g];
+        // Reduce against the rows chosen so far (each has a pivot column).
+        for (size_t r = 0; r < sys.size(); ++r) {
+            size_t p = 0;
+            while (p < s && sgn(sys[r][p]) == 0) ++p;
+            if (p == s || sgn(row[p]) == 0) continue;
+            const mpq_class f = row[p] / sys[r][p];
+            for (size_t q = 0; q <= s; ++q) row[q] -= f * sys[r][q];
+        }
+        bool independent = false;
+        for (size_t q = 0; q < s; ++q) independent |= sgn(row[q]) != 0;
+        if (independent) sys.push_back(std::move(row));
+    }
+    if (sys.size() != s) return std::nullopt;
+    // Back-substitute: bring the system to reduced echelon form.
+    std::vector<size_t> pivot(s);
+    for (size_t r = 0; r < s; ++r) {
+        size_t p = 0;
+        while (p < s && sgn(sys[r][p]) == 0) ++p;
+        pivot[r] = p;
+    }
+    for (size_t r = s; r-- > 0;) {
+        const mpq_class d = sys[r][pivot[r]];
+        for (size_t q = 0; q <= s; ++q) sys[r][q] /= d;
+        for (size_t o = 0; o < s; ++o) {
+            if (o == r || sgn(sys[o][pivot[r]]) == 0) continue;
+            const mpq_class f = sys[o][pivot[r]];
+            for (size_t q = 0; q <= s; ++q) sys[o][q] -= f * sys[r][q];
+        }
+    }
+    std::vector<mpq_class> m(s);
+    for (size_t r = 0; r < s; ++r) {
+        if (pivot[r] >= s) return std::nullopt;
+        m[pivot[r]] = sys[r][s];
+    }
+    return m;
+}
+
 }  // namespace
 
 struct LinePolytopeSpace::ExactCache {
@@ -221,6 +272,35 @@ bool LinePolytopeSpace::certifyNonNegative(std::span<const Constraint> path, con
     return false;
 }
 
+const auto& LinePolytopeSpace::exactRow(const HyperplaneRow& r) const {
+    // The row's exact values, as scaled in the LP: one per generator (b_i, l_j).
+    const size_t n = r.value.size();
+    auto it = exact_->rows.find(&r);
+    if (it != exact_->rows.end()) return it->second;
+    std::vector<mpq_class> v(n);
+    if (r.edge.kind == EdgeLine::Kind::Planes) {
+        // pi1(b_i) pi2(l_j) - pi1(l_j) pi2(b_i): each plane exactly once per vertex.
+        const PlaneOrient &p1 = r.edge.first, &p2 = r.edge.second;
+        std::vector<mpq_class> b1, b2, l1, l2;
+        for (const Vec3& p : b_) {
+            b1.push_back(orientExact(p1.a, p1.b, p1.c, p));
+            b2.push_back(orientExact(p2.a, p2.b, p2.c, p));
+        }
+        for (const Vec3& p : l_) {
+            l1.push_back(orientExact(p1.a, p1.b, p1.c, p));
+            l2.push_back(orientExact(p2.a, p2.b, p2.c, p));
+        }
+        for (size_t i = 0; i < b_.size(); ++i)
+            for (size_t j = 0; j < l_.size(); ++j)
+                v[i * l_.size() + j] = b1[i] * l2[j] - l1[j] * b2[i];
+    } else {
+        for (size_t i = 0; i < b_.size(); ++i)
+            for (size_t j = 0; j < l_.size(); ++j)
+                v[i * l_.size() + j] = sideExact(b_[i], l_[j], r.edge);
+    }
+    return exact_->rows.emplace(&r, std::move(v)).first->second;
+}
+
 bool LinePolytopeSpace::certifyExactly(std::span<const Constraint> path, const HyperplaneRow& h,
                                        int sign, std::span<const double> mu) const {
     if (h.restricted) return false;
@@ -232,32 +312,6 @@ bool LinePolytopeSpace::certifyExactly(std::span<const Constraint> path, const H
     for (size_t k = 0; k < mu.size(); ++k)
         if (mu[k] > 1e-12 * muMax) support.push_back(k);
     if (support.empty() || support.size() > 5) return false;
-    auto exactRow = [&](const HyperplaneRow& r) -> const std::vector<mpq_class>& {
-        auto it = exact_->rows.find(&r);
-        if (it != exact_->rows.end()) return it->second;
-        std::vector<mpq_class> v(n);
-        if (r.edge.kind == EdgeLine::Kind::Planes) {
-            // pi1(b_i) pi2(l_j) - pi1(l_j) pi2(b_i): each plane exactly once per vertex.
-            const PlaneOrient &p1 = r.edge.first, &p2 = r.edge.second;
-            std::vector<mpq_class> b1, b2, l1, l2;
-            for (const Vec3& p : b_) {
-                b1.push_back(orientExact(p1.a, p1.b, p1.c, p));
-                b2.push_back(orientExact(p2.a, p2.b, p2.c, p));
-            }
-            for (const Vec3& p : l_) {
-                l1.push_back(orientExact(p1.a, p1.b, p1.c, p));
-                l2.push_back(orientExact(p2.a, p2.b, p2.c, p));
-            }
-            for (size_t i = 0; i < b_.size(); ++i)
-                for (size_t j = 0; j < l_.size(); ++j)
-                    v[i * l_.size() + j] = b1[i] * l2[j] - l1[j] * b2[i];
-        } else {
-            for (size_t i = 0; i < b_.size(); ++i)
-                for (size_t j = 0; j < l_.size(); ++j)
-                    v[i * l_.size() + j] = sideExact(b_[i], l_[j], r.edge);
-        }
-        return exact_->rows.emplace(&r, std::move(v)).first->second;
-    };
     // Exact rows, as scaled in the LP: the multipliers are then comparable to mu.
     const std::vector<mpq_class>& hx = exactRow(h);
     std::vector<const std::vector<mpq_class>*> ax;
@@ -288,48 +342,9 @@ bool LinePolytopeSpace::certifyExactly(std::span<const Constraint> path, const H
         tight.push_back({std::fabs(r), g});
     }
     std::sort(tight.begin(), tight.end());
-    // Solve sum_q m_q a[q][g] = c[g] on s independent tight generators (Gaussian elimination in
-    // rationals, choosing generators greedily), then verify m >= 0 and every residual >= 0.
-    std::vector<std::vector<mpq_class>> sys;  // rows: [a[0][g] .. a[s-1][g] | c[g]]
-    for (const auto& [res, g] : tight) {
-        if (sys.size() == s) break;
-        std::vector<mpq_class> row(s + 1);
-        for (size_t q = 0; q < s; ++q) row[q] = a[q][g];
-        row[s] = c[g];
-        // Reduce against the rows chosen so far (each has a pivot column).
-        for (size_t r = 0; r < sys.size(); ++r) {
-            size_t p = 0;
-            while (p < s && sgn(sys[r][p]) == 0) ++p;
-            if (p == s || sgn(row[p]) == 0) continue;
-            const mpq_class f = row[p] / sys[r][p];
-            for (size_t q = 0; q <= s; ++q) row[q] -= f * sys[r][q];
-        }
-        bool independent = false;
-        for (size_t q = 0; q < s; ++q) independent |= sgn(row[q]) != 0;
-        if (independent) sys.push_back(std::move(row));
-    }
-    if (sys.size() != s) return false;
-    // Back-substitute: bring the system to reduced echelon form.
-    std::vector<size_t> pivot(s);
-    for (size_t r = 0; r < s; ++r) {
-        size_t p = 0;
-        while (p < s && sgn(sys[r][p]) == 0) ++p;
-        pivot[r] = p;
-    }
-    for (size_t r = s; r-- > 0;) {
-        const mpq_class d = sys[r][pivot[r]];
-        for (size_t q = 0; q <= s; ++q) sys[r][q] /= d;
-        for (size_t o = 0; o < s; ++o) {
-            if (o == r || sgn(sys[o][pivot[r]]) == 0) continue;
-            const mpq_class f = sys[o][pivot[r]];
-            for (size_t q = 0; q <= s; ++q) sys[o][q] -= f * sys[r][q];
-        }
-    }
-    std::vector<mpq_class> m(s);
-    for (size_t r = 0; r < s; ++r) {
-        if (pivot[r] >= s) return false;
-        m[pivot[r]] = sys[r][s];
-    }
+    const std::optional<std::vector<mpq_class>> multipliers = solveOnTight(a, c, tight);
+    if (!multipliers) return false;
+    const std::vector<mpq_class>& m = *multipliers;
     for (const mpq_class& v : m)
         if (sgn(v) < 0) return false;
     for (size_t g = 0; g < n; ++g) {

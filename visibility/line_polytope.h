@@ -138,7 +138,9 @@ class LinePolytopeSpace {
     bool certifyExactly(std::span<const Constraint> path, const HyperplaneRow& h, int sign,
                         std::span<const double> mu) const;
     struct ExactCache;
-    std::unique_ptr<ExactCache> exact_;  // exact row values, computed on demand
+    // A row's exact values (cached in exact_).
+    const auto& exactRow(const HyperplaneRow& r) const;  // (rationals: line_polytope.cpp)
+    std::unique_ptr<ExactCache> exact_;                  // exact row values, computed on demand
 
     std::vector<Vec3> b_, l_;
     std::vector<Vec3> probes_;                    // B's and L's vertices (sameLine's probes)
