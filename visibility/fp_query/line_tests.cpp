@@ -11,13 +11,8 @@ std::optional<int> LineTests::countLine(const Vec3& y) {
     // is where c jumps: no count).
     if (q_.silhouettes.active()) return q_.silhouettes.countLine(y);
     QueryRun& r = q_.run;
-    int c = 0;
-    bool touch = false;
-    auto add = [&](LineHit h) {
-        if (h == LineHit::Touch) touch = true;
-        if (h == LineHit::Through) ++c;
-        return touch || r.budget.reached();
-    };
+    HitCount c;
+    auto add = [&](LineHit h) { return c.add(h, r.budget); };
     ActiveOccluders& active = q_.active;
     if (!active.boxesBuilt()) {  // (as lineBlocked: a scan first, the hierarchy once it pays)
         scanned_ += active.size();
@@ -35,9 +30,9 @@ std::optional<int> LineTests::countLine(const Vec3& y) {
         q_.clusters.facesOnLine(linePlanes_, r.budget, [&](uint32_t face, int side) {
             return add(faceHitKind(face, side, y));
         });
-        if (touch || r.budget.reached()) return std::nullopt;
+        if (c.touch || r.budget.reached()) return std::nullopt;
     }
-    return c;
+    return c.count;
 }
 
 bool LineTests::lineBlocked(const Vec3& y) {

@@ -9,6 +9,7 @@
 #include <optional>
 #include <vector>
 
+#include "visibility/fp_query/work_budget.h"
 #include "visibility/predicates.h"
 
 namespace penumbra::vis {
@@ -18,6 +19,19 @@ struct QueryParts;
 // How a line from x meets an occluder: not, through its interior, or touching its boundary (a
 // closed hit with a zero sign).
 enum class LineHit { Miss, Through, Touch };
+
+// c(y) counted occluder by occluder: a line through one's interior adds one; one touching its
+// boundary is where c jumps, and ends the count (no count).
+struct HitCount {
+    int count = 0;
+    bool touch = false;
+    // Whether the count is over (touched, or the work limit was reached).
+    bool add(LineHit h, const WorkBudget& budget) {
+        if (h == LineHit::Touch) touch = true;
+        if (h == LineHit::Through) ++count;
+        return touch || budget.reached();
+    }
+};
 
 class LineTests {
   public:

@@ -118,13 +118,8 @@ bool SilhouettePath::lineBlocked(const Vec3& y) {
 std::optional<int> SilhouettePath::countLine(const Vec3& y) {
     QueryRun& r = q_.run;
     LineTests& lines = q_.lines;
-    int c = 0;
-    bool touch = false;
-    auto add = [&](LineHit h) {
-        if (h == LineHit::Touch) touch = true;
-        if (h == LineHit::Through) ++c;
-        return touch || r.budget.reached();
-    };
+    HitCount c;
+    auto add = [&](LineHit h) { return c.add(h, r.budget); };
     for (size_t j = 0; j < clipped_; ++j)
         if (add(lines.hitKind(j, y))) return std::nullopt;
     lines.setLinePlanes(y);
@@ -137,8 +132,8 @@ std::optional<int> SilhouettePath::countLine(const Vec3& y) {
         },
         visited);
     r.budget.spend(visited);
-    if (touch || r.budget.reached()) return std::nullopt;
-    return c;
+    if (c.touch || r.budget.reached()) return std::nullopt;
+    return c.count;
 }
 
 }  // namespace penumbra::vis
