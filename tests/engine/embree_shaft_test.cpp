@@ -5,8 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
-#include <cstdio>
 #include <random>
 #include <vector>
 
@@ -142,71 +140,6 @@ TEST(EmbreeShaft, TouchingCountsClearlyAwayDoesNot) {
     const EmbreeScene scene(m);
     EXPECT_EQ(scene.shaftCandidates(0, 1), (std::vector<uint32_t>{2, 4, 6}));
     EXPECT_EQ(scene.shaftCandidates(0, 1), bruteForce(m, 0, 1));
-}
-
-// Per-pair cost against the brute-force loop on a 70k-triangle soup (receivers: soup triangles,
-// light: face 1). A benchmark, not a test of speed: run with --gtest_also_run_disabled_tests.
-TEST(EmbreeShaft, DISABLED_PerPairTimeOn70kTriangles) {
-    const penumbra::Scene soup = penumbra::makeRandomSoup(70000, 7);
-    const auto t0 = std::chrono::steady_clock::now();
-    const EmbreeScene scene(soup.mesh);
-    const double buildSeconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    const auto nf = static_cast<uint32_t>(soup.mesh.faces.size());
-    const int pairs = 500;
-    std::mt19937_64 rng(3);
-    // Two kinds of pairs: (soup triangle, the scene's light: long shafts through the soup) and
-    // (soup triangle, its nearest soup triangle: a short shaft, few candidates).
-    std::vector<std::pair<uint32_t, uint32_t>> far, near;
-    auto centre = [&](uint32_t f) {
-        const EmbreeScene::Box& b = scene.faceBox(f);
-        return (b.lo + b.hi) * 0.5;
-    };
-    for (int i = 0; i < pairs; ++i) {
-        const uint32_t r = 2 + static_cast<uint32_t>(rng() % (nf - 2));
-        far.emplace_back(r, 1);
-        uint32_t best = r == 2 ? 3 : 2;
-        for (uint32_t f = 2; f < nf; ++f)
-            if (f != r && penumbra::vis::length(centre(f) - centre(r)) <
-                              penumbra::vis::length(centre(best) - centre(r)))
-                best = f;
-        near.emplace_back(r, best);
-    }
-    // The loop shaftCandidates used to be: every face's precomputed box against the shaft box.
-    const auto oldLoop = [&](uint32_t r, uint32_t l) {
-        const EmbreeScene::Box &a = scene.faceBox(r), &b = scene.faceBox(l);
-        const Vec3 lo{std::min(a.lo.x, b.lo.x), std::min(a.lo.y, b.lo.y), std::min(a.lo.z, b.lo.z)};
-        const Vec3 hi{std::max(a.hi.x, b.hi.x), std::max(a.hi.y, b.hi.y), std::max(a.hi.z, b.hi.z)};
-        std::vector<uint32_t> out;
-        for (uint32_t f = 0; f < nf; ++f) {
-            if (f == r || f == l || soup.mesh.faces[f].size() < 3) continue;
-            const EmbreeScene::Box& q = scene.faceBox(f);
-            if (q.lo.x <= hi.x && q.hi.x >= lo.x && q.lo.y <= hi.y && q.hi.y >= lo.y &&
-                q.lo.z <= hi.z && q.hi.z >= lo.z)
-                out.push_back(f);
-        }
-        return out;
-    };
-    std::printf("70k soup: EmbreeScene build (BVH and box hierarchy) %.3f s\n", buildSeconds);
-    for (const auto* set : {&far, &near}) {
-        size_t total = 0;
-        auto time = [&](auto&& f) {
-            const auto a = std::chrono::steady_clock::now();
-            for (const auto& [r, l] : *set) total += f(r, l).size();
-            return std::chrono::duration<double>(std::chrono::steady_clock::now() - a).count() /
-                   pairs;
-        };
-        const double tree =
-            time([&](uint32_t r, uint32_t l) { return scene.shaftCandidates(r, l); });
-        const double candidates = static_cast<double>(total) / pairs;
-        const double loop = time(oldLoop);
-        for (const auto& [r, l] : *set) ASSERT_EQ(scene.shaftCandidates(r, l), oldLoop(r, l));
-        std::printf(
-            "  %s pairs: %.0f candidates per pair; box hierarchy %.1f us, loop over all "
-            "faces %.1f us per pair\n",
-            set == &far ? "triangle-to-light" : "triangle-to-nearest-triangle", candidates,
-            tree * 1e6, loop * 1e6);
-    }
 }
 
 }  // namespace

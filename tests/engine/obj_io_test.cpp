@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -14,6 +16,7 @@
 
 #include "engine/scene/scene_error.h"
 #include "engine/scene/scene_validation.h"
+#include "tests/support/obj_reference.h"
 
 namespace penumbra {
 namespace {
@@ -539,6 +542,8 @@ TEST(ObjValidation, ValidateSceneChecksProgrammaticScenes) {
 
 // ---- robustness ---------------------------------------------------------------------------------
 
+// Physical lines: 1 comment, 2 mtllib, 3-7 v, 8 vt, 9 vn, 10 g, 11 usemtl, 12 f, 13 usemtl, 14-15 f
+// continued, 16 f, 17-18 v (LF from here on), 19 f, 20 f naming vertex 8, defined on line 21.
 const std::string kRobustObj =
     "# robustness sample\r\n"
     "mtllib r.mtl\r\n"
@@ -551,7 +556,8 @@ const std::string kRobustObj =
     "usemtl lamp\r\n"
     "f -5//1 -4//1 \\\r\n -1//1\r\n"
     "f 2/1 3/1 5/1 # end\r\n"
-    "v 3 0 0\nv 3 1 0\nf -2 -1 3\n";
+    "v 3 0 0\nv 3 1 0\nf -2 -1 3\n"
+    "f 3 4 8\nv 2 2 1\n";
 
 const std::string kRobustMtl =
     "newmtl white\r\nKd 0.7 0.7 0.7\r\nKs 0.1 0.1 0.1\r\nNs 20\r\n"
@@ -559,32 +565,150 @@ const std::string kRobustMtl =
 
 TEST(ObjRobustness, TheSampleLoads) {
     const Scene s = loadObjFromString(kRobustObj, kRobustMtl, "r.obj");
-    EXPECT_EQ(s.faceCount(), 4u);
-    EXPECT_EQ(s.lights, (std::vector<uint32_t>{1, 2, 3}));
+    EXPECT_EQ(s.faceCount(), 5u);
+    EXPECT_EQ(s.mesh.vertices.size(), 8u);
+    EXPECT_EQ(s.lights, (std::vector<uint32_t>{1, 2, 3, 4}));
+    EXPECT_EQ(s.mesh.faces[4], (std::vector<uint32_t>{2, 3, 7}));
+    EXPECT_TRUE(s.warnings.empty());
 }
 
-// Loading must either succeed or throw SceneError: nothing else, no crash.
-void loadNeverCrashes(const std::string& obj, const std::string& mtl, const std::string& what) {
+// The sample cut after the first `n` bytes of the line that starts with `line`.
+std::string cutInside(const std::string& text, const std::string& line, size_t n) {
+    return text.substr(0, text.find(line) + n);
+}
+
+// What one load gave, against the reference reading (tests/support/obj_reference.h).
+enum class Loaded { kRefused, kAsRead, kRepaired };
+
+// Loads `obj` with `mtl` (as r.obj) and expects what readObjReference says: a SceneError naming the
+// file and line it names, or the vertices, faces and lights it reads. With `mayRepair` (the
+// geometry was changed, so faces may have become degenerate, non-planar or non-convex) the loader
+// may also repair faces, with a warning, or refuse one it cannot split.
+Loaded expectAsTheReferenceReads(const std::string& obj, const std::string& mtl,
+                                 const std::string& what, bool mayRepair) {
+    const test::ObjReading ref = test::readObjReference(obj, mtl, "r.obj");
+    const std::string expected =
+        ref.refused() ? "refused at " + ref.errorFile + ":" + std::to_string(ref.errorLine)
+                      : "loaded with " + std::to_string(ref.faces.size()) + " faces";
     try {
-        loadObjFromString(obj, mtl, "r.obj");
-    } catch (const SceneError&) {
+        const Scene s = loadObjFromString(obj, mtl, "r.obj");
+        if (ref.refused()) {
+            ADD_FAILURE() << what << ": loaded " << s.faceCount() << " faces, but must be "
+                          << expected;
+            return Loaded::kAsRead;
+        }
+        const bool repaired = std::any_of(s.warnings.begin(), s.warnings.end(), [](auto& w) {
+            return w.find("degenerate") != std::string::npos ||
+                   w.find(" split ") != std::string::npos;
+        });
+        EXPECT_TRUE(s.mesh.vertices == ref.vertices) << what;
+        if (repaired) {
+            EXPECT_TRUE(mayRepair) << what << ": repaired an unchanged face: " << s.warnings[0];
+            try {
+                validateScene(s);
+            } catch (const SceneError& e) {
+                ADD_FAILURE() << what << ": the repaired scene fails validation: " << e.what();
+            }
+            return Loaded::kRepaired;
+        }
+        EXPECT_EQ(s.mesh.faces, ref.faces) << what;
+        EXPECT_EQ(s.lights, ref.lights) << what;
+        return Loaded::kAsRead;
+    } catch (const SceneError& e) {
+        const std::string message = e.what();
+        if (!ref.refused()) {
+            const bool unsplittable = message.find("cannot be split") != std::string::npos ||
+                                      message.find("no faces") != std::string::npos;
+            EXPECT_TRUE(mayRepair && unsplittable)
+                << what << ": refused (" << message << "), but must be " << expected;
+            return Loaded::kRefused;
+        }
+        EXPECT_EQ(e.file, ref.errorFile) << what << ": " << message;
+        EXPECT_EQ(e.line, ref.errorLine) << what << ": " << message;
+        const std::string location =
+            e.line > 0 ? e.file + ":" + std::to_string(e.line) + ": " : e.file + ": ";
+        EXPECT_EQ(message.rfind(location, 0), 0u) << what << ": " << message;
+        return Loaded::kRefused;
     } catch (const std::exception& e) {
-        ADD_FAILURE() << what << ": unexpected exception " << e.what();
+        ADD_FAILURE() << what << ": not a SceneError: " << e.what();
+        return Loaded::kRefused;
     }
 }
 
-TEST(ObjRobustness, TruncationAtEveryByteNeverCrashes) {
+// A few cuts worked out by hand: they pin down the reference reading the next test relies on.
+TEST(ObjRobustness, TruncationsWorkedOutByHand) {
+    const auto refusedAt = [](const std::string& obj, const std::string& mtl,
+                              const std::string& file, int64_t line) {
+        try {
+            loadObjFromString(obj, mtl, "r.obj");
+            ADD_FAILURE() << "loaded; must be refused at " << file << ":" << line << "\n" << obj;
+        } catch (const SceneError& e) {
+            EXPECT_EQ(e.file, file) << e.what();
+            EXPECT_EQ(e.line, line) << e.what();
+        }
+        const test::ObjReading ref = test::readObjReference(obj, mtl, "r.obj");
+        EXPECT_EQ(ref.errorFile, file);
+        EXPECT_EQ(ref.errorLine, line);
+    };
+    // Inside a face's index list: a reference cut after its slash, then a face of two vertices.
+    refusedAt(cutInside(kRobustObj, "f 1/1/1", 10), kRobustMtl, "r.obj", 12);
+    refusedAt(cutInside(kRobustObj, "f 1/1/1", 14), kRobustMtl, "r.obj", 12);
+    // A continued face cut after its backslash (two vertices), or after the sign of its third.
+    refusedAt(cutInside(kRobustObj, "f -5//1", 15), kRobustMtl, "r.obj", 14);
+    refusedAt(cutInside(kRobustObj, " -1//1", 2), kRobustMtl, "r.obj", 14);
+    // A vertex cut inside an exponent, and one left with two coordinates.
+    refusedAt(cutInside(kRobustObj, "v -1e-3", 23), kRobustMtl, "r.obj", 7);
+    refusedAt(cutInside(kRobustObj, "v 2 2 1", 5), kRobustMtl, "r.obj", 21);
+    // Face 4 names vertex 8, which the cut removed.
+    refusedAt(cutInside(kRobustObj, "v 2 2 1", 0), kRobustMtl, "r.obj", 20);
+    // Before the first face: nothing to render.
+    refusedAt(cutInside(kRobustObj, "usemtl white", 12), kRobustMtl, "r.obj", 0);
+    // The material library: a colour of two numbers.
+    refusedAt(kRobustObj, cutInside(kRobustMtl, "Kd 0.7 0.7", 10), "r.mtl", 2);
+
+    // Cut after a whole statement: a shorter file.
+    Scene s = loadObjFromString(cutInside(kRobustObj, "f 3 4 8", 0), kRobustMtl, "r.obj");
+    EXPECT_EQ(s.faceCount(), 4u);
+    EXPECT_EQ(s.mesh.vertices.size(), 7u);
+    EXPECT_EQ(s.lights, (std::vector<uint32_t>{1, 2, 3}));
+    // A face cut after its third vertex is a triangle.
+    s = loadObjFromString(cutInside(kRobustObj, "f 1/1/1", 19), kRobustMtl, "r.obj");
+    EXPECT_EQ(s.mesh.faces, (std::vector<std::vector<uint32_t>>{{0, 1, 2}}));
+    // The lamp's Ke cut away: no light.
+    s = loadObjFromString(kRobustObj, cutInside(kRobustMtl, "Ke 5", 0), "r.obj");
+    EXPECT_EQ(s.faceCount(), 5u);
+    EXPECT_TRUE(s.lights.empty());
+}
+
+// Every cut of the OBJ and of the MTL: refused at the file and line the reference reading names,
+// or loaded with the vertices, faces and lights it reads (a cut removes data, it never makes a
+// face degenerate: no repair either). Both outcomes must occur many times.
+TEST(ObjRobustness, TruncationAtEveryByteIsRefusedOrLoadsWhatRemains) {
+    int refused = 0, loaded = 0;
     for (size_t n = 0; n <= kRobustObj.size(); ++n) {
-        loadNeverCrashes(kRobustObj.substr(0, n), kRobustMtl, "OBJ cut at " + std::to_string(n));
+        const Loaded o = expectAsTheReferenceReads(kRobustObj.substr(0, n), kRobustMtl,
+                                                   "OBJ cut at " + std::to_string(n), false);
+        (o == Loaded::kRefused ? refused : loaded) += 1;
     }
     for (size_t n = 0; n <= kRobustMtl.size(); ++n) {
-        loadNeverCrashes(kRobustObj, kRobustMtl.substr(0, n), "MTL cut at " + std::to_string(n));
+        const Loaded o = expectAsTheReferenceReads(kRobustObj, kRobustMtl.substr(0, n),
+                                                   "MTL cut at " + std::to_string(n), false);
+        (o == Loaded::kRefused ? refused : loaded) += 1;
     }
+    EXPECT_GT(refused, 100);
+    EXPECT_GT(loaded, 100);
 }
 
-TEST(ObjRobustness, RandomByteCorruptionNeverCrashes) {
+// Random byte changes, deletions and insertions: refused at the file and line the reference reading
+// names, or loaded as it reads them (faces the change made degenerate, non-planar or non-convex
+// may be repaired, with a warning). Each kind of outcome must occur.
+TEST(ObjRobustness, RandomByteCorruptionIsRefusedOrLoadsWhatIsLeft) {
+    const test::ObjReading sample = test::readObjReference(kRobustObj, kRobustMtl, "r.obj");
+    ASSERT_FALSE(sample.refused());
     std::mt19937 rng(12345);
-    for (int iter = 0; iter < 3000; ++iter) {
+    const int iterations = 3000;
+    int refused = 0, unchanged = 0, changed = 0;
+    for (int iter = 0; iter < iterations; ++iter) {
         std::string obj = kRobustObj, mtl = kRobustMtl;
         std::string& target = iter % 4 == 3 ? mtl : obj;
         const int edits = 1 + static_cast<int>(rng() % 4);
@@ -602,8 +726,20 @@ TEST(ObjRobustness, RandomByteCorruptionNeverCrashes) {
                     break;
             }
         }
-        loadNeverCrashes(obj, mtl, "corruption " + std::to_string(iter));
+        const test::ObjReading ref = test::readObjReference(obj, mtl, "r.obj");
+        const bool sameGeometry =
+            !ref.refused() && ref.vertices == sample.vertices && ref.faces == sample.faces;
+        const Loaded o = expectAsTheReferenceReads(obj, mtl, "corruption " + std::to_string(iter),
+                                                   !sameGeometry);
+        refused += o == Loaded::kRefused;
+        unchanged += o != Loaded::kRefused && sameGeometry;
+        changed += o != Loaded::kRefused && !sameGeometry;
     }
+    std::printf("%d corruptions: %d refused, %d loaded the sample's geometry, %d another\n",
+                iterations, refused, unchanged, changed);
+    EXPECT_GT(refused, iterations / 4);
+    EXPECT_GT(unchanged, iterations / 20);
+    EXPECT_GT(changed, iterations / 50);
 }
 
 // ---- files --------------------------------------------------------------------------------------

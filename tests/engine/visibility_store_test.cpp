@@ -1,21 +1,27 @@
-// VisibilityStore's query-driven refinement (VisibilityStore::refine): a refined patch's
-// sub-patch trees are exact for their sub-patches (checked against the exact CGAL reference and
-// the parent's tree), keyAt serves them only once built, the key encoding holds its levels, and
-// visibility files keep the patches' own trees only.
+// VisibilityStore: a build cancelled through getOrBuild's flag publishes nothing and can be
+// rebuilt; query-driven refinement (VisibilityStore::refine): a refined patch's sub-patch trees are
+// exact for their sub-patches (checked against the exact CGAL reference and the parent's tree),
+// keyAt serves them only once built, also to threads asking while another refines, the key
+// encoding holds its levels, and visibility files keep the patches' own trees only. Built into
+// penumbra_concurrency_tests, which CI also runs under ThreadSanitizer (scripts/run_tests.sh).
 #include "engine/precompute/visibility_store.h"
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <filesystem>
 #include <random>
+#include <thread>
 #include <vector>
 
 #include "engine/io/visibility_file.h"
 #include "engine/render/embree_scene.h"
 #include "engine/scene/procedural_scenes.h"
 #include "tests/support/exact_reference.h"
+#include "tests/support/tree_reference.h"
 #include "visibility/form_factor.h"
 #include "visibility/fp_query/from_point_query.h"
+#include "visibility/receiver_patches.h"
 
 namespace penumbra {
 namespace {
@@ -158,6 +164,76 @@ TEST(VisibilityStore, RefinementStopsAtItsLevelsAndFilesKeepThePatchTreesOnly) {
     EXPECT_EQ(loaded.keyAt(floor, x, light),
               (PairKey{floor, VisibilityStore::patchOf(key), light}));
     std::filesystem::remove(file);
+}
+
+TEST(VisibilityStore, CancelledBuildPublishesNothingAndCanBeRebuilt) {
+    const Scene scene = makeGrids();
+    const EmbreeScene bvh(scene.mesh);
+    VisibilityStore store(scene, &bvh);
+    // A floor patch under the grids: a penumbra pair (the build reaches the cancel checks).
+    const PairKey key{0, 0, scene.lights[0]};
+    const vis::HistoryTree reference = test::referenceTree(store, key);
+    ASSERT_EQ(reference.kind, vis::PairKind::Penumbra);
+    const std::atomic<bool> cancelled{true};
+    EXPECT_THROW(store.getOrBuild(key, &cancelled), vis::BuildCancelled);
+    EXPECT_EQ(store.find(key), nullptr);
+    EXPECT_EQ(store.treeCount(), 0u);
+    EXPECT_EQ(store.bytes(), 0u);
+    const std::atomic<bool> running{false};
+    EXPECT_TRUE(test::sameTree(store.getOrBuild(key, &running).tree, reference));
+    EXPECT_EQ(store.treeCount(), 1u);
+}
+
+// Query-driven refinement under concurrency: while one thread refines floor patches and builds
+// their sub-patch trees, others ask keyAt for the same points. Each answer is the patch's key or
+// the sub-patch's, never a tree not yet built; afterwards each sub-patch tree is the builder's own
+// tree for that sub-patch, computed here from the patch by receiver_patches.h.
+TEST(VisibilityStore, KeyAtDuringRefinementServesOnlyBuiltTrees) {
+    const Scene scene = makeGrids();
+    VisibilityStore store(scene);  // no BVH: every face a candidate, as referenceTree builds
+    const uint32_t light = scene.lights[0];
+    const vis::ReceiverPatches& patches = store.patches(0);
+    ASSERT_GT(patches.patches.size(), 1u);
+    std::vector<std::pair<PairKey, Vec3>> points;  // (patch key, a point inside its patch)
+    for (uint32_t p = 0; p < patches.patches.size() && points.size() < 6; p += 3) {
+        const std::vector<Vec3>& t = patches.patches[p];
+        const Vec3 x = t[0] * 0.2 + t[1] * 0.3 + t[2] * 0.5;
+        if (store.keyAt(0, x, light) == PairKey{0, p, light}) points.push_back({{0, p, light}, x});
+    }
+    ASSERT_GE(points.size(), 3u);
+    for (const auto& [key, x] : points) store.getOrBuild(key);
+    std::atomic<bool> done{false};
+    std::atomic<int> wrong{0};
+    auto ask = [&] {
+        while (!done.load()) {
+            for (const auto& [key, x] : points) {
+                const PairKey k = store.keyAt(0, x, light);
+                if (k == key) continue;
+                if (VisibilityStore::refineLevel(k) != 1 || store.find(k) == nullptr ||
+                    VisibilityStore::patchOf(k) != key.patch)
+                    wrong += 1;
+            }
+        }
+    };
+    std::thread a(ask), b(ask);
+    std::vector<PairKey> subs;
+    for (const auto& [key, x] : points) {
+        ASSERT_TRUE(store.refine(key));
+        subs.push_back(store.subKeyAt(key, x));
+        store.getOrBuild(subs.back());
+    }
+    done = true;
+    a.join();
+    b.join();
+    EXPECT_EQ(wrong.load(), 0);
+    for (size_t i = 0; i < points.size(); ++i) {
+        const auto& [key, x] = points[i];
+        EXPECT_EQ(store.keyAt(0, x, light), subs[i]);
+        const vis::ReceiverPatches sub = vis::subdivideReceiverGrid(patches.patches[key.patch], 4);
+        const vis::HistoryTree reference = vis::buildHistoryTree(
+            scene.mesh, 0, light, store.options().build, {}, nullptr, sub.patches[sub.find(x)]);
+        EXPECT_TRUE(test::sameTree(store.find(subs[i])->tree, reference)) << "point " << i;
+    }
 }
 
 }  // namespace
