@@ -48,6 +48,7 @@
 #include "engine/render/default_camera.h"
 #include "engine/render/embree_scene.h"
 #include "engine/render/renderer.h"
+#include "engine/scene/surface_samples.h"
 #include "engine/studies/accuracy_study.h"
 #include "engine/studies/predicate_study.h"
 #include "visibility/form_factor.h"
@@ -545,24 +546,11 @@ json predicates(const BenchOptions& o) {
 // Query time per point on random points of the receivers (faces chosen by area), light 0.
 double queryMicros(const Scene& scene, const VisibilityStore& store, int points) {
     const vis::PolygonMesh& mesh = scene.mesh;
-    std::mt19937_64 rng(1);
-    std::vector<double> area(scene.faceCount());
-    for (uint32_t f = 0; f < scene.faceCount(); ++f) area[f] = mesh.faceArea(f);
-    std::discrete_distribution<uint32_t> pick(area.begin(), area.end());
-    std::uniform_real_distribution<double> u(0.02, 1.0);
+    SurfaceSampler sampler(scene, 1);
     const uint32_t l = scene.lights[0];
     std::vector<std::pair<const PairRecord*, Vec3>> xs;
     for (int tries = 0; xs.size() < static_cast<size_t>(points) && tries < 100 * points; ++tries) {
-        const uint32_t f = pick(rng);
-        if (f == l) continue;
-        Vec3 x{};
-        double w = 0;
-        for (uint32_t v : mesh.faces[f]) {
-            const double a = u(rng);
-            x += mesh.vertices[v] * a;
-            w += a;
-        }
-        x = x / w;
+        const auto [f, x] = sampler.next();
         const PairRecord* r = store.find(store.keyAt(f, x, l));
         if (r) xs.push_back({r, x});
     }
@@ -673,11 +661,6 @@ json perPoint(const std::string& path, const BenchOptions& o) {
     const vis::PolygonMesh& mesh = scene.mesh;
     const EmbreeScene embree(mesh);
     VisibilityStore store(scene, &embree);
-    std::mt19937_64 rng(1);
-    std::vector<double> area(scene.faceCount());
-    for (uint32_t f = 0; f < scene.faceCount(); ++f) area[f] = mesh.faceArea(f);
-    std::discrete_distribution<uint32_t> pickFace(area.begin(), area.end());
-    std::uniform_real_distribution<double> u(0.02, 1.0);
     struct Sample {
         uint32_t face;
         Vec3 x;
@@ -685,18 +668,8 @@ json perPoint(const std::string& path, const BenchOptions& o) {
     };
     const uint32_t l = scene.lights[0];
     std::vector<Sample> samples;
-    while (samples.size() < static_cast<size_t>(o.points)) {
-        const uint32_t f = pickFace(rng);
-        if (f == l) continue;
-        Vec3 p{};
-        double w = 0;
-        for (uint32_t v : mesh.faces[f]) {
-            const double a = u(rng);
-            p += mesh.vertices[v] * a;
-            w += a;
-        }
-        samples.push_back({f, p / w, nullptr});
-    }
+    for (const SurfaceSample& s : surfaceSamples(scene, static_cast<size_t>(o.points), 1))
+        samples.push_back({s.face, s.x, nullptr});
     for (Sample& s : samples) s.rec = &store.getOrBuild(store.keyAt(s.face, s.x, l));
     double sink = 0;
     size_t visited = 0, fragments = 0;
