@@ -17,7 +17,7 @@
 #include <set>
 #include <vector>
 
-#include "app/viewer/point_inspection.h"
+#include "engine/precompute/point_inspection.h"
 #include "engine/io/obj_io.h"
 #include "engine/io/scene_loader.h"
 #include "engine/render/embree_scene.h"

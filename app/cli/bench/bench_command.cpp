@@ -36,8 +36,7 @@
 #include "app/cli/arguments.h"
 #include "app/cli/bench/bench_report.h"
 #include "app/cli/commands.h"
-#include "app/viewer/point_inspection.h"
-#include "app/viewer/selection.h"
+#include "engine/precompute/point_inspection.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/finite_output.h"
 #include "engine/io/image_io.h"
@@ -763,19 +762,18 @@ json perPoint(const std::string& path, const BenchOptions& o) {
         eachUs.push_back(seconds(a, Clock::now()) * 1e6);
     }
     const Quantiles exactQ = quantiles(eachUs);
-    // A click in the viewer (app/viewer/selection.h): every light's fragments from the tree-less
+    // A click in the viewer (engine/precompute/point_inspection.h): every light's fragments from the tree-less
     // query, within the click's work budget, on a store that has no tree yet; and what a click
     // cost before, the history trees built and walked (a fresh store: each point's pairs built
     // unless an earlier point of the run built them).
     const size_t clicks = std::min<size_t>(samples.size(), 200);
     std::vector<double> directMs;
     size_t overBudget = 0;
-    const uint64_t clickWork =
-        viewer::Selection::kClickWork / std::max<size_t>(1, scene.lights.size());
+    const uint64_t clickWork = clickWorkPerLight(scene.lights.size());
     for (size_t i = 0; i < clicks; ++i) {
         const auto a = Clock::now();
-        const std::optional<viewer::PointInspection> p =
-            viewer::inspectPointDirect(scene, embree.faceBoxes(), samples[i].face, samples[i].x,
+        const std::optional<PointInspection> p =
+            inspectPointDirect(scene, embree.faceBoxes(), samples[i].face, samples[i].x,
                                        clickWork, &embree.faceClusters());
         directMs.push_back(seconds(a, Clock::now()) * 1e3);
         overBudget += !p.has_value();
@@ -786,7 +784,7 @@ json perPoint(const std::string& path, const BenchOptions& o) {
         VisibilityStore cold(scene, &embree);
         for (size_t i = 0; i < treeClicks; ++i) {
             const auto a = Clock::now();
-            viewer::inspectPoint(cold, samples[i].face, samples[i].x);
+            inspectPoint(cold, samples[i].face, samples[i].x);
             treeMs.push_back(seconds(a, Clock::now()) * 1e3);
         }
     }
