@@ -32,17 +32,17 @@
 #include <random>
 #include <thread>
 
-#include "app/cli/answers_json.h"
 #include "app/cli/arguments.h"
 #include "app/cli/bench/bench_report.h"
 #include "app/cli/commands.h"
-#include "engine/precompute/point_inspection.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/finite_output.h"
 #include "engine/io/image_io.h"
 #include "engine/io/visibility_file.h"
+#include "engine/precompute/point_inspection.h"
 #include "engine/precompute/precompute_scheduler.h"
 #include "engine/precompute/visibility_store.h"
+#include "engine/render/answers_json.h"
 #include "engine/render/cpu_time.h"
 #include "engine/render/default_camera.h"
 #include "engine/render/embree_scene.h"
@@ -762,10 +762,10 @@ json perPoint(const std::string& path, const BenchOptions& o) {
         eachUs.push_back(seconds(a, Clock::now()) * 1e6);
     }
     const Quantiles exactQ = quantiles(eachUs);
-    // A click in the viewer (engine/precompute/point_inspection.h): every light's fragments from the tree-less
-    // query, within the click's work budget, on a store that has no tree yet; and what a click
-    // cost before, the history trees built and walked (a fresh store: each point's pairs built
-    // unless an earlier point of the run built them).
+    // A click in the viewer (engine/precompute/point_inspection.h): every light's fragments from
+    // the tree-less query, within the click's work budget, on a store that has no tree yet; and
+    // what a click cost before, the history trees built and walked (a fresh store: each point's
+    // pairs built unless an earlier point of the run built them).
     const size_t clicks = std::min<size_t>(samples.size(), 200);
     std::vector<double> directMs;
     size_t overBudget = 0;
@@ -773,8 +773,8 @@ json perPoint(const std::string& path, const BenchOptions& o) {
     for (size_t i = 0; i < clicks; ++i) {
         const auto a = Clock::now();
         const std::optional<PointInspection> p =
-            inspectPointDirect(scene, embree.faceBoxes(), samples[i].face, samples[i].x,
-                                       clickWork, &embree.faceClusters());
+            inspectPointDirect(scene, embree.faceBoxes(), samples[i].face, samples[i].x, clickWork,
+                               &embree.faceClusters());
         directMs.push_back(seconds(a, Clock::now()) * 1e3);
         overBudget += !p.has_value();
     }
