@@ -2,25 +2,12 @@
 //
 // For each point: the face it lies on (given, or found with findFaceContaining), then for every
 // light (or only light K) the exactly visible fragments of the light and the quantities derived
-// from them (engine/precompute/point_query.h). One JSON object per point, one line each, on stdout:
-//   {"point":[x,y,z],"face":F,"lights":[{"light":K,"light_face":LF,"light_area":A,
-//    "visible_area":a,"fraction":a/A,"form_factor":f,"unoccluded_form_factor":u,
-//    "fragments":[[[x,y,z],...],...],"outline":{"loops":[[[x,y,z],...],...],"edges":e,
-//    "form_factor":f'},"nodes_visited":n,"path":[node ids],
-//    "pair":"penumbra|fully-visible|fully-hidden|back-facing"}]}
-// "source_line" follows "face" where the scene file has lines: face numbers are the repaired
-// mesh's (docs/formats.md), the line says which face of the file it came from.
-// A point strictly behind its face's plane (a rounding: a point within findFaceContaining's
+// from them (engine/precompute/point_query.h). One JSON object per point, one line each, on
+// stdout, in the schema of a point's answer (engine/precompute/point_answer_json.h, the viewer's
+// too). A point strictly behind its face's plane (a rounding: a point within findFaceContaining's
 // tolerance of the face, or given with --face) is answered from the nearest point the filter
-// certifies in front, some ulps away (answeredPointOn), printed as "answered_point".
-// A pair with a partial tree (its build stopped at the budget, --max-lp-solves) adds
-// "deferred_occluders" (how many the tree left to the query) and "deferred_clipped" (how many of
-// them this point's query clipped against): its answer is exact all the same.
-// "outline" is the visible region's boundary, the fragments' union (vis::visibleOutline): its
-// loops (outer boundaries turned as the light, holes the other way), their edges, and the form
-// factor integrated over them (Lambert's contour integral; f' equals f to within the outline's
-// weld, about 2^-40 of the visible region's extent).
-// Doubles are printed in their shortest round-trip form.
+// certifies in front, some ulps away ("answered_point"). A pair with a partial tree (its build
+// stopped at the budget, --max-lp-solves) adds "deferred_occluders" and "deferred_clipped".
 //
 // The points file holds one point a line, "x y z [face]"; blank lines and '#' comments are
 // skipped. A face on the line wins over --face; without either the face is found. Every point is
@@ -40,6 +27,7 @@
 #include "app/cli/arguments.h"
 #include "app/cli/commands.h"
 #include "engine/io/finite_output.h"
+#include "engine/precompute/point_answer_json.h"
 #include "engine/precompute/point_query.h"
 
 namespace penumbra::cli {
@@ -168,71 +156,6 @@ std::vector<QueryPoint> readPointsFile(const std::string& file) {
     return points;
 }
 
-nlohmann::ordered_json toJson(const Vec3& v) {
-    return nlohmann::ordered_json::array({v.x, v.y, v.z});
-}
-
-// Polygons (fragments, or an outline's loops) as arrays of points.
-nlohmann::ordered_json toJson(const std::vector<vis::Polygon3>& polygons) {
-    nlohmann::ordered_json out = nlohmann::ordered_json::array();
-    for (const vis::Polygon3& polygon : polygons) {
-        nlohmann::ordered_json points = nlohmann::ordered_json::array();
-        for (const Vec3& v : polygon) points.push_back(toJson(v));
-        out.push_back(std::move(points));
-    }
-    return out;
-}
-
-nlohmann::ordered_json toJson(const QueryPoint& p, uint32_t face, int32_t sourceLine,
-                              const Vec3& answered, const std::vector<LightAtPoint>& lights) {
-    nlohmann::ordered_json out;
-    out["point"] = toJson(p.x);
-    out["face"] = face;
-    // Face numbers are the repaired mesh's (a split face's triangles, a dropped face's absence):
-    // the line of the scene file the face came from, where the format has lines.
-    if (sourceLine > 0) out["source_line"] = sourceLine;
-    // A point behind its face's plane by a rounding is answered from its front side
-    // (answeredPointOn): the point answered, some ulps away; the contact rule is decided at the
-    // point given.
-    if (answered != p.x) out["answered_point"] = toJson(answered);
-    nlohmann::ordered_json lightsJson = nlohmann::ordered_json::array();
-    for (const LightAtPoint& l : lights) {
-        nlohmann::ordered_json j;
-        j["light"] = l.light;
-        j["light_face"] = l.lightFace;
-        j["light_area"] = l.lightArea;
-        j["visible_area"] = l.visibleArea;
-        j["fraction"] = l.fraction;
-        j["form_factor"] = l.formFactor;
-        j["unoccluded_form_factor"] = l.unoccludedFormFactor;
-        j["fragments"] = toJson(l.fragments);
-        nlohmann::ordered_json outline;
-        outline["loops"] = toJson(l.outline.loops);
-        outline["edges"] = l.outline.edges();
-        outline["form_factor"] = l.outlineFormFactor;
-        j["outline"] = std::move(outline);
-        j["nodes_visited"] = l.nodesVisited;
-        nlohmann::ordered_json path = nlohmann::ordered_json::array(),
-                               sides = nlohmann::ordered_json::array();
-        for (const vis::TraceStep& s : l.trace) {
-            path.push_back(s.node);
-            sides.push_back(vis::toString(s.side));
-        }
-        j["path"] = std::move(path);
-        j["path_sides"] = std::move(sides);
-        if (l.answeredOnContact) j["answered_on_contact"] = true;
-        j["pair"] = std::string(vis::toString(l.kind));
-        if (l.deferredOccluders > 0) {
-            // A partial tree: the budget stopped the build; the query clipped the rest from x.
-            j["deferred_occluders"] = l.deferredOccluders;
-            j["deferred_clipped"] = l.deferredActive;
-        }
-        lightsJson.push_back(std::move(j));
-    }
-    out["lights"] = std::move(lightsJson);
-    return out;
-}
-
 void runQuery(const CLI::App& sub, const QueryOptions& options) {
     // Command-line problems first (exit 2), before any file is read.
     const bool hasPoint = sub.count("--point") > 0, hasPoints = sub.count("--points") > 0;
@@ -279,12 +202,9 @@ void runQuery(const CLI::App& sub, const QueryOptions& options) {
     options.exact.applyTo(storeOptions);
     VisibilityStore store(scene, nullptr, storeOptions);
     for (size_t i = 0; i < points.size(); ++i) {
-        const Vec3 answered = answeredPointOn(scene, faces[i], points[i].x).at;
         const std::vector<LightAtPoint> lights =
             queryPoint(store, faces[i], points[i].x, lightFlag);
-        const int32_t line =
-            faces[i] < scene.faceSourceLine.size() ? scene.faceSourceLine[faces[i]] : 0;
-        const nlohmann::json answer = toJson(points[i], faces[i], line, answered, lights);
+        const nlohmann::json answer = pointAnswerJson(scene, faces[i], points[i].x, lights);
         requireFinite(answer, "the answer for point " + std::to_string(i));
         std::cout << answer.dump() << '\n';
     }

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "app/viewer/palette.h"
-#include "app/viewer/point_inspection.h"
+#include "engine/precompute/point_inspection.h"
 
 namespace penumbra::viewer {
 

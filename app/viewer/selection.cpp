@@ -20,12 +20,10 @@ bool Selection::select(std::shared_ptr<LoadedScene> scene, uint32_t face, const 
                        tbb::task_group& tasks) {
     inspection_.reset();
     try {
-        // kClickWork divided evenly among the lights.
         if (scene->bvh)
-            inspection_ =
-                inspectPointDirect(scene->scene, scene->bvh->faceBoxes(), face, x,
-                                   kClickWork / std::max<size_t>(1, scene->scene.lights.size()),
-                                   &scene->bvh->faceClusters());
+            inspection_ = inspectPointDirect(scene->scene, scene->bvh->faceBoxes(), face, x,
+                                             clickWorkPerLight(scene->scene.lights.size()),
+                                             &scene->bvh->faceClusters());
     } catch (const std::exception&) {
         inspection_.reset();  // the full inspection reports it
     }

@@ -1,7 +1,7 @@
 // Selection: the inspected surface point. A selection starts a background inspection
-// (point_inspection.h: per light the exact answer, the path, the tree), which may build history
-// trees and so never runs on the UI thread; poll() takes its result once it has arrived. Also
-// which light of the inspection the panels and the overlay show.
+// (engine/precompute/point_inspection.h: per light the exact answer, the path, the tree), which
+// may build history trees and so never runs on the UI thread; poll() takes its result once it has
+// arrived. Also which light of the inspection the panels and the overlay show.
 #pragma once
 
 #include <tbb/task_group.h>
@@ -15,25 +15,18 @@
 #include <string>
 
 #include "app/viewer/loaded_scene.h"
-#include "app/viewer/point_inspection.h"
+#include "engine/precompute/point_inspection.h"
 
 namespace penumbra::viewer {
 
 class Selection {
   public:
-    // Plane tests the tree-less answer of a click may take on the UI thread (all lights
-    // together): about 10 ms at most (some 35 ns a test on the bench's 2-core VM), far above what
-    // most points need (`penumbra bench` reports the click latency and the clicks over budget:
-    // 0 of 200 on table, 2 of 200 on the bunny). A point that needs more is answered by the
-    // background inspection alone.
-    static constexpr uint64_t kClickWork = uint64_t{1} << 18;
-
     // Inspects x on `face` of `scene`: at once, on this thread, with the tree-less query
     // (inspectPointDirect: fragments and numbers, inspection()->treesPending), unless it needs
-    // more than kClickWork plane tests (divided evenly among the lights); then in full (trees,
-    // paths) on a task of `tasks` (which must outlive it), which poll() takes when it arrives. A
-    // previous pending inspection is dropped (its task finishes into nothing). Returns true when
-    // the immediate answer is in.
+    // more than kClickWork plane tests (clickWorkPerLight: divided evenly among the lights); then
+    // in full (trees, paths) on a task of `tasks` (which must outlive it), which poll() takes when
+    // it arrives. A previous pending inspection is dropped (its task finishes into nothing).
+    // Returns true when the immediate answer is in.
     bool select(std::shared_ptr<LoadedScene> scene, uint32_t face, const Vec3& x,
                 tbb::task_group& tasks);
     void clear();

@@ -34,10 +34,10 @@
 #include "app/viewer/panels/scene_panel.h"
 #include "app/viewer/panels/tree_graph_panel.h"
 #include "app/viewer/pixel_inspector.h"
-#include "app/viewer/point_inspection.h"
 #include "app/viewer/precompute_job.h"
 #include "app/viewer/preview_runner.h"
 #include "app/viewer/selection.h"
+#include "engine/precompute/point_inspection.h"
 #include "engine/render/exact_options.h"
 
 namespace penumbra::viewer {

@@ -2,10 +2,11 @@
 // against independent queries.
 #include <cmath>
 
-#include "app/cli/answers_json.h"
 #include "app/viewer/palette.h"
 #include "app/viewer/viewer.h"
+#include "engine/precompute/point_answer_json.h"
 #include "engine/precompute/precompute_scheduler.h"
+#include "engine/render/answers_json.h"
 #include "engine/studies/accuracy_study.h"
 
 namespace penumbra::viewer {
@@ -13,69 +14,43 @@ namespace {
 
 nlohmann::json vec(const Vec3& v) { return {v.x, v.y, v.z}; }
 
-// The inspected point: per light its answer, fragments (with their overlay colours) and path.
-nlohmann::json pointJson(const Selection& selection) {
+// The inspected point: its answer in the schema of `penumbra query`
+// (engine/precompute/point_answer_json.h), and what the viewer adds: the face's normal, the
+// selected light, whether the trees are still on their way; per light the fragments' overlay
+// colours (in the fragments' order), the query's time, its tree's size and the path panel's rows.
+nlohmann::json pointJson(const Selection& selection, const Scene& scene) {
     using nlohmann::json;
     if (!selection.inspection()) return nullptr;
     const PointInspection& p = *selection.inspection();
-    json point = {{"face", p.face},
-                  {"x", vec(p.point)},
-                  {"normal", vec(p.normal)},
-                  {"selectedLight", selection.light()},
-                  {"treesPending", p.treesPending}};
-    json lights = json::array();
-    for (const LightInspection& li : p.lights) {
-        json fragments = json::array();
+    std::vector<LightAtPoint> answers;
+    for (const LightInspection& li : p.lights) answers.push_back(li.result);
+    json point = pointAnswerJson(scene, p.face, p.point, answers);
+    point["normal"] = vec(p.normal);
+    point["selected_light"] = selection.light();
+    point["trees_pending"] = p.treesPending;
+    for (size_t k = 0; k < p.lights.size(); ++k) {
+        const LightInspection& li = p.lights[k];
+        json& light = point["lights"][k];
+        json colours = json::array();
         for (size_t i = 0; i < li.result.fragments.size(); ++i) {
-            json vertices = json::array();
-            for (const Vec3& v : li.result.fragments[i]) vertices.push_back(vec(v));
             const Rgb colour = fragmentColour(i);
-            fragments.push_back(
-                {{"colour", {colour.r, colour.g, colour.b}}, {"vertices", vertices}});
+            colours.push_back({colour.r, colour.g, colour.b});
         }
-        json loops = json::array();
-        for (const vis::Polygon3& loop : li.result.outline.loops) {
-            json vertices = json::array();
-            for (const Vec3& v : loop) vertices.push_back(vec(v));
-            loops.push_back(vertices);
-        }
-        const json outline = {{"loops", loops},
-                              {"edges", li.result.outline.edges()},
-                              {"formFactor", li.result.outlineFormFactor}};
-        json path = json::array();
+        light["fragment_colours"] = std::move(colours);
+        light["seconds"] = li.seconds;
+        light["tree_nodes"] = li.tree ? li.tree->nodes.size() : 0;
+        json steps = json::array();
         for (const PathStep& st : li.steps)
-            path.push_back(
+            steps.push_back(
                 {{"node", st.node},
                  {"depth", st.depth},
                  {"v0", st.v0},
                  {"v1", st.v1},
-                 {"occluderFace",
+                 {"occluder_face",
                   st.occluderFace == PathStep::kNoOccluder ? json(nullptr) : json(st.occluderFace)},
                  {"side", vis::toString(st.side)}});
-        lights.push_back(
-            {{"light", li.result.light},
-             {"lightFace", li.result.lightFace},
-             {"kind", li.result.fromTree ? json(std::string(vis::toString(li.result.kind)))
-                                         : json(nullptr)},
-             {"fraction", li.result.fraction},
-             {"formFactor", li.result.formFactor},
-             {"unoccludedFormFactor", li.result.unoccludedFormFactor},
-             {"nodesVisited", li.result.nodesVisited},
-             {"deferredOccluders", li.result.deferredOccluders},
-             {"deferredActive", li.result.deferredActive},
-             {"seconds", li.seconds},
-             {"treeNodes", li.tree ? li.tree->nodes.size() : 0},
-             {"fragments", fragments},
-             {"outline", outline},
-             {"answeredOnContact", li.result.answeredOnContact},
-             {"fromTree", li.result.fromTree},
-             {"faceGroups", li.result.faceGroups},
-             {"solidGroupsLeftOut", li.result.solidGroupsLeftOut},
-             {"solidFacesLeftOut", li.result.solidFacesLeftOut},
-             {"hiddenBySolid", li.result.hiddenBySolid},
-             {"path", path}});
+        light["path_steps"] = std::move(steps);
     }
-    point["lights"] = lights;
     return point;
 }
 
@@ -139,7 +114,7 @@ nlohmann::json Viewer::stateJson() const {
     rects["3D view"] = {layout_.view.x, layout_.view.y, layout_.view.width, layout_.view.height};
     s["panelRects"] = rects;
     s["inspectionPending"] = selection_.pending();
-    s["point"] = pointJson(selection_);
+    s["point"] = scene_ ? pointJson(selection_, scene_->scene) : nullptr;
     // What the 3D view shows: "raster", or "rendered" (the preview's image at the view's size, in
     // the preview's mode; side by side split at `split`).
     s["view"] = {{"mode", options_.view == ViewMode::Rendered ? "rendered" : "raster"},
@@ -150,20 +125,16 @@ nlohmann::json Viewer::stateJson() const {
         const PixelReport& r = *hover_;
         auto radiance = [&](const std::optional<Vec3>& c) { return c ? vec(*c) : json(nullptr); };
         json lights = json::array();
-        for (const LightAtPoint& l : r.lights)
-            lights.push_back({{"light", l.light},
-                              {"fraction", l.fraction},
-                              {"formFactor", l.formFactor},
-                              {"complete", l.complete}});
-        s["pixel"] = {{"x", r.x},
-                      {"y", r.y},
-                      {"exact", radiance(r.exact)},
-                      {"sampled", radiance(r.sampled)},
-                      {"answers", r.answers ? cli::answerTotalsJson(std::span(&*r.answers, 1))
-                                            : json(nullptr)},
-                      {"face", r.hit ? json(r.hit->face) : json(nullptr)},
-                      {"point", r.hit ? vec(r.hit->point) : json(nullptr)},
-                      {"lights", lights}};
+        for (const LightAtPoint& l : r.lights) lights.push_back(lightAnswerJson(l));
+        s["pixel"] = {
+            {"x", r.x},
+            {"y", r.y},
+            {"exact", radiance(r.exact)},
+            {"sampled", radiance(r.sampled)},
+            {"answers", r.answers ? answerTotalsJson(std::span(&*r.answers, 1)) : json(nullptr)},
+            {"face", r.hit ? json(r.hit->face) : json(nullptr)},
+            {"point", r.hit ? vec(r.hit->point) : json(nullptr)},
+            {"lights", lights}};
     }
     // The settings that shape the answer, as the command line names them.
     s["exact"] = {{"maxLpSolves", options_.exact.maxLpSolves},
@@ -181,7 +152,7 @@ nlohmann::json Viewer::stateJson() const {
                     {"finished", previewImage_.finished},
                     {"relativeRmsError", previewImage_.relativeRmsError},
                     {"errorHistory", previewImage_.errorHistory},
-                    {"answers", cli::answerTotalsJson(previewImage_.answers)},
+                    {"answers", answerTotalsJson(previewImage_.answers)},
                     {"error", previewImage_.error}};
     s["frames"] = {{"count", frameStats_.frames},
                    {"maxSeconds", frameStats_.maxSeconds},

@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "engine/render/default_camera.h"
 #include "engine/render/embree_scene.h"
 
 namespace penumbra {
@@ -157,6 +158,33 @@ AccuracyStudy runAccuracyStudy(const Scene& scene, const EmbreeScene& bvh, Visib
     study.complete = true;
     if (progress) progress->store(1.0);
     return study;
+}
+
+AccuracyBenchRun runAccuracyBench(const std::string& path, const Scene& scene,
+                                  AccuracyStudyOptions options, int maxRays, const StudyLog& log) {
+    const EmbreeScene bvh(scene.mesh);
+    VisibilityStore store(scene, &bvh);
+    options.rayCounts.clear();
+    for (int n = 1; n <= maxRays; n *= 2) options.rayCounts.push_back(n);
+    logLine(log, "accuracy %s: %dx%d, %d spp, 1..%d rays, reference 2 x %d rays", path.c_str(),
+            options.width, options.height, options.spp, maxRays, options.referenceRays);
+    AccuracyBenchRun run;
+    run.scene = path;
+    runOnWorkers([&] {
+        run.study = runAccuracyStudy(scene, bvh, store, defaultCamera(scene, bvh), options);
+    });
+    run.partialTrees = store.partialCount();
+    const AccuracyStudy& st = run.study;
+    for (const AccuracyPoint& p : st.sampled)
+        logLine(log, "  %4d rays: %.3f s, rmse %.4g, max %.4g", p.rays, p.seconds, p.rmse,
+                p.maxError);
+    logLine(log,
+            "  exact: %.3f s (precompute %.3f s), rmse vs reference %.4g (reference noise "
+            "%.4g); equal error at %.3f s (%.0f rays)%s",
+            st.exact.seconds, st.exact.precomputeSeconds, st.exact.rmse, st.referenceNoise,
+            st.equalErrorSeconds, st.equalErrorRays,
+            st.equalErrorExtrapolated ? " (extrapolated)" : "");
+    return run;
 }
 
 }  // namespace penumbra

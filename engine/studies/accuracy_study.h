@@ -26,6 +26,7 @@
 #include "engine/render/renderer.h"
 #include "engine/scene/camera.h"
 #include "engine/scene/scene.h"
+#include "engine/studies/study_harness.h"
 
 namespace penumbra {
 
@@ -69,6 +70,17 @@ AccuracyStudy runAccuracyStudy(const Scene& scene, const EmbreeScene& bvh, Visib
                                const Camera& camera, const AccuracyStudyOptions& options,
                                const std::atomic<bool>* cancel = nullptr,
                                std::atomic<double>* progress = nullptr);
+
+// The study as `penumbra bench` runs it: ray counts 1, 2, 4, ... up to `maxRays` (the options'
+// rayCounts are replaced), a fresh store, the scene's default camera, on the studies' workers
+// (study_harness.h), its results to `log` at the end.
+struct AccuracyBenchRun {
+    std::string scene;  // the scene file
+    AccuracyStudy study;
+    size_t partialTrees = 0;  // of the exact image's precompute
+};
+AccuracyBenchRun runAccuracyBench(const std::string& path, const Scene& scene,
+                                  AccuracyStudyOptions options, int maxRays, const StudyLog& log);
 
 // RMS and max of the per-channel differences of two films of the same size (their means).
 struct ImageError {

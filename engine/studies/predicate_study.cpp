@@ -1,28 +1,18 @@
 #include "engine/studies/predicate_study.h"
 
-#include <sys/resource.h>
-
-#include <chrono>
 #include <cmath>
 #include <random>
 
 #include "engine/precompute/visibility_store.h"
+#include "engine/render/cpu_time.h"
 #include "engine/render/embree_scene.h"
 #include "engine/scene/procedural_scenes.h"
+#include "engine/scene/surface_samples.h"
 #include "visibility/form_factor.h"
 #include "visibility/fp_query/from_point_query.h"
 
 namespace penumbra {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double cpuNow() {
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-           1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
 
 bool wrongAnswer(const vis::FragmentList& r, double refArea, std::span<const Vec3> light,
                  const Vec3& lightNormal, double lightArea) {
@@ -46,7 +36,7 @@ bool wrongAnswer(const vis::FragmentList& r, double refArea, std::span<const Vec
 
 }  // namespace
 
-PredicateStudy runPredicateStudy(int pointsPerPatch, int repeats) {
+PredicateStudy runPredicateStudy(int pointsPerPatch, int repeats, const StudyLog& log) {
     const vis::PredicateMode modes[3] = {
         vis::PredicateMode::Filtered, vis::PredicateMode::AlwaysExact, vis::PredicateMode::Naive};
     PredicateStudy st;
@@ -62,7 +52,6 @@ PredicateStudy runPredicateStudy(int pointsPerPatch, int repeats) {
         VisibilityStore store(scene, &bvh);
         const vis::PolygonMesh& mesh = scene.mesh;
         std::mt19937_64 rng(7);
-        std::uniform_real_distribution<double> u(0, 1);
         for (uint32_t l : scene.lights) {
             std::vector<Vec3> light;
             for (uint32_t v : mesh.faces[l]) light.push_back(mesh.vertices[v]);
@@ -80,16 +69,8 @@ PredicateStudy runPredicateStudy(int pointsPerPatch, int repeats) {
                         xs.push_back(poly[k]);
                         xs.push_back((poly[k] + poly[(k + 1) % poly.size()]) * 0.5);
                     }
-                    while (xs.size() < static_cast<size_t>(pointsPerPatch)) {
-                        Vec3 x{};
-                        double w = 0;
-                        for (const Vec3& v : poly) {
-                            const double a = u(rng);
-                            x += v * a;
-                            w += a;
-                        }
-                        xs.push_back(x / w);
-                    }
+                    while (xs.size() < static_cast<size_t>(pointsPerPatch))
+                        xs.push_back(randomCombination(poly, rng, 0.0));
                     std::vector<double> refArea(xs.size(), 0.0);
                     std::vector<size_t> refCount(xs.size(), 0), filteredCount(xs.size(), 0);
                     vis::FromPointQuery exact(vis::PredicateMode::AlwaysExact);
@@ -108,12 +89,12 @@ PredicateStudy runPredicateStudy(int pointsPerPatch, int repeats) {
                             if (wrongAnswer(r, refArea[i], light, ln, lightArea)) ++c.wrong[m];
                         }
                         size_t sink = 0;
-                        const double c0 = cpuNow();
-                        const auto t0 = Clock::now();
+                        const double c0 = processCpuSeconds();
+                        const auto t0 = StudyClock::now();
                         for (int rep = 0; rep < st.repeats; ++rep)
                             for (const Vec3& x : xs) sink += q.run(mesh, rec.tree, x).size();
-                        wall[m] += std::chrono::duration<double>(Clock::now() - t0).count();
-                        cpu[m] += cpuNow() - c0;
+                        wall[m] += secondsBetween(t0, StudyClock::now());
+                        cpu[m] += processCpuSeconds() - c0;
                         if (sink == SIZE_MAX) wall[m] = 0;  // keeps the loop from being elided
                     }
                     c.queries += xs.size();
@@ -133,6 +114,13 @@ PredicateStudy runPredicateStudy(int pointsPerPatch, int repeats) {
         st.modes[m].usPerQuery = n > 0 ? wall[m] / n * 1e6 : 0;
         st.modes[m].cpuUsPerQuery = n > 0 ? cpu[m] / n * 1e6 : 0;
     }
+    logLine(log, "predicates: %zu hard cases, %zu queries (x%d timed)", st.cases.size(), st.queries,
+            st.repeats);
+    for (const PredicateModeResult& m : st.modes)
+        logLine(log, "  %-12s %.3f us per query, %zu wrong, %zu other fragment count",
+                m.mode.c_str(), m.usPerQuery, m.wrong, m.otherCount);
+    logLine(log, "  naive vs filtered: %zu answers with another fragment count",
+            st.naiveOtherThanFiltered);
     return st;
 }
 

@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "engine/studies/study_harness.h"
+
 namespace penumbra {
 
 struct PredicateModeResult {
@@ -40,7 +42,8 @@ struct PredicateStudy {
 };
 
 // Points per penumbra patch: its vertices, its edge midpoints and random points (fixed seed) up
-// to `pointsPerPatch`. Each mode's timing runs the queries `repeats` times.
-PredicateStudy runPredicateStudy(int pointsPerPatch, int repeats);
+// to `pointsPerPatch`. Each mode's timing runs the queries `repeats` times. The totals go to
+// `log` at the end.
+PredicateStudy runPredicateStudy(int pointsPerPatch, int repeats, const StudyLog& log = {});
 
 }  // namespace penumbra

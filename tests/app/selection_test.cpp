@@ -7,11 +7,10 @@
 #include <tbb/task_group.h>
 
 #include <filesystem>
-#include <random>
 #include <string>
 
 #include "engine/render/exact_options.h"
-#include "tests/support/random_points.h"
+#include "engine/scene/surface_samples.h"
 
 namespace penumbra::viewer {
 namespace {
@@ -21,15 +20,15 @@ std::shared_ptr<LoadedScene> loadAsset(const std::string& file) {
                      ExactOptions{});
 }
 
-std::vector<std::pair<uint32_t, Vec3>> surfacePoints(const Scene& scene, int count) {
-    return test::surfacePoints(scene, count, 5);
+std::vector<SurfaceSample> surfacePoints(const Scene& scene, size_t count) {
+    return surfaceSamples(scene, count, 5);
 }
 
 void expectInstantClickAgreesWithTheTrees(const std::string& file, int count) {
     const std::shared_ptr<LoadedScene> scene = loadAsset(file);
     tbb::task_group tasks;
     int penumbra = 0, withPath = 0;
-    for (const auto& [face, x] : surfacePoints(scene->scene, count)) {
+    for (const auto& [face, x] : surfacePoints(scene->scene, static_cast<size_t>(count))) {
         SCOPED_TRACE(file + ": face " + std::to_string(face) + " at " + vis::toString(x));
         Selection selection;
         ASSERT_TRUE(selection.select(scene, face, x, tasks));
@@ -82,14 +81,14 @@ TEST(Selection, ANewClickDropsThePendingOne) {
     const auto points = surfacePoints(scene->scene, 2);
     tbb::task_group tasks;
     Selection selection;
-    ASSERT_TRUE(selection.select(scene, points[0].first, points[0].second, tasks));
-    ASSERT_TRUE(selection.select(scene, points[1].first, points[1].second, tasks));
-    EXPECT_EQ(selection.inspection()->point, points[1].second);
+    ASSERT_TRUE(selection.select(scene, points[0].face, points[0].x, tasks));
+    ASSERT_TRUE(selection.select(scene, points[1].face, points[1].x, tasks));
+    EXPECT_EQ(selection.inspection()->point, points[1].x);
     tasks.wait();
     std::string message;
     ASSERT_EQ(selection.poll(message), Selection::Event::Arrived);
-    EXPECT_EQ(selection.inspection()->point, points[1].second);
-    EXPECT_EQ(selection.inspection()->face, points[1].first);
+    EXPECT_EQ(selection.inspection()->point, points[1].x);
+    EXPECT_EQ(selection.inspection()->face, points[1].face);
     EXPECT_EQ(selection.poll(message), Selection::Event::None);
 }
 

@@ -17,9 +17,9 @@
 #include <set>
 #include <vector>
 
-#include "app/viewer/point_inspection.h"
 #include "engine/io/obj_io.h"
 #include "engine/io/scene_loader.h"
+#include "engine/precompute/point_inspection.h"
 #include "engine/render/embree_scene.h"
 #include "tests/app/viewer_test_support.h"
 #include "tests/support/exact_reference.h"
@@ -275,13 +275,21 @@ TEST(ViewerScreenshot, FragmentOverlayAndPathMatchAnIndependentQuery) {
     ASSERT_EQ(state["point"]["face"], face);
     ASSERT_EQ(state["point"]["lights"].size(), q.size());
     const json& light = state["point"]["lights"][0];
+    // The answer in the schema of `penumbra query` (the path as node ids and sides), and the
+    // path panel's rows beside it.
     ASSERT_EQ(light["path"].size(), q[0].trace.size());
+    ASSERT_EQ(light["path_sides"].size(), q[0].trace.size());
+    ASSERT_EQ(light["path_steps"].size(), q[0].trace.size());
     for (size_t i = 0; i < q[0].trace.size(); ++i) {
-        EXPECT_EQ(light["path"][i]["node"], q[0].trace[i].node);
-        EXPECT_EQ(light["path"][i]["depth"], q[0].trace[i].depth);
-        EXPECT_EQ(light["path"][i]["side"], vis::toString(q[0].trace[i].side));
+        EXPECT_EQ(light["path"][i], q[0].trace[i].node);
+        EXPECT_EQ(light["path_sides"][i], vis::toString(q[0].trace[i].side));
+        EXPECT_EQ(light["path_steps"][i]["node"], q[0].trace[i].node);
+        EXPECT_EQ(light["path_steps"][i]["depth"], q[0].trace[i].depth);
+        EXPECT_EQ(light["path_steps"][i]["side"], vis::toString(q[0].trace[i].side));
     }
+    EXPECT_EQ(light["pair"], std::string(vis::toString(q[0].kind)));
     EXPECT_EQ(light["fragments"].size(), q[0].fragments.size());
+    EXPECT_EQ(light["fragment_colours"].size(), q[0].fragments.size());
     EXPECT_NEAR(light["fraction"].get<double>(), q[0].fraction, 1e-12);
     EXPECT_GT(q[0].fragments.size(), 2u);  // a penumbra point: several fragments to look for
     // The visible region's outline against the exact region (CGAL): one loop per boundary, and
@@ -293,8 +301,25 @@ TEST(ViewerScreenshot, FragmentOverlayAndPathMatchAnIndependentQuery) {
         for (const vis::Polygon3& f : q[0].fragments) edges += f.size();
         return edges;
     }());
-    EXPECT_NEAR(light["outline"]["formFactor"].get<double>(), exact.formFactor,
+    EXPECT_NEAR(light["outline"]["form_factor"].get<double>(), exact.formFactor,
                 1e-9 * exact.formFactor);
+
+    // One schema for a point's answer: `penumbra query` at the same point prints every key the
+    // state's point has from it (the viewer adds its own: the normal, the colours, the path
+    // panel's rows, the times), with the same values.
+    const test::ProcessResult qr =
+        test::runPenumbra({"query", cornell().string(), "--point", "278,0,280"});
+    ASSERT_EQ(qr.exitCode, 0) << qr.err;
+    const json answer = json::parse(qr.out);
+    for (const auto& [key, value] : answer.items()) {
+        if (key == "lights") continue;
+        EXPECT_EQ(state["point"][key], value) << key;
+    }
+    ASSERT_EQ(answer["lights"].size(), state["point"]["lights"].size());
+    for (size_t k = 0; k < answer["lights"].size(); ++k) {
+        for (const auto& [key, value] : answer["lights"][k].items())
+            EXPECT_EQ(state["point"]["lights"][k][key], value) << "light " << k << ": " << key;
+    }
 
     // The fragment overlay where the camera projects the exact fragments.
     const int viewport[4] = {state["viewport"]["x"], state["viewport"]["y"],
@@ -323,7 +348,7 @@ TEST(ViewerScreenshot, PickingAPixelInspectsTheSurfaceAnIndependentRayHits) {
     ASSERT_EQ(r.exitCode, 0) << r.err;
     const json state = test::readJson(dir / "state.json");
     ASSERT_FALSE(state["point"].is_null());
-    const json& p = state["point"]["x"];
+    const json& p = state["point"]["point"];
     // The ray through the pixel centre meets the floor (face 0 of the Cornell box) near the
     // projected point (within a pixel's footprint, a few scene units here).
     EXPECT_EQ(state["point"]["face"], 0);
@@ -517,9 +542,9 @@ TEST(ViewerScreenshot, PixelInspectorReportsTheRenderedPixelAndTheExactFraction)
     const Vec3 x{p["point"][0], p["point"][1], p["point"][2]};
     const std::vector<LightAtPoint> tree = queryPoint(store, p["face"], x, std::nullopt);
     ASSERT_EQ(p["lights"].size(), tree.size());
-    EXPECT_TRUE(p["lights"][0]["complete"].get<bool>());
+    EXPECT_FALSE(p["lights"][0].contains("complete"));  // (written only when false)
     EXPECT_NEAR(p["lights"][0]["fraction"].get<double>(), tree[0].fraction, 1e-9);
-    EXPECT_NEAR(p["lights"][0]["formFactor"].get<double>(), tree[0].formFactor, 1e-12);
+    EXPECT_NEAR(p["lights"][0]["form_factor"].get<double>(), tree[0].formFactor, 1e-12);
     EXPECT_GT(tree[0].fraction, 0.05);  // a penumbra: the test can tell a wrong point
     EXPECT_LT(tree[0].fraction, 0.95);
     // How the exact render answered the pixel: one evaluation (one pass, one light), by a query

@@ -85,7 +85,7 @@ TEST(ViewerWindow, ClickUnderXvfbInspectsThePointAndDrawsItsFragments) {
     ASSERT_TRUE(s.contains("point") && !s["point"].is_null()) << s.dump();
     EXPECT_EQ(s["panels"]["help"], false);  // the H shortcut reached the viewer
     EXPECT_EQ(s["point"]["face"], 0);       // the floor
-    const json& x = s["point"]["x"];
+    const json& x = s["point"]["point"];
     // The click lands on the pixel containing the projection: within a pixel's footprint.
     EXPECT_NEAR(x[0].get<double>(), floorPoint.x, 6);
     EXPECT_NEAR(x[2].get<double>(), floorPoint.z, 6);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <ostream>
@@ -15,124 +16,111 @@
 namespace penumbra::cli {
 namespace {
 
-using nlohmann::json;
 namespace fs = std::filesystem;
 
-std::string num(const json& j, const char* f = "%.2f") {
-    return j.is_number() ? fmt(f, j.get<double>()) : std::string("-");
-}
+std::string num(double v, const char* f = "%.2f") { return fmt(f, v); }
 
-// An object's field that may be missing (a sampled render without timed points), as num().
-std::string numField(const json& object, const char* key, const char* f = "%.2f") {
-    return object.contains(key) ? num(object[key], f) : std::string("-");
+// A quantity the study may not have estimated (NaN: null in bench.json), or "-".
+std::string numOrDash(double v, const char* f = "%.2f") {
+    return std::isfinite(v) ? fmt(f, v) : std::string("-");
 }
 
 // The scene's file name: the tables have no room for the directories.
-std::string sceneName(const json& row) {
-    return fs::path(row["scene"].get<std::string>()).filename().string();
-}
+std::string sceneName(const std::string& scene) { return fs::path(scene).filename().string(); }
 
-// Whether some Table 1 row's exact render recorded `field` (each section is written only then).
-bool anyExactHas(const json& rows, const char* field) {
-    for (const json& row : rows)
-        if (row["exact"].contains(field)) return true;
+// Whether some Table 1 row has an exact render (its sections are written only then).
+bool anyExactRender(const std::vector<Table1Row>& rows) {
+    for (const Table1Row& row : rows)
+        if (row.exact.render) return true;
     return false;
 }
 
 // An exact render's sampled evaluations (over the work limit) as a percentage of those that
 // needed a query.
-double sampledPercent(const json& exact) {
-    return 100.0 * exact["sampledEvaluations"].get<double>() /
-           std::max(1.0, exact["evaluations"].get<double>());
+double sampledPercent(const ExactRender& exact) {
+    return 100.0 * static_cast<double>(exact.sampledEvaluations) /
+           std::max(1.0, static_cast<double>(exact.evaluations));
 }
 
-// A boundary-chain count of a cost object (bench.json's "cost" or "costEveryPointExact") per
-// chain evaluation, or "-" where the chain answered none (or the field was not recorded).
-std::string chainPer(const json& cost, const char* field) {
-    const double chain = cost.value("chainEvaluations", 0.0);
-    if (!(chain > 0) || !cost.contains(field)) return "-";
-    return fmt("%.1f", cost[field].get<double>() / chain);
+// A boundary-chain count of a render's evaluations per chain evaluation, or "-" where the chain
+// answered none.
+std::string chainPer(const EvaluationTimes& cost, uint64_t count) {
+    const double chain = static_cast<double>(cost.chainEvaluations);
+    if (!(chain > 0)) return "-";
+    return fmt("%.1f", static_cast<double>(count) / chain);
 }
 
-// The scenes `study` skipped because files they need are missing (bench.json's "skipped").
-json skippedBy(const json& b, const std::string& study) {
-    json out = json::array();
-    if (b.contains("skipped"))
-        for (const json& s : b["skipped"])
-            if (s["study"] == study) out.push_back(s);
+// The scenes `study` skipped because files they need are missing.
+std::vector<SkippedScene> skippedBy(const BenchResults& b, const std::string& study) {
+    std::vector<SkippedScene> out;
+    for (const SkippedScene& s : b.skipped)
+        if (s.study == study) out.push_back(s);
     return out;
 }
 
-void writeSkipped(std::ostream& r, const json& skipped) {
+void writeSkipped(std::ostream& r, const std::vector<SkippedScene>& skipped) {
     if (skipped.empty()) return;
     r << "Skipped because files they need are missing (run `scripts/fetch_meshes.sh` to fetch "
          "the meshes): ";
     for (size_t i = 0; i < skipped.size(); ++i) {
-        r << (i == 0 ? "" : ", ") << sceneName(skipped[i]) << " (missing";
-        for (const json& file : skipped[i]["missing"]) r << " " << file.get<std::string>();
+        r << (i == 0 ? "" : ", ") << sceneName(skipped[i].scene) << " (missing";
+        for (const std::string& file : skipped[i].missing) r << " " << file;
         r << ")";
     }
     r << ".\n\n";
 }
 
-void writeHeading(std::ostream& r, const json& b) {
-    const json& m = b["machine"];
+void writeHeading(std::ostream& r, const BenchResults& b) {
+    const BenchMachine& m = b.machine;
     r << "# Penumbra: what accuracy costs in time\n\n"
-      << "Measured by `" << b["command"].get<std::string>() << "` on "
-      << m["date"].get<std::string>() << ".\n\nMachine: " << m["cpu"].get<std::string>() << ", "
-      << m["cores"].get<unsigned>() << " logical cores, load average at the start `"
-      << m["loadavg"].get<std::string>() << "` (shared machine: compare CPU times), build type "
-      << m["buildType"].get<std::string>() << ".\n\n";
+      << "Measured by `" << b.command << "` on " << m.date << ".\n\nMachine: " << m.cpu << ", "
+      << m.cores << " logical cores, load average at the start `" << m.loadavg
+      << "` (shared machine: compare CPU times), build type " << m.buildType << ".\n\n";
 }
 
 // ---- Table 1 -------------------------------------------------------------------------------
 
-void writeTable1Row(std::ostream& r, const json& row) {
-    const json& e = row["exact"];
-    r << "| " << sceneName(row) << " | " << row["faces"] << " | " << row["width"] << "x"
-      << row["height"] << ", " << row["spp"] << " spp | " << num(row["sampled128"]["wall"]) << " / "
-      << num(row["sampled128"]["cpu"]) << " | " << num(e["precomputeWall"]) << " / "
-      << num(e["precomputeCpu"]) << (e["precomputeComplete"].get<bool>() ? "" : " (over the limit)")
-      << " | "
-      << (e.contains("renderWall") ? num(e["renderWall"]) + " / " + num(e["renderCpu"])
-                                   : std::string("-"))
-      << " | "
-      << (row.contains("speedupWall")
-              ? num(row["speedupWall"]) + "x (" + num(row["speedupRenderOnlyWall"]) + "x)"
-              : std::string("-"))
-      << " | " << e["trees"] << " (" << e["kinds"]["partial"] << ") | "
-      << (e.contains("pairsWithoutTree") ? e["pairsWithoutTree"].dump() : "-")
-      << (e.value("pairsGroupedNoTree", 0) > 0
-              ? " (" + e["pairsGroupedNoTree"].dump() + " by groups)"
+void writeTable1Row(std::ostream& r, const Table1Row& row) {
+    const ExactRun& x = row.exact;
+    const ExactRender* e = x.render ? &*x.render : nullptr;
+    r << "| " << sceneName(row.scene) << " | " << row.faces << " | " << row.width << "x"
+      << row.height << ", " << row.spp << " spp | " << num(row.sampled128.wall) << " / "
+      << num(row.sampled128.cpu) << " | " << num(x.precomputeWall) << " / " << num(x.precomputeCpu)
+      << (x.precomputeComplete ? "" : " (over the limit)") << " | "
+      << (e ? num(e->renderWall) + " / " + num(e->renderCpu) : std::string("-")) << " | "
+      << (row.speedup ? num(row.speedup->wall) + "x (" + num(row.speedup->renderOnlyWall) + "x)"
+                      : std::string("-"))
+      << " | " << x.trees << " (" << x.kinds.partial << ") | "
+      << (e ? std::to_string(e->pairsWithoutTree) : "-")
+      << (e && e->pairsGroupedNoTree > 0
+              ? " (" + std::to_string(e->pairsGroupedNoTree) + " by groups)"
               : std::string())
       << " | ";
-    if (e.contains("evaluations"))
-        r << num(sampledPercent(e), "%.1f") << "% | ";
+    if (e)
+        r << num(sampledPercent(*e), "%.1f") << "% | ";
     else
         r << "- | ";
-    if (e.contains("everyPointExact")) {
-        const json& a = e["everyPointExact"];
-        r << (a["complete"].get<bool>() ? "" : "over ") << num(a["renderWall"]) << " | ";
+    if (e && e->everyPointExact) {
+        const EveryPointExactRender& a = *e->everyPointExact;
+        r << (a.complete ? "" : "over ") << num(a.renderWall) << " | ";
     } else {
-        r << (e.contains("sampledEvaluations") && e["sampledEvaluations"].get<uint64_t>() == 0
-                  ? "(the same) | "
-                  : "- | ");
+        r << (e && e->sampledEvaluations == 0 ? "(the same) | " : "- | ");
     }
-    r << num(e["fileBytes"].get<double>() / 1024.0, "%.1f") << " KB | ";
-    if (row.contains("allPairs")) {
-        const json& a = row["allPairs"];
-        r << num(a["seconds"]) << " / " << num(a["cpu"])
-          << (a["complete"].get<bool>() ? "" : " (over the limit)") << " | "
-          << num(a["fileBytes"].get<double>() / 1024.0, "%.1f") << " KB |\n";
+    r << num(static_cast<double>(x.fileBytes) / 1024.0, "%.1f") << " KB | ";
+    if (row.allPairs) {
+        const AllPairsRun& a = *row.allPairs;
+        r << num(a.precompute.seconds) << " / " << num(a.precompute.cpu)
+          << (a.precompute.complete ? "" : " (over the limit)") << " | "
+          << num(static_cast<double>(a.fileBytes) / 1024.0, "%.1f") << " KB |\n";
     } else {
-        r << (row["faces"].get<uint32_t>() > kAllPairsMaxFaces ? "skipped | - |\n" : "- | - |\n");
+        r << (row.faces > kAllPairsMaxFaces ? "skipped | - |\n" : "- | - |\n");
     }
 }
 
 // Of Table 1's sampled points, the stage each query was in when it reached the work limit
 // (vis::WorkStage), and those not tried: later points of a region whose query had reached it.
-void writeOverLimit(std::ostream& r, const json& rows) {
-    if (!anyExactHas(rows, "overLimitAt")) return;
+void writeOverLimit(std::ostream& r, const std::vector<Table1Row>& rows) {
+    if (!anyExactRender(rows)) return;
     std::vector<std::string> stages;  // in the order a query goes through them
     for (size_t i = 0; i < vis::kWorkStages; ++i)
         stages.emplace_back(vis::toString(static_cast<vis::WorkStage>(i)));
@@ -145,13 +133,12 @@ void writeOverLimit(std::ostream& r, const json& rows) {
     r << "\n|---|---|---|";
     for (size_t i = 0; i < stages.size(); ++i) r << "---|";
     r << "\n";
-    for (const json& row : rows) {
-        const json& e = row["exact"];
-        if (!e.contains("overLimitAt")) continue;
-        r << "| " << sceneName(row) << " | " << e["sampledEvaluations"] << " | "
-          << e.value("notTried", json("-")) << " |";
-        for (const std::string& s : stages)
-            r << " " << (e["overLimitAt"].contains(s) ? e["overLimitAt"][s].dump() : "-") << " |";
+    for (const Table1Row& row : rows) {
+        if (!row.exact.render) continue;
+        const ExactRender& e = *row.exact.render;
+        r << "| " << sceneName(row.scene) << " | " << e.sampledEvaluations << " | " << e.notTried
+          << " |";
+        for (uint64_t n : e.overLimitAt) r << " " << n << " |";
         r << "\n";
     }
     r << "\n";
@@ -159,8 +146,8 @@ void writeOverLimit(std::ostream& r, const json& rows) {
 
 // Of Table 1's exact renders, how each pixel was answered (engine/render/answers.h): the shares
 // of the evaluations and the images.
-void writeAnswers(std::ostream& r, const json& rows) {
-    if (!anyExactHas(rows, "answers")) return;
+void writeAnswers(std::ostream& r, const std::vector<Table1Row>& rows) {
+    if (!anyExactRender(rows)) return;
     r << "### How each pixel was answered\n\n"
       << "Table 1's exact renders, each evaluation (point, light) by the answer it took "
          "(`engine/render/answers.h`; `penumbra render --out-answers`, the viewer's answers "
@@ -180,26 +167,22 @@ void writeAnswers(std::ostream& r, const json& rows) {
     for (size_t i = 0; i < kAnswers; ++i) r << "---|";
     r << "\n";
     std::string images;
-    for (const json& row : rows) {
-        const json& e = row["exact"];
-        if (!e.contains("answers")) continue;
-        const json& counts = e["answers"]["counts"];
-        std::array<uint64_t, kAnswers> total{};
-        for (size_t i = 0; i < kAnswers; ++i)
-            total[i] = counts.value(toString(static_cast<Answer>(i)), uint64_t{0});
-        r << "| " << sceneName(row) << " |";
-        for (double share : answerShares(total)) r << " " << fmt("%.1f%%", share) << " |";
+    for (const Table1Row& row : rows) {
+        if (!row.exact.render) continue;
+        const AnswersImage& answers = row.exact.render->answers;
+        const std::string name = sceneName(row.scene);
+        r << "| " << name << " |";
+        for (double share : answerShares(answers.counts)) r << " " << fmt("%.1f%%", share) << " |";
         r << "\n";
-        const std::string image = e["answers"]["image"].get<std::string>();
-        images += "<img src=\"" + image + "\" width=\"200\" alt=\"" + sceneName(row) +
-                  "\" title=\"" + sceneName(row) + "\"> ";
+        images += "<img src=\"" + answers.image + "\" width=\"200\" alt=\"" + name + "\" title=\"" +
+                  name + "\"> ";
     }
     r << "\n" << images << "\n\n";
 }
 
 // Of Table 1's exact renders, the query-driven refinement between passes.
-void writeRefined(std::ostream& r, const json& rows) {
-    if (!anyExactHas(rows, "refined")) return;
+void writeRefined(std::ostream& r, const std::vector<Table1Row>& rows) {
+    if (!anyExactRender(rows)) return;
     r << "### Query-driven refinement\n\n"
       << "After each pass, the trees whose walks reached the work limit have their receiver "
          "patch split (`VisibilityStore::refine`), and the sub-patches holding those points get "
@@ -208,13 +191,11 @@ void writeRefined(std::ostream& r, const json& rows) {
          "The time is part of the exact render's.\n\n"
       << "| scene | pairs refined | sub-patch trees built | used | left unrefined (not worth "
          "it) | seconds |\n|---|---|---|---|---|---|\n";
-    for (const json& row : rows) {
-        const json& e = row["exact"];
-        if (!e.contains("refined")) continue;
-        const json& f = e["refined"];
-        r << "| " << sceneName(row) << " | " << f["pairs"] << " | " << f["trees"] << " | "
-          << f["treesUsed"] << " | " << f["notWorth"] << " | " << num(f["seconds"], "%.3f")
-          << " |\n";
+    for (const Table1Row& row : rows) {
+        if (!row.exact.render) continue;
+        const Refinement& f = row.exact.render->refined;
+        r << "| " << sceneName(row.scene) << " | " << f.pairs << " | " << f.trees << " | "
+          << f.treesUsed << " | " << f.notWorth << " | " << num(f.seconds, "%.3f") << " |\n";
     }
     r << "\n";
 }
@@ -222,8 +203,8 @@ void writeRefined(std::ostream& r, const json& rows) {
 // Of Table 1's exact renders, where the queries' plane tests went (vis::WorkStage): per scene
 // and path (walking trees, without a tree), at the default work limit and, where the bench ran
 // it, with every point exact.
-void writeWork(std::ostream& r, const json& rows) {
-    if (!anyExactHas(rows, "workAt")) return;
+void writeWork(std::ostream& r, const std::vector<Table1Row>& rows) {
+    if (!anyExactRender(rows)) return;
     r << "### Where the exact work goes\n\n"
       << "The plane tests of Table 1's exact renders (the unit of the work limit; "
          "`FromPointQuery::stageWork`), by the stage they went to: walking history trees and "
@@ -236,29 +217,28 @@ void writeWork(std::ostream& r, const json& rows) {
     r << "\n|---|---|---|---|";
     for (size_t i = 0; i < vis::kWorkStages; ++i) r << "---|";
     r << "\n";
-    auto rowsOf = [&](const json& row, const json& work, const std::string& limit) {
-        const double evaluations = row["exact"]["evaluations"].get<double>();
-        for (const char* path : {"trees", "direct"}) {
+    auto rowsOf = [&](const Table1Row& row, const WorkByPath& work, const std::string& limit) {
+        const double evaluations = static_cast<double>(row.exact.render->evaluations);
+        for (const auto& [path, stages] :
+             {std::pair{"trees", &work.trees}, std::pair{"without a tree", &work.direct}}) {
             double total = 0;
-            for (const auto& [stage, n] : work[path].items()) total += n.get<double>();
+            for (uint64_t n : *stages) total += static_cast<double>(n);
             if (total == 0) continue;
-            r << "| " << sceneName(row) << " | " << limit << " | "
-              << (std::string(path) == "trees" ? "trees" : "without a tree") << " | "
+            r << "| " << sceneName(row.scene) << " | " << limit << " | " << path << " | "
               << fmt("%.1f", evaluations > 0 ? total / evaluations : 0.0) << " |";
-            for (size_t i = 0; i < vis::kWorkStages; ++i) {
-                const std::string stage = vis::toString(static_cast<vis::WorkStage>(i));
-                const double n = work[path].value(stage, 0.0);
+            for (uint64_t count : *stages) {
+                const double n = static_cast<double>(count);
                 r << " " << (n > 0 ? fmt("%.1f%%", 100.0 * n / total) : "-") << " |";
             }
             r << "\n";
         }
     };
-    for (const json& row : rows) {
-        const json& e = row["exact"];
-        if (!e.contains("workAt")) continue;
-        rowsOf(row, e["workAt"], std::to_string(e["exactWorkLimit"].get<uint64_t>()));
-        if (e.contains("everyPointExact") && e["everyPointExact"].contains("workAt"))
-            rowsOf(row, e["everyPointExact"]["workAt"], "none");
+    for (const Table1Row& row : rows) {
+        if (!row.exact.render) continue;
+        const ExactRender& e = *row.exact.render;
+        rowsOf(row, e.workAt, std::to_string(e.exactWorkLimit));
+        if (e.everyPointExact && e.everyPointExact->workAt)
+            rowsOf(row, *e.everyPointExact->workAt, "none");
     }
     r << "\n";
 }
@@ -266,8 +246,8 @@ void writeWork(std::ostream& r, const json& rows) {
 // Of Table 1's renders, each evaluation timed: the exact ones answered exactly (query and
 // shading; the points over the work limit are not among them) against the sampled render's
 // points (128 rays per light), and the boundary chain's edges against its fragments.
-void writeCost(std::ostream& r, const json& rows) {
-    if (!anyExactHas(rows, "cost")) return;
+void writeCost(std::ostream& r, const std::vector<Table1Row>& rows) {
+    if (!anyExactRender(rows)) return;
     r << "### Cost per evaluation\n\n"
       << "One evaluation in 8 of Table 1's renders timed alone (wall, one thread; the clock's own "
          "cost, some 20-40 ns, included): the exact render's (point, light) evaluations that "
@@ -285,24 +265,22 @@ void writeCost(std::ostream& r, const json& rows) {
          "rays median us | p99 us | by the chain | chain edges | of the occluders' edges | cells | "
          "fragments | over the limit: 128 rays median us "
          "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    for (const json& row : rows) {
-        const json& e = row["exact"];
-        if (!e.contains("cost")) continue;
-        const json& c = e["cost"];
-        const json& sp = row["sampled128"];
-        const double chain = c["chainEvaluations"].get<double>();
-        r << "| " << sceneName(row) << " | " << c["evaluations"] << " | "
-          << num(c["medianUs"], "%.2f") << " | " << num(c["p99Us"], "%.2f") << " | "
-          << num(c["meanUs"], "%.2f") << " | " << sp.value("points", json("-")) << " | "
-          << numField(sp, "pointMedianUs") << " | " << numField(sp, "pointP99Us") << " | "
-          << c["chainEvaluations"] << " | " << chainPer(c, "chainEdges") << " | "
-          << (chain > 0 && c.value("chainOccluderEdges", 0.0) > 0
-                  ? fmt("%.1f%%", 100.0 * c["chainEdges"].get<double>() /
-                                      c["chainOccluderEdges"].get<double>())
+    for (const Table1Row& row : rows) {
+        if (!row.exact.render) continue;
+        const ExactRender& e = *row.exact.render;
+        const EvaluationTimes& c = e.cost.times;
+        const SampledRender& sp = row.sampled128;
+        r << "| " << sceneName(row.scene) << " | " << c.evaluations << " | "
+          << num(c.medianUs, "%.2f") << " | " << num(c.p99Us, "%.2f") << " | "
+          << num(c.meanUs, "%.2f") << " | " << sp.points << " | " << num(sp.pointMedianUs) << " | "
+          << num(sp.pointP99Us) << " | " << c.chainEvaluations << " | " << chainPer(c, c.chainEdges)
+          << " | "
+          << (c.chainEvaluations > 0 && e.cost.chainOccluderEdges > 0
+                  ? fmt("%.1f%%", 100.0 * static_cast<double>(c.chainEdges) /
+                                      static_cast<double>(e.cost.chainOccluderEdges))
                   : "-")
-          << " | " << chainPer(c, "chainCells") << " | " << chainPer(c, "chainFragments") << " | "
-          << (e["sampledEvaluations"].get<uint64_t>() > 0 ? num(c["sampledMedianUs"], "%.2f") : "-")
-          << " |\n";
+          << " | " << chainPer(c, c.chainCells) << " | " << chainPer(c, c.chainFragments) << " | "
+          << (e.sampledEvaluations > 0 ? num(e.cost.sampledMedianUs, "%.2f") : "-") << " |\n";
     }
     r << "\n";
     r << "Where the exact render's evaluations that needed a query spent their time, estimated "
@@ -312,17 +290,15 @@ void writeCost(std::ostream& r, const json& rows) {
          "render.\n\n"
       << "| scene | sampled points | exact answers | queries stopped at the limit | "
          "sampled points' rays | in all, s |\n|---|---|---|---|---|---|\n";
-    for (const json& row : rows) {
-        const json& e = row["exact"];
-        if (!e.contains("cost") || !e["cost"].contains("timeSplit")) continue;
-        const json& t = e["cost"]["timeSplit"];
-        const double exact = t["exactSeconds"].get<double>(),
-                     attempts = t["attemptSeconds"].get<double>(),
-                     rays = t["raysSeconds"].get<double>(), all = exact + attempts + rays;
+    for (const Table1Row& row : rows) {
+        if (!row.exact.render) continue;
+        const ExactRender& e = *row.exact.render;
+        const TimeSplit& t = e.cost.timeSplit;
+        const double all = t.exactSeconds + t.attemptSeconds + t.raysSeconds;
         auto share = [&](double v) { return all > 0 ? fmt("%.1f%%", 100 * v / all) : "-"; };
-        r << "| " << sceneName(row) << " | " << fmt("%.1f%%", sampledPercent(e)) << " | "
-          << share(exact) << " | " << share(attempts) << " | " << share(rays) << " | "
-          << fmt("%.2f", all) << " |\n";
+        r << "| " << sceneName(row.scene) << " | " << fmt("%.1f%%", sampledPercent(e)) << " | "
+          << share(t.exactSeconds) << " | " << share(t.attemptSeconds) << " | "
+          << share(t.raysSeconds) << " | " << fmt("%.2f", all) << " |\n";
     }
     r << "\n";
 }
@@ -331,8 +307,11 @@ void writeCost(std::ostream& r, const json& rows) {
 // points over it, which are the expensive ones): the exact evaluations' distribution against
 // the sampled render's 128 rays per point, and 16 rays taken as an eighth of their median (strict:
 // with a point's own cost, 16 rays measure about a seventh of 128).
-void writeCostEveryPointExact(std::ostream& r, const json& rows) {
-    if (!anyExactHas(rows, "costEveryPointExact")) return;
+void writeCostEveryPointExact(std::ostream& r, const std::vector<Table1Row>& rows) {
+    const auto has = [](const Table1Row& row) {
+        return row.exact.render && row.exact.render->costEveryPointExact;
+    };
+    if (std::none_of(rows.begin(), rows.end(), has)) return;
     r << "### Per-point cost with every point exact\n\n"
       << "The goals of issue 13 per evaluation: the median exact evaluation costing at most 16 "
          "shadow rays, the 99th percentile at most 128. Measured on a render without the work "
@@ -351,29 +330,28 @@ void writeCostEveryPointExact(std::ostream& r, const json& rows) {
          "us | 128 rays p99 us | median <= 16 rays | p99 <= 128 rays | by the chain | chain "
          "edges | cells | fragments |\n"
       << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    for (const json& row : rows) {
-        const json& e = row["exact"];
-        if (!e.contains("costEveryPointExact")) continue;
-        const json& c = e["costEveryPointExact"];
-        const json& sp = row["sampled128"];
-        const bool have = c["evaluations"].get<uint64_t>() > 0 && sp.contains("pointMedianUs");
-        const double median = c["medianUs"].get<double>(), p99 = c["p99Us"].get<double>();
+    for (const Table1Row& row : rows) {
+        if (!has(row)) continue;
+        const EveryPointExactCost& every = *row.exact.render->costEveryPointExact;
+        const EvaluationTimes& c = every.times;
+        const SampledRender& sp = row.sampled128;
+        const bool have = c.evaluations > 0;
         auto verdict = [&](bool met) { return have ? (met ? "yes" : "no") : "-"; };
-        r << "| " << sceneName(row) << " | " << c["width"] << "x" << c["height"] << ", " << c["spp"]
-          << " spp (" << c["image"].get<std::string>()
-          << (c["complete"].get<bool>() ? "" : "; cut at the limit") << ") | " << c["evaluations"]
-          << " | " << num(c["medianUs"], "%.2f") << " | " << num(c["p99Us"], "%.2f") << " | "
-          << num(c["meanUs"], "%.2f") << " | " << numField(sp, "pointMedianUs") << " | "
-          << numField(sp, "pointP99Us") << " | "
-          << verdict(have && median <= sp["pointMedianUs"].get<double>() / 8) << " | "
-          << verdict(have && p99 <= sp["pointP99Us"].get<double>()) << " | "
-          << c.value("chainEvaluations", json("-")) << " | " << chainPer(c, "chainEdges") << " | "
-          << chainPer(c, "chainCells") << " | " << chainPer(c, "chainFragments") << " |\n";
+        r << "| " << sceneName(row.scene) << " | " << every.width << "x" << every.height << ", "
+          << every.spp << " spp (" << every.image << (every.complete ? "" : "; cut at the limit")
+          << ") | " << c.evaluations << " | " << num(c.medianUs, "%.2f") << " | "
+          << num(c.p99Us, "%.2f") << " | " << num(c.meanUs, "%.2f") << " | "
+          << num(sp.pointMedianUs) << " | " << num(sp.pointP99Us) << " | "
+          << verdict(have && c.medianUs <= sp.pointMedianUs / 8) << " | "
+          << verdict(have && c.p99Us <= sp.pointP99Us) << " | " << c.chainEvaluations << " | "
+          << chainPer(c, c.chainEdges) << " | " << chainPer(c, c.chainCells) << " | "
+          << chainPer(c, c.chainFragments) << " |\n";
     }
     r << "\n";
 }
 
-void writeTable1(std::ostream& r, const json& rows, const json& skipped, bool plots) {
+void writeTable1(std::ostream& r, const std::vector<Table1Row>& rows,
+                 const std::vector<SkippedScene>& skipped, bool plots) {
     r << "## Table 1 re-measured\n\n"
       << "Sampled: 128 shadow rays per light per shading point. Exact: the trees the image "
          "needs (`ProgressiveRenderer::prepare`) then the render, with the product's "
@@ -396,7 +374,7 @@ void writeTable1(std::ostream& r, const json& rows, const json& skipped, bool pl
          "| trees (partial) | pairs without a tree | sampled points | every point exact | "
          "file (image) | all pairs: time | all pairs: file |\n"
          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    for (const json& row : rows) writeTable1Row(r, row);
+    for (const Table1Row& row : rows) writeTable1Row(r, row);
     r << "\n";
     if (plots) r << "![Table 1](table1.png)\n\n";
     writeSkipped(r, skipped);
@@ -410,87 +388,85 @@ void writeTable1(std::ostream& r, const json& rows, const json& skipped, bool pl
 
 // ---- The other studies ---------------------------------------------------------------------
 
-void writeAccuracy(std::ostream& r, const json& a, bool plots) {
+void writeAccuracy(std::ostream& r, const AccuracyBenchRun& run, bool plots) {
+    const AccuracyStudy& a = run.study;
     r << "## Error against time\n\n"
-      << "Scene " << a["scene"].get<std::string>() << ", " << a["width"] << "x" << a["height"]
-      << ", " << a["spp"]
+      << "Scene " << run.scene << ", " << a.options.width << "x" << a.options.height << ", "
+      << a.options.spp
       << " primary samples per pixel, the same for every image (so the sampled images differ "
          "from the exact one only by their shadow-ray noise). RMSE and max error over all "
          "pixels and RGB channels of linear radiance (mean radiance of the exact image "
-      << num(a["meanRadiance"], "%.4g") << ").\n\n"
+      << num(a.meanRadiance, "%.4g") << ").\n\n"
       << "| method | rays | wall s | CPU s | RMSE | max error |\n|---|---|---|---|---|---|\n";
-    for (const json& p : a["sampled"])
-        r << "| sampled vs exact | " << p["rays"] << " | " << num(p["seconds"], "%.3f") << " | "
-          << num(p["cpu"], "%.3f") << " | " << num(p["rmse"], "%.4g") << " | "
-          << num(p["maxError"], "%.4g") << " |\n";
-    const json& e = a["exact"];
-    r << "| exact vs reference | - | " << num(e["seconds"], "%.3f") << " | "
-      << num(e["cpu"], "%.3f") << " | " << num(e["rmse"], "%.4g") << " | "
-      << num(e["maxError"], "%.4g") << " |\n\n"
-      << "Reference: the mean of two sampled images of " << a["referenceRays"]
+    for (const AccuracyPoint& p : a.sampled)
+        r << "| sampled vs exact | " << p.rays << " | " << num(p.seconds, "%.3f") << " | "
+          << num(p.cpuSeconds, "%.3f") << " | " << num(p.rmse, "%.4g") << " | "
+          << num(p.maxError, "%.4g") << " |\n";
+    const AccuracyPoint& e = a.exact;
+    r << "| exact vs reference | - | " << num(e.seconds, "%.3f") << " | "
+      << num(e.cpuSeconds, "%.3f") << " | " << num(e.rmse, "%.4g") << " | "
+      << num(e.maxError, "%.4g") << " |\n\n"
+      << "Reference: the mean of two sampled images of " << a.options.referenceRays
       << " rays each (different light seeds); its own noise (standard error, RMS) is "
-      << num(a["referenceNoise"], "%.4g") << ", against the exact image's RMSE of "
-      << num(e["rmse"], "%.4g")
+      << num(a.referenceNoise, "%.4g") << ", against the exact image's RMSE of "
+      << num(e.rmse, "%.4g")
       << ": the exact image agrees with the converged reference when these are close. The "
          "exact time includes its precompute ("
-      << num(e["precompute"], "%.3f") << " s wall).\n\n";
-    if (a["equalErrorSeconds"].is_number())
+      << num(e.precomputeSeconds, "%.3f") << " s wall).\n\n";
+    if (std::isfinite(a.equalErrorSeconds))
         r << "**Equal error:** the sampled method reaches the exact image's error level ("
-          << num(e["rmse"], "%.4g") << ", an upper bound on the exact image's error) at about "
-          << num(a["equalErrorRays"], "%.0f") << " rays per light and "
-          << num(a["equalErrorSeconds"], "%.3f") << " s wall, against " << num(e["seconds"], "%.3f")
-          << " s for the exact method: "
-          << num(a["equalErrorSeconds"].get<double>() / e["seconds"].get<double>()) << "x"
-          << (a["equalErrorExtrapolated"].get<bool>() ? " (extrapolated beyond the "
-                                                        "measured curve)"
-                                                      : "")
+          << num(e.rmse, "%.4g") << ", an upper bound on the exact image's error) at about "
+          << numOrDash(a.equalErrorRays, "%.0f") << " rays per light and "
+          << num(a.equalErrorSeconds, "%.3f") << " s wall, against " << num(e.seconds, "%.3f")
+          << " s for the exact method: " << num(a.equalErrorSeconds / e.seconds) << "x"
+          << (a.equalErrorExtrapolated ? " (extrapolated beyond the measured curve)" : "")
           << ". Interpolated linearly on the log-log curve.\n\n";
     if (plots) r << "![error against time](accuracy.png)\n\n";
 }
 
-void writePredicates(std::ostream& r, const json& p) {
+void writePredicates(std::ostream& r, const PredicateStudy& p) {
     r << "## What exactness costs: predicates\n\n"
-      << "FPQuery on the " << p["cases"] << " hard cases (`makeHardCases()`), " << p["queries"]
+      << "FPQuery on the " << p.cases.size() << " hard cases (`makeHardCases()`), " << p.queries
       << " queries (patch vertices, edge midpoints and random points of every penumbra pair). "
          "Wrong: the visible fraction differs from the AlwaysExact answer by more than 1e-9 "
          "of L's area, or the fragments overlap or leave L. (The test suite checks Filtered "
          "against an exact CGAL reference.)\n\n"
       << "| predicates | us per query (wall) | us per query (CPU) | wrong | other fragment "
          "count than AlwaysExact |\n|---|---|---|---|---|\n";
-    for (const json& mm : p["modes"])
-        r << "| " << mm["mode"].get<std::string>() << " | " << num(mm["usPerQuery"], "%.3f")
-          << " | " << num(mm["cpuUsPerQuery"], "%.3f") << " | " << mm["wrong"] << " | "
-          << mm["otherCount"] << " |\n";
-    r << "\nNaive answers with another fragment count than Filtered: "
-      << p["naiveOtherThanFiltered"]
+    for (const PredicateModeResult& m : p.modes)
+        r << "| " << m.mode << " | " << num(m.usPerQuery, "%.3f") << " | "
+          << num(m.cpuUsPerQuery, "%.3f") << " | " << m.wrong << " | " << m.otherCount << " |\n";
+    r << "\nNaive answers with another fragment count than Filtered: " << p.naiveOtherThanFiltered
       << ". A different fragment count is a sliver more or less (the topology of the answer); "
          "Filtered decides rounded constructed vertices by its filter and so may drop slivers "
          "that AlwaysExact's exact sign of the rounded vertex keeps.\n\nPer case (naive wrong "
          "/ naive other count / filtered other count): ";
-    for (const json& c : p["perCase"])
-        r << c["case"].get<std::string>() << " " << c["naiveWrong"] << "/" << c["naiveOtherCount"]
-          << "/" << c["filteredOtherCount"] << "; ";
+    for (const PredicateCaseResult& c : p.cases)
+        r << c.name << " " << c.wrong[2] << "/" << c.otherCount[2] << "/" << c.otherCount[0]
+          << "; ";
     r << "\n\n";
 }
 
-void writeBuildOptions(std::ostream& r, const json& rows) {
+void writeBuildOptions(std::ostream& r, const std::vector<BuildOptionsRow>& rows) {
     r << "## Quadric pruning and leaf merging\n\nAll pairs of each scene.\n\n"
       << "| scene | merge leaves | quadric pruning | nodes | bytes | precompute wall / CPU s "
          "| us per query |\n|---|---|---|---|---|---|---|\n";
-    for (const json& o : rows)
-        r << "| " << sceneName(o) << " | " << (o["mergeLeaves"].get<bool>() ? "on" : "off") << " | "
-          << (o["quadricPruning"].get<bool>() ? "on" : "off") << " | " << o["nodes"] << " | "
-          << o["bytes"] << " | " << num(o["seconds"]) << " / " << num(o["cpu"])
-          << (o["complete"].get<bool>()
-                  ? std::string()
-                  : " (over the limit: " + o["done"].dump() + "/" + o["pairs"].dump() + " pairs)")
-          << " | " << num(o["queryUs"], "%.3f") << " |\n";
+    for (const BuildOptionsRow& o : rows) {
+        const PrecomputeRun& p = o.precompute;
+        r << "| " << sceneName(o.scene) << " | " << (o.mergeLeaves ? "on" : "off") << " | "
+          << (o.quadricPruning ? "on" : "off") << " | " << p.nodes << " | " << p.bytes << " | "
+          << num(p.seconds) << " / " << num(p.cpu)
+          << (p.complete ? std::string()
+                         : " (over the limit: " + std::to_string(p.done) + "/" +
+                               std::to_string(p.pairs) + " pairs)")
+          << " | " << num(o.queryUs, "%.3f") << " |\n";
+    }
     r << "\n";
 }
 
 // Without rows (every resolution skipped) the section only says what is missing.
-void writeScaling(std::ostream& r, const json& rows, const json& limit, const json& skipped,
-                  bool plots) {
+void writeScaling(std::ostream& r, const std::vector<ScalingRow>& rows, double limit,
+                  const std::vector<SkippedScene>& skipped, bool plots) {
     r << "## Precompute against triangle count\n\n";
     if (!rows.empty()) {
         r << "A fixed set of receiver patches: every patch of the floor and 32 faces of the model "
@@ -498,30 +474,36 @@ void writeScaling(std::ostream& r, const json& rows, const json& limit, const js
           << num(limit, "%.0f") << " s limit per scene).\n\n"
           << "| scene | faces | pairs | done | wall s | CPU s | nodes | bytes | penumbra | "
              "partial |\n|---|---|---|---|---|---|---|---|---|---|\n";
-        for (const json& s : rows)
-            r << "| " << sceneName(s) << " | " << s["faces"] << " | " << s["pairs"] << " | "
-              << s["done"] << " | " << num(s["seconds"]) << " | " << num(s["cpu"]) << " | "
-              << s["nodes"] << " | " << s["bytes"] << " | " << s["kinds"]["penumbra"] << " | "
-              << s["kinds"]["partial"] << " |\n";
+        for (const ScalingRow& s : rows) {
+            const PrecomputeRun& p = s.precompute;
+            r << "| " << sceneName(s.scene) << " | " << s.faces << " | " << p.pairs << " | "
+              << p.done << " | " << num(p.seconds) << " | " << num(p.cpu) << " | " << p.nodes
+              << " | " << p.bytes << " | " << p.kinds.penumbra << " | " << p.kinds.partial
+              << " |\n";
+        }
         if (plots) r << "\n![scaling](scaling.png)\n";
         r << "\n";
     }
     writeSkipped(r, skipped);
 }
 
-void writePerPoint(std::ostream& r, const json& rows) {
+void writePerPoint(std::ostream& r, const std::vector<PerPointRow>& rows) {
     r << "## Per point: exact query against shadow rays\n\nLight 0, one thread. The exact "
          "query's mean over all points, then its median, 99th percentile and maximum with each "
          "point timed alone.\n\n"
       << "| scene | points | exact query + form factor us | median | p99 | max | nodes | "
          "fragments | 16 rays us | 128 rays us |\n|---|---|---|---|---|---|---|---|---|---|\n";
-    for (const json& p : rows)
-        r << "| " << sceneName(p) << " | " << p["points"] << " | " << num(p["exactUs"]) << " | "
-          << num(p.value("exactMedianUs", json())) << " | " << num(p.value("exactP99Us", json()))
-          << " | " << num(p.value("exactMaxUs", json())) << " | " << num(p["nodesPerQuery"], "%.1f")
-          << " | " << num(p["fragmentsPerQuery"]) << " | " << num(p["rays16Us"]) << " | "
-          << num(p["rays128Us"]) << " |\n";
-    r << "\n### The visible region's boundary\n\nThe same points: the fragments' edges, and "
+    for (const PerPointRow& p : rows)
+        r << "| " << sceneName(p.scene) << " | " << p.points << " | " << num(p.exactUs) << " | "
+          << num(p.exactMedianUs) << " | " << num(p.exactP99Us) << " | " << num(p.exactMaxUs)
+          << " | " << num(p.nodesPerQuery, "%.1f") << " | " << num(p.fragmentsPerQuery) << " | "
+          << num(p.rays16Us) << " | " << num(p.rays128Us) << " |\n";
+    r << "\n";
+}
+
+// The same points: the visible region's boundary against the fragments.
+void writeOutline(std::ostream& r, const std::vector<PerPointRow>& rows) {
+    r << "### The visible region's boundary\n\nThe same points: the fragments' edges, and "
          "the boundary of their union (`vis::visibleOutline`, what `penumbra query` and the "
          "viewer show): its loops (outer boundaries and holes) and edges, once the edges two "
          "fragments share cancel and straight runs merge. Then per point the fragments' form "
@@ -529,17 +511,21 @@ void writePerPoint(std::ostream& r, const json& rows) {
          "contour integral over the boundary: the same value). Per point, means.\n\n"
       << "| scene | fragments | their edges | boundary loops | boundary edges | fragments' form "
          "factor us | outline + its form factor us |\n|---|---|---|---|---|---|---|\n";
-    for (const json& p : rows) {
-        if (!p.contains("outline")) continue;
-        const json& o = p["outline"];
-        const double points = std::max(1.0, p["points"].get<double>());
-        r << "| " << sceneName(p) << " | " << num(p["fragmentsPerQuery"]) << " | "
-          << fmt("%.1f", o["fragmentEdges"].get<double>() / points) << " | "
-          << fmt("%.2f", o["loops"].get<double>() / points) << " | "
-          << fmt("%.1f", o["edges"].get<double>() / points) << " | "
-          << num(o["integrationUs"], "%.3f") << " | " << num(o["outlineUs"], "%.3f") << " |\n";
+    for (const PerPointRow& p : rows) {
+        const OutlineStats& o = p.outline;
+        const double points = std::max(1.0, static_cast<double>(p.points));
+        r << "| " << sceneName(p.scene) << " | " << num(p.fragmentsPerQuery) << " | "
+          << fmt("%.1f", static_cast<double>(o.fragmentEdges) / points) << " | "
+          << fmt("%.2f", static_cast<double>(o.loops) / points) << " | "
+          << fmt("%.1f", static_cast<double>(o.edges) / points) << " | "
+          << num(o.integrationUs, "%.3f") << " | " << num(o.outlineUs, "%.3f") << " |\n";
     }
-    r << "\n### The boundary chain\n\nOf the points clipped against at least "
+    r << "\n";
+}
+
+// The same points: the boundary chain and the partial trees' silhouettes.
+void writeChain(std::ostream& r, const std::vector<PerPointRow>& rows) {
+    r << "### The boundary chain\n\nOf the points clipped against at least "
          "`ChainOptions::minOccluders` occluders per point (a partial tree's deferred ones): "
          "their occluder edges, and the boundary edges left once edges shared by faces turned "
          "the same way cancel (silhouettes, borders, chords). The points where few enough remain "
@@ -555,42 +541,39 @@ void writePerPoint(std::ostream& r, const json& rows) {
          "points by the chain | cells | by crossings | fragments | Algorithm 1 only us | with the "
          "chain us | trees with silhouettes | uses kept | points by them "
          "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    for (const json& p : rows) {
-        if (!p.contains("chain")) continue;
-        const json& c = p["chain"];
-        const double edges = c["occluderEdges"].get<double>();
-        r << "| " << sceneName(p) << " | " << c["manyOccluderPoints"] << " | " << c["occluderEdges"]
-          << " | " << c["boundaryEdges"] << " | "
-          << (edges > 0 ? fmt("%.1f%%", 100.0 * c["boundaryEdges"].get<double>() / edges)
+    for (const PerPointRow& p : rows) {
+        const ChainStats& c = p.chain;
+        const double edges = static_cast<double>(c.occluderEdges);
+        r << "| " << sceneName(p.scene) << " | " << c.manyOccluderPoints << " | " << c.occluderEdges
+          << " | " << c.boundaryEdges << " | "
+          << (edges > 0 ? fmt("%.1f%%", 100.0 * static_cast<double>(c.boundaryEdges) / edges)
                         : std::string("-"))
-          << " | " << c["points"] << " | " << c["cells"] << " | "
-          << (c.contains("crossingLabels") ? c["crossingLabels"].dump() : std::string("-")) << " | "
-          << c["fragments"] << " | " << num(c["oneByOneUs"]) << " | " << num(p["exactUs"]) << " | "
-          << (c.contains("partialTrees")
-                  ? c["silhouetteTrees"].dump() + " of " + c["partialTrees"].dump()
-                  : std::string("-"))
-          << " | "
-          << (c.value("silhouetteUses", 0.0) > 0
-                  ? fmt("%.1f%%", 100.0 * c["silhouetteKept"].get<double>() /
-                                      c["silhouetteUses"].get<double>())
-                  : std::string("-"))
-          << " | " << (c.contains("silhouettePoints") ? c["silhouettePoints"].dump() : "-")
-          << " |\n";
+          << " | " << c.points << " | " << c.cells << " | " << c.crossingLabels << " | "
+          << c.fragments << " | " << num(c.oneByOneUs) << " | " << num(p.exactUs) << " | "
+          << c.silhouetteTrees << " of " << c.partialTrees << " | "
+          << (c.silhouetteUses > 0 ? fmt("%.1f%%", 100.0 * static_cast<double>(c.silhouetteKept) /
+                                                       static_cast<double>(c.silhouetteUses))
+                                   : std::string("-"))
+          << " | " << c.silhouettePoints << " |\n";
     }
-    r << "\n### A click in the viewer\n\nEvery light at a point: the fragments from the "
+    r << "\n";
+}
+
+// The same points clicked in the viewer.
+void writeClicks(std::ostream& r, const std::vector<PerPointRow>& rows) {
+    r << "### A click in the viewer\n\nEvery light at a point: the fragments from the "
          "tree-less query the viewer answers a click with (within its work budget; points over "
          "it wait for the trees), and the former click, with the pairs' history trees built and "
          "walked (a fresh store).\n\n"
       << "| scene | clicks | fragments median ms | p99 | max | over budget | clicks with trees | "
          "trees median ms | max |\n|---|---|---|---|---|---|---|---|---|\n";
-    for (const json& p : rows) {
-        if (!p.contains("click")) continue;
-        const json& c = p["click"];
-        r << "| " << sceneName(p) << " | " << c["points"] << " | "
-          << num(c["fragmentsMedianMs"], "%.3f") << " | " << num(c["fragmentsP99Ms"], "%.3f")
-          << " | " << num(c["fragmentsMaxMs"], "%.3f") << " | " << c["overBudget"] << " | "
-          << c["treePoints"] << " | " << num(c["withTreesMedianMs"], "%.1f") << " | "
-          << num(c["withTreesMaxMs"], "%.1f") << " |\n";
+    for (const PerPointRow& p : rows) {
+        const ClickLatency& c = p.click;
+        r << "| " << sceneName(p.scene) << " | " << c.points << " | "
+          << num(c.fragmentsMedianMs, "%.3f") << " | " << num(c.fragmentsP99Ms, "%.3f") << " | "
+          << num(c.fragmentsMaxMs, "%.3f") << " | " << c.overBudget << " | " << c.treePoints
+          << " | " << num(c.withTreesMedianMs, "%.1f") << " | " << num(c.withTreesMaxMs, "%.1f")
+          << " |\n";
     }
     r << "\n";
 }
@@ -603,18 +586,20 @@ std::string fmt(const char* f, double v) {
     return b;
 }
 
-std::string benchReport(const json& b, bool plots, const std::string& plotNote) {
+std::string benchReport(const BenchResults& b, bool plots, const std::string& plotNote) {
     std::ostringstream r;
     writeHeading(r, b);
-    if (b.contains("table1")) writeTable1(r, b["table1"], skippedBy(b, "table1"), plots);
-    if (b.contains("accuracy")) writeAccuracy(r, b["accuracy"], plots);
-    if (b.contains("predicates")) writePredicates(r, b["predicates"]);
-    if (b.contains("buildOptions") && !b["buildOptions"].empty())
-        writeBuildOptions(r, b["buildOptions"]);
-    const json scalingSkipped = skippedBy(b, "scaling");
-    if (b.contains("scaling") && (!b["scaling"].empty() || !scalingSkipped.empty()))
-        writeScaling(r, b["scaling"], b["options"]["limit"], scalingSkipped, plots);
-    if (b.contains("perPoint")) writePerPoint(r, b["perPoint"]);
+    writeTable1(r, b.table1, skippedBy(b, "table1"), plots);
+    writeAccuracy(r, b.accuracy, plots);
+    writePredicates(r, b.predicates);
+    if (!b.buildOptions.empty()) writeBuildOptions(r, b.buildOptions);
+    const std::vector<SkippedScene> scalingSkipped = skippedBy(b, "scaling");
+    if (!b.scaling.empty() || !scalingSkipped.empty())
+        writeScaling(r, b.scaling, b.options.limit, scalingSkipped, plots);
+    writePerPoint(r, b.perPoint);
+    writeOutline(r, b.perPoint);
+    writeChain(r, b.perPoint);
+    writeClicks(r, b.perPoint);
     if (!plots) r << "Plots skipped: " << plotNote << "\n";
     return r.str();
 }

@@ -1,9 +1,11 @@
-// PointInspection: everything the debugger shows about one surface point: per light the exact
-// answer of the from-point query (engine/precompute/point_query.h: fragments, fraction, form
+// PointInspection: everything the viewer's debugger shows about one surface point: per light the
+// exact answer of the from-point query (engine/precompute/point_query.h: fragments, fraction, form
 // factors), the time it took, and the history-tree path it walked with, per visited node, the
 // occluder edge, the occluder face and which side(s) of the node's plane the light polygon went to.
+// In the engine because the bench measures a click too (engine/studies/per_point_study.h).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -13,7 +15,18 @@
 #include "engine/precompute/point_query.h"
 #include "engine/precompute/visibility_store.h"
 
-namespace penumbra::viewer {
+namespace penumbra {
+
+// Plane tests the tree-less answer of a click may take on the UI thread (all lights together):
+// about 10 ms at most (some 35 ns a test on the bench's 2-core VM), far above what most points
+// need (`penumbra bench` reports the click latency and the clicks over budget: 0 of 200 on table,
+// 2 of 200 on the bunny). A point that needs more is answered by the full inspection alone.
+inline constexpr uint64_t kClickWork = uint64_t{1} << 18;
+
+// kClickWork divided evenly among `lights` lights: inspectPointDirect's work limit for a click.
+constexpr uint64_t clickWorkPerLight(size_t lights) {
+    return kClickWork / (lights > 0 ? lights : 1);
+}
 
 // One visited node of the query's walk (vis::TraceStep) with what the debugger shows of it.
 struct PathStep {
@@ -64,4 +77,4 @@ std::optional<PointInspection> inspectPointDirect(const Scene& scene, const vis:
 std::vector<PathStep> pathSteps(const vis::PolygonMesh& mesh, const vis::HistoryTree& tree,
                                 std::span<const vis::TraceStep> trace);
 
-}  // namespace penumbra::viewer
+}  // namespace penumbra

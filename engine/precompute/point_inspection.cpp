@@ -1,11 +1,11 @@
-#include "app/viewer/point_inspection.h"
+#include "engine/precompute/point_inspection.h"
 
 #include <chrono>
 #include <tuple>
 
 #include "visibility/pair_occluders.h"
 
-namespace penumbra::viewer {
+namespace penumbra {
 
 std::vector<PathStep> pathSteps(const vis::PolygonMesh& mesh, const vis::HistoryTree& tree,
                                 std::span<const vis::TraceStep> trace) {
@@ -74,4 +74,4 @@ std::optional<PointInspection> inspectPointDirect(const Scene& scene, const vis:
     return out;
 }
 
-}  // namespace penumbra::viewer
+}  // namespace penumbra
