@@ -6,7 +6,7 @@
 #include "engine/precompute/visibility_store.h"
 #include "engine/render/embree_scene.h"
 #include "engine/scene/surface_samples.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 
 namespace penumbra {
 namespace build_options_detail {

@@ -10,7 +10,7 @@
 #include "engine/render/embree_scene.h"
 #include "engine/scene/surface_samples.h"
 #include "visibility/form_factor.h"
-#include "visibility/fp_query.h"
+#include "visibility/fp_query/from_point_query.h"
 #include "visibility/visible_outline.h"
 
 namespace penumbra {

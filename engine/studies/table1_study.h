@@ -19,7 +19,7 @@
 #include "engine/scene/scene.h"
 #include "engine/studies/precompute_run.h"
 #include "engine/studies/study_harness.h"
-#include "visibility/work_stage.h"
+#include "visibility/fp_query/work_budget.h"
 
 namespace penumbra {
 

@@ -14,7 +14,7 @@
 
 #include "engine/render/answers.h"
 #include "engine/render/answers_json.h"
-#include "visibility/work_stage.h"
+#include "visibility/fp_query/work_budget.h"
 
 namespace penumbra::cli {
 namespace {
