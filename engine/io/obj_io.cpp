@@ -3,12 +3,10 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <memory>
 #include <optional>
 #include <random>
 #include <string>
@@ -18,6 +16,7 @@
 #include <vector>
 
 #include "engine/io/atomic_file.h"
+#include "engine/io/text_input.h"
 #include "engine/scene/face_check.h"
 #include "engine/scene/scene_validation.h"
 
@@ -28,46 +27,12 @@ namespace fs = std::filesystem;
 
 // ---- text helpers -------------------------------------------------------------------------------
 
+// A blank inside a line (LineReader has split the lines, so no CR or LF is left in one).
 bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
-
-std::string_view trim(std::string_view s) {
-    while (!s.empty() && isBlank(s.front())) s.remove_prefix(1);
-    while (!s.empty() && isBlank(s.back())) s.remove_suffix(1);
-    return s;
-}
 
 std::string_view stripComment(std::string_view s) {
     const size_t hash = s.find('#');
     return hash == std::string_view::npos ? s : s.substr(0, hash);
-}
-
-bool equalsIgnoreCase(std::string_view a, std::string_view b) {
-    if (a.size() != b.size()) return false;
-    for (size_t i = 0; i < a.size(); ++i) {
-        const auto lower = [](char c) { return c >= 'A' && c <= 'Z' ? char(c - 'A' + 'a') : c; };
-        if (lower(a[i]) != lower(b[i])) return false;
-    }
-    return true;
-}
-
-// The token as it should appear in a message: quoted, at most 40 characters, bytes outside
-// printable ASCII as \xNN.
-std::string quoteForMessage(std::string_view s) {
-    std::string out = "'";
-    const size_t limit = 40;
-    for (size_t i = 0; i < s.size() && i < limit; ++i) {
-        const auto c = static_cast<unsigned char>(s[i]);
-        if (c >= 0x20 && c < 0x7f) {
-            out += static_cast<char>(c);
-        } else {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\x%02x", c);
-            out += buf;
-        }
-    }
-    if (s.size() > limit) out += "...";
-    out += '\'';
-    return out;
 }
 
 // Whitespace-separated tokens of one line.
@@ -182,38 +147,19 @@ class LineReader {
 
 // ---- numbers ------------------------------------------------------------------------------------
 
-// A leading '+' is accepted (from_chars does not take one).
-std::string_view withoutPlus(std::string_view s) {
-    if (s.size() > 1 && s[0] == '+' && s[1] != '+' && s[1] != '-') s.remove_prefix(1);
-    return s;
-}
-
-// The whole token as a finite double.
+// The whole token as a finite double (text_input's rules), or an error naming what it was for.
 double parseNumber(std::string_view token, const Where& where, std::string_view what) {
-    const std::string_view s = withoutPlus(token);
-    double value = 0;
-    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
-    if (ec == std::errc::result_out_of_range) {
+    NumberFault fault{};
+    if (const std::optional<double> value = parseFinite(token, &fault)) return *value;
+    if (fault == NumberFault::kOutOfRange) {
         where.fail(std::string(what) + ": number " + quoteForMessage(token) +
                    " out of range for a double");
     }
-    if (ec != std::errc() || end != s.data() + s.size()) {
-        where.fail(std::string(what) + ": malformed number " + quoteForMessage(token));
-    }
-    if (!std::isfinite(value)) {
+    if (fault == NumberFault::kNotFinite) {
         where.fail(std::string(what) + ": non-finite number " + quoteForMessage(token) +
                    " (NaN and infinity are not allowed)");
     }
-    return value;
-}
-
-// The whole token as an integer; nullopt when it is not one (or too large for int64).
-std::optional<int64_t> parseInteger(std::string_view token) {
-    const std::string_view s = withoutPlus(token);
-    int64_t value = 0;
-    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
-    if (ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
-    return value;
+    where.fail(std::string(what) + ": malformed number " + quoteForMessage(token));
 }
 
 std::string fmt17(double x) {
@@ -224,38 +170,6 @@ std::string fmt17(double x) {
 }
 
 // ---- files --------------------------------------------------------------------------------------
-
-struct FileCloser {
-    void operator()(std::FILE* f) const { std::fclose(f); }
-};
-using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
-
-std::string errnoMessage(int err) {
-    return std::error_code(err, std::generic_category()).message();
-}
-
-// Reads a whole file; on failure returns nullopt and says why.
-std::optional<std::string> readFile(const fs::path& path, std::string& why) {
-    std::error_code ec;
-    if (fs::is_directory(path, ec)) {
-        why = "is a directory";
-        return std::nullopt;
-    }
-    FilePtr file(std::fopen(path.c_str(), "rb"));
-    if (!file) {
-        why = errnoMessage(errno);
-        return std::nullopt;
-    }
-    std::string text;
-    char buf[1 << 16];
-    size_t n = 0;
-    while ((n = std::fread(buf, 1, sizeof buf, file.get())) > 0) text.append(buf, n);
-    if (std::ferror(file.get())) {
-        why = "read error: " + errnoMessage(errno);
-        return std::nullopt;
-    }
-    return text;
-}
 
 // ---- MTL ----------------------------------------------------------------------------------------
 
@@ -484,13 +398,11 @@ class ObjParser {
                      " index 0 is invalid (OBJ indices start at 1)");
             }
         }
-        const std::optional<int64_t> index = parseInteger(parts[0]);
+        NumberFault fault{};
+        const std::optional<int64_t> index = parseInteger(parts[0], {}, &fault);
         if (!index) {
-            if (parts[0].find_first_not_of("+-0123456789") == std::string_view::npos &&
-                parts[0].find_first_of("0123456789") != std::string_view::npos &&
-                parts[0].find_first_of("+-", 1) == std::string_view::npos) {
+            if (fault == NumberFault::kOutOfRange)
                 fail("vertex index " + quoteForMessage(parts[0]) + " out of range");
-            }
             malformed();
         }
         const int64_t i = *index;
@@ -561,17 +473,18 @@ class ObjParser {
             const fs::path path = mtl_.directory / fs::path(name);
             const std::string key = path.lexically_normal().string();
             if (!mtlFilesRead_.insert(key).second) continue;
-            std::string why;
-            const std::optional<std::string> text = readFile(path, why);
-            if (!text) {
+            std::string text;
+            try {
+                text = readWholeFile(path);
+            } catch (const FileReadError& e) {
                 const std::string message = "cannot read material library " +
                                             quoteForMessage(name) + " (" + path.string() +
-                                            "): " + why;
+                                            "): " + e.reason;
                 if (options_.strict) where.fail("mtllib: " + message);
                 unreadableMtl_.note(where.line, message);
                 continue;
             }
-            parseMtl(*text, path.string(), table_, options_.strict, scene_.warnings);
+            parseMtl(text, path.string(), table_, options_.strict, scene_.warnings);
         }
     }
 
@@ -716,11 +629,9 @@ void writeAtomically(const fs::path& target, const std::string& text) {
 
 Scene loadObj(const std::filesystem::path& objPath, const LoadOptions& options) {
     const std::string file = objPath.string();
-    std::string why;
-    const std::optional<std::string> text = readFile(objPath, why);
-    if (!text) throw makeSceneError(file, 0, "cannot read file: " + why);
+    const std::string text = readSceneFile(objPath);
     ObjParser parser(file, MtlSource{std::nullopt, objPath.parent_path()}, options);
-    return parser.parse(*text);
+    return parser.parse(text);
 }
 
 Scene loadObjFromString(std::string_view objText, std::string_view mtlText, std::string sourceName,

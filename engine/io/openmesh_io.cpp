@@ -7,12 +7,10 @@
 #include <array>
 #include <bit>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -20,6 +18,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "engine/io/text_input.h"
 #include "engine/scene/scene_validation.h"
 
 namespace penumbra {
@@ -110,19 +109,6 @@ class PolygonImporter final : public OMIO::BaseImporter {
     vis::PolygonMesh& mesh_;
 };
 
-std::string lower(std::string s) {
-    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
-
-std::string readAll(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw makeSceneError(path.string(), 0, "cannot open file");
-    std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw makeSceneError(path.string(), 0, "cannot read file");
-    return data;
-}
-
 // ---- PLY header ---------------------------------------------------------------------------------
 
 struct PlyProperty {
@@ -175,19 +161,6 @@ int plyTypeSize(const std::string& t, bool* isSigned = nullptr) {
     return 0;
 }
 
-// A header line as a message quotes it: without surrounding blanks, at most 60 characters, bytes
-// outside printable ASCII as '?'.
-std::string quotedLine(std::string_view s) {
-    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-    std::string out = "'";
-    for (char c : s.substr(0, 60)) {
-        const auto u = static_cast<unsigned char>(c);
-        out += u >= 0x20 && u < 0x7f ? c : '?';
-    }
-    return out + (s.size() > 60 ? "...'" : "'");
-}
-
 // Parses and checks the header. A line of no PLY keyword (a tool's "Created by ..." outside a
 // comment) is an error when `strict`, else skipped (PlyHeader::skippedLines).
 PlyHeader parsePlyHeader(const std::string& data, const std::string& file, bool strict) {
@@ -235,11 +208,12 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file, bool 
             else if (tokens[1] == "binary_big_endian")
                 header.format = PlyHeader::kBinaryBig;
             else
-                throw fail("unknown format '" + tokens[1] + "'");
+                throw fail("unknown format " + quoteForMessage(tokens[1]));
             // The only version there is; OpenMesh's reader loops forever on a version it cannot
             // parse as a number ("format ascii x"), so nothing else reaches it.
             if (tokens[2] != "1.0")
-                throw fail("unsupported format version '" + tokens[2] + "' (only 1.0 exists)");
+                throw fail("unsupported format version " + quoteForMessage(tokens[2]) +
+                           " (only 1.0 exists)");
             if (sawFormat) throw fail("a second format line");
             sawFormat = true;
         } else if (key == "element") {
@@ -249,8 +223,9 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file, bool 
             const std::string& n = tokens[2];
             if (n.empty() || n.size() > 18 ||
                 !std::all_of(n.begin(), n.end(), [](char c) { return c >= '0' && c <= '9'; }))
-                throw fail("element '" + e.name + "': bad count '" + n + "'");
-            e.count = std::stoull(n);
+                throw fail("element " + quoteForMessage(e.name) + ": bad count " +
+                           quoteForMessage(n));
+            e.count = static_cast<uint64_t>(*parseInteger(n));
             header.elements.push_back(std::move(e));
         } else if (key == "property") {
             if (header.elements.empty()) throw fail("property before any element");
@@ -262,12 +237,12 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file, bool 
                 p.size = plyTypeSize(tokens[3]);
                 if (p.countSize == 0 || p.size == 0 || tokens[2] == "float" ||
                     tokens[2] == "float32" || tokens[2] == "double" || tokens[2] == "float64")
-                    throw fail("property list with bad types '" + tokens[2] + "' '" + tokens[3] +
-                               "'");
+                    throw fail("property list with bad types " + quoteForMessage(tokens[2]) + " " +
+                               quoteForMessage(tokens[3]));
             } else if (tokens.size() == 3) {
                 p.name = tokens[2];
                 p.size = plyTypeSize(tokens[1]);
-                if (p.size == 0) throw fail("unknown property type '" + tokens[1] + "'");
+                if (p.size == 0) throw fail("unknown property type " + quoteForMessage(tokens[1]));
                 p.isFloat = tokens[1].rfind("float", 0) == 0 || tokens[1] == "double";
             } else {
                 throw fail("malformed property line");
@@ -278,7 +253,7 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file, bool 
                                p.name + "' declared twice");
             header.elements.back().properties.push_back(p);
         } else {
-            if (strict) throw fail("unknown keyword '" + key + "'");
+            if (strict) throw fail("unknown keyword " + quoteForMessage(key));
             if (header.skippedLines.empty()) {
                 firstSkipped = lineNo;
                 firstSkippedText = line;
@@ -290,7 +265,8 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file, bool 
         const size_t n = header.skippedLines.size();
         header.skippedWarning =
             file + ":" + std::to_string(firstSkipped) + ": PLY header: line " +
-            quotedLine(firstSkippedText) + " is no header keyword (not a comment): skipped" +
+            quoteForMessage(trim(firstSkippedText)) +
+            " is no header keyword (not a comment): skipped" +
             (n > 1 ? " with " + std::to_string(n - 1) + " more such lines" : std::string());
     }
     if (!sawFormat) throw makeSceneError(file, 0, "PLY header: no format line");
@@ -301,7 +277,7 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file, bool 
     const uint64_t body = data.size() - pos;
     for (size_t i = 0; i < header.elements.size(); ++i) {
         const PlyElement& e = header.elements[i];
-        const std::string what = "element '" + e.name + "'";
+        const std::string what = "element " + quoteForMessage(e.name);
         for (size_t j = 0; j < i; ++j)
             if (header.elements[j].name == e.name) throw fail(what + " declared twice");
         if (e.properties.empty() && e.count > 0)
@@ -414,15 +390,6 @@ class TextLines {
     bool comments_;
 };
 
-std::optional<double> parseFinite(std::string_view t) {
-    if (!t.empty() && t.front() == '+') t.remove_prefix(1);
-    double v = 0;
-    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
-    if (t.empty() || r.ec != std::errc{} || r.ptr != t.data() + t.size() || !std::isfinite(v))
-        return std::nullopt;
-    return v;
-}
-
 // A number beyond the coordinate contract (engine/scene/scene_validation.h), refused before
 // OpenMesh reads it: its ASCII readers take numbers into floats and loop forever on one they cannot
 // hold (a vertex at 1e155 hung the PLY reader).
@@ -430,14 +397,6 @@ std::optional<std::string> beyondContract(double v, std::string_view token) {
     if (std::fabs(v) <= kMaxCoordinate) return std::nullopt;
     return "number " + std::string(token) +
            " beyond the supported magnitude 2^59 = 5.8e17 (README, scene contract)";
-}
-
-std::optional<int64_t> parseInteger(std::string_view t) {
-    if (!t.empty() && t.front() == '+') t.remove_prefix(1);
-    int64_t v = 0;
-    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
-    if (t.empty() || r.ec != std::errc{} || r.ptr != t.data() + t.size()) return std::nullopt;
-    return v;
 }
 
 // Checks an ASCII PLY body against its header: one line per element item with exactly the
@@ -464,18 +423,18 @@ void checkAsciiPlyBody(const std::string& data, const PlyHeader& header, const s
                         p.isFloat
                             ? parseFinite(tokens[t])
                             : (parseInteger(tokens[t]) ? std::optional<double>(0.0) : std::nullopt);
-                    if (!v) throw bad("bad or non-finite number '" + std::string(tokens[t]) + "'");
+                    if (!v) throw bad("bad or non-finite number " + quoteForMessage(tokens[t]));
                     if (const auto problem = beyondContract(*v, tokens[t])) throw bad(*problem);
                     ++t;
                     continue;
                 }
                 const std::optional<int64_t> n = parseInteger(tokens[t]);
-                if (!n || *n < 0) throw bad("bad list length '" + std::string(tokens[t]) + "'");
+                if (!n || *n < 0) throw bad("bad list length " + quoteForMessage(tokens[t]));
                 ++t;
                 if (static_cast<uint64_t>(*n) > tokens.size() - t) throw bad("too few values");
                 for (int64_t k = 0; k < *n; ++k, ++t) {
                     if (!parseInteger(tokens[t]))
-                        throw bad("bad integer '" + std::string(tokens[t]) + "'");
+                        throw bad("bad integer " + quoteForMessage(tokens[t]));
                 }
             }
             if (t != tokens.size()) throw bad("too many values");
@@ -537,8 +496,8 @@ CleanOff cleanAsciiOff(const std::string& data, const std::string& file) {
             if (!x) {
                 throw makeSceneError(file, lines.line(),
                                      "OFF: vertex " + std::to_string(v) +
-                                         ": bad or non-finite number '" + std::string(tokens[k]) +
-                                         "'");
+                                         ": bad or non-finite number " +
+                                         quoteForMessage(tokens[k]));
             }
             if (const auto problem = beyondContract(*x, tokens[k]))
                 throw makeSceneError(file, lines.line(),
@@ -576,7 +535,7 @@ CleanOff cleanAsciiOff(const std::string& data, const std::string& file) {
             if (!parseFinite(tokens[k]))
                 throw makeSceneError(
                     file, lines.line(),
-                    where + "colour value '" + std::string(tokens[k]) + "' is not a number");
+                    where + "colour value " + quoteForMessage(tokens[k]) + " is not a number");
         for (int64_t k = 1; k <= *n; ++k) {
             const std::optional<int64_t> i = parseInteger(tokens[static_cast<size_t>(k)]);
             if (!i || *i < 0 || static_cast<uint64_t>(*i) >= out.vertices) {
@@ -643,7 +602,7 @@ StlFacts inspectStl(const std::string& data, const std::string& file) {
     }
     size_t start = 0;
     while (start < data.size() && std::isspace(static_cast<unsigned char>(data[start]))) ++start;
-    if (lower(data.substr(start, 5)) != "solid") {
+    if (!equalsIgnoreCase(std::string_view(data).substr(start, 5), "solid")) {
         std::string why = "malformed or truncated binary STL: ";
         if (data.size() < 84) {
             why += "only " + std::to_string(data.size()) + " bytes (the header alone has 84)";
@@ -685,17 +644,19 @@ StlFacts inspectStl(const std::string& data, const std::string& file) {
     bool endSolid = false;
     int32_t facetLine = 0;
     while (next(token)) {
-        const std::string t = lower(std::string(token));
+        const auto is = [&token](std::string_view keyword) {
+            return equalsIgnoreCase(token, keyword);
+        };
         if (endSolid) {
             // Between solids: another one, or the end of what is read.
-            if (t != "solid") break;
+            if (!is("solid")) break;
             endSolid = false;
             skipRestOfLine();
             continue;
         }
-        if (t == "facet") {
+        if (is("facet")) {
             facetLine = line;
-        } else if (t == "vertex") {
+        } else if (is("vertex")) {
             if (facetLine == 0) facetLine = line;
             for (int k = 0; k < 3; ++k) {
                 std::string_view num;
@@ -704,12 +665,12 @@ StlFacts inspectStl(const std::string& data, const std::string& file) {
                 char* endPtr = nullptr;
                 const float v = std::strtof(s.c_str(), &endPtr);
                 if (endPtr != s.c_str() + s.size() || !std::isfinite(v)) {
-                    throw makeSceneError(file, line,
-                                         facetName() + ": bad vertex coordinate '" + s + "'");
+                    throw makeSceneError(
+                        file, line, facetName() + ": bad vertex coordinate " + quoteForMessage(s));
                 }
                 corners.push_back(v);
             }
-        } else if (t == "endfacet") {
+        } else if (is("endfacet")) {
             if (corners.size() != 9) {
                 throw makeSceneError(file, line,
                                      facetName() + " has " + std::to_string(corners.size() / 3) +
@@ -734,7 +695,7 @@ StlFacts inspectStl(const std::string& data, const std::string& file) {
             facetLine = 0;
             corners.clear();
             ++facts.facets;
-        } else if (t == "endsolid") {
+        } else if (is("endsolid")) {
             if (!corners.empty()) {
                 throw makeSceneError(file, line, facetName() + " has no endfacet before endsolid");
             }
@@ -793,11 +754,11 @@ void restoreCoincidentFacets(vis::PolygonMesh& mesh, const StlFacts& stl) {
 
 Scene loadOpenMeshFile(const fs::path& path, const LoadOptions& options) {
     const std::string file = path.string();
-    const std::string extension = lower(path.extension().string());
+    const std::string extension = lowerExtension(path);
     if (extension != ".ply" && extension != ".off" && extension != ".stl") {
         throw makeSceneError(file, 0, "not a PLY, OFF or STL file name");
     }
-    const std::string data = readAll(path);
+    const std::string data = readSceneFile(path);
     if (data.empty()) throw makeSceneError(file, 0, "empty file");
 
     Scene scene;

@@ -1,9 +1,7 @@
 #include "engine/io/scene_file.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
-#include <fstream>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -14,6 +12,7 @@
 #include <vector>
 
 #include "engine/io/scene_loader.h"
+#include "engine/io/text_input.h"
 #include "engine/scene/affine3.h"
 #include "engine/scene/face_check.h"
 #include "engine/scene/scene_validation.h"
@@ -373,8 +372,7 @@ class SceneFileReader {
             fail(path + ".file", "expected a file name");
         const std::string name = j["file"].get<std::string>();
         const fs::path meshPath = base_ / fs::path(name);
-        std::string ext = meshPath.extension().string();
-        for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        const std::string ext = lowerExtension(meshPath);
         if (ext == ".json") fail(path + ".file", "a scene file cannot include another scene file");
         if (!isSupportedSceneExtension(ext)) {
             fail(path + ".file", "unknown format '" + ext + "' (supported: " +
@@ -525,11 +523,7 @@ class SceneFileReader {
 
 Scene loadJsonScene(const fs::path& path, const LoadOptions& options) {
     const std::string file = path.string();
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw makeSceneError(file, 0, "cannot open file");
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw makeSceneError(file, 0, "cannot read file");
-    return loadJsonSceneFromString(text, path.parent_path(), file, options);
+    return loadJsonSceneFromString(readSceneFile(path), path.parent_path(), file, options);
 }
 
 Scene loadJsonSceneFromString(std::string_view json, const fs::path& baseDirectory,
@@ -550,14 +544,10 @@ std::string jsonSceneWithCamera(const std::filesystem::path& source, const Camer
     };
     const fs::path sourceDir = fs::absolute(source).parent_path();
     nlohmann::ordered_json root;
-    std::string ext = source.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    if (ext == ".json") {
-        std::ifstream in(source, std::ios::binary);
-        if (!in) throw SceneError(source.string(), 0, "cannot be read");
+    if (lowerExtension(source) == ".json") {
+        const std::string text = readSceneFile(source);
         try {
-            root = nlohmann::ordered_json::parse(in);
+            root = nlohmann::ordered_json::parse(text);
         } catch (const nlohmann::json::exception& e) {
             throw SceneError(source.string(), 0, e.what());
         }

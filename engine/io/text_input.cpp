@@ -47,9 +47,24 @@ std::optional<std::string_view> withoutPlus(std::string_view text) {
     return text;
 }
 
+char asciiLower(char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; }
+
 std::nullopt_t fail(NumberFault* fault, NumberFault why) {
     if (fault) *fault = why;
     return std::nullopt;
+}
+
+// The whole text as a T (the sign rule applied), or the fault: malformed, or beyond T's range.
+template <typename T>
+std::optional<T> whole(std::string_view text, NumberFault* fault) {
+    const std::optional<std::string_view> s = withoutPlus(text);
+    if (!s) return fail(fault, NumberFault::kMalformed);
+    T value{};
+    const auto [end, ec] = std::from_chars(s->data(), s->data() + s->size(), value);
+    if (end != s->data() + s->size() || (ec != std::errc() && ec != std::errc::result_out_of_range))
+        return fail(fault, NumberFault::kMalformed);
+    if (ec == std::errc::result_out_of_range) return fail(fault, NumberFault::kOutOfRange);
+    return value;
 }
 
 }  // namespace text_input_detail
@@ -80,26 +95,15 @@ std::string readSceneFile(const std::filesystem::path& path) {
 }
 
 std::optional<double> parseFinite(std::string_view text, NumberFault* fault) {
-    const std::optional<std::string_view> s = text_input_detail::withoutPlus(text);
-    if (!s) return text_input_detail::fail(fault, NumberFault::kMalformed);
-    double value = 0;
-    const auto [end, ec] = std::from_chars(s->data(), s->data() + s->size(), value);
-    if (end != s->data() + s->size() || (ec != std::errc() && ec != std::errc::result_out_of_range))
-        return text_input_detail::fail(fault, NumberFault::kMalformed);
-    if (ec == std::errc::result_out_of_range)
-        return text_input_detail::fail(fault, NumberFault::kOutOfRange);
-    if (!std::isfinite(value)) return text_input_detail::fail(fault, NumberFault::kNotFinite);
+    const std::optional<double> value = text_input_detail::whole<double>(text, fault);
+    if (value && !std::isfinite(*value))
+        return text_input_detail::fail(fault, NumberFault::kNotFinite);
     return value;
 }
 
 std::optional<int64_t> parseInteger(std::string_view text, IntegerRange range, NumberFault* fault) {
-    const std::optional<std::string_view> s = text_input_detail::withoutPlus(text);
-    if (!s) return text_input_detail::fail(fault, NumberFault::kMalformed);
-    int64_t value = 0;
-    const auto [end, ec] = std::from_chars(s->data(), s->data() + s->size(), value);
-    if (end != s->data() + s->size() || (ec != std::errc() && ec != std::errc::result_out_of_range))
-        return text_input_detail::fail(fault, NumberFault::kMalformed);
-    if (ec == std::errc::result_out_of_range || value < range.min || value > range.max)
+    const std::optional<int64_t> value = text_input_detail::whole<int64_t>(text, fault);
+    if (value && (*value < range.min || *value > range.max))
         return text_input_detail::fail(fault, NumberFault::kOutOfRange);
     return value;
 }
@@ -127,10 +131,17 @@ std::string quoteForMessage(std::string_view value) {
     return out + "'";
 }
 
+bool equalsIgnoreCase(std::string_view a, std::string_view b) {
+    if (a.size() != b.size()) return false;
+    for (size_t i = 0; i < a.size(); ++i)
+        if (text_input_detail::asciiLower(a[i]) != text_input_detail::asciiLower(b[i]))
+            return false;
+    return true;
+}
+
 std::string lowerExtension(const std::filesystem::path& path) {
     std::string extension = path.extension().string();
-    for (char& c : extension)
-        if (c >= 'A' && c <= 'Z') c = static_cast<char>(c - 'A' + 'a');
+    for (char& c : extension) c = text_input_detail::asciiLower(c);
     return extension;
 }
 

@@ -1,5 +1,6 @@
 // The one place the project reads text it did not write: a whole file, a number, an integer, a
-// value quoted into an error message, blanks around a token, a file name's extension. Every reader
+// value quoted into an error message, blanks around a token, a keyword in any case, a file name's
+// extension. Every reader
 // (OBJ, PLY/OFF/STL, glTF, JSON scenes, visibility files) and every command line (penumbra, the
 // tools) takes these, so that one input is accepted or refused for the same reason everywhere.
 //
@@ -85,6 +86,9 @@ std::string_view trim(std::string_view text);
 // value can neither flood nor garble the message.
 inline constexpr size_t kQuotedLimit = 60;
 std::string quoteForMessage(std::string_view value);
+
+// Whether a and b are the same text but for the case of ASCII letters ("Solid" and "solid").
+bool equalsIgnoreCase(std::string_view a, std::string_view b);
 
 // The file name's extension in lower case (ASCII), with its dot: ".obj" for "Model.OBJ", "" for
 // none (std::filesystem's rule: ".hidden" has none).

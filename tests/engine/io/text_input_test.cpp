@@ -7,13 +7,12 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <limits>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "engine/scene/scene_error.h"
+#include "tests/support/loader_test_support.h"
 
 namespace penumbra {
 namespace {
@@ -171,6 +170,17 @@ TEST(QuoteForMessage, WritesBytesOutsidePrintableAsciiInHex) {
     EXPECT_EQ(quoteForMessage("'"), "'''");
 }
 
+TEST(EqualsIgnoreCase, IgnoresTheCaseOfAsciiLettersOnly) {
+    EXPECT_TRUE(equalsIgnoreCase("Solid", "sOLID"));
+    EXPECT_TRUE(equalsIgnoreCase("", ""));
+    EXPECT_TRUE(equalsIgnoreCase("a1_B", "A1_b"));
+    EXPECT_FALSE(equalsIgnoreCase("solid", "solids"));
+    EXPECT_FALSE(equalsIgnoreCase("solid", "so1id"));
+    // '@' and '`' sit just before 'A' and 'a': no case of each other.
+    EXPECT_FALSE(equalsIgnoreCase("@", "`"));
+    EXPECT_FALSE(equalsIgnoreCase("\xc3\x89", "\xc3\xa9"));  // É and é: not ASCII
+}
+
 TEST(LowerExtension, LowersTheExtensionOnly) {
     EXPECT_EQ(lowerExtension("Model.OBJ"), ".obj");
     EXPECT_EQ(lowerExtension("dir.PLY/scene.Json"), ".json");
@@ -182,25 +192,8 @@ TEST(LowerExtension, LowersTheExtensionOnly) {
 
 // ---- files --------------------------------------------------------------------------------------
 
-class ReadWholeFile : public ::testing::Test {
-  protected:
-    void SetUp() override {
-        std::random_device random;
-        dir_ = fs::temp_directory_path() /
-               ("penumbra_text_input_" + std::to_string(random()) + std::to_string(random()));
-        fs::create_directories(dir_);
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-    fs::path write(const std::string& name, const std::string& bytes) {
-        const fs::path p = dir_ / name;
-        std::ofstream(p, std::ios::binary) << bytes;
-        return p;
-    }
-    fs::path dir_;
-};
+// A temporary directory per test (dir_) and write(name, bytes).
+using ReadWholeFile = test::LoaderFiles;
 
 TEST_F(ReadWholeFile, ReturnsEveryByteUntranslated) {
     std::string bytes = "line 1\r\nline 2\r";
