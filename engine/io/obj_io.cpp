@@ -491,64 +491,17 @@ class ObjParser {
     Scene finish() {
         // Deferred checks: positive indices against the whole file, usemtl names against all
         // libraries. The earliest line wins.
-        int64_t errorLine = INT64_MAX;
-        std::string error;
-        const size_t nv = scene_.mesh.vertices.size();
-        for (size_t f = 0; f < scene_.mesh.faces.size(); ++f) {
-            for (uint32_t i : scene_.mesh.faces[f]) {
-                if (i >= nv) {
-                    errorLine = scene_.faceSourceLine[f];
-                    error = "face " + std::to_string(f) + ": vertex index " +
-                            std::to_string(i + 1ull) + " out of range (file has " +
-                            std::to_string(nv) + " vertices)";
-                    break;
-                }
-            }
-            if (errorLine != INT64_MAX) break;
-        }
+        FirstError first = indexOutOfRange();
         // Why a usemtl can name no material: "no mtllib" or the count of those defined.
         const bool noMtllib = mtlFilesRead_.empty() && !mtlTextRead_ && unreadableMtl_.count == 0;
         const std::string context =
             noMtllib ? "no mtllib"
                      : std::to_string(table_.materials.size()) + " materials defined" +
                            (unreadableMtl_.count > 0 ? ", a material library unreadable" : "");
-        std::vector<int32_t> useMtlMaterial(useMtl_.size(), -1);
         Repair unknown;
         const size_t knownMaterials = table_.materials.size();
-        for (size_t u = 0; u < useMtl_.size(); ++u) {
-            const auto it = table_.byName.find(useMtl_[u].name);
-            if (it != table_.byName.end() && static_cast<size_t>(it->second) < knownMaterials) {
-                useMtlMaterial[u] = it->second;
-                continue;
-            }
-            if (options_.strict) {
-                if (useMtl_[u].line < errorLine) {
-                    errorLine = useMtl_[u].line;
-                    error = "usemtl: unknown material " + quoteForMessage(useMtl_[u].name) + " (" +
-                            std::to_string(table_.materials.size()) + " materials defined" +
-                            (noMtllib ? ", no mtllib" : "") + ")";
-                }
-                continue;
-            }
-            // A default material under the name the file uses (so a JSON scene can still give it
-            // colours by name), one per name, after the libraries' materials.
-            unknown.note(useMtl_[u].line, quoteForMessage(useMtl_[u].name) + " on line " +
-                                              std::to_string(useMtl_[u].line));
-            if (it != table_.byName.end()) {
-                useMtlMaterial[u] = it->second;
-                continue;
-            }
-            if (table_.materials.size() >= kMaxSceneElements) {
-                throw makeSceneError(file_, useMtl_[u].line, "too many materials");
-            }
-            const auto index = static_cast<int32_t>(table_.materials.size());
-            table_.byName.emplace(useMtl_[u].name, index);
-            Material m;
-            m.name = useMtl_[u].name;
-            table_.materials.push_back(std::move(m));
-            useMtlMaterial[u] = index;
-        }
-        if (errorLine != INT64_MAX) throw makeSceneError(file_, errorLine, error);
+        const std::vector<int32_t> useMtlMaterial = useMtlMaterials(first, unknown, noMtllib);
+        if (first.line != INT64_MAX) throw makeSceneError(file_, first.line, first.message);
         if (scene_.mesh.faces.empty()) throw makeSceneError(file_, 0, "no faces");
 
         scene_.sourcePath = file_;
@@ -571,23 +524,90 @@ class ObjParser {
         }
         const size_t unknownWarning = scene_.warnings.size();
         checkLoadedFaces(scene_, options_.faces);
-        if (unknown.count > 0) {
-            const auto defaultFaces = static_cast<size_t>(std::count_if(
-                scene_.faceMaterial.begin(), scene_.faceMaterial.end(),
-                [&](int32_t m) { return m >= 0 && static_cast<size_t>(m) >= knownMaterials; }));
-            const std::string faces =
-                std::to_string(defaultFaces) + (defaultFaces == 1 ? " face uses" : " faces use");
-            scene_.warnings.insert(
-                scene_.warnings.begin() + static_cast<std::ptrdiff_t>(unknownWarning),
-                file_ + ": " +
-                    (unknown.count == 1
-                         ? "usemtl " + unknown.what + " names no material (" + context + ")"
-                         : std::to_string(unknown.count) +
-                               " usemtl lines name no material (first: " + unknown.what + "; " +
-                               context + ")") +
-                    ": " + faces + " a default diffuse material");
-        }
+        if (unknown.count > 0)
+            warnUnknownMaterials(unknown, unknownWarning, knownMaterials, context);
         return std::move(scene_);
+    }
+
+    // The earliest deferred error: its line (INT64_MAX: none) and message.
+    struct FirstError {
+        int64_t line = INT64_MAX;
+        std::string message;
+    };
+
+    // The first face with a positive vertex index beyond the whole file's vertices.
+    FirstError indexOutOfRange() const {
+        const size_t nv = scene_.mesh.vertices.size();
+        for (size_t f = 0; f < scene_.mesh.faces.size(); ++f) {
+            for (uint32_t i : scene_.mesh.faces[f]) {
+                if (i >= nv) {
+                    return {scene_.faceSourceLine[f],
+                            "face " + std::to_string(f) + ": vertex index " +
+                                std::to_string(i + 1ull) + " out of range (file has " +
+                                std::to_string(nv) + " vertices)"};
+                }
+            }
+        }
+        return {};
+    }
+
+    // Each usemtl's material: the libraries'; for a name they lack, an error (strict: `first`,
+    // when earlier) or a default material under that name, one per name, after the libraries'
+    // (so a JSON scene can still give it colours by name), noted in `unknown`.
+    std::vector<int32_t> useMtlMaterials(FirstError& first, Repair& unknown, bool noMtllib) {
+        std::vector<int32_t> useMtlMaterial(useMtl_.size(), -1);
+        const size_t knownMaterials = table_.materials.size();
+        for (size_t u = 0; u < useMtl_.size(); ++u) {
+            const auto it = table_.byName.find(useMtl_[u].name);
+            if (it != table_.byName.end() && static_cast<size_t>(it->second) < knownMaterials) {
+                useMtlMaterial[u] = it->second;
+                continue;
+            }
+            if (options_.strict) {
+                if (useMtl_[u].line < first.line) {
+                    first.line = useMtl_[u].line;
+                    first.message = "usemtl: unknown material " + quoteForMessage(useMtl_[u].name) +
+                                    " (" + std::to_string(table_.materials.size()) +
+                                    " materials defined" + (noMtllib ? ", no mtllib" : "") + ")";
+                }
+                continue;
+            }
+            unknown.note(useMtl_[u].line, quoteForMessage(useMtl_[u].name) + " on line " +
+                                              std::to_string(useMtl_[u].line));
+            if (it != table_.byName.end()) {
+                useMtlMaterial[u] = it->second;
+                continue;
+            }
+            if (table_.materials.size() >= kMaxSceneElements) {
+                throw makeSceneError(file_, useMtl_[u].line, "too many materials");
+            }
+            const auto index = static_cast<int32_t>(table_.materials.size());
+            table_.byName.emplace(useMtl_[u].name, index);
+            Material m;
+            m.name = useMtl_[u].name;
+            table_.materials.push_back(std::move(m));
+            useMtlMaterial[u] = index;
+        }
+        return useMtlMaterial;
+    }
+
+    // The warning for the usemtl names without a material, at warnings[at] (before the faces'),
+    // with the faces that took a default material (those of materials past knownMaterials).
+    void warnUnknownMaterials(const Repair& unknown, size_t at, size_t knownMaterials,
+                              const std::string& context) {
+        const auto defaultFaces = static_cast<size_t>(std::count_if(
+            scene_.faceMaterial.begin(), scene_.faceMaterial.end(),
+            [&](int32_t m) { return m >= 0 && static_cast<size_t>(m) >= knownMaterials; }));
+        const std::string faces =
+            std::to_string(defaultFaces) + (defaultFaces == 1 ? " face uses" : " faces use");
+        scene_.warnings.insert(
+            scene_.warnings.begin() + static_cast<std::ptrdiff_t>(at),
+            file_ + ": " +
+                (unknown.count == 1
+                     ? "usemtl " + unknown.what + " names no material (" + context + ")"
+                     : std::to_string(unknown.count) + " usemtl lines name no material (first: " +
+                           unknown.what + "; " + context + ")") +
+                ": " + faces + " a default diffuse material");
     }
 
     const std::string& file_;
