@@ -172,15 +172,9 @@ struct PlyHeaderLine {
 
 // A header line's whitespace-separated tokens.
 std::vector<std::string> headerTokens(const std::string& line) {
-    std::vector<std::string> tokens;
-    for (size_t i = 0; i < line.size();) {
-        while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-        size_t j = i;
-        while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
-        if (j > i) tokens.push_back(line.substr(i, j - i));
-        i = j;
-    }
-    return tokens;
+    std::vector<std::string_view> words;
+    appendWords(line, words);
+    return {words.begin(), words.end()};
 }
 
 // "format ascii|binary_little_endian|binary_big_endian 1.0", once.
@@ -404,13 +398,7 @@ class TextLines {
             line_ = nextLine_++;
             pos_ = end + 1;
             if (comments_) text = text.substr(0, text.find('#'));
-            for (size_t i = 0; i < text.size();) {
-                while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i]))) ++i;
-                size_t j = i;
-                while (j < text.size() && !std::isspace(static_cast<unsigned char>(text[j]))) ++j;
-                if (j > i) tokens.push_back(text.substr(i, j - i));
-                i = j;
-            }
+            appendWords(text, tokens);
         }
         return !tokens.empty();
     }

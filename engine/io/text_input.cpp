@@ -1,5 +1,6 @@
 #include "engine/io/text_input.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <charconv>
 #include <cmath>
@@ -46,6 +47,9 @@ std::optional<std::string_view> withoutPlus(std::string_view text) {
     if (!text.empty() && text.front() == '+') text.remove_prefix(1);
     return text;
 }
+
+// What trim and appendWords take for blanks: C's isspace in the "C" locale.
+constexpr std::string_view kBlanks = " \t\r\n\v\f";
 
 char asciiLower(char c) { return c >= 'A' && c <= 'Z' ? static_cast<char>(c - 'A' + 'a') : c; }
 
@@ -109,10 +113,18 @@ std::optional<int64_t> parseInteger(std::string_view text, IntegerRange range, N
 }
 
 std::string_view trim(std::string_view text) {
-    constexpr std::string_view kBlanks = " \t\r\n\v\f";
-    const size_t first = text.find_first_not_of(kBlanks);
+    const size_t first = text.find_first_not_of(text_input_detail::kBlanks);
     if (first == std::string_view::npos) return {};
-    return text.substr(first, text.find_last_not_of(kBlanks) - first + 1);
+    return text.substr(first, text.find_last_not_of(text_input_detail::kBlanks) - first + 1);
+}
+
+void appendWords(std::string_view text, std::vector<std::string_view>& words) {
+    using text_input_detail::kBlanks;
+    for (size_t begin = text.find_first_not_of(kBlanks); begin != std::string_view::npos;) {
+        const size_t end = std::min(text.find_first_of(kBlanks, begin), text.size());
+        words.push_back(text.substr(begin, end - begin));
+        begin = text.find_first_not_of(kBlanks, end);
+    }
 }
 
 std::string quoteForMessage(std::string_view value) {

@@ -81,6 +81,10 @@ std::optional<int64_t> parseInteger(std::string_view text, IntegerRange range = 
 // Without the blanks around it (space, tab, CR, LF, VT, FF).
 std::string_view trim(std::string_view text);
 
+// The words of text (what lies between blanks, the same blanks), appended to `words`: a caller
+// reading many lines keeps one vector and clears it.
+void appendWords(std::string_view text, std::vector<std::string_view>& words);
+
 // How an error message quotes a value: between single quotes, its first kQuotedLimit bytes and
 // "..." when there were more; bytes outside printable ASCII as \xNN, so that a binary or hostile
 // value can neither flood nor garble the message.

@@ -147,6 +147,22 @@ TEST(Trim, RemovesAsciiBlanksAtBothEndsOnly) {
     EXPECT_EQ(trim("\xa0x\xa0"), "\xa0x\xa0");
 }
 
+TEST(AppendWords, SplitsAtRunsOfBlanksAndAppends) {
+    std::vector<std::string_view> words = {"kept"};
+    appendWords("  v 1.5\t-2 \r\n", words);
+    EXPECT_EQ(words, (std::vector<std::string_view>{"kept", "v", "1.5", "-2"}));
+    words.clear();
+    appendWords("a\vb\fc", words);
+    EXPECT_EQ(words, (std::vector<std::string_view>{"a", "b", "c"}));
+    words.clear();
+    appendWords(" \t ", words);
+    appendWords("", words);
+    EXPECT_TRUE(words.empty());
+    // A NUL byte is part of a word.
+    appendWords(std::string_view("x\0y z", 5), words);
+    EXPECT_EQ(words, (std::vector<std::string_view>{std::string_view("x\0y", 3), "z"}));
+}
+
 TEST(QuoteForMessage, QuotesShortPrintableValuesAsTheyAre) {
     EXPECT_EQ(quoteForMessage(""), "''");
     EXPECT_EQ(quoteForMessage("abc 1.5"), "'abc 1.5'");
