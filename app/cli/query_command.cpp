@@ -92,15 +92,9 @@ std::vector<QueryPoint> readPointsFile(const std::string& file) {
         const std::string_view line = rest.substr(0, rest.find('\n'));
         rest.remove_prefix(std::min(rest.size(), line.size() + 1));
         const std::string where = file + ":" + std::to_string(lineNumber);
-        std::string_view text = trim(line.substr(0, line.find('#')));
-        if (text.empty()) continue;
         std::vector<std::string_view> tokens;
-        while (!text.empty()) {
-            size_t end = 0;
-            while (end < text.size() && text[end] != ' ' && text[end] != '\t') ++end;
-            tokens.push_back(text.substr(0, end));
-            text = trim(text.substr(end));
-        }
+        appendWords(line.substr(0, line.find('#')), tokens);
+        if (tokens.empty()) continue;
         const auto fail = [&](const std::string& why) {
             return inputError(where + ": " + why + " (expected 'x y z [face]'), got " +
                               quoteForMessage(trim(line)));

@@ -148,7 +148,7 @@ class LineReader {
 // ---- numbers ------------------------------------------------------------------------------------
 
 // The whole token as a finite double (text_input's rules), or an error naming what it was for.
-double parseNumber(std::string_view token, const Where& where, std::string_view what) {
+double numberOrFail(std::string_view token, const Where& where, std::string_view what) {
     NumberFault fault{};
     if (const std::optional<double> value = parseFinite(token, &fault)) return *value;
     if (fault == NumberFault::kOutOfRange) {
@@ -207,7 +207,7 @@ Vec3 parseColor(Tokens& tokens, const Where& where, std::string_view key) {
     double c[3];
     for (size_t i = 0; i < 3; ++i) {
         const std::string_view part = parts[parts.size() == 1 ? 0 : i];
-        c[i] = parseNumber(part, where, key);
+        c[i] = numberOrFail(part, where, key);
         if (c[i] < 0) where.fail(std::string(key) + ": negative value " + quoteForMessage(part));
     }
     return {c[0], c[1], c[2]};
@@ -255,7 +255,7 @@ void parseMtl(std::string_view text, const std::string& file, MaterialTable& tab
         if (isNs) {
             std::string_view value;
             if (!tokens.next(value)) where.fail("Ns: missing value");
-            m.ns = parseNumber(value, where, "Ns");
+            m.ns = numberOrFail(value, where, "Ns");
             if (m.ns < 0) where.fail("Ns: negative value " + quoteForMessage(value));
             std::string_view extra;
             if (tokens.next(extra)) where.fail("Ns: unexpected " + quoteForMessage(extra));
@@ -358,7 +358,7 @@ class ObjParser {
             static constexpr std::string_view kWhat[] = {
                 "vertex coordinate 1", "vertex coordinate 2", "vertex coordinate 3", "vertex w",
                 "vertex colour 1",     "vertex colour 2",     "vertex colour 3"};
-            const double value = parseNumber(token, where, kWhat[count]);
+            const double value = numberOrFail(token, where, kWhat[count]);
             if (count < 3) c[count] = value;
             ++count;
         }
