@@ -1,13 +1,15 @@
 // The one place the project reads text it did not write: a whole file, a number, an integer, a
-// value quoted into an error message, blanks around a token, a keyword in any case, a file name's
-// extension. Every reader
-// (OBJ, PLY/OFF/STL, glTF, JSON scenes, visibility files) and every command line (penumbra, the
-// tools) takes these, so that one input is accepted or refused for the same reason everywhere.
+// value quoted into an error message, blanks around a token, the words of a line, a keyword in
+// any case, a file name's extension. Every reader (OBJ, PLY/OFF/STL, glTF, JSON scenes,
+// visibility files) and command line (penumbra, penumbra_pair_stats) takes these, so that one
+// input is accepted or refused for the same reason everywhere. One number is read elsewhere: an
+// ASCII STL coordinate, read straight into a float (strtof) as OpenMesh stores it (openmesh_io).
 //
 // The rules, chosen once:
 //   - A number is the whole text, nothing around it (callers trim where blanks may surround it):
 //     an optional sign, then decimal digits with an optional fraction and exponent, as
-//     std::from_chars reads them (locale-independent; no hexadecimal).
+//     std::from_chars reads them (locale-independent; no hexadecimal), rounded correctly: the
+//     double nearest the decimal text, the same on every machine.
 //   - The sign is one character: '-', or a single '+' (from_chars takes no '+'; "+1.5" is 1.5).
 //     "+-1", "-+1" and "++1" are refused: a second sign is a malformed number, never -1 or +1.
 //   - A finite number is refused when it is NaN or an infinity ("nan", "inf", "infinity" in any
