@@ -12,10 +12,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/io/scene_loader.h"
+#include "engine/io/text_input.h"
 #include "engine/precompute/visibility_store.h"
 #include "engine/render/embree_scene.h"
 
@@ -37,37 +40,65 @@ int usage() {
     return 2;
 }
 
+// The options after SCENE.
+struct Arguments {
+    VisibilityStore::Options options;
+    size_t top = 15;
+    std::string tsv;
+};
+
+// nullopt (after a message where a value is missing or malformed) when they are not understood.
+std::optional<Arguments> parseArguments(int argc, char** argv) {
+    Arguments a;
+    for (int i = 2; i < argc; ++i) {
+        const std::string flag = argv[i];
+        if (flag == "--no-prune") {
+            a.options.build.quadricPruning = false;
+            continue;
+        }
+        if (flag == "--no-merge") {
+            a.options.build.mergeLeaves = false;
+            continue;
+        }
+        if (flag != "--max-lp-solves" && flag != "--patch-fraction" && flag != "--top" &&
+            flag != "--tsv")
+            return std::nullopt;
+        if (i + 1 >= argc) {
+            std::fprintf(stderr, "penumbra_pair_stats: %s needs a value\n", flag.c_str());
+            return std::nullopt;
+        }
+        const std::string_view value = argv[++i];
+        const auto bad = [&] {
+            std::fprintf(stderr, "penumbra_pair_stats: %s: not a %s: %s\n", flag.c_str(),
+                         flag == "--patch-fraction" ? "finite number" : "non-negative integer",
+                         quoteForMessage(value).c_str());
+            return std::nullopt;
+        };
+        if (flag == "--tsv") {
+            a.tsv = value;
+        } else if (flag == "--patch-fraction") {
+            const std::optional<double> fraction = parseFinite(value);
+            if (!fraction) return bad();
+            a.options.patchFraction = *fraction;
+        } else {
+            const std::optional<int64_t> n = parseInteger(value, {0, INT64_MAX});
+            if (!n) return bad();
+            if (flag == "--top")
+                a.top = static_cast<size_t>(*n);
+            else
+                a.options.build.maxLpSolves = static_cast<uint64_t>(*n);
+        }
+    }
+    return a;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     if (argc < 2) return usage();
-    VisibilityStore::Options options;
-    size_t top = 15;
-    std::string tsv;
-    for (int i = 2; i < argc; ++i) {
-        const std::string a = argv[i];
-        auto value = [&]() -> const char* {
-            if (i + 1 >= argc) {
-                std::fprintf(stderr, "penumbra_pair_stats: %s needs a value\n", a.c_str());
-                std::exit(2);
-            }
-            return argv[++i];
-        };
-        if (a == "--max-lp-solves")
-            options.build.maxLpSolves = std::strtoull(value(), nullptr, 10);
-        else if (a == "--no-prune")
-            options.build.quadricPruning = false;
-        else if (a == "--no-merge")
-            options.build.mergeLeaves = false;
-        else if (a == "--patch-fraction")
-            options.patchFraction = std::strtod(value(), nullptr);
-        else if (a == "--top")
-            top = std::strtoull(value(), nullptr, 10);
-        else if (a == "--tsv")
-            tsv = value();
-        else
-            return usage();
-    }
+    const std::optional<Arguments> arguments = parseArguments(argc, argv);
+    if (!arguments) return usage();
+    const auto& [options, top, tsv] = *arguments;
     try {
         const Scene scene = loadScene(argv[1]);
         const EmbreeScene bvh(scene.mesh);

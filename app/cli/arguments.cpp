@@ -1,33 +1,24 @@
 #include "app/cli/arguments.h"
 
 #include <CLI/CLI.hpp>
-#include <charconv>
-#include <cmath>
 #include <optional>
 #include <string>
 
 #include "app/cli/commands.h"
+#include "engine/io/text_input.h"
 #include "engine/scene/scene_validation.h"
 
 namespace penumbra::cli {
 namespace {
 
-std::string quoted(std::string_view s) {
-    std::string out = "'";
-    for (char c : s.substr(0, 80)) {
-        const auto u = static_cast<unsigned char>(c);
-        out += u >= 0x20 && u < 0x7f ? c : '?';
-    }
-    return out + (s.size() > 80 ? "...'" : "'");
-}
-
-// Up to maxCount numbers; nullopt-free on success.
+// Up to maxCount finite numbers separated by commas, blanks allowed around each; nullopt when
+// one is not a number or there are more.
 std::optional<std::vector<double>> numbers(std::string_view text, size_t maxCount) {
     std::vector<double> out;
     std::string_view rest = text;
     while (true) {
         const size_t comma = rest.find(',');
-        const std::optional<double> v = parseNumber(rest.substr(0, comma));
+        const std::optional<double> v = parseFinite(trim(rest.substr(0, comma)));
         if (!v || out.size() == maxCount) return std::nullopt;
         out.push_back(*v);
         if (comma == std::string_view::npos) return out;
@@ -37,41 +28,31 @@ std::optional<std::vector<double>> numbers(std::string_view text, size_t maxCoun
 
 }  // namespace
 
-std::optional<double> parseNumber(std::string_view s) {
-    const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n'; };
-    while (!s.empty() && blank(s.front())) s.remove_prefix(1);
-    while (!s.empty() && blank(s.back())) s.remove_suffix(1);
-    if (s.size() > 1 && s.front() == '+' && s[1] != '-') s.remove_prefix(1);
-    double v = 0;
-    const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (s.empty() || r.ec != std::errc{} || r.ptr != s.data() + s.size() || !std::isfinite(v))
-        return std::nullopt;
-    return v;
-}
-
 std::vector<double> parseNumberList(std::string_view flag, std::string_view text, size_t count) {
     const auto v = numbers(text, count);
     if (!v || v->size() != count)
         throw usageError(std::string(flag) + ": expected " + std::to_string(count) +
-                         " finite numbers separated by commas, got " + quoted(text));
+                         " finite numbers separated by commas, got " + quoteForMessage(text));
     return *v;
 }
 
 std::array<int, 2> parseSize(std::string_view flag, std::string_view text, SizeRange range) {
     const size_t x = text.find('x');
-    int w = 0, h = 0;
-    const auto whole = [](std::string_view s, int& v) {
-        const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-        return !s.empty() && r.ec == std::errc{} && r.ptr == s.data() + s.size();
-    };
-    if (x == std::string_view::npos || !whole(text.substr(0, x), w) ||
-        !whole(text.substr(x + 1), h))
-        throw usageError(std::string(flag) + ": expected WxH (e.g. 1280x800), got " + quoted(text));
-    if (w < range.min || h < range.min || w > range.max || h > range.max)
-        throw usageError(std::string(flag) + ": " + quoted(text) + " out of range (" +
+    const IntegerRange side{range.min, range.max};
+    NumberFault wFault = NumberFault::kMalformed, hFault = NumberFault::kMalformed;
+    std::optional<int64_t> w, h;
+    if (x != std::string_view::npos) {
+        w = parseInteger(text.substr(0, x), side, &wFault);
+        h = parseInteger(text.substr(x + 1), side, &hFault);
+    }
+    if ((!w && wFault == NumberFault::kMalformed) || (!h && hFault == NumberFault::kMalformed))
+        throw usageError(std::string(flag) + ": expected WxH (e.g. 1280x800), got " +
+                         quoteForMessage(text));
+    if (!w || !h)
+        throw usageError(std::string(flag) + ": " + quoteForMessage(text) + " out of range (" +
                          std::to_string(range.min) + ".." + std::to_string(range.max) +
                          " pixels a side)");
-    return {w, h};
+    return {static_cast<int>(*w), static_cast<int>(*h)};
 }
 
 Camera parseCamera(std::string_view flag, std::string_view text) {
@@ -80,7 +61,7 @@ Camera parseCamera(std::string_view flag, std::string_view text) {
         throw usageError(std::string(flag) +
                          ": expected EX,EY,EZ,TX,TY,TZ[,FOV] (eye, target, vertical field of "
                          "view in degrees), got " +
-                         quoted(text));
+                         quoteForMessage(text));
     Camera c;
     c.eye = {(*v)[0], (*v)[1], (*v)[2]};
     c.target = {(*v)[3], (*v)[4], (*v)[5]};
@@ -100,7 +81,7 @@ Vec3 parseDirection(std::string_view flag, std::string_view text) {
     const std::vector<double> v = parseNumberList(flag, text, 3);
     if (v[0] == 0 && v[1] == 0 && v[2] == 0)
         throw usageError(std::string(flag) + ": expected a nonzero vector X,Y,Z, got " +
-                         quoted(text));
+                         quoteForMessage(text));
     return {v[0], v[1], v[2]};
 }
 

@@ -17,11 +17,8 @@ class App;
 
 namespace penumbra::cli {
 
-// A finite decimal number, the whole of s but for surrounding blanks (locale-independent; a
-// leading '+' is allowed); nullopt otherwise.
-std::optional<double> parseNumber(std::string_view s);
-
-// Exactly `count` finite numbers separated by commas.
+// Exactly `count` finite numbers separated by commas, blanks allowed around each
+// (engine/io/text_input.h parseFinite: locale-independent, one leading '+' allowed).
 std::vector<double> parseNumberList(std::string_view flag, std::string_view text, size_t count);
 
 // The sides an image or a window may have, in pixels.

@@ -13,9 +13,7 @@
 // skipped. A face on the line wins over --face; without either the face is found. Every point is
 // read and located before anything is printed, so an error leaves stdout empty.
 #include <CLI/CLI.hpp>
-#include <charconv>
 #include <cmath>
-#include <fstream>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -27,6 +25,7 @@
 #include "app/cli/arguments.h"
 #include "app/cli/commands.h"
 #include "engine/io/finite_output.h"
+#include "engine/io/text_input.h"
 #include "engine/precompute/point_answer_json.h"
 #include "engine/precompute/point_query.h"
 
@@ -50,56 +49,12 @@ struct QueryPoint {
     std::string where;
 };
 
-std::string_view trim(std::string_view s) {
-    const auto blank = [](char c) {
-        return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f';
-    };
-    while (!s.empty() && blank(s.front())) s.remove_prefix(1);
-    while (!s.empty() && blank(s.back())) s.remove_suffix(1);
-    return s;
-}
-
-// A non-negative decimal integer that fits in 32 bits, the whole of s.
+// A face or light number: a non-negative integer that fits in 32 bits (text_input's rules), the
+// whole of s but for blanks around it.
 std::optional<uint32_t> parseIndex(std::string_view s) {
-    s = trim(s);
-    uint32_t v = 0;
-    if (s.empty() || s.front() < '0' || s.front() > '9') return std::nullopt;
-    const auto r = std::from_chars(s.data(), s.data() + s.size(), v);
-    if (r.ec != std::errc{} || r.ptr != s.data() + s.size()) return std::nullopt;
-    return v;
-}
-
-std::string quote(std::string_view s) {
-    std::string out = "'";
-    for (char c : s.substr(0, 60)) {
-        const auto u = static_cast<unsigned char>(c);
-        out += u >= 0x20 && u < 0x7f ? c : '?';
-    }
-    if (s.size() > 60) out += "...";
-    return out + "'";
-}
-
-Vec3 parsePointFlag(std::string_view s) {
-    double xyz[3] = {0, 0, 0};
-    size_t count = 0;
-    bool ok = true;
-    std::string_view rest = s;
-    while (ok) {
-        const size_t comma = rest.find(',');
-        const std::string_view part = rest.substr(0, comma);
-        const std::optional<double> v = parseNumber(part);
-        if (!v || count == 3) {
-            ok = false;
-            break;
-        }
-        xyz[count++] = *v;
-        if (comma == std::string_view::npos) break;
-        rest.remove_prefix(comma + 1);
-    }
-    if (!ok || count != 3)
-        throw usageError(
-            "--point: expected X,Y,Z (three finite numbers separated by commas), got " + quote(s));
-    return {xyz[0], xyz[1], xyz[2]};
+    const std::optional<int64_t> v = parseInteger(trim(s), {0, UINT32_MAX});
+    if (!v) return std::nullopt;
+    return static_cast<uint32_t>(*v);
 }
 
 std::optional<uint32_t> parseIndexFlag(const CLI::App& sub, const char* flag,
@@ -108,51 +63,50 @@ std::optional<uint32_t> parseIndexFlag(const CLI::App& sub, const char* flag,
     const std::optional<uint32_t> v = parseIndex(value);
     if (!v)
         throw usageError(std::string(flag) + ": expected a non-negative integer, got " +
-                         quote(value));
+                         quoteForMessage(value));
     return v;
 }
 
 std::vector<QueryPoint> readPointsFile(const std::string& file) {
-    std::ifstream in(file, std::ios::binary);
-    if (!in) throw inputError("cannot open points file '" + file + "'");
+    std::string content;
+    try {
+        content = readWholeFile(file);
+    } catch (const FileReadError& e) {
+        throw inputError(e.what());
+    }
     std::vector<QueryPoint> points;
-    std::string line;
-    for (int64_t lineNumber = 1; std::getline(in, line); ++lineNumber) {
+    std::string_view rest = content;
+    for (int64_t lineNumber = 1; !rest.empty(); ++lineNumber) {
+        const std::string_view line = rest.substr(0, rest.find('\n'));
+        rest.remove_prefix(std::min(rest.size(), line.size() + 1));
         const std::string where = file + ":" + std::to_string(lineNumber);
-        std::string_view text = line;
-        text = trim(text.substr(0, text.find('#')));
-        if (text.empty()) continue;
         std::vector<std::string_view> tokens;
-        while (!text.empty()) {
-            size_t end = 0;
-            while (end < text.size() && text[end] != ' ' && text[end] != '\t') ++end;
-            tokens.push_back(text.substr(0, end));
-            text = trim(text.substr(end));
-        }
+        appendWords(line.substr(0, line.find('#')), tokens);
+        if (tokens.empty()) continue;
         const auto fail = [&](const std::string& why) {
             return inputError(where + ": " + why + " (expected 'x y z [face]'), got " +
-                              quote(trim(line)));
+                              quoteForMessage(trim(line)));
         };
         if (tokens.size() < 3 || tokens.size() > 4)
             throw fail(std::to_string(tokens.size()) + " fields");
         QueryPoint p;
         double xyz[3];
         for (int i = 0; i < 3; ++i) {
-            const std::optional<double> v = parseNumber(tokens[static_cast<size_t>(i)]);
+            const std::optional<double> v = parseFinite(tokens[static_cast<size_t>(i)]);
             if (!v)
-                throw fail("coordinate " + quote(tokens[static_cast<size_t>(i)]) +
+                throw fail("coordinate " + quoteForMessage(tokens[static_cast<size_t>(i)]) +
                            " is not a finite number");
             xyz[i] = *v;
         }
         p.x = {xyz[0], xyz[1], xyz[2]};
         if (tokens.size() == 4) {
             p.face = parseIndex(tokens[3]);
-            if (!p.face) throw fail("face " + quote(tokens[3]) + " is not a non-negative integer");
+            if (!p.face)
+                throw fail("face " + quoteForMessage(tokens[3]) + " is not a non-negative integer");
         }
         p.where = where;
         points.push_back(std::move(p));
     }
-    if (in.bad()) throw inputError("cannot read points file '" + file + "'");
     return points;
 }
 
@@ -163,7 +117,10 @@ void runQuery(const CLI::App& sub, const QueryOptions& options) {
     const std::optional<uint32_t> faceFlag = parseIndexFlag(sub, "--face", options.face);
     const std::optional<uint32_t> lightFlag = parseIndexFlag(sub, "--light", options.light);
     std::vector<QueryPoint> points;
-    if (hasPoint) points.push_back({parsePointFlag(options.point), faceFlag, "--point"});
+    if (hasPoint) {
+        const std::vector<double> x = parseNumberList("--point", options.point, 3);
+        points.push_back({{x[0], x[1], x[2]}, faceFlag, "--point"});
+    }
 
     const Scene scene = loadSceneFile(options.scene, options.strict);
     if (hasPoints) {

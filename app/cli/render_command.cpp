@@ -30,6 +30,7 @@
 #include "app/cli/arguments.h"
 #include "app/cli/commands.h"
 #include "engine/io/image_io.h"
+#include "engine/io/text_input.h"
 #include "engine/io/visibility_file.h"
 #include "engine/precompute/visibility_store.h"
 #include "engine/render/default_camera.h"
@@ -61,12 +62,6 @@ struct RenderOptions {
     std::string visibility;
     bool strict = false;
 };
-
-bool endsWith(std::string s, std::string_view suffix) {
-    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return s.size() >= suffix.size() &&
-           s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
 
 RenderSettings renderSettings(const RenderOptions& o) {
     RenderSettings settings;
@@ -100,9 +95,9 @@ struct Outputs {
 Outputs outputs(const RenderOptions& o) {
     Outputs out;
     for (const std::string& f : o.out) {
-        if (endsWith(f, ".png"))
+        if (lowerExtension(f) == ".png")
             out.png.push_back(f);
-        else if (endsWith(f, ".pfm"))
+        else if (lowerExtension(f) == ".pfm")
             out.pfm.push_back(f);
         else
             throw usageError("--out '" + f + "': the file must end in .png or .pfm");
@@ -110,7 +105,7 @@ Outputs outputs(const RenderOptions& o) {
     if (!o.outPfm.empty()) out.pfm.push_back(o.outPfm);
     if (out.png.empty() && out.pfm.empty()) throw usageError("nothing to write: give --out FILE");
     if (!o.outAnswers.empty()) {
-        if (!endsWith(o.outAnswers, ".png"))
+        if (lowerExtension(o.outAnswers) != ".png")
             throw usageError("--out-answers '" + o.outAnswers + "': the file must end in .png");
         if (o.method != "exact")
             throw usageError("--out-answers: only the exact method has answers (got --method " +

@@ -7,13 +7,13 @@
 #include <cstdint>
 #include <cstring>
 #include <exception>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
 #include <system_error>
 #include <vector>
 
+#include "engine/io/text_input.h"
 #include "engine/scene/affine3.h"
 #include "engine/scene/scene_validation.h"
 
@@ -53,11 +53,11 @@ bool readRegularFile(std::vector<unsigned char>* out, std::string* err, const st
     if (ec) return refuse("cannot read its size (" + ec.message() + ")");
     if (size == 0) return refuse("empty file");
     if (size > kMaxExternalBytes) return refuse("larger than 2 GiB");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return refuse("cannot open file");
-    out->resize(static_cast<size_t>(size));
-    in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size));
-    if (in.gcount() != static_cast<std::streamsize>(size)) return refuse("cannot read file");
+    try {
+        *out = readWholeFileBytes(path);
+    } catch (const FileReadError& e) {
+        return refuse(cannotReadFile(e.reason));
+    }
     return true;
 }
 
@@ -504,10 +504,7 @@ class GltfReader {
 
 Scene loadGltf(const fs::path& path, const LoadOptions& options) {
     const std::string file = path.string();
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw makeSceneError(file, 0, "cannot open file");
-    const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw makeSceneError(file, 0, "cannot read file");
+    const std::string data = readSceneFile(path);
     if (data.empty()) throw makeSceneError(file, 0, "empty file");
     if (data.size() > 0x7fffffffu) throw makeSceneError(file, 0, "file too large for tinygltf");
 

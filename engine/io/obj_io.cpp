@@ -3,12 +3,10 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <memory>
 #include <optional>
 #include <random>
 #include <string>
@@ -18,6 +16,7 @@
 #include <vector>
 
 #include "engine/io/atomic_file.h"
+#include "engine/io/text_input.h"
 #include "engine/scene/face_check.h"
 #include "engine/scene/scene_validation.h"
 
@@ -28,46 +27,12 @@ namespace fs = std::filesystem;
 
 // ---- text helpers -------------------------------------------------------------------------------
 
+// A blank inside a line (LineReader has split the lines, so no CR or LF is left in one).
 bool isBlank(char c) { return c == ' ' || c == '\t' || c == '\v' || c == '\f'; }
-
-std::string_view trim(std::string_view s) {
-    while (!s.empty() && isBlank(s.front())) s.remove_prefix(1);
-    while (!s.empty() && isBlank(s.back())) s.remove_suffix(1);
-    return s;
-}
 
 std::string_view stripComment(std::string_view s) {
     const size_t hash = s.find('#');
     return hash == std::string_view::npos ? s : s.substr(0, hash);
-}
-
-bool equalsIgnoreCase(std::string_view a, std::string_view b) {
-    if (a.size() != b.size()) return false;
-    for (size_t i = 0; i < a.size(); ++i) {
-        const auto lower = [](char c) { return c >= 'A' && c <= 'Z' ? char(c - 'A' + 'a') : c; };
-        if (lower(a[i]) != lower(b[i])) return false;
-    }
-    return true;
-}
-
-// The token as it should appear in a message: quoted, at most 40 characters, bytes outside
-// printable ASCII as \xNN.
-std::string quoteForMessage(std::string_view s) {
-    std::string out = "'";
-    const size_t limit = 40;
-    for (size_t i = 0; i < s.size() && i < limit; ++i) {
-        const auto c = static_cast<unsigned char>(s[i]);
-        if (c >= 0x20 && c < 0x7f) {
-            out += static_cast<char>(c);
-        } else {
-            char buf[8];
-            std::snprintf(buf, sizeof buf, "\\x%02x", c);
-            out += buf;
-        }
-    }
-    if (s.size() > limit) out += "...";
-    out += '\'';
-    return out;
 }
 
 // Whitespace-separated tokens of one line.
@@ -182,38 +147,19 @@ class LineReader {
 
 // ---- numbers ------------------------------------------------------------------------------------
 
-// A leading '+' is accepted (from_chars does not take one).
-std::string_view withoutPlus(std::string_view s) {
-    if (s.size() > 1 && s[0] == '+' && s[1] != '+' && s[1] != '-') s.remove_prefix(1);
-    return s;
-}
-
-// The whole token as a finite double.
-double parseNumber(std::string_view token, const Where& where, std::string_view what) {
-    const std::string_view s = withoutPlus(token);
-    double value = 0;
-    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
-    if (ec == std::errc::result_out_of_range) {
+// The whole token as a finite double (text_input's rules), or an error naming what it was for.
+double numberOrFail(std::string_view token, const Where& where, std::string_view what) {
+    NumberFault fault{};
+    if (const std::optional<double> value = parseFinite(token, &fault)) return *value;
+    if (fault == NumberFault::kOutOfRange) {
         where.fail(std::string(what) + ": number " + quoteForMessage(token) +
                    " out of range for a double");
     }
-    if (ec != std::errc() || end != s.data() + s.size()) {
-        where.fail(std::string(what) + ": malformed number " + quoteForMessage(token));
-    }
-    if (!std::isfinite(value)) {
+    if (fault == NumberFault::kNotFinite) {
         where.fail(std::string(what) + ": non-finite number " + quoteForMessage(token) +
                    " (NaN and infinity are not allowed)");
     }
-    return value;
-}
-
-// The whole token as an integer; nullopt when it is not one (or too large for int64).
-std::optional<int64_t> parseInteger(std::string_view token) {
-    const std::string_view s = withoutPlus(token);
-    int64_t value = 0;
-    const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
-    if (ec != std::errc() || end != s.data() + s.size()) return std::nullopt;
-    return value;
+    where.fail(std::string(what) + ": malformed number " + quoteForMessage(token));
 }
 
 std::string fmt17(double x) {
@@ -224,38 +170,6 @@ std::string fmt17(double x) {
 }
 
 // ---- files --------------------------------------------------------------------------------------
-
-struct FileCloser {
-    void operator()(std::FILE* f) const { std::fclose(f); }
-};
-using FilePtr = std::unique_ptr<std::FILE, FileCloser>;
-
-std::string errnoMessage(int err) {
-    return std::error_code(err, std::generic_category()).message();
-}
-
-// Reads a whole file; on failure returns nullopt and says why.
-std::optional<std::string> readFile(const fs::path& path, std::string& why) {
-    std::error_code ec;
-    if (fs::is_directory(path, ec)) {
-        why = "is a directory";
-        return std::nullopt;
-    }
-    FilePtr file(std::fopen(path.c_str(), "rb"));
-    if (!file) {
-        why = errnoMessage(errno);
-        return std::nullopt;
-    }
-    std::string text;
-    char buf[1 << 16];
-    size_t n = 0;
-    while ((n = std::fread(buf, 1, sizeof buf, file.get())) > 0) text.append(buf, n);
-    if (std::ferror(file.get())) {
-        why = "read error: " + errnoMessage(errno);
-        return std::nullopt;
-    }
-    return text;
-}
 
 // ---- MTL ----------------------------------------------------------------------------------------
 
@@ -293,7 +207,7 @@ Vec3 parseColor(Tokens& tokens, const Where& where, std::string_view key) {
     double c[3];
     for (size_t i = 0; i < 3; ++i) {
         const std::string_view part = parts[parts.size() == 1 ? 0 : i];
-        c[i] = parseNumber(part, where, key);
+        c[i] = numberOrFail(part, where, key);
         if (c[i] < 0) where.fail(std::string(key) + ": negative value " + quoteForMessage(part));
     }
     return {c[0], c[1], c[2]};
@@ -341,7 +255,7 @@ void parseMtl(std::string_view text, const std::string& file, MaterialTable& tab
         if (isNs) {
             std::string_view value;
             if (!tokens.next(value)) where.fail("Ns: missing value");
-            m.ns = parseNumber(value, where, "Ns");
+            m.ns = numberOrFail(value, where, "Ns");
             if (m.ns < 0) where.fail("Ns: negative value " + quoteForMessage(value));
             std::string_view extra;
             if (tokens.next(extra)) where.fail("Ns: unexpected " + quoteForMessage(extra));
@@ -444,7 +358,7 @@ class ObjParser {
             static constexpr std::string_view kWhat[] = {
                 "vertex coordinate 1", "vertex coordinate 2", "vertex coordinate 3", "vertex w",
                 "vertex colour 1",     "vertex colour 2",     "vertex colour 3"};
-            const double value = parseNumber(token, where, kWhat[count]);
+            const double value = numberOrFail(token, where, kWhat[count]);
             if (count < 3) c[count] = value;
             ++count;
         }
@@ -484,13 +398,11 @@ class ObjParser {
                      " index 0 is invalid (OBJ indices start at 1)");
             }
         }
-        const std::optional<int64_t> index = parseInteger(parts[0]);
+        NumberFault fault{};
+        const std::optional<int64_t> index = parseInteger(parts[0], {}, &fault);
         if (!index) {
-            if (parts[0].find_first_not_of("+-0123456789") == std::string_view::npos &&
-                parts[0].find_first_of("0123456789") != std::string_view::npos &&
-                parts[0].find_first_of("+-", 1) == std::string_view::npos) {
+            if (fault == NumberFault::kOutOfRange)
                 fail("vertex index " + quoteForMessage(parts[0]) + " out of range");
-            }
             malformed();
         }
         const int64_t i = *index;
@@ -561,81 +473,35 @@ class ObjParser {
             const fs::path path = mtl_.directory / fs::path(name);
             const std::string key = path.lexically_normal().string();
             if (!mtlFilesRead_.insert(key).second) continue;
-            std::string why;
-            const std::optional<std::string> text = readFile(path, why);
-            if (!text) {
+            std::string text;
+            try {
+                text = readWholeFile(path);
+            } catch (const FileReadError& e) {
                 const std::string message = "cannot read material library " +
                                             quoteForMessage(name) + " (" + path.string() +
-                                            "): " + why;
+                                            "): " + e.reason;
                 if (options_.strict) where.fail("mtllib: " + message);
                 unreadableMtl_.note(where.line, message);
                 continue;
             }
-            parseMtl(*text, path.string(), table_, options_.strict, scene_.warnings);
+            parseMtl(text, path.string(), table_, options_.strict, scene_.warnings);
         }
     }
 
     Scene finish() {
         // Deferred checks: positive indices against the whole file, usemtl names against all
         // libraries. The earliest line wins.
-        int64_t errorLine = INT64_MAX;
-        std::string error;
-        const size_t nv = scene_.mesh.vertices.size();
-        for (size_t f = 0; f < scene_.mesh.faces.size(); ++f) {
-            for (uint32_t i : scene_.mesh.faces[f]) {
-                if (i >= nv) {
-                    errorLine = scene_.faceSourceLine[f];
-                    error = "face " + std::to_string(f) + ": vertex index " +
-                            std::to_string(i + 1ull) + " out of range (file has " +
-                            std::to_string(nv) + " vertices)";
-                    break;
-                }
-            }
-            if (errorLine != INT64_MAX) break;
-        }
+        FirstError first = indexOutOfRange();
         // Why a usemtl can name no material: "no mtllib" or the count of those defined.
         const bool noMtllib = mtlFilesRead_.empty() && !mtlTextRead_ && unreadableMtl_.count == 0;
         const std::string context =
             noMtllib ? "no mtllib"
                      : std::to_string(table_.materials.size()) + " materials defined" +
                            (unreadableMtl_.count > 0 ? ", a material library unreadable" : "");
-        std::vector<int32_t> useMtlMaterial(useMtl_.size(), -1);
         Repair unknown;
         const size_t knownMaterials = table_.materials.size();
-        for (size_t u = 0; u < useMtl_.size(); ++u) {
-            const auto it = table_.byName.find(useMtl_[u].name);
-            if (it != table_.byName.end() && static_cast<size_t>(it->second) < knownMaterials) {
-                useMtlMaterial[u] = it->second;
-                continue;
-            }
-            if (options_.strict) {
-                if (useMtl_[u].line < errorLine) {
-                    errorLine = useMtl_[u].line;
-                    error = "usemtl: unknown material " + quoteForMessage(useMtl_[u].name) + " (" +
-                            std::to_string(table_.materials.size()) + " materials defined" +
-                            (noMtllib ? ", no mtllib" : "") + ")";
-                }
-                continue;
-            }
-            // A default material under the name the file uses (so a JSON scene can still give it
-            // colours by name), one per name, after the libraries' materials.
-            unknown.note(useMtl_[u].line, quoteForMessage(useMtl_[u].name) + " on line " +
-                                              std::to_string(useMtl_[u].line));
-            if (it != table_.byName.end()) {
-                useMtlMaterial[u] = it->second;
-                continue;
-            }
-            if (table_.materials.size() >= kMaxSceneElements) {
-                throw makeSceneError(file_, useMtl_[u].line, "too many materials");
-            }
-            const auto index = static_cast<int32_t>(table_.materials.size());
-            table_.byName.emplace(useMtl_[u].name, index);
-            Material m;
-            m.name = useMtl_[u].name;
-            table_.materials.push_back(std::move(m));
-            useMtlMaterial[u] = index;
-        }
-        if (errorLine != INT64_MAX) throw makeSceneError(file_, errorLine, error);
+        const std::vector<int32_t> useMtlMaterial = useMtlMaterials(first, unknown, noMtllib);
+        if (first.line != INT64_MAX) throw makeSceneError(file_, first.line, first.message);
         if (scene_.mesh.faces.empty()) throw makeSceneError(file_, 0, "no faces");
 
         scene_.sourcePath = file_;
@@ -658,23 +524,90 @@ class ObjParser {
         }
         const size_t unknownWarning = scene_.warnings.size();
         checkLoadedFaces(scene_, options_.faces);
-        if (unknown.count > 0) {
-            const auto defaultFaces = static_cast<size_t>(std::count_if(
-                scene_.faceMaterial.begin(), scene_.faceMaterial.end(),
-                [&](int32_t m) { return m >= 0 && static_cast<size_t>(m) >= knownMaterials; }));
-            const std::string faces =
-                std::to_string(defaultFaces) + (defaultFaces == 1 ? " face uses" : " faces use");
-            scene_.warnings.insert(
-                scene_.warnings.begin() + static_cast<std::ptrdiff_t>(unknownWarning),
-                file_ + ": " +
-                    (unknown.count == 1
-                         ? "usemtl " + unknown.what + " names no material (" + context + ")"
-                         : std::to_string(unknown.count) +
-                               " usemtl lines name no material (first: " + unknown.what + "; " +
-                               context + ")") +
-                    ": " + faces + " a default diffuse material");
-        }
+        if (unknown.count > 0)
+            warnUnknownMaterials(unknown, unknownWarning, knownMaterials, context);
         return std::move(scene_);
+    }
+
+    // The earliest deferred error: its line (INT64_MAX: none) and message.
+    struct FirstError {
+        int64_t line = INT64_MAX;
+        std::string message;
+    };
+
+    // The first face with a positive vertex index beyond the whole file's vertices.
+    FirstError indexOutOfRange() const {
+        const size_t nv = scene_.mesh.vertices.size();
+        for (size_t f = 0; f < scene_.mesh.faces.size(); ++f) {
+            for (uint32_t i : scene_.mesh.faces[f]) {
+                if (i >= nv) {
+                    return {scene_.faceSourceLine[f],
+                            "face " + std::to_string(f) + ": vertex index " +
+                                std::to_string(i + 1ull) + " out of range (file has " +
+                                std::to_string(nv) + " vertices)"};
+                }
+            }
+        }
+        return {};
+    }
+
+    // Each usemtl's material: the libraries'; for a name they lack, an error (strict: `first`,
+    // when earlier) or a default material under that name, one per name, after the libraries'
+    // (so a JSON scene can still give it colours by name), noted in `unknown`.
+    std::vector<int32_t> useMtlMaterials(FirstError& first, Repair& unknown, bool noMtllib) {
+        std::vector<int32_t> useMtlMaterial(useMtl_.size(), -1);
+        const size_t knownMaterials = table_.materials.size();
+        for (size_t u = 0; u < useMtl_.size(); ++u) {
+            const auto it = table_.byName.find(useMtl_[u].name);
+            if (it != table_.byName.end() && static_cast<size_t>(it->second) < knownMaterials) {
+                useMtlMaterial[u] = it->second;
+                continue;
+            }
+            if (options_.strict) {
+                if (useMtl_[u].line < first.line) {
+                    first.line = useMtl_[u].line;
+                    first.message = "usemtl: unknown material " + quoteForMessage(useMtl_[u].name) +
+                                    " (" + std::to_string(table_.materials.size()) +
+                                    " materials defined" + (noMtllib ? ", no mtllib" : "") + ")";
+                }
+                continue;
+            }
+            unknown.note(useMtl_[u].line, quoteForMessage(useMtl_[u].name) + " on line " +
+                                              std::to_string(useMtl_[u].line));
+            if (it != table_.byName.end()) {
+                useMtlMaterial[u] = it->second;
+                continue;
+            }
+            if (table_.materials.size() >= kMaxSceneElements) {
+                throw makeSceneError(file_, useMtl_[u].line, "too many materials");
+            }
+            const auto index = static_cast<int32_t>(table_.materials.size());
+            table_.byName.emplace(useMtl_[u].name, index);
+            Material m;
+            m.name = useMtl_[u].name;
+            table_.materials.push_back(std::move(m));
+            useMtlMaterial[u] = index;
+        }
+        return useMtlMaterial;
+    }
+
+    // The warning for the usemtl names without a material, at warnings[at] (before the faces'),
+    // with the faces that took a default material (those of materials past knownMaterials).
+    void warnUnknownMaterials(const Repair& unknown, size_t at, size_t knownMaterials,
+                              const std::string& context) {
+        const auto defaultFaces = static_cast<size_t>(std::count_if(
+            scene_.faceMaterial.begin(), scene_.faceMaterial.end(),
+            [&](int32_t m) { return m >= 0 && static_cast<size_t>(m) >= knownMaterials; }));
+        const std::string faces =
+            std::to_string(defaultFaces) + (defaultFaces == 1 ? " face uses" : " faces use");
+        scene_.warnings.insert(
+            scene_.warnings.begin() + static_cast<std::ptrdiff_t>(at),
+            file_ + ": " +
+                (unknown.count == 1
+                     ? "usemtl " + unknown.what + " names no material (" + context + ")"
+                     : std::to_string(unknown.count) + " usemtl lines name no material (first: " +
+                           unknown.what + "; " + context + ")") +
+                ": " + faces + " a default diffuse material");
     }
 
     const std::string& file_;
@@ -716,11 +649,9 @@ void writeAtomically(const fs::path& target, const std::string& text) {
 
 Scene loadObj(const std::filesystem::path& objPath, const LoadOptions& options) {
     const std::string file = objPath.string();
-    std::string why;
-    const std::optional<std::string> text = readFile(objPath, why);
-    if (!text) throw makeSceneError(file, 0, "cannot read file: " + why);
+    const std::string text = readSceneFile(objPath);
     ObjParser parser(file, MtlSource{std::nullopt, objPath.parent_path()}, options);
-    return parser.parse(*text);
+    return parser.parse(text);
 }
 
 Scene loadObjFromString(std::string_view objText, std::string_view mtlText, std::string sourceName,

@@ -7,12 +7,10 @@
 #include <array>
 #include <bit>
 #include <cctype>
-#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -20,6 +18,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "engine/io/text_input.h"
 #include "engine/scene/scene_validation.h"
 
 namespace penumbra {
@@ -110,19 +109,6 @@ class PolygonImporter final : public OMIO::BaseImporter {
     vis::PolygonMesh& mesh_;
 };
 
-std::string lower(std::string s) {
-    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return s;
-}
-
-std::string readAll(const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw makeSceneError(path.string(), 0, "cannot open file");
-    std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw makeSceneError(path.string(), 0, "cannot read file");
-    return data;
-}
-
 // ---- PLY header ---------------------------------------------------------------------------------
 
 struct PlyProperty {
@@ -175,17 +161,110 @@ int plyTypeSize(const std::string& t, bool* isSigned = nullptr) {
     return 0;
 }
 
-// A header line as a message quotes it: without surrounding blanks, at most 60 characters, bytes
-// outside printable ASCII as '?'.
-std::string quotedLine(std::string_view s) {
-    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-    while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-    std::string out = "'";
-    for (char c : s.substr(0, 60)) {
-        const auto u = static_cast<unsigned char>(c);
-        out += u >= 0x20 && u < 0x7f ? c : '?';
+// Where in the PLY header a check failed: the file and the line; the message starts "PLY header: ".
+struct PlyHeaderLine {
+    const std::string& file;
+    int line;
+    SceneError fail(const std::string& why) const {
+        return makeSceneError(file, line, "PLY header: " + why);
     }
-    return out + (s.size() > 60 ? "...'" : "'");
+};
+
+// A header line's whitespace-separated tokens.
+std::vector<std::string> headerTokens(const std::string& line) {
+    std::vector<std::string_view> words;
+    appendWords(line, words);
+    return {words.begin(), words.end()};
+}
+
+// "format ascii|binary_little_endian|binary_big_endian 1.0", once.
+void readFormatLine(const std::vector<std::string>& tokens, const PlyHeaderLine& at,
+                    PlyHeader& header, bool& sawFormat) {
+    if (tokens.size() != 3) throw at.fail("malformed format line");
+    if (tokens[1] == "ascii")
+        header.format = PlyHeader::kAscii;
+    else if (tokens[1] == "binary_little_endian")
+        header.format = PlyHeader::kBinaryLittle;
+    else if (tokens[1] == "binary_big_endian")
+        header.format = PlyHeader::kBinaryBig;
+    else
+        throw at.fail("unknown format " + quoteForMessage(tokens[1]));
+    // The only version there is; OpenMesh's reader loops forever on a version it cannot
+    // parse as a number ("format ascii x"), so nothing else reaches it.
+    if (tokens[2] != "1.0")
+        throw at.fail("unsupported format version " + quoteForMessage(tokens[2]) +
+                      " (only 1.0 exists)");
+    if (sawFormat) throw at.fail("a second format line");
+    sawFormat = true;
+}
+
+// "element NAME COUNT": the count in decimal digits only (at most 18 of them).
+PlyElement readElementLine(const std::vector<std::string>& tokens, const PlyHeaderLine& at) {
+    if (tokens.size() != 3) throw at.fail("malformed element line");
+    PlyElement e;
+    e.name = tokens[1];
+    const std::string& n = tokens[2];
+    if (n.empty() || n.size() > 18 ||
+        !std::all_of(n.begin(), n.end(), [](char c) { return c >= '0' && c <= '9'; }))
+        throw at.fail("element " + quoteForMessage(e.name) + ": bad count " + quoteForMessage(n));
+    e.count = static_cast<uint64_t>(*parseInteger(n));
+    return e;
+}
+
+// "property TYPE NAME" or "property list COUNT_TYPE ITEM_TYPE NAME", of the last element.
+void readPropertyLine(const std::vector<std::string>& tokens, const PlyHeaderLine& at,
+                      PlyHeader& header) {
+    if (header.elements.empty()) throw at.fail("property before any element");
+    PlyProperty p;
+    if (tokens.size() == 5 && tokens[1] == "list") {
+        p.list = true;
+        p.name = tokens[4];
+        p.countSize = plyTypeSize(tokens[2], &p.countSigned);
+        p.size = plyTypeSize(tokens[3]);
+        if (p.countSize == 0 || p.size == 0 || tokens[2] == "float" || tokens[2] == "float32" ||
+            tokens[2] == "double" || tokens[2] == "float64")
+            throw at.fail("property list with bad types " + quoteForMessage(tokens[2]) + " " +
+                          quoteForMessage(tokens[3]));
+    } else if (tokens.size() == 3) {
+        p.name = tokens[2];
+        p.size = plyTypeSize(tokens[1]);
+        if (p.size == 0) throw at.fail("unknown property type " + quoteForMessage(tokens[1]));
+        p.isFloat = tokens[1].rfind("float", 0) == 0 || tokens[1] == "double";
+    } else {
+        throw at.fail("malformed property line");
+    }
+    for (const PlyProperty& q : header.elements.back().properties)
+        if (q.name == p.name)
+            throw at.fail("element " + quoteForMessage(header.elements.back().name) +
+                          ": property " + quoteForMessage(p.name) + " declared twice");
+    header.elements.back().properties.push_back(p);
+}
+
+// Declarations a reader can rely on, before any reader sees the file: every item of an element
+// takes at least one byte (a line, or a property's bytes), so no count may exceed the `body`
+// bytes after the header (and an element without properties may have no items: a reader would
+// spin through them reading nothing); vertices have x, y, z; faces a list of indices.
+void checkPlyDeclarations(const PlyHeader& header, uint64_t body, const PlyHeaderLine& at) {
+    for (size_t i = 0; i < header.elements.size(); ++i) {
+        const PlyElement& e = header.elements[i];
+        const std::string what = "element " + quoteForMessage(e.name);
+        for (size_t j = 0; j < i; ++j)
+            if (header.elements[j].name == e.name) throw at.fail(what + " declared twice");
+        if (e.properties.empty() && e.count > 0)
+            throw at.fail(what + " has " + std::to_string(e.count) + " items but no properties");
+        if (e.count > body)
+            throw at.fail(what + ": " + std::to_string(e.count) + " items cannot fit in the " +
+                          std::to_string(body) + " bytes after the header");
+        auto has = [&](const char* name, bool list) {
+            for (const PlyProperty& p : e.properties)
+                if (p.name == name && p.list == list) return true;
+            return false;
+        };
+        if (e.name == "vertex" && !(has("x", false) && has("y", false) && has("z", false)))
+            throw at.fail("element 'vertex' without scalar properties x, y and z");
+        if (e.name == "face" && !has("vertex_indices", true) && !has("vertex_index", true))
+            throw at.fail("element 'face' without a list property vertex_indices");
+    }
 }
 
 // Parses and checks the header. A line of no PLY keyword (a tool's "Created by ..." outside a
@@ -197,29 +276,22 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file, bool 
     bool sawFormat = false;
     int firstSkipped = 0;
     std::string firstSkippedText;
-    const auto fail = [&](const std::string& why) -> SceneError {
-        return makeSceneError(file, lineNo, "PLY header: " + why);
-    };
     while (true) {
-        if (pos >= data.size() || lineNo > 100000) throw fail("no end_header (truncated header)");
+        const PlyHeaderLine at{file, lineNo};
+        if (pos >= data.size() || lineNo > 100000)
+            throw at.fail("no end_header (truncated header)");
         size_t end = data.find('\n', pos);
-        if (end == std::string::npos) throw fail("no end_header (truncated header)");
+        if (end == std::string::npos) throw at.fail("no end_header (truncated header)");
         std::string line = data.substr(pos, end - pos);
         const size_t lineStart = pos;
         pos = end + 1;
         ++lineNo;
+        const PlyHeaderLine here{file, lineNo};
         if (!line.empty() && line.back() == '\r') line.pop_back();
-        std::vector<std::string> tokens;
-        for (size_t i = 0; i < line.size();) {
-            while (i < line.size() && std::isspace(static_cast<unsigned char>(line[i]))) ++i;
-            size_t j = i;
-            while (j < line.size() && !std::isspace(static_cast<unsigned char>(line[j]))) ++j;
-            if (j > i) tokens.push_back(line.substr(i, j - i));
-            i = j;
-        }
+        const std::vector<std::string> tokens = headerTokens(line);
         if (lineNo == 1) {
             if (tokens.size() != 1 || tokens[0] != "ply")
-                throw fail("the file does not start with 'ply'");
+                throw here.fail("the file does not start with 'ply'");
             continue;
         }
         if (tokens.empty()) continue;
@@ -227,58 +299,13 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file, bool 
         if (key == "comment" || key == "obj_info") continue;
         if (key == "end_header") break;
         if (key == "format") {
-            if (tokens.size() != 3) throw fail("malformed format line");
-            if (tokens[1] == "ascii")
-                header.format = PlyHeader::kAscii;
-            else if (tokens[1] == "binary_little_endian")
-                header.format = PlyHeader::kBinaryLittle;
-            else if (tokens[1] == "binary_big_endian")
-                header.format = PlyHeader::kBinaryBig;
-            else
-                throw fail("unknown format '" + tokens[1] + "'");
-            // The only version there is; OpenMesh's reader loops forever on a version it cannot
-            // parse as a number ("format ascii x"), so nothing else reaches it.
-            if (tokens[2] != "1.0")
-                throw fail("unsupported format version '" + tokens[2] + "' (only 1.0 exists)");
-            if (sawFormat) throw fail("a second format line");
-            sawFormat = true;
+            readFormatLine(tokens, here, header, sawFormat);
         } else if (key == "element") {
-            if (tokens.size() != 3) throw fail("malformed element line");
-            PlyElement e;
-            e.name = tokens[1];
-            const std::string& n = tokens[2];
-            if (n.empty() || n.size() > 18 ||
-                !std::all_of(n.begin(), n.end(), [](char c) { return c >= '0' && c <= '9'; }))
-                throw fail("element '" + e.name + "': bad count '" + n + "'");
-            e.count = std::stoull(n);
-            header.elements.push_back(std::move(e));
+            header.elements.push_back(readElementLine(tokens, here));
         } else if (key == "property") {
-            if (header.elements.empty()) throw fail("property before any element");
-            PlyProperty p;
-            if (tokens.size() == 5 && tokens[1] == "list") {
-                p.list = true;
-                p.name = tokens[4];
-                p.countSize = plyTypeSize(tokens[2], &p.countSigned);
-                p.size = plyTypeSize(tokens[3]);
-                if (p.countSize == 0 || p.size == 0 || tokens[2] == "float" ||
-                    tokens[2] == "float32" || tokens[2] == "double" || tokens[2] == "float64")
-                    throw fail("property list with bad types '" + tokens[2] + "' '" + tokens[3] +
-                               "'");
-            } else if (tokens.size() == 3) {
-                p.name = tokens[2];
-                p.size = plyTypeSize(tokens[1]);
-                if (p.size == 0) throw fail("unknown property type '" + tokens[1] + "'");
-                p.isFloat = tokens[1].rfind("float", 0) == 0 || tokens[1] == "double";
-            } else {
-                throw fail("malformed property line");
-            }
-            for (const PlyProperty& q : header.elements.back().properties)
-                if (q.name == p.name)
-                    throw fail("element '" + header.elements.back().name + "': property '" +
-                               p.name + "' declared twice");
-            header.elements.back().properties.push_back(p);
+            readPropertyLine(tokens, here, header);
         } else {
-            if (strict) throw fail("unknown keyword '" + key + "'");
+            if (strict) throw here.fail("unknown keyword " + quoteForMessage(key));
             if (header.skippedLines.empty()) {
                 firstSkipped = lineNo;
                 firstSkippedText = line;
@@ -290,35 +317,12 @@ PlyHeader parsePlyHeader(const std::string& data, const std::string& file, bool 
         const size_t n = header.skippedLines.size();
         header.skippedWarning =
             file + ":" + std::to_string(firstSkipped) + ": PLY header: line " +
-            quotedLine(firstSkippedText) + " is no header keyword (not a comment): skipped" +
+            quoteForMessage(trim(firstSkippedText)) +
+            " is no header keyword (not a comment): skipped" +
             (n > 1 ? " with " + std::to_string(n - 1) + " more such lines" : std::string());
     }
     if (!sawFormat) throw makeSceneError(file, 0, "PLY header: no format line");
-    // Declarations a reader can rely on, before any reader sees the file: every item of an
-    // element takes at least one byte (a line, or a property's bytes), so no count may exceed the
-    // bytes after the header (and an element without properties may have no items: a reader
-    // would spin through them reading nothing); vertices have x, y, z; faces a list of indices.
-    const uint64_t body = data.size() - pos;
-    for (size_t i = 0; i < header.elements.size(); ++i) {
-        const PlyElement& e = header.elements[i];
-        const std::string what = "element '" + e.name + "'";
-        for (size_t j = 0; j < i; ++j)
-            if (header.elements[j].name == e.name) throw fail(what + " declared twice");
-        if (e.properties.empty() && e.count > 0)
-            throw fail(what + " has " + std::to_string(e.count) + " items but no properties");
-        if (e.count > body)
-            throw fail(what + ": " + std::to_string(e.count) + " items cannot fit in the " +
-                       std::to_string(body) + " bytes after the header");
-        auto has = [&](const char* name, bool list) {
-            for (const PlyProperty& p : e.properties)
-                if (p.name == name && p.list == list) return true;
-            return false;
-        };
-        if (e.name == "vertex" && !(has("x", false) && has("y", false) && has("z", false)))
-            throw fail("element 'vertex' without scalar properties x, y and z");
-        if (e.name == "face" && !has("vertex_indices", true) && !has("vertex_index", true))
-            throw fail("element 'face' without a list property vertex_indices");
-    }
+    checkPlyDeclarations(header, data.size() - pos, PlyHeaderLine{file, lineNo});
     header.bodyOffset = pos;
     header.bodyLine = lineNo + 1;
     return header;
@@ -394,13 +398,7 @@ class TextLines {
             line_ = nextLine_++;
             pos_ = end + 1;
             if (comments_) text = text.substr(0, text.find('#'));
-            for (size_t i = 0; i < text.size();) {
-                while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i]))) ++i;
-                size_t j = i;
-                while (j < text.size() && !std::isspace(static_cast<unsigned char>(text[j]))) ++j;
-                if (j > i) tokens.push_back(text.substr(i, j - i));
-                i = j;
-            }
+            appendWords(text, tokens);
         }
         return !tokens.empty();
     }
@@ -414,15 +412,6 @@ class TextLines {
     bool comments_;
 };
 
-std::optional<double> parseFinite(std::string_view t) {
-    if (!t.empty() && t.front() == '+') t.remove_prefix(1);
-    double v = 0;
-    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
-    if (t.empty() || r.ec != std::errc{} || r.ptr != t.data() + t.size() || !std::isfinite(v))
-        return std::nullopt;
-    return v;
-}
-
 // A number beyond the coordinate contract (engine/scene/scene_validation.h), refused before
 // OpenMesh reads it: its ASCII readers take numbers into floats and loop forever on one they cannot
 // hold (a vertex at 1e155 hung the PLY reader).
@@ -430,14 +419,6 @@ std::optional<std::string> beyondContract(double v, std::string_view token) {
     if (std::fabs(v) <= kMaxCoordinate) return std::nullopt;
     return "number " + std::string(token) +
            " beyond the supported magnitude 2^59 = 5.8e17 (README, scene contract)";
-}
-
-std::optional<int64_t> parseInteger(std::string_view t) {
-    if (!t.empty() && t.front() == '+') t.remove_prefix(1);
-    int64_t v = 0;
-    const auto r = std::from_chars(t.data(), t.data() + t.size(), v);
-    if (t.empty() || r.ec != std::errc{} || r.ptr != t.data() + t.size()) return std::nullopt;
-    return v;
 }
 
 // Checks an ASCII PLY body against its header: one line per element item with exactly the
@@ -464,18 +445,18 @@ void checkAsciiPlyBody(const std::string& data, const PlyHeader& header, const s
                         p.isFloat
                             ? parseFinite(tokens[t])
                             : (parseInteger(tokens[t]) ? std::optional<double>(0.0) : std::nullopt);
-                    if (!v) throw bad("bad or non-finite number '" + std::string(tokens[t]) + "'");
+                    if (!v) throw bad("bad or non-finite number " + quoteForMessage(tokens[t]));
                     if (const auto problem = beyondContract(*v, tokens[t])) throw bad(*problem);
                     ++t;
                     continue;
                 }
                 const std::optional<int64_t> n = parseInteger(tokens[t]);
-                if (!n || *n < 0) throw bad("bad list length '" + std::string(tokens[t]) + "'");
+                if (!n || *n < 0) throw bad("bad list length " + quoteForMessage(tokens[t]));
                 ++t;
                 if (static_cast<uint64_t>(*n) > tokens.size() - t) throw bad("too few values");
                 for (int64_t k = 0; k < *n; ++k, ++t) {
                     if (!parseInteger(tokens[t]))
-                        throw bad("bad integer '" + std::string(tokens[t]) + "'");
+                        throw bad("bad integer " + quoteForMessage(tokens[t]));
                 }
             }
             if (t != tokens.size()) throw bad("too many values");
@@ -492,6 +473,67 @@ struct CleanOff {
     uint64_t vertices = 0, faces = 0;
     std::string text;
 };
+
+// One OFF vertex line: at least three finite numbers within the coordinate contract (what follows
+// x y z, a colour or a normal, is checked and left out); x y z written to `text` exactly.
+void cleanOffVertex(const std::vector<std::string_view>& tokens, uint64_t v, int line,
+                    const std::string& file, std::string& text) {
+    if (tokens.size() < 3)
+        throw makeSceneError(file, line, "OFF: vertex " + std::to_string(v) + ": too few values");
+    for (size_t k = 0; k < tokens.size(); ++k) {
+        const std::optional<double> x = parseFinite(tokens[k]);
+        if (!x) {
+            throw makeSceneError(file, line,
+                                 "OFF: vertex " + std::to_string(v) +
+                                     ": bad or non-finite number " + quoteForMessage(tokens[k]));
+        }
+        if (const auto problem = beyondContract(*x, tokens[k]))
+            throw makeSceneError(file, line, "OFF: vertex " + std::to_string(v) + ": " + *problem);
+    }
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "%.17g %.17g %.17g\n", *parseFinite(tokens[0]),
+                  *parseFinite(tokens[1]), *parseFinite(tokens[2]));
+    text += buf;
+}
+
+// One OFF face line: a vertex count of 3 or more, that many indices of existing vertices, and at
+// most a colour after them (checked and left out); the count and indices written to `text`.
+void cleanOffFace(const std::vector<std::string_view>& tokens, uint64_t f, uint64_t vertices,
+                  int line, const std::string& file, std::string& text) {
+    const std::string where = "OFF: face " + std::to_string(f) + ": ";
+    const std::optional<int64_t> n = parseInteger(tokens[0]);
+    if (!n || *n < 0 || static_cast<uint64_t>(*n) > tokens.size() - 1)
+        throw makeSceneError(file, line, where + "bad vertex count or too few indices");
+    // OpenMesh's reader spins, allocating without end, on a face of no vertices followed by
+    // junk (found by scripts/fuzz.sh): a face has 3 or more vertices, and what may follow its
+    // indices is a colour of at most 4 numbers.
+    if (*n < 3)
+        throw makeSceneError(file, line,
+                             where + "a face needs at least 3 vertices, not " + std::to_string(*n));
+    const size_t extra = tokens.size() - 1 - static_cast<size_t>(*n);
+    if (extra > 4)
+        throw makeSceneError(
+            file, line,
+            where + std::to_string(extra) + " values after the indices (a colour has at most 4)");
+    for (size_t k = static_cast<size_t>(*n) + 1; k < tokens.size(); ++k)
+        if (!parseFinite(tokens[k]))
+            throw makeSceneError(
+                file, line,
+                where + "colour value " + quoteForMessage(tokens[k]) + " is not a number");
+    for (int64_t k = 1; k <= *n; ++k) {
+        const std::optional<int64_t> i = parseInteger(tokens[static_cast<size_t>(k)]);
+        if (!i || *i < 0 || static_cast<uint64_t>(*i) >= vertices) {
+            throw makeSceneError(
+                file, line,
+                where + "vertex index " + quoteForMessage(tokens[static_cast<size_t>(k)]) +
+                    " out of range (the file has " + std::to_string(vertices) + " vertices)");
+        }
+    }
+    text += std::to_string(*n);
+    for (int64_t k = 1; k <= *n; ++k)
+        text += " " + std::to_string(*parseInteger(tokens[static_cast<size_t>(k)]));
+    text += '\n';
+}
 
 CleanOff cleanAsciiOff(const std::string& data, const std::string& file) {
     TextLines lines(data, 0, 1, true);
@@ -529,25 +571,7 @@ CleanOff cleanAsciiOff(const std::string& data, const std::string& file) {
                                      " (the header declares " + std::to_string(out.vertices) +
                                      " vertices)");
         }
-        if (tokens.size() < 3)
-            throw makeSceneError(file, lines.line(),
-                                 "OFF: vertex " + std::to_string(v) + ": too few values");
-        for (size_t k = 0; k < tokens.size(); ++k) {
-            const std::optional<double> x = parseFinite(tokens[k]);
-            if (!x) {
-                throw makeSceneError(file, lines.line(),
-                                     "OFF: vertex " + std::to_string(v) +
-                                         ": bad or non-finite number '" + std::string(tokens[k]) +
-                                         "'");
-            }
-            if (const auto problem = beyondContract(*x, tokens[k]))
-                throw makeSceneError(file, lines.line(),
-                                     "OFF: vertex " + std::to_string(v) + ": " + *problem);
-        }
-        char buf[96];
-        std::snprintf(buf, sizeof buf, "%.17g %.17g %.17g\n", *parseFinite(tokens[0]),
-                      *parseFinite(tokens[1]), *parseFinite(tokens[2]));
-        out.text += buf;
+        cleanOffVertex(tokens, v, lines.line(), file, out.text);
     }
     for (uint64_t f = 0; f < out.faces; ++f) {
         if (!lines.next(tokens)) {
@@ -556,41 +580,7 @@ CleanOff cleanAsciiOff(const std::string& data, const std::string& file) {
                                      " (the header declares " + std::to_string(out.faces) +
                                      " faces)");
         }
-        const std::string where = "OFF: face " + std::to_string(f) + ": ";
-        const std::optional<int64_t> n = parseInteger(tokens[0]);
-        if (!n || *n < 0 || static_cast<uint64_t>(*n) > tokens.size() - 1)
-            throw makeSceneError(file, lines.line(), where + "bad vertex count or too few indices");
-        // OpenMesh's reader spins, allocating without end, on a face of no vertices followed by
-        // junk (found by scripts/fuzz.sh): a face has 3 or more vertices, and what may follow its
-        // indices is a colour of at most 4 numbers.
-        if (*n < 3)
-            throw makeSceneError(
-                file, lines.line(),
-                where + "a face needs at least 3 vertices, not " + std::to_string(*n));
-        const size_t extra = tokens.size() - 1 - static_cast<size_t>(*n);
-        if (extra > 4)
-            throw makeSceneError(file, lines.line(),
-                                 where + std::to_string(extra) +
-                                     " values after the indices (a colour has at most 4)");
-        for (size_t k = static_cast<size_t>(*n) + 1; k < tokens.size(); ++k)
-            if (!parseFinite(tokens[k]))
-                throw makeSceneError(
-                    file, lines.line(),
-                    where + "colour value '" + std::string(tokens[k]) + "' is not a number");
-        for (int64_t k = 1; k <= *n; ++k) {
-            const std::optional<int64_t> i = parseInteger(tokens[static_cast<size_t>(k)]);
-            if (!i || *i < 0 || static_cast<uint64_t>(*i) >= out.vertices) {
-                throw makeSceneError(file, lines.line(),
-                                     where + "vertex index '" +
-                                         std::string(tokens[static_cast<size_t>(k)]) +
-                                         "' out of range (the file has " +
-                                         std::to_string(out.vertices) + " vertices)");
-            }
-        }
-        out.text += std::to_string(*n);
-        for (int64_t k = 1; k <= *n; ++k)
-            out.text += " " + std::to_string(*parseInteger(tokens[static_cast<size_t>(k)]));
-        out.text += '\n';
+        cleanOffFace(tokens, f, out.vertices, lines.line(), file, out.text);
     }
     return out;
 }
@@ -612,138 +602,174 @@ bool sameCorner(const float* a, const float* b) {
     return a[0] == b[0] && a[1] == b[1] && a[2] == b[2];
 }
 
-StlFacts inspectStl(const std::string& data, const std::string& file) {
-    StlFacts facts;
-    if (data.size() >= 84) {
+// A binary STL's facts, when the file's size is the one its header's facet count gives (84 bytes
+// and 50 a facet): its corners must be finite. False when it is no binary STL.
+bool inspectBinaryStl(const std::string& data, const std::string& file, StlFacts& facts) {
+    if (data.size() < 84) return false;
+    uint32_t n = 0;
+    std::memcpy(&n, data.data() + 80, 4);
+    if constexpr (std::endian::native == std::endian::big) n = __builtin_bswap32(n);
+    if (84 + 50 * uint64_t{n} != data.size()) return false;
+    facts.binary = true;
+    facts.facets = n;
+    for (uint64_t f = 0; f < n; ++f) {
+        float c[12];
+        std::memcpy(c, data.data() + 84 + 50 * f, sizeof c);
+        for (float x : c) {
+            if (!std::isfinite(x)) {
+                throw makeSceneError(
+                    file, 0, "facet " + std::to_string(f) + ": non-finite number in binary STL");
+            }
+        }
+        if (sameCorner(c + 3, c + 6) || sameCorner(c + 3, c + 9) || sameCorner(c + 6, c + 9)) {
+            facts.coincident.push_back(f);
+            std::array<float, 9>& corners = facts.coincidentCorners.emplace_back();
+            std::copy(c + 3, c + 12, corners.begin());
+        }
+    }
+    return true;
+}
+
+// Why a file that starts with no "solid" is no STL: as a binary one, too short or of another size.
+SceneError notAnStl(const std::string& data, const std::string& file) {
+    std::string why = "malformed or truncated binary STL: ";
+    if (data.size() < 84) {
+        why += "only " + std::to_string(data.size()) + " bytes (the header alone has 84)";
+    } else {
         uint32_t n = 0;
         std::memcpy(&n, data.data() + 80, 4);
-        if constexpr (std::endian::native == std::endian::big) n = __builtin_bswap32(n);
-        if (84 + 50 * uint64_t{n} == data.size()) {
-            facts.binary = true;
-            facts.facets = n;
-            for (uint64_t f = 0; f < n; ++f) {
-                float c[12];
-                std::memcpy(c, data.data() + 84 + 50 * f, sizeof c);
-                for (float x : c) {
-                    if (!std::isfinite(x)) {
-                        throw makeSceneError(
-                            file, 0,
-                            "facet " + std::to_string(f) + ": non-finite number in binary STL");
-                    }
-                }
-                if (sameCorner(c + 3, c + 6) || sameCorner(c + 3, c + 9) ||
-                    sameCorner(c + 6, c + 9)) {
-                    facts.coincident.push_back(f);
-                    std::array<float, 9>& corners = facts.coincidentCorners.emplace_back();
-                    std::copy(c + 3, c + 12, corners.begin());
-                }
-            }
-            return facts;
-        }
+        why += "the header declares " + std::to_string(n) + " triangles, which take " +
+               std::to_string(84 + 50 * uint64_t{n}) + " bytes, but the file has " +
+               std::to_string(data.size());
     }
-    size_t start = 0;
-    while (start < data.size() && std::isspace(static_cast<unsigned char>(data[start]))) ++start;
-    if (lower(data.substr(start, 5)) != "solid") {
-        std::string why = "malformed or truncated binary STL: ";
-        if (data.size() < 84) {
-            why += "only " + std::to_string(data.size()) + " bytes (the header alone has 84)";
-        } else {
-            uint32_t n = 0;
-            std::memcpy(&n, data.data() + 80, 4);
-            why += "the header declares " + std::to_string(n) + " triangles, which take " +
-                   std::to_string(84 + 50 * uint64_t{n}) + " bytes, but the file has " +
-                   std::to_string(data.size());
-        }
-        throw makeSceneError(file, 0, why);
+    return makeSceneError(file, 0, why);
+}
+
+// An ASCII STL's text from an offset, token by token, counting lines.
+class StlTokens {
+  public:
+    StlTokens(const std::string& data, size_t start) : data_(data), pos_(start) {
+        for (size_t i = 0; i < start; ++i) line_ += data[i] == '\n';
     }
-    // ASCII: count facets, check corners are finite, find facets with coinciding corners, and
-    // write the facets out again as one solid. A file may hold several solids one after the other
-    // ("solid a ... endsolid a solid b ... endsolid b", as tools concatenate them): all are read.
-    // Anything after the last endsolid that does not start another solid is ignored.
-    std::vector<float> corners;
-    size_t pos = start;
-    int line = 1;
-    for (size_t i = 0; i < start; ++i) line += data[i] == '\n';
-    const auto next = [&](std::string_view& token) {
-        while (pos < data.size() && std::isspace(static_cast<unsigned char>(data[pos]))) {
-            line += data[pos] == '\n';
-            ++pos;
+    // The next whitespace-separated token; false at the end of the text.
+    bool next(std::string_view& token) {
+        while (pos_ < data_.size() && std::isspace(static_cast<unsigned char>(data_[pos_]))) {
+            line_ += data_[pos_] == '\n';
+            ++pos_;
         }
-        const size_t b = pos;
-        while (pos < data.size() && !std::isspace(static_cast<unsigned char>(data[pos]))) ++pos;
-        token = std::string_view(data).substr(b, pos - b);
+        const size_t b = pos_;
+        while (pos_ < data_.size() && !std::isspace(static_cast<unsigned char>(data_[pos_])))
+            ++pos_;
+        token = std::string_view(data_).substr(b, pos_ - b);
         return !token.empty();
-    };
-    const auto skipRestOfLine = [&] {
-        while (pos < data.size() && data[pos] != '\n') ++pos;
-    };
-    const auto facetName = [&] { return "ASCII STL: facet " + std::to_string(facts.facets); };
+    }
+    void skipRestOfLine() {
+        while (pos_ < data_.size() && data_[pos_] != '\n') ++pos_;
+    }
+    int line() const { return line_; }
+
+  private:
+    const std::string& data_;
+    size_t pos_;
+    int line_ = 1;
+};
+
+// An ASCII facet's end: its three corners checked, noted when two coincide, and written out again.
+void endAsciiFacet(StlFacts& facts, std::vector<float>& corners, int32_t& facetLine, int line,
+                   const std::string& file) {
+    if (corners.size() != 9) {
+        throw makeSceneError(file, line,
+                             "ASCII STL: facet " + std::to_string(facts.facets) + " has " +
+                                 std::to_string(corners.size() / 3) + " vertices (expected 3)");
+    }
+    const float* c = corners.data();
+    if (sameCorner(c, c + 3) || sameCorner(c, c + 6) || sameCorner(c + 3, c + 6)) {
+        facts.coincident.push_back(facts.facets);
+        std::array<float, 9>& kept = facts.coincidentCorners.emplace_back();
+        std::copy(c, c + 9, kept.begin());
+    }
+    facts.text += "facet normal 0 0 0\nouter loop\n";
+    for (int k = 0; k < 3; ++k) {
+        char buf[64];
+        // Nine significant digits give the float back exactly.
+        std::snprintf(buf, sizeof buf, "vertex %.9g %.9g %.9g\n", double(c[3 * k]),
+                      double(c[3 * k + 1]), double(c[3 * k + 2]));
+        facts.text += buf;
+    }
+    facts.text += "endloop\nendfacet\n";
+    facts.facetLines.push_back(facetLine);
+    facetLine = 0;
+    corners.clear();
+    ++facts.facets;
+}
+
+// ASCII: count facets, check corners are finite, find facets with coinciding corners, and write
+// the facets out again as one solid. A file may hold several solids one after the other ("solid
+// a ... endsolid a solid b ... endsolid b", as tools concatenate them): all are read. Anything
+// after the last endsolid that does not start another solid is ignored.
+void inspectAsciiStl(const std::string& data, size_t start, const std::string& file,
+                     StlFacts& facts) {
+    std::vector<float> corners;
+    StlTokens tokens(data, start);
     facts.text = "solid penumbra\n";
     std::string_view token;
-    next(token);       // "solid"
-    skipRestOfLine();  // the solid's name
+    tokens.next(token);       // "solid"
+    tokens.skipRestOfLine();  // the solid's name
     bool endSolid = false;
     int32_t facetLine = 0;
-    while (next(token)) {
-        const std::string t = lower(std::string(token));
+    while (tokens.next(token)) {
+        const auto is = [&token](std::string_view keyword) {
+            return equalsIgnoreCase(token, keyword);
+        };
         if (endSolid) {
             // Between solids: another one, or the end of what is read.
-            if (t != "solid") break;
+            if (!is("solid")) break;
             endSolid = false;
-            skipRestOfLine();
+            tokens.skipRestOfLine();
             continue;
         }
-        if (t == "facet") {
-            facetLine = line;
-        } else if (t == "vertex") {
-            if (facetLine == 0) facetLine = line;
+        if (is("facet")) {
+            facetLine = tokens.line();
+        } else if (is("vertex")) {
+            if (facetLine == 0) facetLine = tokens.line();
             for (int k = 0; k < 3; ++k) {
                 std::string_view num;
-                if (!next(num)) throw makeSceneError(file, line, "ASCII STL: truncated vertex");
+                if (!tokens.next(num))
+                    throw makeSceneError(file, tokens.line(), "ASCII STL: truncated vertex");
                 const std::string s(num);
                 char* endPtr = nullptr;
                 const float v = std::strtof(s.c_str(), &endPtr);
                 if (endPtr != s.c_str() + s.size() || !std::isfinite(v)) {
-                    throw makeSceneError(file, line,
-                                         facetName() + ": bad vertex coordinate '" + s + "'");
+                    throw makeSceneError(file, tokens.line(),
+                                         "ASCII STL: facet " + std::to_string(facts.facets) +
+                                             ": bad vertex coordinate " + quoteForMessage(s));
                 }
                 corners.push_back(v);
             }
-        } else if (t == "endfacet") {
-            if (corners.size() != 9) {
-                throw makeSceneError(file, line,
-                                     facetName() + " has " + std::to_string(corners.size() / 3) +
-                                         " vertices (expected 3)");
-            }
-            const float* c = corners.data();
-            if (sameCorner(c, c + 3) || sameCorner(c, c + 6) || sameCorner(c + 3, c + 6)) {
-                facts.coincident.push_back(facts.facets);
-                std::array<float, 9>& kept = facts.coincidentCorners.emplace_back();
-                std::copy(c, c + 9, kept.begin());
-            }
-            facts.text += "facet normal 0 0 0\nouter loop\n";
-            for (int k = 0; k < 3; ++k) {
-                char buf[64];
-                // Nine significant digits give the float back exactly.
-                std::snprintf(buf, sizeof buf, "vertex %.9g %.9g %.9g\n", double(c[3 * k]),
-                              double(c[3 * k + 1]), double(c[3 * k + 2]));
-                facts.text += buf;
-            }
-            facts.text += "endloop\nendfacet\n";
-            facts.facetLines.push_back(facetLine);
-            facetLine = 0;
-            corners.clear();
-            ++facts.facets;
-        } else if (t == "endsolid") {
+        } else if (is("endfacet")) {
+            endAsciiFacet(facts, corners, facetLine, tokens.line(), file);
+        } else if (is("endsolid")) {
             if (!corners.empty()) {
-                throw makeSceneError(file, line, facetName() + " has no endfacet before endsolid");
+                throw makeSceneError(file, tokens.line(),
+                                     "ASCII STL: facet " + std::to_string(facts.facets) +
+                                         " has no endfacet before endsolid");
             }
             endSolid = true;
-            skipRestOfLine();  // the solid's name
+            tokens.skipRestOfLine();  // the solid's name
         }
     }
     if (!endSolid) throw makeSceneError(file, 0, "ASCII STL: no endsolid (truncated file)");
     facts.text += "endsolid penumbra\n";
+}
+
+StlFacts inspectStl(const std::string& data, const std::string& file) {
+    StlFacts facts;
+    if (inspectBinaryStl(data, file, facts)) return facts;
+    size_t start = 0;
+    while (start < data.size() && std::isspace(static_cast<unsigned char>(data[start]))) ++start;
+    if (!equalsIgnoreCase(std::string_view(data).substr(start, 5), "solid"))
+        throw notAnStl(data, file);
+    inspectAsciiStl(data, start, file, facts);
     return facts;
 }
 
@@ -789,92 +815,95 @@ void restoreCoincidentFacets(vis::PolygonMesh& mesh, const StlFacts& stl) {
     mesh.faces = std::move(faces);
 }
 
-}  // namespace
-
-Scene loadOpenMeshFile(const fs::path& path, const LoadOptions& options) {
-    const std::string file = path.string();
-    const std::string extension = lower(path.extension().string());
-    if (extension != ".ply" && extension != ".off" && extension != ".stl") {
-        throw makeSceneError(file, 0, "not a PLY, OFF or STL file name");
-    }
-    const std::string data = readAll(path);
-    if (data.empty()) throw makeSceneError(file, 0, "empty file");
-
-    Scene scene;
-    scene.sourcePath = file;
-    uint64_t expectedVertices = 0, expectedFaces = 0;
-    bool checkVertexCount = true;
+// A file checked before OpenMesh reads it: the counts OpenMesh must find, and the text it is to
+// read instead of the file where the checks rewrote it.
+struct CheckedFile {
+    uint64_t vertices = 0, faces = 0;
+    bool checkVertexCount = true;  // false for STL: OpenMesh merges its corners
+    std::string text;              // empty: OpenMesh reads the file itself
+    std::vector<std::string> warnings;
     StlFacts stl;
-    CleanOff off;
-    std::string trailingWarning;
-    std::string cleanPly;  // the PLY without its skipped header lines, when it has any
-    if (extension == ".ply") {
-        const PlyHeader header = parsePlyHeader(data, file, options.strict);
-        expectedVertices = header.count("vertex");
-        expectedFaces = header.count("face");
-        if (header.format == PlyHeader::kAscii) {
-            checkAsciiPlyBody(data, header, file);
-        } else {
-            const size_t extra = checkBinaryPlyBody(data, header, file);
-            if (extra > 0) {
-                trailingWarning = file + ": " + std::to_string(extra) +
-                                  " bytes after the last PLY element ignored";
-            }
-        }
-        if (!header.skippedLines.empty()) {
-            scene.warnings.push_back(header.skippedWarning);
-            size_t from = 0;
-            for (const auto& [begin, end] : header.skippedLines) {
-                cleanPly.append(data, from, begin - from);
-                from = end;
-            }
-            cleanPly.append(data, from, std::string::npos);
-        }
-    } else if (extension == ".off") {
-        off = cleanAsciiOff(data, file);
-        expectedVertices = off.vertices;
-        expectedFaces = off.faces;
-    } else {
-        stl = inspectStl(data, file);
-        expectedFaces = stl.facets - stl.coincident.size();
-        checkVertexCount = false;  // merged corners
-        if (!stl.coincident.empty() && options.faces == DegenerateFaces::kReject) {
-            const uint64_t first = stl.coincident.front();
-            throw makeSceneError(file, first < stl.facetLines.size() ? stl.facetLines[first] : 0,
-                                 "face " + std::to_string(first) +
-                                     ": degenerate (zero area): two corners coincide (" +
-                                     std::to_string(stl.coincident.size()) + " such facets)");
-        }
-    }
-    if (expectedVertices >= kMaxSceneElements || expectedFaces >= kMaxSceneElements) {
-        throw makeSceneError(file, 0, "too many elements in the header");
-    }
+};
 
+CheckedFile checkPly(const std::string& data, const std::string& file, const LoadOptions& options) {
+    CheckedFile checked;
+    const PlyHeader header = parsePlyHeader(data, file, options.strict);
+    checked.vertices = header.count("vertex");
+    checked.faces = header.count("face");
+    std::string trailingWarning;
+    if (header.format == PlyHeader::kAscii) {
+        checkAsciiPlyBody(data, header, file);
+    } else {
+        const size_t extra = checkBinaryPlyBody(data, header, file);
+        if (extra > 0) {
+            trailingWarning =
+                file + ": " + std::to_string(extra) + " bytes after the last PLY element ignored";
+        }
+    }
+    if (!header.skippedLines.empty()) {
+        // The PLY without its skipped header lines.
+        checked.warnings.push_back(header.skippedWarning);
+        size_t from = 0;
+        for (const auto& [begin, end] : header.skippedLines) {
+            checked.text.append(data, from, begin - from);
+            from = end;
+        }
+        checked.text.append(data, from, std::string::npos);
+    }
+    if (!trailingWarning.empty()) checked.warnings.push_back(trailingWarning);
+    return checked;
+}
+
+CheckedFile checkOff(const std::string& data, const std::string& file) {
+    CleanOff off = cleanAsciiOff(data, file);
+    CheckedFile checked;
+    checked.vertices = off.vertices;
+    checked.faces = off.faces;
+    checked.text = std::move(off.text);
+    return checked;
+}
+
+CheckedFile checkStl(const std::string& data, const std::string& file, const LoadOptions& options) {
+    CheckedFile checked;
+    StlFacts& stl = checked.stl;
+    stl = inspectStl(data, file);
+    checked.faces = stl.facets - stl.coincident.size();
+    checked.checkVertexCount = false;  // merged corners
+    if (!stl.coincident.empty() && options.faces == DegenerateFaces::kReject) {
+        const uint64_t first = stl.coincident.front();
+        throw makeSceneError(file, first < stl.facetLines.size() ? stl.facetLines[first] : 0,
+                             "face " + std::to_string(first) +
+                                 ": degenerate (zero area): two corners coincide (" +
+                                 std::to_string(stl.coincident.size()) + " such facets)");
+    }
+    if (!stl.binary) checked.text = std::move(stl.text);
+    return checked;
+}
+
+// OpenMesh's reading of the checked file into scene.mesh, held to the counts the checks found
+// and to finite coordinates.
+void readWithOpenMesh(const CheckedFile& checked, const std::string& format,
+                      const std::string& file, Scene& scene) {
     PolygonImporter importer(scene.mesh);
     OMIO::Options readOptions = OMIO::Options::Default;
     bool read = false;
-    if (extension == ".off") {
-        std::istringstream in(off.text);
-        read = OMIO::IOManager().read(in, "off", importer, readOptions);
-    } else if (extension == ".stl" && !stl.binary) {
-        std::istringstream in(stl.text);
-        read = OMIO::IOManager().read(in, "stl", importer, readOptions);
-    } else if (!cleanPly.empty()) {
-        std::istringstream in(cleanPly);
-        read = OMIO::IOManager().read(in, "ply", importer, readOptions);
+    if (!checked.text.empty()) {
+        std::istringstream in(checked.text);
+        read = OMIO::IOManager().read(in, format, importer, readOptions);
     } else {
         read = OMIO::IOManager().read(file, importer, readOptions);
     }
     if (!read) {
         throw makeSceneError(file, 0, "OpenMesh could not read the file (malformed or truncated)");
     }
-    if ((checkVertexCount && scene.mesh.vertices.size() != expectedVertices) ||
-        scene.mesh.faces.size() != expectedFaces) {
+    if ((checked.checkVertexCount && scene.mesh.vertices.size() != checked.vertices) ||
+        scene.mesh.faces.size() != checked.faces) {
         throw makeSceneError(
             file, 0,
             "malformed or truncated: expected " +
-                (checkVertexCount ? std::to_string(expectedVertices) + " vertices and " : "") +
-                std::to_string(expectedFaces) + " faces, OpenMesh read " +
+                (checked.checkVertexCount ? std::to_string(checked.vertices) + " vertices and "
+                                          : "") +
+                std::to_string(checked.faces) + " faces, OpenMesh read " +
                 std::to_string(scene.mesh.vertices.size()) + " and " +
                 std::to_string(scene.mesh.faces.size()));
     }
@@ -884,10 +913,34 @@ Scene loadOpenMeshFile(const fs::path& path, const LoadOptions& options) {
             throw makeSceneError(file, 0,
                                  "vertex " + std::to_string(v) + ": non-finite coordinate");
     }
-    if (!trailingWarning.empty()) scene.warnings.push_back(trailingWarning);
+}
 
+}  // namespace
+
+Scene loadOpenMeshFile(const fs::path& path, const LoadOptions& options) {
+    const std::string file = path.string();
+    const std::string extension = lowerExtension(path);
+    if (extension != ".ply" && extension != ".off" && extension != ".stl") {
+        throw makeSceneError(file, 0, "not a PLY, OFF or STL file name");
+    }
+    const std::string data = readSceneFile(path);
+    if (data.empty()) throw makeSceneError(file, 0, "empty file");
+
+    CheckedFile checked = extension == ".ply"   ? checkPly(data, file, options)
+                          : extension == ".off" ? checkOff(data, file)
+                                                : checkStl(data, file, options);
+    if (checked.vertices >= kMaxSceneElements || checked.faces >= kMaxSceneElements) {
+        throw makeSceneError(file, 0, "too many elements in the header");
+    }
+    Scene scene;
+    scene.sourcePath = file;
+    readWithOpenMesh(checked, extension.substr(1), file, scene);
+    scene.warnings = std::move(checked.warnings);
+
+    const StlFacts& stl = checked.stl;
     if (!stl.coincident.empty()) restoreCoincidentFacets(scene.mesh, stl);
-    if (extension == ".stl" && !stl.binary) scene.faceSourceLine = std::move(stl.facetLines);
+    if (extension == ".stl" && !stl.binary)
+        scene.faceSourceLine = std::move(checked.stl.facetLines);
     scene.faceMaterial.assign(scene.mesh.faces.size(), -1);
     checkLoadedFaces(scene, options.faces);
     return scene;

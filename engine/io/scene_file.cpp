@@ -1,9 +1,7 @@
 #include "engine/io/scene_file.h"
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
-#include <fstream>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -14,6 +12,7 @@
 #include <vector>
 
 #include "engine/io/scene_loader.h"
+#include "engine/io/text_input.h"
 #include "engine/scene/affine3.h"
 #include "engine/scene/face_check.h"
 #include "engine/scene/scene_validation.h"
@@ -30,7 +29,41 @@ class SceneFileReader {
         : file_(std::move(file)), base_(std::move(baseDirectory)), options_(options) {}
 
     Scene read(std::string_view text) {
-        Json root;
+        const Json root = parse(text);
+        if (!root.is_object()) fail("(root)", "expected a JSON object");
+        allowKeys(
+            root, "(root)",
+            {"meshes", "polygons", "area_lights", "point_lights", "camera", "strict", "comment"});
+        scene_.sourcePath = file_;
+        if (root.contains("strict")) strict_ = boolean(root["strict"], "strict");
+
+        std::optional<Camera> meshCamera;
+        if (root.contains("meshes")) {
+            const Json& meshes = array(root["meshes"], "meshes");
+            for (size_t i = 0; i < meshes.size(); ++i) {
+                addMesh(meshes[i], "meshes[" + std::to_string(i) + "]", meshCamera);
+            }
+        }
+        if (root.contains("polygons")) addPolygons(array(root["polygons"], "polygons"));
+        if (root.contains("area_lights")) addAreaLights(array(root["area_lights"], "area_lights"));
+        if (root.contains("point_lights"))
+            addPointLights(array(root["point_lights"], "point_lights"));
+        if (root.contains("camera")) {
+            scene_.camera = camera(root["camera"], "camera");
+        } else if (meshCamera) {
+            scene_.camera = meshCamera;
+        }
+        if (scene_.mesh.faces.empty())
+            fail("(root)", "no faces (no meshes, polygons or area lights)");
+        validateSceneStructure(scene_);
+        scene_.collectLights();
+        return std::move(scene_);
+    }
+
+  private:
+    // The JSON text parsed; a syntax error names its line, a number beyond the double range
+    // (1e309) the line of its first occurrence and its JSON path.
+    Json parse(std::string_view text) const {
         // Where the parser is (a JSON path), for the one error nlohmann reports without a
         // position: a number beyond the double range (1e309).
         struct Frame {
@@ -72,7 +105,7 @@ class SceneFileReader {
             return true;
         };
         try {
-            root = Json::parse(text.begin(), text.end(), track);
+            return Json::parse(text.begin(), text.end(), track);
         } catch (const Json::parse_error& e) {
             int64_t line = 1;
             for (size_t i = 0; i < std::min<size_t>(e.byte, text.size()); ++i)
@@ -95,75 +128,51 @@ class SceneFileReader {
                 file_, line,
                 where() + ": the number " + token + " is beyond the range of a double");
         }
-        if (!root.is_object()) fail("(root)", "expected a JSON object");
-        allowKeys(
-            root, "(root)",
-            {"meshes", "polygons", "area_lights", "point_lights", "camera", "strict", "comment"});
-        scene_.sourcePath = file_;
-        if (root.contains("strict")) strict_ = boolean(root["strict"], "strict");
-
-        std::optional<Camera> meshCamera;
-        if (root.contains("meshes")) {
-            const Json& meshes = array(root["meshes"], "meshes");
-            for (size_t i = 0; i < meshes.size(); ++i) {
-                addMesh(meshes[i], "meshes[" + std::to_string(i) + "]", meshCamera);
-            }
-        }
-        std::vector<Material> own;  // the file's materials, appended after the meshes'
-        if (root.contains("polygons")) {
-            const Json& polygons = array(root["polygons"], "polygons");
-            for (size_t i = 0; i < polygons.size(); ++i) {
-                const std::string path = "polygons[" + std::to_string(i) + "]";
-                const Json& p = object(polygons[i], path);
-                allowKeys(p, path, {"vertices", "material", "comment"});
-                Material m;
-                m.name = "polygon_" + std::to_string(i);
-                if (p.contains("material")) m = material(p["material"], path + ".material", m);
-                addPolygon(p, path, m);
-            }
-        }
-        if (root.contains("area_lights")) {
-            const Json& lights = array(root["area_lights"], "area_lights");
-            for (size_t i = 0; i < lights.size(); ++i) {
-                const std::string path = "area_lights[" + std::to_string(i) + "]";
-                const Json& l = object(lights[i], path);
-                allowKeys(l, path, {"vertices", "emission", "kd", "comment"});
-                Material m;
-                m.name = "area_light_" + std::to_string(i);
-                if (!l.contains("emission")) fail(path, "missing \"emission\"");
-                m.ke = color(l["emission"], path + ".emission");
-                if (!m.isEmissive()) fail(path + ".emission", "must be nonzero");
-                if (l.contains("kd")) m.kd = color(l["kd"], path + ".kd");
-                addPolygon(l, path, m);
-            }
-        }
-        if (root.contains("point_lights")) {
-            const Json& lights = array(root["point_lights"], "point_lights");
-            for (size_t i = 0; i < lights.size(); ++i) {
-                const std::string path = "point_lights[" + std::to_string(i) + "]";
-                const Json& l = object(lights[i], path);
-                allowKeys(l, path, {"position", "intensity", "comment"});
-                PointLight light;
-                if (!l.contains("position")) fail(path, "missing \"position\"");
-                light.position = vec3(l["position"], path + ".position");
-                if (l.contains("intensity"))
-                    light.intensity = color(l["intensity"], path + ".intensity");
-                scene_.pointLights.push_back(light);
-            }
-        }
-        if (root.contains("camera")) {
-            scene_.camera = camera(root["camera"], "camera");
-        } else if (meshCamera) {
-            scene_.camera = meshCamera;
-        }
-        if (scene_.mesh.faces.empty())
-            fail("(root)", "no faces (no meshes, polygons or area lights)");
-        validateSceneStructure(scene_);
-        scene_.collectLights();
-        return std::move(scene_);
     }
 
-  private:
+    // "polygons": each with its own material (default: named polygon_I).
+    void addPolygons(const Json& polygons) {
+        for (size_t i = 0; i < polygons.size(); ++i) {
+            const std::string path = "polygons[" + std::to_string(i) + "]";
+            const Json& p = object(polygons[i], path);
+            allowKeys(p, path, {"vertices", "material", "comment"});
+            Material m;
+            m.name = "polygon_" + std::to_string(i);
+            if (p.contains("material")) m = material(p["material"], path + ".material", m);
+            addPolygon(p, path, m);
+        }
+    }
+
+    // "area_lights": polygons with a nonzero emission.
+    void addAreaLights(const Json& lights) {
+        for (size_t i = 0; i < lights.size(); ++i) {
+            const std::string path = "area_lights[" + std::to_string(i) + "]";
+            const Json& l = object(lights[i], path);
+            allowKeys(l, path, {"vertices", "emission", "kd", "comment"});
+            Material m;
+            m.name = "area_light_" + std::to_string(i);
+            if (!l.contains("emission")) fail(path, "missing \"emission\"");
+            m.ke = color(l["emission"], path + ".emission");
+            if (!m.isEmissive()) fail(path + ".emission", "must be nonzero");
+            if (l.contains("kd")) m.kd = color(l["kd"], path + ".kd");
+            addPolygon(l, path, m);
+        }
+    }
+
+    void addPointLights(const Json& lights) {
+        for (size_t i = 0; i < lights.size(); ++i) {
+            const std::string path = "point_lights[" + std::to_string(i) + "]";
+            const Json& l = object(lights[i], path);
+            allowKeys(l, path, {"position", "intensity", "comment"});
+            PointLight light;
+            if (!l.contains("position")) fail(path, "missing \"position\"");
+            light.position = vec3(l["position"], path + ".position");
+            if (l.contains("intensity"))
+                light.intensity = color(l["intensity"], path + ".intensity");
+            scene_.pointLights.push_back(light);
+        }
+    }
+
     [[noreturn]] void fail(const std::string& path, const std::string& why) const {
         throw makeSceneError(file_, 0, path + ": " + why);
     }
@@ -373,24 +382,13 @@ class SceneFileReader {
             fail(path + ".file", "expected a file name");
         const std::string name = j["file"].get<std::string>();
         const fs::path meshPath = base_ / fs::path(name);
-        std::string ext = meshPath.extension().string();
-        for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        const std::string ext = lowerExtension(meshPath);
         if (ext == ".json") fail(path + ".file", "a scene file cannot include another scene file");
         if (!isSupportedSceneExtension(ext)) {
             fail(path + ".file", "unknown format '" + ext + "' (supported: " +
                                      supportedSceneExtensions() + ", except .json)");
         }
-        // The caller's options (the command line's --strict), made strict by the file's or the
-        // entry's "strict"; "drop_degenerate_faces" then decides the faces alone.
-        LoadOptions options = options_;
-        const bool strict = j.contains("strict") ? boolean(j["strict"], path + ".strict") : strict_;
-        if (strict) options = LoadOptions::strictMode();
-        if (j.contains("drop_degenerate_faces")) {
-            options.faces = boolean(j["drop_degenerate_faces"], path + ".drop_degenerate_faces")
-                                ? DegenerateFaces::kDrop
-                                : DegenerateFaces::kReject;
-        }
-        const DegenerateFaces policy = options.faces;
+        const LoadOptions options = meshOptions(j, path);
         // Validate the entry before the (possibly slow) load.
         Affine3 toWorld;
         if (j.contains("transform")) toWorld = transform(j["transform"], path + ".transform");
@@ -422,6 +420,42 @@ class SceneFileReader {
                 for (uint32_t v : face) box.add(toWorld.point(part.mesh.vertices[v]));
             toWorld = fitInto(j["fit_into"], path + ".fit_into", box) * toWorld;
         }
+        place(part, toWorld, path, meshCamera);
+        if (overrides) overrideMaterials(part, *overrides, path, meshPath);
+        if (single) {
+            part.materials = {*single};
+            part.faceMaterial.assign(part.mesh.faces.size(), 0);
+        }
+
+        // Transformed geometry is rounded: check the faces again, in the file's terms.
+        part.sourcePath = file_;
+        part.faceSourceLine.clear();
+        const std::string label = path + " (" + name + ")";
+        checkLoadedFaces(part, options.faces,
+                         [&label](uint32_t f) { return label + " face " + std::to_string(f); });
+        for (std::string& w : part.warnings) scene_.warnings.push_back(w);
+        append(std::move(part), path);
+        ++meshIndex_;
+    }
+
+    // The caller's options (the command line's --strict), made strict by the file's or the
+    // entry's "strict"; "drop_degenerate_faces" then decides the faces alone.
+    LoadOptions meshOptions(const Json& j, const std::string& path) const {
+        LoadOptions options = options_;
+        const bool strict = j.contains("strict") ? boolean(j["strict"], path + ".strict") : strict_;
+        if (strict) options = LoadOptions::strictMode();
+        if (j.contains("drop_degenerate_faces")) {
+            options.faces = boolean(j["drop_degenerate_faces"], path + ".drop_degenerate_faces")
+                                ? DegenerateFaces::kDrop
+                                : DegenerateFaces::kReject;
+        }
+        return options;
+    }
+
+    // A mesh's vertices, camera and point lights taken to the world (a mirroring transform
+    // reverses its faces, to keep them facing out); its camera is the scene's when it is the first.
+    void place(Scene& part, const Affine3& toWorld, const std::string& path,
+               std::optional<Camera>& meshCamera) {
         const double det = toWorld.determinant();
         if (!(det != 0) || !std::isfinite(det)) fail(path + ".transform", "singular transform");
         for (Vec3& v : part.mesh.vertices) v = toWorld.point(v);
@@ -440,31 +474,24 @@ class SceneFileReader {
             l.position = toWorld.point(l.position);
             scene_.pointLights.push_back(l);
         }
+    }
 
-        // Materials.
-        if (overrides) {
-            for (auto it = overrides->begin(); it != overrides->end(); ++it) {
-                const std::string op = path + ".materials." + it.key();
-                auto m = std::find_if(part.materials.begin(), part.materials.end(),
-                                      [&](const Material& x) { return x.name == it.key(); });
-                if (m == part.materials.end())
-                    fail(op, "no material named '" + it.key() + "' in " + meshPath.string());
-                *m = material(it.value(), op, *m);
-            }
+    // "materials": each named material of the mesh changed by the entry's fields.
+    void overrideMaterials(Scene& part, const Json& overrides, const std::string& path,
+                           const fs::path& meshPath) const {
+        for (auto it = overrides.begin(); it != overrides.end(); ++it) {
+            const std::string op = path + ".materials." + it.key();
+            auto m = std::find_if(part.materials.begin(), part.materials.end(),
+                                  [&](const Material& x) { return x.name == it.key(); });
+            if (m == part.materials.end())
+                fail(op, "no material named '" + it.key() + "' in " + meshPath.string());
+            *m = material(it.value(), op, *m);
         }
-        if (single) {
-            part.materials = {*single};
-            part.faceMaterial.assign(part.mesh.faces.size(), 0);
-        }
+    }
 
-        // Transformed geometry is rounded: check the faces again, in the file's terms.
-        part.sourcePath = file_;
-        part.faceSourceLine.clear();
-        const std::string label = path + " (" + name + ")";
-        checkLoadedFaces(part, policy,
-                         [&label](uint32_t f) { return label + " face " + std::to_string(f); });
-        for (std::string& w : part.warnings) scene_.warnings.push_back(w);
-
+    // The mesh appended to the scene: its vertices, faces and materials (renamed where a name is
+    // taken) after those already there.
+    void append(Scene part, const std::string& path) {
         const auto vertexOffset = static_cast<uint32_t>(scene_.mesh.vertices.size());
         const auto materialOffset = static_cast<int32_t>(scene_.materials.size());
         if (scene_.mesh.vertices.size() + part.mesh.vertices.size() > kMaxSceneElements ||
@@ -483,7 +510,6 @@ class SceneFileReader {
             const int32_t m = f < part.faceMaterial.size() ? part.faceMaterial[f] : -1;
             scene_.faceMaterial.push_back(m < 0 ? -1 : m + materialOffset);
         }
-        ++meshIndex_;
     }
 
     // A polygon ("vertices") with material m, checked on its own.
@@ -525,11 +551,7 @@ class SceneFileReader {
 
 Scene loadJsonScene(const fs::path& path, const LoadOptions& options) {
     const std::string file = path.string();
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw makeSceneError(file, 0, "cannot open file");
-    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (in.bad()) throw makeSceneError(file, 0, "cannot read file");
-    return loadJsonSceneFromString(text, path.parent_path(), file, options);
+    return loadJsonSceneFromString(readSceneFile(path), path.parent_path(), file, options);
 }
 
 Scene loadJsonSceneFromString(std::string_view json, const fs::path& baseDirectory,
@@ -550,14 +572,10 @@ std::string jsonSceneWithCamera(const std::filesystem::path& source, const Camer
     };
     const fs::path sourceDir = fs::absolute(source).parent_path();
     nlohmann::ordered_json root;
-    std::string ext = source.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    if (ext == ".json") {
-        std::ifstream in(source, std::ios::binary);
-        if (!in) throw SceneError(source.string(), 0, "cannot be read");
+    if (lowerExtension(source) == ".json") {
+        const std::string text = readSceneFile(source);
         try {
-            root = nlohmann::ordered_json::parse(in);
+            root = nlohmann::ordered_json::parse(text);
         } catch (const nlohmann::json::exception& e) {
             throw SceneError(source.string(), 0, e.what());
         }

@@ -1,13 +1,13 @@
 #include "engine/io/scene_loader.h"
 
 #include <array>
-#include <cctype>
 #include <system_error>
 
 #include "engine/io/gltf_io.h"
 #include "engine/io/obj_io.h"
 #include "engine/io/openmesh_io.h"
 #include "engine/io/scene_file.h"
+#include "engine/io/text_input.h"
 #include "engine/scene/scene_validation.h"
 
 namespace penumbra {
@@ -15,12 +15,6 @@ namespace {
 
 constexpr std::array<std::string_view, 7> kExtensions = {".obj",  ".ply", ".off", ".stl",
                                                          ".gltf", ".glb", ".json"};
-
-std::string lower(std::string_view s) {
-    std::string out(s);
-    for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return out;
-}
 
 }  // namespace
 
@@ -35,9 +29,8 @@ std::string supportedSceneExtensions() {
 }
 
 bool isSupportedSceneExtension(std::string_view extension) {
-    const std::string e = lower(extension);
     for (std::string_view k : kExtensions)
-        if (!k.empty() && e == k) return true;
+        if (!k.empty() && equalsIgnoreCase(extension, k)) return true;
     return false;
 }
 
@@ -47,7 +40,7 @@ Scene loadScene(const std::filesystem::path& path, const LoadOptions& options) {
     if (!std::filesystem::exists(status)) throw makeSceneError(path.string(), 0, "no such file");
     if (std::filesystem::is_directory(status))
         throw makeSceneError(path.string(), 0, "it is a directory, not a scene file");
-    const std::string e = lower(path.extension().string());
+    const std::string e = lowerExtension(path);
     // Every format's scene, once its lights are known: none thinner than doubles resolve.
     auto lightsChecked = [](Scene scene) {
         validateLights(scene);

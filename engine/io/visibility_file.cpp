@@ -6,11 +6,9 @@
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <random>
 #include <set>
 #include <span>
@@ -21,6 +19,7 @@
 
 #include "engine/io/atomic_file.h"
 #include "engine/io/finite_output.h"
+#include "engine/io/text_input.h"
 #include "engine/scene/hash64.h"
 #include "engine/scene/scene_hash.h"
 
@@ -135,8 +134,6 @@ std::vector<unsigned char> serialize(const VisibilityStore& store, bool withStat
     w.u64(h.value());
     return std::move(w.bytes());
 }
-
-std::string errnoText(int err) { return std::generic_category().message(err); }
 
 // --- reading ---------------------------------------------------------------------------------
 
@@ -431,20 +428,13 @@ size_t writeVisibilityFile(const fs::path& path, const VisibilityStore& store,
 size_t readVisibilityFile(const fs::path& path, VisibilityStore& store) {
     const std::string name = path.string();
     std::error_code ec;
-    const fs::file_status status = fs::status(path, ec);
-    if (!fs::exists(status))
+    if (!fs::exists(fs::status(path, ec)))
         throw VisibilityFileError(VisibilityFileStatus::Missing, name + ": no such file");
-    if (fs::is_directory(status))
-        throw VisibilityFileError(VisibilityFileStatus::Unreadable, name + ": is a directory");
     std::vector<unsigned char> bytes;
-    {
-        std::ifstream in(path, std::ios::binary);
-        if (!in)
-            throw VisibilityFileError(VisibilityFileStatus::Unreadable,
-                                      name + ": cannot open: " + errnoText(errno));
-        bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-        if (in.bad())
-            throw VisibilityFileError(VisibilityFileStatus::Unreadable, name + ": read error");
+    try {
+        bytes = readWholeFileBytes(path);  // a directory too: "Is a directory"
+    } catch (const FileReadError& e) {
+        throw VisibilityFileError(VisibilityFileStatus::Unreadable, e.what());
     }
     std::vector<ParsedTree> trees;
     try {

@@ -133,11 +133,26 @@ void EmbreeScene::checkFace(uint32_t face, const char* what) const {
 
 EmbreeScene::EmbreeScene(const vis::PolygonMesh& mesh, const Options& options)
     : errors_(std::make_unique<detail::EmbreeErrorState>()) {
-    const size_t nv = mesh.vertices.size();
     const size_t nf = mesh.faces.size();
     if (nf >= kNoFace) throw std::invalid_argument("EmbreeScene: too many faces");
+    const std::vector<uint32_t> triIndex = triangulate(mesh);
+    buildScene(mesh, triIndex, options);
 
-    // Fan triangulation and per-face data, in doubles.
+    // The shaft-candidate hierarchy over the face boxes (faces with triangles only).
+    std::vector<vis::Bounds3> boxes(nf);
+    std::vector<bool> include(nf);
+    for (uint32_t f = 0; f < nf; ++f) {
+        boxes[f].add(faceBox_[f].lo);
+        boxes[f].add(faceBox_[f].hi);
+        include[f] = faceFirstPrim_[f + 1] > faceFirstPrim_[f];
+    }
+    shaftTree_ = vis::BoxTree(boxes, include);
+    faceClusters_ = vis::FaceClusters(mesh, shaftTree_);
+}
+
+std::vector<uint32_t> EmbreeScene::triangulate(const vis::PolygonMesh& mesh) {
+    const size_t nv = mesh.vertices.size();
+    const size_t nf = mesh.faces.size();
     faceFirstPrim_.reserve(nf + 1);
     faceNormal_.reserve(nf);
     faceArea_.reserve(nf);
@@ -178,7 +193,11 @@ EmbreeScene::EmbreeScene(const vis::PolygonMesh& mesh, const Options& options)
         faceArea_.push_back(area);
     }
     faceFirstPrim_.push_back(static_cast<uint32_t>(primToFace_.size()));
+    return triIndex;
+}
 
+void EmbreeScene::buildScene(const vis::PolygonMesh& mesh, const std::vector<uint32_t>& triIndex,
+                             const Options& options) {
     // Device, with the error callback installed before anything else can fail.
     const std::string& deviceConfig = options.deviceConfig;
     device_.reset(rtcNewDevice(deviceConfig.empty() ? nullptr : deviceConfig.c_str()));
@@ -196,49 +215,40 @@ EmbreeScene::EmbreeScene(const vis::PolygonMesh& mesh, const Options& options)
                      options.robust ? RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION | RTC_SCENE_FLAG_ROBUST
                                     : RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);
     rtcSetSceneBuildQuality(scene_.get(), RTC_BUILD_QUALITY_HIGH);
-
-    const size_t nt = primToFace_.size();
-    if (nt > 0) {
-        // The geometry handle is only needed until it is attached (the scene then holds it).
-        RTCGeometry geom = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
-        throwIfError("rtcNewGeometry");
-        struct GeometryRelease {
-            RTCGeometry g;
-            ~GeometryRelease() {
-                if (g) rtcReleaseGeometry(g);
-            }
-        } release{geom};
-        // rtcSetNewGeometryBuffer allocates with the padding Embree's SIMD loads need.
-        auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
-            geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
-        auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-            geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nt));
-        throwIfError("rtcSetNewGeometryBuffer");
-        if (!vb || !ib)
-            throw std::runtime_error("Embree error in rtcSetNewGeometryBuffer: no buffer");
-        for (size_t v = 0; v < nv; ++v) {
-            vb[3 * v + 0] = static_cast<float>(mesh.vertices[v].x);
-            vb[3 * v + 1] = static_cast<float>(mesh.vertices[v].y);
-            vb[3 * v + 2] = static_cast<float>(mesh.vertices[v].z);
-        }
-        std::copy(triIndex.begin(), triIndex.end(), ib);
-        rtcCommitGeometry(geom);
-        rtcAttachGeometry(scene_.get(), geom);
-        throwIfError("rtcAttachGeometry");
-    }
+    if (!primToFace_.empty()) attachTriangles(mesh, triIndex);
     rtcCommitScene(scene_.get());
     throwIfError("rtcCommitScene");
+}
 
-    // The shaft-candidate hierarchy over the face boxes (faces with triangles only).
-    std::vector<vis::Bounds3> boxes(nf);
-    std::vector<bool> include(nf);
-    for (uint32_t f = 0; f < nf; ++f) {
-        boxes[f].add(faceBox_[f].lo);
-        boxes[f].add(faceBox_[f].hi);
-        include[f] = faceFirstPrim_[f + 1] > faceFirstPrim_[f];
+void EmbreeScene::attachTriangles(const vis::PolygonMesh& mesh,
+                                  const std::vector<uint32_t>& triIndex) {
+    const size_t nv = mesh.vertices.size();
+    const size_t nt = primToFace_.size();
+    // The geometry handle is only needed until it is attached (the scene then holds it).
+    RTCGeometry geom = rtcNewGeometry(device_.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+    throwIfError("rtcNewGeometry");
+    struct GeometryRelease {
+        RTCGeometry g;
+        ~GeometryRelease() {
+            if (g) rtcReleaseGeometry(g);
+        }
+    } release{geom};
+    // rtcSetNewGeometryBuffer allocates with the padding Embree's SIMD loads need.
+    auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
+    auto* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nt));
+    throwIfError("rtcSetNewGeometryBuffer");
+    if (!vb || !ib) throw std::runtime_error("Embree error in rtcSetNewGeometryBuffer: no buffer");
+    for (size_t v = 0; v < nv; ++v) {
+        vb[3 * v + 0] = static_cast<float>(mesh.vertices[v].x);
+        vb[3 * v + 1] = static_cast<float>(mesh.vertices[v].y);
+        vb[3 * v + 2] = static_cast<float>(mesh.vertices[v].z);
     }
-    shaftTree_ = vis::BoxTree(boxes, include);
-    faceClusters_ = vis::FaceClusters(mesh, shaftTree_);
+    std::copy(triIndex.begin(), triIndex.end(), ib);
+    rtcCommitGeometry(geom);
+    rtcAttachGeometry(scene_.get(), geom);
+    throwIfError("rtcAttachGeometry");
 }
 
 EmbreeScene::~EmbreeScene() = default;

@@ -148,6 +148,12 @@ class EmbreeScene {
         void operator()(RTCSceneTy* scene) const noexcept;
     };
 
+    // The constructor's steps: the faces fanned into triangles with their per-face data (returns
+    // the triangles' vertex ids), then the Embree device and scene over those triangles.
+    std::vector<uint32_t> triangulate(const vis::PolygonMesh& mesh);
+    void buildScene(const vis::PolygonMesh& mesh, const std::vector<uint32_t>& triIndex,
+                    const Options& options);
+    void attachTriangles(const vis::PolygonMesh& mesh, const std::vector<uint32_t>& triIndex);
     void throwIfError(const char* where) const;
     void checkFace(uint32_t face, const char* what) const;
     bool occludedRaw(Vec3 from, Vec3 to, uint32_t ignoreA, uint32_t ignoreB) const;

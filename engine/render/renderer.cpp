@@ -338,6 +338,71 @@ class TileShader {
     uint64_t regionCounter_ = 0;
 };
 
+// What one pass's tiles found, merged under the lock as each task ends.
+struct PassFindings {
+    std::mutex mutex;
+    std::vector<PairKey> usedKeys;
+    std::vector<uint32_t> facesSeen;
+    ExactEvaluations evaluations;
+    std::vector<PairKey> directKeys;
+    std::vector<uint64_t> overLimitNow;
+    std::vector<OverLimitPoint> overLimitTrees;
+
+    void add(const TileShader& shader) {
+        const ExactScratch& scratch = shader.scratch;
+        std::lock_guard lock(mutex);
+        usedKeys.insert(usedKeys.end(), scratch.used.begin(), scratch.used.end());
+        facesSeen.insert(facesSeen.end(), shader.faces.begin(), shader.faces.end());
+        evaluations += scratch.evaluations;
+        directKeys.insert(directKeys.end(), scratch.usedDirect.begin(), scratch.usedDirect.end());
+        overLimitNow.insert(overLimitNow.end(), scratch.overLimitNow.begin(),
+                            scratch.overLimitNow.end());
+        overLimitTrees.insert(overLimitTrees.end(), scratch.overLimitTrees.begin(),
+                              scratch.overLimitTrees.end());
+    }
+};
+
+// One task's tiles traced and shaded into image, their thread time added to primaryNs and
+// shadingNs (when not null); false when cancelled before a tile.
+bool shadeTiles(TileShader& shader, const tbb::blocked_range<int>& range,
+                const RenderSettings& settings, std::vector<Vec3>& image,
+                const std::atomic<bool>* cancel, std::atomic<int64_t>* primaryNs,
+                std::atomic<int64_t>* shadingNs) {
+    for (int t = range.begin(); t != range.end(); ++t) {
+        if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return false;
+        const Tile tile = tileAt(t, settings);
+        const auto a = Clock::now();
+        shader.trace(tile);
+        const auto b = Clock::now();
+        shader.shade(tile, image);
+        const auto c = Clock::now();
+        if (primaryNs != nullptr) {
+            primaryNs->fetch_add(
+                std::chrono::duration_cast<std::chrono::nanoseconds>(b - a).count(),
+                std::memory_order_relaxed);
+            shadingNs->fetch_add(
+                std::chrono::duration_cast<std::chrono::nanoseconds>(c - b).count(),
+                std::memory_order_relaxed);
+        }
+    }
+    return true;
+}
+
+// A whole pass added to the film (reset first on the film's first pass): its image, and the
+// answers of its (pixel, light) cells when recorded (answers not empty).
+void addPass(Film& film, int pass, int w, int h, const std::vector<Vec3>& image,
+             const std::vector<uint8_t>& answers, size_t lights) {
+    if (pass == 0) film.reset(w, h);
+    for (size_t i = 0; i < image.size(); ++i) film.sum[i] += image[i];
+    if (!answers.empty()) {
+        if (film.answers.size() != image.size()) film.answers.assign(image.size(), {});
+        for (size_t cell = 0; cell < answers.size(); ++cell)
+            if (answers[cell] != ExactScratch::kNoAnswer)
+                ++film.answers[cell / lights][answers[cell]];
+    }
+    ++film.passes;
+}
+
 }  // namespace
 
 const char* toString(DirectMethod m) {
@@ -546,13 +611,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
         settings.method == DirectMethod::Exact && settings.recordAnswers && lights > 0;
     passAnswers_.assign(answering ? image.size() * lights : 0, ExactScratch::kNoAnswer);
     std::atomic<bool> cancelled{false};
-    std::mutex mutex;
-    std::vector<PairKey> usedKeys;
-    std::vector<uint32_t> facesSeen;
-    ExactEvaluations evaluations;                // by mutex
-    std::vector<PairKey> directKeys;             // by mutex
-    std::vector<uint64_t> overLimitNow;          // by mutex
-    std::vector<OverLimitPoint> overLimitTrees;  // by mutex
+    PassFindings found;
     // The cells of the film's earlier passes, for this film, work limit and store only: with
     // trees added since (the viewer's background precompute) a remembered pixel's pair may have
     // one now, whose walk is far cheaper than the direct path that reached the limit, so every
@@ -579,60 +638,27 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                         &overLimitCells_,
                         answering ? passAnswers_.data() : nullptr};
 
-    tbb::parallel_for(
-        tbb::blocked_range<int>(0, tileCount(settings), 1),
-        [&](const tbb::blocked_range<int>& range) {
-            TileShader shader(in, !directMissing_, queries_->perThread.local());
-            for (int t = range.begin(); t != range.end(); ++t) {
-                if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) {
-                    cancelled.store(true, std::memory_order_relaxed);
-                    return;
-                }
-                const Tile tile = tileAt(t, settings);
-                const auto a = Clock::now();
-                shader.trace(tile);
-                const auto b = Clock::now();
-                shader.shade(tile, image);
-                const auto c = Clock::now();
-                if (times != nullptr) {
-                    times->primaryNs.fetch_add(
-                        std::chrono::duration_cast<std::chrono::nanoseconds>(b - a).count(),
-                        std::memory_order_relaxed);
-                    times->shadingNs.fetch_add(
-                        std::chrono::duration_cast<std::chrono::nanoseconds>(c - b).count(),
-                        std::memory_order_relaxed);
-                }
-            }
-            const ExactScratch& scratch = shader.scratch;
-            std::lock_guard lock(mutex);
-            usedKeys.insert(usedKeys.end(), scratch.used.begin(), scratch.used.end());
-            facesSeen.insert(facesSeen.end(), shader.faces.begin(), shader.faces.end());
-            evaluations += scratch.evaluations;
-            directKeys.insert(directKeys.end(), scratch.usedDirect.begin(),
-                              scratch.usedDirect.end());
-            overLimitNow.insert(overLimitNow.end(), scratch.overLimitNow.begin(),
-                                scratch.overLimitNow.end());
-            overLimitTrees.insert(overLimitTrees.end(), scratch.overLimitTrees.begin(),
-                                  scratch.overLimitTrees.end());
-        });
+    tbb::parallel_for(tbb::blocked_range<int>(0, tileCount(settings), 1),
+                      [&](const tbb::blocked_range<int>& range) {
+                          TileShader shader(in, !directMissing_, queries_->perThread.local());
+                          if (!shadeTiles(shader, range, settings, image, cancel,
+                                          times != nullptr ? &times->primaryNs : nullptr,
+                                          times != nullptr ? &times->shadingNs : nullptr)) {
+                              cancelled.store(true, std::memory_order_relaxed);
+                              return;
+                          }
+                          found.add(shader);
+                      });
     if (cancelled.load()) return false;
 
-    overLimitCells_.insert(overLimitNow.begin(), overLimitNow.end());
-    if (pass == 0) film.reset(w, h);
-    for (size_t i = 0; i < image.size(); ++i) film.sum[i] += image[i];
-    if (answering) {
-        if (film.answers.size() != image.size()) film.answers.assign(image.size(), {});
-        for (size_t cell = 0; cell < passAnswers_.size(); ++cell)
-            if (passAnswers_[cell] != ExactScratch::kNoAnswer)
-                ++film.answers[cell / lights][passAnswers_[cell]];
-    }
-    ++film.passes;
-    recordUse(usedKeys, facesSeen, settings, evaluations, directKeys);
+    overLimitCells_.insert(found.overLimitNow.begin(), found.overLimitNow.end());
+    addPass(film, pass, w, h, image, passAnswers_, lights);
+    recordUse(found.usedKeys, found.facesSeen, settings, found.evaluations, found.directKeys);
     // Refined between passes: the film of this pass is complete; the next one finds the trees.
     const auto r0 = Clock::now();
     const double cpu0 = times != nullptr ? processCpuSeconds() : 0;
     // A cancelled refinement keeps what it built.
-    refineWhere(overLimitTrees, settings, settings.spp - (pass + 1), cancel);
+    refineWhere(found.overLimitTrees, settings, settings.spp - (pass + 1), cancel);
     if (times != nullptr) {
         times->refine = seconds(r0, Clock::now());
         times->refineCpu = processCpuSeconds() - cpu0;  // nothing else runs meanwhile

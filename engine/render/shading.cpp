@@ -96,6 +96,32 @@ DirectLighting::DirectLighting(const Scene& scene, const EmbreeScene& bvh, Visib
     }
 }
 
+// One (point, light) evaluation of exactAreaLights: what its steps share.
+struct DirectLighting::Evaluation {
+    const SurfacePoint& p;
+    size_t k;  // the light's index
+    const AreaLight& light;
+    PairKey key;
+    const PairRecord* record;  // null: the pair has no tree (evaluated directly)
+    uint64_t cell;             // this pixel's cell for this light (ExactScratch::overLimitBefore)
+    // Timed (ExactScratch::timeNext; only the evaluations that need a query), since evalStart.
+    bool timed;
+    Clock::time_point evalStart;
+    int glossySamples, fallbackSamples;
+    SplitMix64& rng;
+    ExactScratch& scratch;
+};
+
+namespace {
+
+// The query's work by stage, on the tree pairs' (0) or the direct ones' (1) account.
+void countWork(ExactScratch& scratch, size_t path) {
+    const auto& work = scratch.query.stageWork();
+    for (size_t i = 0; i < work.size(); ++i) scratch.evaluations.workAt[path][i] += work[i];
+}
+
+}  // namespace
+
 Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, int fallbackSamples,
                                      SplitMix64& rng, ExactScratch& scratch) const {
     if (scratch.lastTree.size() != lights_.size()) {
@@ -105,178 +131,186 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         scratch.lastDirect.assign(lights_.size(), 0);
         scratch.clippedLight.assign(lights_.size(), vis::Polygon3{});
     }
+    // Starting from +0, adding the +0 of a light that gives nothing changes no bit.
     Vec3 out{};
     for (size_t k = 0; k < lights_.size(); ++k) {
-        const AreaLight& light = lights_[k];
-        if (light.face == p.face) continue;  // a light does not light itself
-        const PairKey key = scratch.pointKey && scratch.pointKey->receiver == p.face &&
-                                    scratch.pointKey->lightFace == light.face
-                                ? *scratch.pointKey
-                                : store_->keyAt(p.face, p.x, light.face);
-        const PairRecord* record = scratch.lastTree[k];
-        if ((record == nullptr && !scratch.lastDirect[k]) || scratch.lastKey[k] != key) {
-            // Without a tree and not to be built: evaluated point by point (buildMissing).
-            record = store_->find(key);
-            const bool direct = record == nullptr && !scratch.buildMissing;
-            if (record == nullptr && !direct) record = &store_->getOrBuild(key);
-            scratch.lastKey[k] = key;
-            scratch.lastTree[k] = record;
-            scratch.lastDirect[k] = direct;
-            scratch.used.insert(key);
-            if (direct) scratch.usedDirect.insert(key);
-        }
-        // The evaluations that need a query: a pair without a tree, or a tree to walk.
-        const bool queried = record == nullptr || record->tree.kind == vis::PairKind::Penumbra;
-        if (queried) {
-            ++scratch.evaluations.all;
-            if (record == nullptr) ++scratch.evaluations.direct;
-        }
-        // This pixel's cell for this light (ExactScratch::overLimitBefore).
-        const uint64_t cell = scratch.pixel * lights_.size() + k;
-        // This evaluation is timed (ExactScratch::timeNext; only those that need a query).
-        const bool timed = queried && scratch.timeNext();
-        const auto evalStart = timed ? Clock::now() : Clock::time_point{};
-        // Over the work limit: shadow rays instead, and the pixel marked for the later passes
-        // (overLimitNow), and for a pair with a tree the region, so that its later points skip
-        // the attempt (ExactScratch::regionOverLimit).
-        // `tried`: this point's query reached the limit (counted by the stage it was in).
-        auto overLimit = [&](bool tried) {
-            ++scratch.evaluations.sampled;
-            scratch.note(cell, Answer::Sampled);
-            if (tried)
-                ++scratch.evaluations.overLimitAt[static_cast<size_t>(scratch.query.limitStage())];
-            if (record == nullptr) ++scratch.evaluations.sampledDirect;
-            if (!scratch.regionCorners.empty() && record != nullptr)
-                scratch.regionOverLimit[k] = scratch.regionId;
-            if (tried) scratch.overLimitNow.push_back(cell);
-            if (timed && tried) scratch.evaluations.costs.attemptNs.addSince(evalStart);
-            if (record != nullptr && record->tree.kind == vis::PairKind::Penumbra &&
-                !answeredByGroups(*record))
-                scratch.overLimitTrees.push_back({key, p.x, cell});
-            if (!timed) return sampledAreaLight(light, p, fallbackSamples, rng);
-            const auto raysStart = Clock::now();
-            const Vec3 v = sampledAreaLight(light, p, fallbackSamples, rng);
-            scratch.evaluations.costs.sampledNs.addSince(raysStart);
-            return v;
-        };
-        // An evaluation answered exactly by a query, on `path` (TreeWalk or Direct, unless the
-        // chain answered, or the query made no plane test and found nothing: x behind the
-        // light's plane, or the light behind B's, decided by the signs that start the pair, no
-        // light as for a back-facing pair): its time since evalStart (when timed), and its
-        // chain's size.
-        auto exactDone = [&](Answer path, size_t fragments) {
-            if (timed) scratch.evaluations.costs.exactNs.addSince(evalStart);
-            const vis::FromPointQuery::ChainCounts& chain = scratch.query.chainCounts();
-            const bool noLight = scratch.query.work() == 0 && fragments == 0;
-            scratch.note(cell, chain.cells != 0 ? Answer::Chain : noLight ? Answer::NoLight : path);
-            if (chain.cells == 0) return;
-            ++scratch.evaluations.costs.chainEvaluations;
-            scratch.evaluations.costs.chainOccluderEdges += chain.occluderEdges;
-            scratch.evaluations.costs.chainBoundaryEdges += chain.boundaryEdges;
-            scratch.evaluations.costs.chainCells += chain.cells;
-            scratch.evaluations.costs.chainFragments += fragments;
-        };
-        // The query's work by stage, on the tree pairs' (0) or the direct ones' (1) account.
-        auto countWork = [&](size_t path) {
-            const auto& work = scratch.query.stageWork();
-            for (size_t i = 0; i < work.size(); ++i) scratch.evaluations.workAt[path][i] += work[i];
-        };
-        if (queried && !scratch.regionCorners.empty()) {
-            if (scratch.regions.size() != lights_.size()) {
-                scratch.regions.assign(lights_.size(), vis::RegionDecisions{});
-                scratch.regionOf.assign(lights_.size(), 0);
-                scratch.regionOverLimit.assign(lights_.size(), 0);
-            }
-            if (scratch.regionOverLimit[k] == scratch.regionId) {
-                out += overLimit(false);
-                continue;
-            }
-        }
-        if (queried && scratch.overLimitBefore != nullptr) {
-            const auto it = scratch.overLimitBefore->find(cell);
-            if (it != scratch.overLimitBefore->end()) {
-                out += overLimit(false);
-                continue;
-            }
-        }
-        // A partial tree whose deferred occluders lie mostly in face groups: its points are
-        // answered without it (the same exact answer; see answeredByGroups).
-        const bool byGroups = record != nullptr && answeredByGroups(*record);
-        if (record == nullptr || byGroups) {  // the faces in the pyramid from x, clipped from x
-            const vis::FragmentList& list =
-                scratch.query.runDirect(scene_.mesh, p.face, light.face, p.answered(),
-                                        bvh_.faceBoxes(), &bvh_.faceClusters());
-            if (record == nullptr) {
-                const vis::FromPointQuery& q = scratch.query;
-                scratch.evaluations.directGrouped += q.clustersUsed() > 0;
-                scratch.evaluations.directSolid +=
-                    q.solidGroupsLeftOut() + q.solidFacesLeftOut() > 0;
-                scratch.evaluations.directHiddenBySolid += q.hiddenBySolid();
-            } else
-                ++scratch.evaluations.partialByGroups;
-            countWork(1);
-            if (scratch.query.limitReached()) {
-                out += overLimit(true);
-                continue;
-            }
-            out += shadeFragments(p, light, list, {}, glossySamples, rng, scratch);
-            exactDone(Answer::Direct, list.size());
-            continue;
-        }
-        const vis::PairKind kind = record->tree.kind;
-        if (kind == vis::PairKind::BackFacing || kind == vis::PairKind::FullyHidden) {
-            scratch.note(cell, Answer::NoLight);
-            continue;
-        }
-        // The fragments, as polygons (the fully visible pair's cached clip) or the FPQuery list.
-        const vis::FragmentList* list = nullptr;
-        std::span<const vis::Polygon3> fragments;
-        if (kind == vis::PairKind::FullyVisible) {
-            // What FPQuery returns for a fully visible pair, cached per receiver face.
-            if (light.plane.side(p.x) != vis::Sign::Positive) {
-                scratch.note(cell, Answer::NoLight);
-                continue;
-            }
-            if (scratch.clippedFace[k] != p.face) {
-                const vis::FacePlane receiver = vis::facePlane(scene_.mesh, p.face);
-                scratch.clippedLight[k] = vis::clipConvexPositive(
-                    light.polygon, vis::OrientedPlane{receiver.a, receiver.b, receiver.c});
-                scratch.clippedFace[k] = p.face;
-            }
-            if (scratch.clippedLight[k].size() < 3) {
-                scratch.note(cell, Answer::NoLight);
-                continue;
-            }
-            scratch.note(cell, Answer::FullyVisible);
-            fragments = std::span<const vis::Polygon3>(&scratch.clippedLight[k], 1);
-        } else {
-            vis::RegionDecisions* region = nullptr;
-            if (!scratch.regionCorners.empty()) {
-                region = &scratch.regions[k];
-                if (scratch.regionOf[k] != scratch.regionId || region->tree() != &record->tree) {
-                    region->reset(scene_.mesh, record->tree, scratch.regionCorners);
-                    scratch.regionOf[k] = scratch.regionId;
-                }
-            }
-            list = &scratch.query.run(scene_.mesh, record->tree, p.answered(), nullptr, region);
-            countWork(0);
-            if (scratch.query.limitReached()) {
-                out += overLimit(true);
-                continue;
-            }
-            if (list->empty()) {
-                exactDone(Answer::TreeWalk, 0);
-                continue;
-            }
-        }
-        if (list == nullptr && fragments.empty()) continue;
-        static const vis::FragmentList kNone;  // immutable: shared by every thread
-        out += list != nullptr
-                   ? shadeFragments(p, light, *list, {}, glossySamples, rng, scratch)
-                   : shadeFragments(p, light, kNone, fragments, glossySamples, rng, scratch);
-        if (queried) exactDone(Answer::TreeWalk, list != nullptr ? list->size() : fragments.size());
+        if (lights_[k].face == p.face) continue;  // a light does not light itself
+        out += exactAreaLight(p, k, glossySamples, fallbackSamples, rng, scratch);
     }
     return out;
+}
+
+Vec3 DirectLighting::exactAreaLight(const SurfacePoint& p, size_t k, int glossySamples,
+                                    int fallbackSamples, SplitMix64& rng,
+                                    ExactScratch& scratch) const {
+    const AreaLight& light = lights_[k];
+    const PairKey key = scratch.pointKey && scratch.pointKey->receiver == p.face &&
+                                scratch.pointKey->lightFace == light.face
+                            ? *scratch.pointKey
+                            : store_->keyAt(p.face, p.x, light.face);
+    const PairRecord* record = pairRecord(key, k, scratch);
+    // The evaluations that need a query: a pair without a tree, or a tree to walk.
+    const bool queried = record == nullptr || record->tree.kind == vis::PairKind::Penumbra;
+    if (queried) {
+        ++scratch.evaluations.all;
+        if (record == nullptr) ++scratch.evaluations.direct;
+    }
+    const uint64_t cell = scratch.pixel * lights_.size() + k;
+    const bool timed = queried && scratch.timeNext();
+    Evaluation e{p,
+                 k,
+                 light,
+                 key,
+                 record,
+                 cell,
+                 timed,
+                 timed ? Clock::now() : Clock::time_point{},
+                 glossySamples,
+                 fallbackSamples,
+                 rng,
+                 scratch};
+    if (queried && knownOverLimit(k, cell, scratch)) return overLimit(e, false);
+    // A partial tree whose deferred occluders lie mostly in face groups: its points are
+    // answered without it (the same exact answer; see answeredByGroups).
+    if (record == nullptr || answeredByGroups(*record)) return directAnswer(e);
+    const vis::PairKind kind = record->tree.kind;
+    if (kind == vis::PairKind::BackFacing || kind == vis::PairKind::FullyHidden) {
+        scratch.note(cell, Answer::NoLight);
+        return {};
+    }
+    return kind == vis::PairKind::FullyVisible ? fullyVisibleAnswer(e) : treeWalkAnswer(e);
+}
+
+const PairRecord* DirectLighting::pairRecord(const PairKey& key, size_t k,
+                                             ExactScratch& scratch) const {
+    const PairRecord* record = scratch.lastTree[k];
+    if ((record == nullptr && !scratch.lastDirect[k]) || scratch.lastKey[k] != key) {
+        // Without a tree and not to be built: evaluated point by point (buildMissing).
+        record = store_->find(key);
+        const bool direct = record == nullptr && !scratch.buildMissing;
+        if (record == nullptr && !direct) record = &store_->getOrBuild(key);
+        scratch.lastKey[k] = key;
+        scratch.lastTree[k] = record;
+        scratch.lastDirect[k] = direct;
+        scratch.used.insert(key);
+        if (direct) scratch.usedDirect.insert(key);
+    }
+    return record;
+}
+
+bool DirectLighting::knownOverLimit(size_t k, uint64_t cell, ExactScratch& scratch) const {
+    if (!scratch.regionCorners.empty()) {
+        if (scratch.regions.size() != lights_.size()) {
+            scratch.regions.assign(lights_.size(), vis::RegionDecisions{});
+            scratch.regionOf.assign(lights_.size(), 0);
+            scratch.regionOverLimit.assign(lights_.size(), 0);
+        }
+        if (scratch.regionOverLimit[k] == scratch.regionId) return true;
+    }
+    return scratch.overLimitBefore != nullptr &&
+           scratch.overLimitBefore->find(cell) != scratch.overLimitBefore->end();
+}
+
+Vec3 DirectLighting::overLimit(Evaluation& e, bool tried) const {
+    ExactScratch& scratch = e.scratch;
+    ++scratch.evaluations.sampled;
+    scratch.note(e.cell, Answer::Sampled);
+    if (tried) ++scratch.evaluations.overLimitAt[static_cast<size_t>(scratch.query.limitStage())];
+    if (e.record == nullptr) ++scratch.evaluations.sampledDirect;
+    if (!scratch.regionCorners.empty() && e.record != nullptr)
+        scratch.regionOverLimit[e.k] = scratch.regionId;
+    if (tried) scratch.overLimitNow.push_back(e.cell);
+    if (e.timed && tried) scratch.evaluations.costs.attemptNs.addSince(e.evalStart);
+    if (e.record != nullptr && e.record->tree.kind == vis::PairKind::Penumbra &&
+        !answeredByGroups(*e.record))
+        scratch.overLimitTrees.push_back({e.key, e.p.x, e.cell});
+    if (!e.timed) return sampledAreaLight(e.light, e.p, e.fallbackSamples, e.rng);
+    const auto raysStart = Clock::now();
+    const Vec3 v = sampledAreaLight(e.light, e.p, e.fallbackSamples, e.rng);
+    scratch.evaluations.costs.sampledNs.addSince(raysStart);
+    return v;
+}
+
+void DirectLighting::exactDone(Evaluation& e, Answer path, size_t fragments) const {
+    ExactScratch& scratch = e.scratch;
+    if (e.timed) scratch.evaluations.costs.exactNs.addSince(e.evalStart);
+    const vis::FromPointQuery::ChainCounts& chain = scratch.query.chainCounts();
+    const bool noLight = scratch.query.work() == 0 && fragments == 0;
+    scratch.note(e.cell, chain.cells != 0 ? Answer::Chain : noLight ? Answer::NoLight : path);
+    if (chain.cells == 0) return;
+    ++scratch.evaluations.costs.chainEvaluations;
+    scratch.evaluations.costs.chainOccluderEdges += chain.occluderEdges;
+    scratch.evaluations.costs.chainBoundaryEdges += chain.boundaryEdges;
+    scratch.evaluations.costs.chainCells += chain.cells;
+    scratch.evaluations.costs.chainFragments += fragments;
+}
+
+Vec3 DirectLighting::directAnswer(Evaluation& e) const {
+    ExactScratch& scratch = e.scratch;
+    // The faces in the pyramid from x, clipped from x.
+    const vis::FragmentList& list =
+        scratch.query.runDirect(scene_.mesh, e.p.face, e.light.face, e.p.answered(),
+                                bvh_.faceBoxes(), &bvh_.faceClusters());
+    if (e.record == nullptr) {
+        const vis::FromPointQuery& q = scratch.query;
+        scratch.evaluations.directGrouped += q.clustersUsed() > 0;
+        scratch.evaluations.directSolid += q.solidGroupsLeftOut() + q.solidFacesLeftOut() > 0;
+        scratch.evaluations.directHiddenBySolid += q.hiddenBySolid();
+    } else
+        ++scratch.evaluations.partialByGroups;
+    countWork(scratch, 1);
+    if (scratch.query.limitReached()) return overLimit(e, true);
+    const Vec3 v = shadeFragments(e.p, e.light, list, {}, e.glossySamples, e.rng, scratch);
+    exactDone(e, Answer::Direct, list.size());
+    return v;
+}
+
+Vec3 DirectLighting::fullyVisibleAnswer(Evaluation& e) const {
+    ExactScratch& scratch = e.scratch;
+    const size_t k = e.k;
+    // What FPQuery returns for a fully visible pair, cached per receiver face.
+    if (e.light.plane.side(e.p.x) != vis::Sign::Positive) {
+        scratch.note(e.cell, Answer::NoLight);
+        return {};
+    }
+    if (scratch.clippedFace[k] != e.p.face) {
+        const vis::FacePlane receiver = vis::facePlane(scene_.mesh, e.p.face);
+        scratch.clippedLight[k] = vis::clipConvexPositive(
+            e.light.polygon, vis::OrientedPlane{receiver.a, receiver.b, receiver.c});
+        scratch.clippedFace[k] = e.p.face;
+    }
+    if (scratch.clippedLight[k].size() < 3) {
+        scratch.note(e.cell, Answer::NoLight);
+        return {};
+    }
+    scratch.note(e.cell, Answer::FullyVisible);
+    static const vis::FragmentList kNone;  // immutable: shared by every thread
+    return shadeFragments(e.p, e.light, kNone,
+                          std::span<const vis::Polygon3>(&scratch.clippedLight[k], 1),
+                          e.glossySamples, e.rng, scratch);
+}
+
+Vec3 DirectLighting::treeWalkAnswer(Evaluation& e) const {
+    ExactScratch& scratch = e.scratch;
+    vis::RegionDecisions* region = nullptr;
+    if (!scratch.regionCorners.empty()) {
+        region = &scratch.regions[e.k];
+        if (scratch.regionOf[e.k] != scratch.regionId || region->tree() != &e.record->tree) {
+            region->reset(scene_.mesh, e.record->tree, scratch.regionCorners);
+            scratch.regionOf[e.k] = scratch.regionId;
+        }
+    }
+    const vis::FragmentList& list =
+        scratch.query.run(scene_.mesh, e.record->tree, e.p.answered(), nullptr, region);
+    countWork(scratch, 0);
+    if (scratch.query.limitReached()) return overLimit(e, true);
+    if (list.empty()) {
+        exactDone(e, Answer::TreeWalk, 0);
+        return {};
+    }
+    const Vec3 v = shadeFragments(e.p, e.light, list, {}, e.glossySamples, e.rng, scratch);
+    exactDone(e, Answer::TreeWalk, list.size());
+    return v;
 }
 
 Vec3 DirectLighting::shadeFragments(const SurfacePoint& p, const AreaLight& light,

@@ -220,6 +220,20 @@ class DirectLighting {
     Vec3 pointLights(const SurfacePoint& p) const;
 
   private:
+    // exactAreaLights for the light lights_[k], in steps: the pair's tree (cached per light in
+    // scratch), the skip of a cell or region known to be over the work limit, then the answer by
+    // the direct path, the fully visible pair's clipped light or the tree's walk; over the limit,
+    // shadow rays (overLimit); an exact answer counted by exactDone.
+    struct Evaluation;
+    Vec3 exactAreaLight(const SurfacePoint& p, size_t k, int glossySamples, int fallbackSamples,
+                        SplitMix64& rng, ExactScratch& scratch) const;
+    const PairRecord* pairRecord(const PairKey& key, size_t k, ExactScratch& scratch) const;
+    bool knownOverLimit(size_t k, uint64_t cell, ExactScratch& scratch) const;
+    Vec3 overLimit(Evaluation& e, bool tried) const;
+    void exactDone(Evaluation& e, Answer path, size_t fragments) const;
+    Vec3 directAnswer(Evaluation& e) const;
+    Vec3 fullyVisibleAnswer(Evaluation& e) const;
+    Vec3 treeWalkAnswer(Evaluation& e) const;
     // Shading from the visible fragments of one light (those of `list`, then `fragments`).
     Vec3 shadeFragments(const SurfacePoint& p, const AreaLight& light,
                         const vis::FragmentList& list, std::span<const vis::Polygon3> fragments,

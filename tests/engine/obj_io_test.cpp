@@ -243,6 +243,9 @@ TEST(ObjErrors, MalformedNumbers) {
     expectError(kTri + "v 1.5e 2 3\nf 1 2 3\n", "", 4, "malformed");
     expectError(kTri + "v 0x10 2 3\nf 1 2 3\n", "", 4, "malformed");
     expectError(kTri + "v 1,5 2 3\nf 1 2 3\n", "", 4, "malformed");
+    // One sign: "+-1" is no number (engine/io/text_input.h).
+    expectError(kTri + "v +-1 2 3\nf 1 2 3\n", "", 4, "malformed number '+-1'");
+    expectError(kTri + "v 1 ++2 3\nf 1 2 3\n", "", 4, "malformed number '++2'");
 }
 
 TEST(ObjErrors, BadIndices) {
@@ -251,6 +254,7 @@ TEST(ObjErrors, BadIndices) {
                 "face 1: vertex index 4 out of range (file has 3 vertices)");
     expectError(kTri + "f 1 2 3\nf 1 2 -4\n", "", 5, "face 1: vertex index -4 out of range");
     expectError(kTri + "f 1 2 99999999999999999999999\n", "", 4, "out of range");
+    expectError(kTri + "f 1 2 +-3\n", "", 4, "malformed vertex reference '+-3'");
     expectError(kTri + "f 1 2 -9223372036854775808\n", "", 4, "out of range");
     expectError(kTri + "f 1 2 9223372036854775807\n", "", 4, "out of range");
     expectError(kTri + "f 1 2 x\n", "", 4, "malformed vertex reference 'x'");

@@ -102,6 +102,18 @@ TEST_F(OpenMeshIo, PlyNonFiniteCoordinateIsAnError) {
     expectLoadError([&] { loadOpenMeshFile(p); }, p, {"vertex 4", "non-finite"});
 }
 
+// engine/io/text_input.h's sign rule: one '+' is a sign, "+-" is no number (this reader once
+// read "+-0.5" as -0.5 and handed the line to OpenMesh, which reads it otherwise).
+TEST_F(OpenMeshIo, OnePlusIsASignAndASecondSignIsAnError) {
+    expectTestSolid(loadOpenMeshFile(
+        write("plus.ply", asciiPly("+0 0 0\n1 0 0\n1 +1 0\n0 1 0\n+0.5 0 +1\n", kPlyFaces, 5, 2))));
+    const fs::path ply =
+        write("sign.ply", asciiPly("0 0 0\n1 0 0\n1 1 0\n0 1 0\n+-0.5 0 1\n", kPlyFaces, 5, 2));
+    expectLoadError([&] { loadOpenMeshFile(ply); }, ply, {"vertex 4", "'+-0.5'"});
+    const fs::path off = write("sign.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 +-1 0\n3 0 1 2\n");
+    expectLoadError([&] { loadOpenMeshFile(off); }, off, {"vertex 2", "'+-1'"});
+}
+
 TEST_F(OpenMeshIo, PlyIndexOutOfRangeNamesTheFace) {
     const fs::path p = write("range.ply", asciiPly(kPlyVertices, "4 0 1 2 3\n3 0 1 7\n", 5, 2));
     expectLoadError([&] { loadOpenMeshFile(p); }, p, {"face 1", "out of range"});
