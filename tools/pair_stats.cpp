@@ -17,7 +17,7 @@
 
 #include "engine/io/scene_loader.h"
 #include "engine/precompute/visibility_store.h"
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 
 namespace {
 

@@ -32,8 +32,8 @@
 #include "engine/io/image_io.h"
 #include "engine/io/visibility_file.h"
 #include "engine/precompute/visibility_store.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/render/default_camera.h"
-#include "engine/render/embree_scene.h"
 #include "engine/render/renderer.h"
 #include "engine/scene/scene_validation.h"
 

@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "app/viewer/gl/scene_renderer.h"
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/scene/scene.h"
 
 namespace penumbra::viewer {

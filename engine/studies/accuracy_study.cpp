@@ -5,7 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 
 namespace penumbra {
 

@@ -7,7 +7,7 @@
 #include <random>
 
 #include "engine/precompute/visibility_store.h"
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/scene/procedural_scenes.h"
 #include "visibility/form_factor.h"
 #include "visibility/fp_query.h"
