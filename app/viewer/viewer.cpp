@@ -10,6 +10,7 @@
 
 #include "app/viewer/gl/png_output.h"
 #include "app/viewer/overlay_geometry.h"
+#include "app/viewer/palette.h"
 #include "app/viewer/panels/light_plane_panel.h"
 #include "app/viewer/panels/panel.h"
 #include "app/viewer/panels/path_panel.h"
@@ -25,6 +26,7 @@ namespace penumbra::viewer {
 
 Viewer::Viewer(ViewerOptions options)
     : options_(std::move(options)),
+      renderer_({kBackground.r / 255.0f, kBackground.g / 255.0f, kBackground.b / 255.0f}),
       scenePanel_(options_.assetsDirectory),
       helpPanel_(options_.showHelp) {
     if (options_.layout.scale != 1 && ImGui::GetCurrentContext() != nullptr) {
@@ -131,18 +133,19 @@ bool Viewer::selectPoint(const Vec3& x, std::optional<uint32_t> face) {
 void Viewer::clearSelection() {
     selection_.clear();
     treePanel_.setTree(nullptr, {});
-    renderer_.setOverlay({});
+    renderer_.clearOverlay();
 }
 
 void Viewer::updateOverlay() {
     const LightInspection* li = selection_.selectedLight();
     if (!selection_.inspection() || !scene_) {
-        renderer_.setOverlay({});
+        renderer_.clearOverlay();
         treePanel_.setTree(nullptr, {});
         return;
     }
-    renderer_.setOverlay(
-        buildOverlay(*selection_.inspection(), scene_->bounds.diagonal(), selection_.light()));
+    const OverlayGeometry overlay =
+        buildOverlay(*selection_.inspection(), scene_->bounds.diagonal(), selection_.light());
+    renderer_.setOverlay(overlay.fragmentTriangles, overlay.lines, overlay.linesOnTop);
     if (!li || !li->tree) {
         treePanel_.setTree(nullptr, {});
     } else {
@@ -354,7 +357,12 @@ void Viewer::frame(int width, int height, double deltaSeconds) {
     glViewport(0, 0, width, height);
     glClearColor(0.1f, 0.1f, 0.12f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    if (scene_) renderer_.draw(orbit_, scene_->bounds, layout_.view, height, viewImage());
+    if (scene_) {
+        double nearDistance = 0, farDistance = 1;
+        orbit_.clipRange(scene_->bounds, nearDistance, farDistance);
+        renderer_.draw(orbit_.camera(), nearDistance, farDistance, layout_.view, height,
+                       viewImage());
+    }
     glViewport(0, 0, width, height);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 
