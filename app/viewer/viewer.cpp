@@ -8,7 +8,6 @@
 #include <cstddef>
 #include <system_error>
 
-#include "app/viewer/gl/png_output.h"
 #include "app/viewer/overlay_geometry.h"
 #include "app/viewer/palette.h"
 #include "app/viewer/panels/light_plane_panel.h"
@@ -18,6 +17,7 @@
 #include "app/viewer/panels/precompute_panel.h"
 #include "app/viewer/panels/preview_panel.h"
 #include "app/viewer/picking.h"
+#include "app/viewer/png_output.h"
 #include "engine/io/scene_file.h"
 #include "engine/precompute/point_query.h"
 #include "engine/render/default_camera.h"

@@ -1,4 +1,4 @@
-#include "app/viewer/gl/window_host.h"
+#include "app/viewer/host/window_host.h"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -11,9 +11,9 @@
 #include <thread>
 #include <vector>
 
-#include "app/viewer/gl/imgui_session.h"
 #include "app/viewer/gl/offscreen_context.h"
-#include "app/viewer/gl/png_output.h"
+#include "app/viewer/host/imgui_session.h"
+#include "app/viewer/png_output.h"
 #include "engine/io/finite_output.h"
 
 namespace penumbra::viewer {
