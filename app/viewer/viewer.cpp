@@ -62,7 +62,9 @@ bool Viewer::openScene(const std::filesystem::path& path) {
         return false;
     }
     clearSelection();
-    preview_.stop();
+    // The old scene's preview image and effects say nothing of this one.
+    preview_.clear();
+    previewImage_ = PreviewImage{};
     // An accuracy study belongs to the scene it measured: a running one is dropped (its task
     // keeps the old scene alive until it stops), a finished one is no longer shown.
     accuracyJob_.drop();
@@ -377,12 +379,15 @@ void Viewer::frame(int width, int height, double deltaSeconds) {
 void Viewer::drawPanels() {
     const Layout& l = layout_;
     panelRects_.clear();
+    panelText_.begin();
     const auto record = [&](const char* name, const PanelRect& r) {
         panelRects_[name] = {r.x, r.y, r.width, r.height};
+        panelText_.take(name);
     };
     const ScenePanel::Actions scene = scenePanel_.draw(l.scene, scene_.get());
     record("Scene", l.scene);
-    switch (PrecomputePanel::draw(l.precompute, precompute_, preview_.effects().text())) {
+    switch (PrecomputePanel::draw(l.precompute, precompute_, preview_.effects(),
+                                  scene_ ? &scene_->scene : nullptr)) {
         case PrecomputePanel::Action::Start:
             startPrecompute();
             break;
@@ -442,9 +447,14 @@ void Viewer::drawPanels() {
     record("Path", l.path);
     // The overlays of the 3D view, recorded too (the tests check that they stay inside it).
     if (helpPanel_.visible()) record("Help", helpPanel_.draw(l.view));
-    if (showAccuracy_) drawAccuracy();
+    if (showAccuracy_) {
+        drawAccuracy();
+        panelText_.take("Accuracy");
+    }
     record("Status", StatusBar::draw(l.view, status_, frameStats_));
     drawPixelInspector();
+    if (hover_ != nullptr) panelText_.take("Pixel inspector");
+    panelText_.end();
     // Actions that replace what the panels drew from, after every panel is drawn.
     if (scene.fit) fitCamera();
     if (scene.open) openScene(*scene.open);

@@ -133,7 +133,10 @@ void runWindow(const WindowOptions& o) {
             last = frameStart;
             if (!o.stateOut.empty() && viewer.frameStats().frames % 10 == 0) {
                 nlohmann::json state = viewer.stateJson();
-                state.erase("frames");  // changes every frame; the rest changes on events
+                // The frame times change every frame (the status bar shows them); the rest
+                // changes on events.
+                state.erase("frames");
+                state["panelText"].erase("Status");
                 requireFinite(state, "the viewer state");
                 const std::string text = state.dump(2) + "\n";
                 if (text != lastState) {
