@@ -20,7 +20,7 @@
 #include "engine/io/scene_loader.h"
 #include "engine/io/text_input.h"
 #include "engine/precompute/visibility_store.h"
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 
 namespace {
 

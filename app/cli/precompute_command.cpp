@@ -30,7 +30,7 @@
 #include "app/cli/commands.h"
 #include "engine/io/visibility_file.h"
 #include "engine/precompute/precompute_scheduler.h"
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 
 namespace penumbra::cli {
 namespace {

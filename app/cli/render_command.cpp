@@ -33,8 +33,8 @@
 #include "engine/io/text_input.h"
 #include "engine/io/visibility_file.h"
 #include "engine/precompute/visibility_store.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/render/default_camera.h"
-#include "engine/render/embree_scene.h"
 #include "engine/render/renderer.h"
 #include "engine/scene/scene_validation.h"
 

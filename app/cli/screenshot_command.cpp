@@ -2,15 +2,15 @@
 //  --out FILE.png [--state-out FILE.json] [--preview-out FILE.png] [--backend osmesa|egl]
 //  [--precompute] [--accuracy] ...`
 //
-// Renders the complete viewer UI offscreen (app/viewer/gl/headless_host.h): the same Viewer code as
-// the window, with the inspected point's fragments, path and tree panels open.
+// Renders the complete viewer UI offscreen (app/viewer/host/headless_host.h): the same Viewer code
+// as the window, with the inspected point's fragments, path and tree panels open.
 #include <CLI/CLI.hpp>
 #include <memory>
 #include <string>
 
 #include "app/cli/arguments.h"
 #include "app/cli/commands.h"
-#include "app/viewer/gl/headless_host.h"
+#include "app/viewer/host/headless_host.h"
 
 namespace penumbra::cli {
 namespace {
@@ -100,8 +100,12 @@ void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
     h.accuracy = o.accuracy;
     try {
         viewer::runHeadless(h);
-    } catch (const CommandError&) {
-        throw;
+    } catch (const viewer::HostInputError& e) {  // (a std::runtime_error: caught first)
+        using Input = viewer::HostInputError::Input;
+        const char* option = e.input == Input::Point   ? "--point: "
+                             : e.input == Input::Pixel ? "--pixel: "
+                                                       : "";
+        throw inputError(option + std::string(e.what()));
     } catch (const std::runtime_error& e) {
         throw inputError(std::string("screenshot: ") + e.what());
     }

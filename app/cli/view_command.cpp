@@ -1,8 +1,8 @@
 // `penumbra view [SCENE] [--camera ...] [--size WxH] [--state-out FILE.json]`
 //
-// The interactive viewer and visibility debugger in a window (app/viewer/gl/window_host.h). With no
-// display it says so and writes what the window would have shown instead: the headless screenshot
-// (and the preview image, when the renderer is built in) into --out-dir (default out/).
+// The interactive viewer and visibility debugger in a window (app/viewer/host/window_host.h). With
+// no display it says so and writes what the window would have shown instead: the headless
+// screenshot (and the preview image, when the renderer is built in) into --out-dir (default out/).
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <iostream>
@@ -11,8 +11,8 @@
 
 #include "app/cli/arguments.h"
 #include "app/cli/commands.h"
-#include "app/viewer/gl/headless_host.h"
-#include "app/viewer/gl/window_host.h"
+#include "app/viewer/host/headless_host.h"
+#include "app/viewer/host/window_host.h"
 
 namespace penumbra::cli {
 namespace {
@@ -85,14 +85,16 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
     h.pixel = std::array<double, 2>{layout.view.x + 0.5 * layout.view.width,
                                     layout.view.y + 0.5 * layout.view.height};
     try {
-        viewer::runHeadless(h);
-    } catch (const CommandError& e) {
-        // No surface under the centre: a screenshot without a selection is still useful.
-        if (e.exitCode != kExitInputError ||
-            std::string(e.what()).find("--pixel") == std::string::npos)
-            throw;
-        h.pixel.reset();
-        viewer::runHeadless(h);
+        try {
+            viewer::runHeadless(h);
+        } catch (const viewer::HostInputError& e) {
+            // No surface under the centre: a screenshot without a selection is still useful.
+            if (e.input != viewer::HostInputError::Input::Pixel) throw;
+            h.pixel.reset();
+            viewer::runHeadless(h);
+        }
+    } catch (const viewer::HostInputError& e) {  // (a std::runtime_error: caught first)
+        throw inputError(e.what());
     } catch (const std::runtime_error& e) {
         throw inputError(std::string("view (headless): ") + e.what());
     }

@@ -4,7 +4,7 @@
 // (help, status, accuracy) are placed over the 3D view by their panels.
 #pragma once
 
-#include "app/viewer/gl/scene_renderer.h"
+#include "app/viewer/viewport.h"
 
 namespace penumbra::viewer {
 

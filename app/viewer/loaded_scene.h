@@ -8,7 +8,7 @@
 #include <memory>
 
 #include "engine/precompute/visibility_store.h"
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/render/exact_options.h"
 #include "engine/scene/scene.h"
 

@@ -7,8 +7,9 @@
 
 #include <optional>
 
-#include "app/viewer/gl/scene_renderer.h"
-#include "engine/render/embree_scene.h"
+#include "app/viewer/viewport.h"
+#include "engine/raytrace/embree_scene.h"
+#include "engine/scene/camera.h"
 #include "engine/scene/scene.h"
 
 namespace penumbra::viewer {

@@ -11,10 +11,10 @@
 #include <optional>
 #include <vector>
 
-#include "app/viewer/gl/scene_renderer.h"
 #include "app/viewer/loaded_scene.h"
 #include "app/viewer/picking.h"
 #include "app/viewer/preview_runner.h"
+#include "app/viewer/viewport.h"
 #include "engine/precompute/point_query.h"
 
 namespace penumbra::viewer {

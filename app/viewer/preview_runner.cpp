@@ -123,6 +123,15 @@ void PreviewRunner::stop() {
     if (current_) current_->cancel = true;
 }
 
+void PreviewRunner::clear() {
+    const std::lock_guard lock(mutex_);
+    if (current_) current_->cancel = true;
+    current_.reset();  // the old job publishes nothing more
+    latest_ = PreviewImage{};
+    changed_ = false;
+    effects_ = EffectsSummary{};
+}
+
 bool PreviewRunner::running() const {
     const std::lock_guard lock(mutex_);
     return current_ && !current_->ended && !current_->cancel;

@@ -67,6 +67,9 @@ class PreviewRunner {
     void restart(std::shared_ptr<LoadedScene> scene, const Camera& camera,
                  const PreviewSettings& settings);
     void stop();  // cancels (non-blocking)
+    // Cancels (non-blocking) and forgets the image and the effects: nothing rendered yet (a new
+    // scene opens, of which the old job's results say nothing).
+    void clear();
     // The newest image when it changed since the last call.
     std::optional<PreviewImage> takeUpdate();
     bool running() const;

@@ -8,8 +8,8 @@
 #include <cstddef>
 #include <system_error>
 
-#include "app/viewer/gl/png_output.h"
 #include "app/viewer/overlay_geometry.h"
+#include "app/viewer/palette.h"
 #include "app/viewer/panels/light_plane_panel.h"
 #include "app/viewer/panels/panel.h"
 #include "app/viewer/panels/path_panel.h"
@@ -17,6 +17,7 @@
 #include "app/viewer/panels/precompute_panel.h"
 #include "app/viewer/panels/preview_panel.h"
 #include "app/viewer/picking.h"
+#include "app/viewer/png_output.h"
 #include "engine/io/scene_file.h"
 #include "engine/precompute/point_query.h"
 #include "engine/render/default_camera.h"
@@ -25,6 +26,7 @@ namespace penumbra::viewer {
 
 Viewer::Viewer(ViewerOptions options)
     : options_(std::move(options)),
+      renderer_({kBackground.r / 255.0f, kBackground.g / 255.0f, kBackground.b / 255.0f}),
       scenePanel_(options_.assetsDirectory),
       helpPanel_(options_.showHelp) {
     if (options_.layout.scale != 1 && ImGui::GetCurrentContext() != nullptr) {
@@ -60,7 +62,9 @@ bool Viewer::openScene(const std::filesystem::path& path) {
         return false;
     }
     clearSelection();
-    preview_.stop();
+    // The old scene's preview image and effects say nothing of this one.
+    preview_.clear();
+    previewImage_ = PreviewImage{};
     // An accuracy study belongs to the scene it measured: a running one is dropped (its task
     // keeps the old scene alive until it stops), a finished one is no longer shown.
     accuracyJob_.drop();
@@ -131,18 +135,19 @@ bool Viewer::selectPoint(const Vec3& x, std::optional<uint32_t> face) {
 void Viewer::clearSelection() {
     selection_.clear();
     treePanel_.setTree(nullptr, {});
-    renderer_.setOverlay({});
+    renderer_.clearOverlay();
 }
 
 void Viewer::updateOverlay() {
     const LightInspection* li = selection_.selectedLight();
     if (!selection_.inspection() || !scene_) {
-        renderer_.setOverlay({});
+        renderer_.clearOverlay();
         treePanel_.setTree(nullptr, {});
         return;
     }
-    renderer_.setOverlay(
-        buildOverlay(*selection_.inspection(), scene_->bounds.diagonal(), selection_.light()));
+    const OverlayGeometry overlay =
+        buildOverlay(*selection_.inspection(), scene_->bounds.diagonal(), selection_.light());
+    renderer_.setOverlay(overlay.fragmentTriangles, overlay.lines, overlay.linesOnTop);
     if (!li || !li->tree) {
         treePanel_.setTree(nullptr, {});
     } else {
@@ -354,7 +359,12 @@ void Viewer::frame(int width, int height, double deltaSeconds) {
     glViewport(0, 0, width, height);
     glClearColor(0.1f, 0.1f, 0.12f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    if (scene_) renderer_.draw(orbit_, scene_->bounds, layout_.view, height, viewImage());
+    if (scene_) {
+        double nearDistance = 0, farDistance = 1;
+        orbit_.clipRange(scene_->bounds, nearDistance, farDistance);
+        renderer_.draw(orbit_.camera(), nearDistance, farDistance, layout_.view, height,
+                       viewImage());
+    }
     glViewport(0, 0, width, height);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
 
@@ -369,12 +379,15 @@ void Viewer::frame(int width, int height, double deltaSeconds) {
 void Viewer::drawPanels() {
     const Layout& l = layout_;
     panelRects_.clear();
+    panelText_.begin();
     const auto record = [&](const char* name, const PanelRect& r) {
         panelRects_[name] = {r.x, r.y, r.width, r.height};
+        panelText_.take(name);
     };
     const ScenePanel::Actions scene = scenePanel_.draw(l.scene, scene_.get());
     record("Scene", l.scene);
-    switch (PrecomputePanel::draw(l.precompute, precompute_, preview_.effects().text())) {
+    switch (PrecomputePanel::draw(l.precompute, precompute_, preview_.effects(),
+                                  scene_ ? &scene_->scene : nullptr)) {
         case PrecomputePanel::Action::Start:
             startPrecompute();
             break;
@@ -434,9 +447,14 @@ void Viewer::drawPanels() {
     record("Path", l.path);
     // The overlays of the 3D view, recorded too (the tests check that they stay inside it).
     if (helpPanel_.visible()) record("Help", helpPanel_.draw(l.view));
-    if (showAccuracy_) drawAccuracy();
+    if (showAccuracy_) {
+        drawAccuracy();
+        panelText_.take("Accuracy");
+    }
     record("Status", StatusBar::draw(l.view, status_, frameStats_));
     drawPixelInspector();
+    if (hover_ != nullptr) panelText_.take("Pixel inspector");
+    panelText_.end();
     // Actions that replace what the panels drew from, after every panel is drawn.
     if (scene.fit) fitCamera();
     if (scene.open) openScene(*scene.open);

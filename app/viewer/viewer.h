@@ -30,6 +30,7 @@
 #include "app/viewer/orbit_camera.h"
 #include "app/viewer/panels/accuracy_panel.h"
 #include "app/viewer/panels/help_panel.h"
+#include "app/viewer/panels/panel_text.h"
 #include "app/viewer/panels/preview_panel.h"
 #include "app/viewer/panels/scene_panel.h"
 #include "app/viewer/panels/tree_graph_panel.h"
@@ -175,6 +176,7 @@ class Viewer {
 
     FrameStats frameStats_;
     std::map<std::string, std::array<float, 4>> panelRects_;  // x, y, width, height
+    PanelText panelText_;    // what each panel said in the last frame
     tbb::task_group tasks_;  // inspections, and disposal of old schedulers; waited on in ~Viewer
 };
 

@@ -113,6 +113,8 @@ nlohmann::json Viewer::stateJson() const {
     for (const auto& [name, r] : panelRects_) rects[name] = {r[0], r[1], r[2], r[3]};
     rects["3D view"] = {layout_.view.x, layout_.view.y, layout_.view.width, layout_.view.height};
     s["panelRects"] = rects;
+    // What each panel said in the last frame (PanelText: Dear ImGui's log of it).
+    s["panelText"] = panelText_.texts();
     s["inspectionPending"] = selection_.pending();
     s["point"] = scene_ ? pointJson(selection_, scene_->scene) : nullptr;
     // What the 3D view shows: "raster", or "rendered" (the preview's image at the view's size, in

@@ -20,8 +20,8 @@
 #include "engine/io/atomic_file.h"
 #include "engine/io/finite_output.h"
 #include "engine/io/text_input.h"
+#include "engine/precompute/scene_hash.h"
 #include "engine/scene/hash64.h"
-#include "engine/scene/scene_hash.h"
 
 namespace penumbra {
 namespace {

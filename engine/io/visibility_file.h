@@ -5,7 +5,8 @@
 // where nodes now name exact chords), every integer little-endian, doubles as their IEEE-754 bit
 // patterns:
 //   header (48 bytes)  magic "PENUMVIS", u32 version, u32 header size (48), u64 scene hash
-//                      (engine/scene/scene_hash.h), u64 tree count, u64 payload size, u64 flags (0)
+//                      (engine/precompute/scene_hash.h), u64 tree count, u64 payload size,
+//                      u64 flags (0)
 //   payload            one record per tree, in increasing PairKey order:
 //                        u32 receiver, patch, light face            (PairKey)
 //                        u32 tree.receiver, tree.light               (equal to the key's)

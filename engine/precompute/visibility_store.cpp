@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 
 namespace penumbra {
 

@@ -13,7 +13,7 @@
 
 #include <optional>
 
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/scene/camera.h"
 #include "engine/scene/scene.h"
 

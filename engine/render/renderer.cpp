@@ -14,11 +14,11 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "engine/raytrace/embree_scene.h"
 #include "engine/render/cpu_time.h"
-#include "engine/render/embree_scene.h"
-#include "engine/render/random.h"
 #include "engine/render/shading.h"
 #include "engine/render/shading_point.h"
+#include "engine/scene/random.h"
 #include "visibility/face_plane.h"
 
 namespace penumbra {

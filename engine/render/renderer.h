@@ -17,7 +17,7 @@
 //     shading, since the from-point query takes x on the face. The projection is itself rounded:
 //     x is on the plane up to an ulp or so, which moves a shadow boundary by as much.
 //   - Point lights: one shadow ray each (EmbreeScene::occluded), in every method.
-//   - Random numbers are counter-based (engine/render/random.h): the image does not depend on the
+//   - Random numbers are counter-based (engine/scene/random.h): the image does not depend on the
 //     thread schedule, and the same settings give the same film.
 #pragma once
 

@@ -6,7 +6,7 @@
 #include <numbers>
 #include <optional>
 
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/render/shading_point.h"
 #include "visibility/face_plane.h"
 #include "visibility/form_factor.h"

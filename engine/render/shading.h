@@ -30,7 +30,7 @@
 #include "engine/precompute/visibility_store.h"
 #include "engine/render/answers.h"
 #include "engine/render/effects_summary.h"
-#include "engine/render/random.h"
+#include "engine/scene/random.h"
 #include "engine/scene/scene.h"
 #include "visibility/answered_point.h"
 #include "visibility/fp_query/from_point_query.h"

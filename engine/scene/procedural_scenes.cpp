@@ -6,7 +6,7 @@
 #include <map>
 #include <numbers>
 
-#include "engine/render/random.h"
+#include "engine/scene/random.h"
 
 namespace penumbra {
 
@@ -15,7 +15,7 @@ namespace {
 using vis::cross;
 using vis::dot;
 
-// Deterministic scene randomness: engine/render/random.h's SplitMix64, with a range helper.
+// Deterministic scene randomness: engine/scene/random.h's SplitMix64, with a range helper.
 struct Rng : SplitMix64 {
     explicit Rng(uint64_t seed) : SplitMix64{seed} {}
     using SplitMix64::uniform;

@@ -5,8 +5,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "engine/raytrace/embree_scene.h"
 #include "engine/render/default_camera.h"
-#include "engine/render/embree_scene.h"
 
 namespace penumbra {
 

@@ -4,7 +4,7 @@
 #include <utility>
 
 #include "engine/precompute/visibility_store.h"
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/scene/surface_samples.h"
 #include "visibility/fp_query/from_point_query.h"
 

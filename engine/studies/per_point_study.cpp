@@ -7,7 +7,7 @@
 
 #include "engine/precompute/point_inspection.h"
 #include "engine/precompute/visibility_store.h"
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/scene/surface_samples.h"
 #include "visibility/form_factor.h"
 #include "visibility/fp_query/from_point_query.h"

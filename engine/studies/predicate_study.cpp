@@ -4,8 +4,8 @@
 #include <random>
 
 #include "engine/precompute/visibility_store.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/render/cpu_time.h"
-#include "engine/render/embree_scene.h"
 #include "engine/scene/procedural_scenes.h"
 #include "engine/scene/surface_samples.h"
 #include "visibility/form_factor.h"

@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "engine/precompute/visibility_store.h"
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 
 namespace penumbra {
 namespace scaling_detail {

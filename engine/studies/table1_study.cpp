@@ -9,7 +9,7 @@
 #include "engine/precompute/visibility_store.h"
 #include "engine/render/cpu_time.h"
 #include "engine/render/default_camera.h"
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/render/renderer.h"
 
 namespace penumbra {

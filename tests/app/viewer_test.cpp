@@ -20,7 +20,7 @@
 #include "engine/io/obj_io.h"
 #include "engine/io/scene_loader.h"
 #include "engine/precompute/point_inspection.h"
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 #include "tests/app/viewer_test_support.h"
 #include "tests/support/exact_reference.h"
 #include "tests/support/read_pfm.h"

@@ -9,7 +9,7 @@
 
 #include "app/viewer/palette.h"
 #include "engine/io/obj_io.h"
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 #include "visibility/polygon_clip.h"
 
 #ifndef PENUMBRA_EXE

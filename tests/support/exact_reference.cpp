@@ -12,7 +12,7 @@
 #include <numbers>
 #include <vector>
 
-#include "engine/render/random.h"
+#include "engine/scene/random.h"
 
 namespace penumbra::test {
 
@@ -384,7 +384,7 @@ ReferenceResult exactReference(const vis::PolygonMesh& mesh, uint32_t receiver, 
 
 namespace {
 
-using Rng = SplitMix64;  // engine/render/random.h
+using Rng = SplitMix64;  // engine/scene/random.h
 
 struct Occluder {
     std::vector<Vec3> v;

@@ -27,8 +27,9 @@ std::array<float, 16> viewProjection(const Camera& camera, int width, int height
     return out;
 }
 
-SceneRenderer::SceneRenderer()
-    : meshProgram_("mesh.vert", "mesh.frag"),
+SceneRenderer::SceneRenderer(const std::array<float, 3>& background)
+    : background_(background),
+      meshProgram_("mesh.vert", "mesh.frag"),
       overlayProgram_("overlay.vert", "overlay.frag"),
       imageProgram_("image.vert", "image.frag"),
       mesh_({3, 3, 3, 1}),
@@ -65,13 +66,14 @@ void SceneRenderer::setScene(const Scene& scene) {
         }
     }
     mesh_.upload(data);
-    setOverlay({});
+    clearOverlay();
 }
 
-void SceneRenderer::setOverlay(const OverlayGeometry& overlay) {
-    fragments_.upload(overlay.fragmentTriangles);
-    lines_.upload(overlay.lines);
-    linesOnTop_.upload(overlay.linesOnTop);
+void SceneRenderer::setOverlay(std::span<const float> fragmentTriangles,
+                               std::span<const float> lines, std::span<const float> linesOnTop) {
+    fragments_.upload(fragmentTriangles);
+    lines_.upload(lines);
+    linesOnTop_.upload(linesOnTop);
 }
 
 void SceneRenderer::drawImage(const ViewImage& image) const {
@@ -95,13 +97,13 @@ void SceneRenderer::drawImage(const ViewImage& image) const {
     glEnable(GL_DEPTH_TEST);
 }
 
-void SceneRenderer::draw(const OrbitCamera& orbit, const vis::Bounds3& sceneBox, const Viewport& vp,
-                         int framebufferHeight, const ViewImage* image) const {
+void SceneRenderer::draw(const Camera& camera, double nearDistance, double farDistance,
+                         const Viewport& vp, int framebufferHeight, const ViewImage* image) const {
     const int glY = framebufferHeight - (vp.y + vp.height);
     glViewport(vp.x, glY, vp.width, vp.height);
     glEnable(GL_SCISSOR_TEST);
     glScissor(vp.x, glY, vp.width, vp.height);
-    glClearColor(kBackground.r / 255.0f, kBackground.g / 255.0f, kBackground.b / 255.0f, 1.0f);
+    glClearColor(background_[0], background_[1], background_[2], 1.0f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glDisable(GL_SCISSOR_TEST);
     glDisable(GL_BLEND);
@@ -110,9 +112,6 @@ void SceneRenderer::draw(const OrbitCamera& orbit, const vis::Bounds3& sceneBox,
     glDepthFunc(GL_LEQUAL);
     glDepthMask(GL_TRUE);
 
-    double nearDistance = 0, farDistance = 1;
-    orbit.clipRange(sceneBox, nearDistance, farDistance);
-    const Camera& camera = orbit.camera();
     const std::array<float, 16> m =
         viewProjection(camera, vp.width, vp.height, nearDistance, farDistance);
 

@@ -1,28 +1,21 @@
 // SceneRenderer: draws the scene mesh (flat shading, area lights emissive) and the debug overlays
 // into a rectangle of the current framebuffer, through the GL function table
 // (app/viewer/gl/gl_api.h). Create, use and destroy it with one GL context's table current.
+// GL code only: the viewer hands it a camera, vertex arrays and colours, never its own state.
 #pragma once
 
 #include <array>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "app/viewer/gl/shader_program.h"
 #include "app/viewer/gl/vertex_buffer.h"
-#include "app/viewer/orbit_camera.h"
-#include "app/viewer/overlay_geometry.h"
+#include "app/viewer/viewport.h"
+#include "engine/scene/camera.h"
 #include "engine/scene/scene.h"
 
 namespace penumbra::viewer {
-
-// A rectangle of the framebuffer in image coordinates (origin top-left, y down), the convention of
-// Camera::project and of screenshots.
-struct Viewport {
-    int x = 0, y = 0, width = 1, height = 1;
-    bool contains(double px, double py) const {
-        return px >= x && py >= y && px < x + width && py < y + height;
-    }
-};
 
 // The column-major view-projection matrix matching Camera::project for a viewport of this size:
 // a world point lands on the pixel that Camera::project computes.
@@ -44,18 +37,27 @@ struct ViewImage {
 
 class SceneRenderer {
   public:
-    SceneRenderer();
-    void setScene(const Scene& scene);
-    void setOverlay(const OverlayGeometry& overlay);
-    // Clears the viewport and draws; framebufferHeight converts to GL's bottom-up rows. With an
+    // background: the colour behind the scene (linear RGB in [0, 1], as glClearColor takes it).
+    explicit SceneRenderer(const std::array<float, 3>& background);
+    void setScene(const Scene& scene);  // and no overlays
+    // The overlays, x y z r g b a per vertex: triangles depth-tested and pulled forward onto the
+    // light's plane, lines depth-tested, lines drawn over everything (OverlayGeometry's three
+    // arrays).
+    void setOverlay(std::span<const float> fragmentTriangles, std::span<const float> lines,
+                    std::span<const float> linesOnTop);
+    void clearOverlay() { setOverlay({}, {}, {}); }
+    // Clears the viewport and draws the view of `camera`, whose GL projection clips at
+    // nearDistance and farDistance; framebufferHeight converts to GL's bottom-up rows. With an
     // image, the mesh only fills the depth buffer and the image is drawn in its place, pixel for
     // pixel; the overlays are drawn on top of either, depth-tested against the mesh.
-    void draw(const OrbitCamera& camera, const vis::Bounds3& sceneBox, const Viewport& viewport,
-              int framebufferHeight, const ViewImage* image = nullptr) const;
+    void draw(const Camera& camera, double nearDistance, double farDistance,
+              const Viewport& viewport, int framebufferHeight,
+              const ViewImage* image = nullptr) const;
 
   private:
     void drawImage(const ViewImage& image) const;
 
+    std::array<float, 3> background_;
     ShaderProgram meshProgram_, overlayProgram_, imageProgram_;
     VertexBuffer mesh_, fragments_, lines_, linesOnTop_;
     mutable VertexBuffer imageQuads_;

@@ -52,8 +52,11 @@ PanelRect StatusBar::draw(const Viewport& vp, const std::string& status, const F
                          ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoInputs)) {
         ImGui::PushTextWrapPos(static_cast<float>(vp.width) - 32);  // within the 3D view
         ImGui::TextUnformatted(status.c_str());
-        ImGui::Text("frame %.1f ms (max %.1f ms)", 1e3 * frames.lastSeconds,
-                    1e3 * frames.maxSeconds);
+        if (frames.frames == 0)
+            ImGui::TextUnformatted("first frame (not timed yet)");
+        else
+            ImGui::Text("frame %.1f ms (max %.1f ms)", 1e3 * frames.lastSeconds,
+                        1e3 * frames.maxSeconds);
         ImGui::PopTextWrapPos();
         rect = currentWindowRect();
     }

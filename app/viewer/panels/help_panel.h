@@ -4,8 +4,8 @@
 
 #include <string>
 
-#include "app/viewer/gl/scene_renderer.h"
 #include "app/viewer/layout.h"
+#include "app/viewer/viewport.h"
 
 namespace penumbra::viewer {
 

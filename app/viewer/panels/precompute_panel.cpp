@@ -1,6 +1,7 @@
 #include "app/viewer/panels/precompute_panel.h"
 
 #include <cstdio>
+#include <string>
 
 #include "app/viewer/panels/panel.h"
 
@@ -23,10 +24,22 @@ const char* stateName(PrecomputeProgress::State s) {
     return "idle";
 }
 
+// The text under the buttons: the render's EffectsSummary, or before any render of the scene
+// what the scene itself says (an EffectsSummary counts what a render saw).
+std::string effectsText(const EffectsSummary& effects, const Scene* scene) {
+    if (!effects.method.empty()) return effects.text();
+    if (scene == nullptr) return "no scene open\n";
+    const auto count = [](size_t n) { return n == 0 ? std::string("none") : std::to_string(n); };
+    std::string s = "nothing rendered yet\narea lights: " + count(scene->lights.size());
+    if (scene->lights.empty()) s += " - no soft shadows to compute, no history trees";
+    s += "\npoint lights: " + count(scene->pointLights.size()) + "\n";
+    return s;
+}
+
 }  // namespace
 
 PrecomputePanel::Action PrecomputePanel::draw(const PanelRect& rect, const PrecomputeJob& job,
-                                              const std::string& effects) {
+                                              const EffectsSummary& effects, const Scene* scene) {
     Action action = Action::None;
     placeNextWindow(rect);
     if (ImGui::Begin("Precompute", nullptr, kDockedPanel)) {
@@ -49,7 +62,7 @@ PrecomputePanel::Action PrecomputePanel::draw(const PanelRect& rect, const Preco
         } else if (ImGui::Button("Precompute all (P)")) {
             action = Action::Start;
         }
-        ImGui::TextWrapped("%s", effects.c_str());
+        ImGui::TextWrapped("%s", effectsText(effects, scene).c_str());
     }
     ImGui::End();
     return action;

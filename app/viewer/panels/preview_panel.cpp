@@ -110,7 +110,7 @@ PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& 
             ImGui::TreePop();
         }
         ImGui::Text("%d / %d passes, %.1f s%s", image.passes, s.passes, image.seconds,
-                    running ? "" : " (done)");
+                    !running && image.passes > 0 ? " (done)" : "");
         if (image.relativeRmsError >= 0)
             ImGui::Text("sampled vs exact: %.2f%% RMS", 100 * image.relativeRmsError);
         if (s.mode == PreviewMode::Answers && !image.answers.empty()) drawAnswerLegend(image);

@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
-#include "engine/render/embree_scene.h"
+#include "engine/precompute/scene_hash.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/scene/hash64.h"
 #include "engine/scene/procedural_scenes.h"
-#include "engine/scene/scene_hash.h"
 #include "tests/support/random_points.h"
 #include "tests/support/test_scale.h"
 #include "tests/support/tree_reference.h"

@@ -14,7 +14,7 @@
 #include <set>
 #include <thread>
 
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/scene/procedural_scenes.h"
 #include "tests/support/test_scale.h"
 #include "tests/support/tree_reference.h"

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "engine/io/visibility_file.h"
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/scene/procedural_scenes.h"
 #include "tests/support/exact_reference.h"
 #include "tests/support/tree_reference.h"

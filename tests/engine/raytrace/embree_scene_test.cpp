@@ -1,5 +1,5 @@
 // Tests of EmbreeScene: ray casting, filtered shadow segments, the sampled visibility baseline.
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 
 #include <gtest/gtest.h>
 

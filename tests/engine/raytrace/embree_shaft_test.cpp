@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/scene/procedural_scenes.h"
 #include "tests/support/test_scale.h"
 #include "visibility/pair_occluders.h"

@@ -25,7 +25,7 @@
 
 #include "engine/io/image_io.h"
 #include "engine/precompute/visibility_store.h"
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/render/shading.h"
 #include "tests/support/closed_forms.h"
 #include "tests/support/read_pfm.h"

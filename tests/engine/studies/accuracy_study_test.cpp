@@ -11,7 +11,7 @@
 #include <cmath>
 
 #include "engine/io/scene_file.h"
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/scene/procedural_scenes.h"
 #include "engine/studies/predicate_study.h"
 

@@ -1,4 +1,4 @@
-#include "engine/scene/scene_hash.h"
+#include "engine/precompute/scene_hash.h"
 
 #include "engine/scene/hash64.h"
 

@@ -1,4 +1,4 @@
-#include "app/viewer/gl/window_host.h"
+#include "app/viewer/host/window_host.h"
 
 #include <GLFW/glfw3.h>
 #include <imgui.h>
@@ -11,9 +11,9 @@
 #include <thread>
 #include <vector>
 
-#include "app/viewer/gl/imgui_session.h"
 #include "app/viewer/gl/offscreen_context.h"
-#include "app/viewer/gl/png_output.h"
+#include "app/viewer/host/imgui_session.h"
+#include "app/viewer/png_output.h"
 #include "engine/io/finite_output.h"
 
 namespace penumbra::viewer {
@@ -133,7 +133,10 @@ void runWindow(const WindowOptions& o) {
             last = frameStart;
             if (!o.stateOut.empty() && viewer.frameStats().frames % 10 == 0) {
                 nlohmann::json state = viewer.stateJson();
-                state.erase("frames");  // changes every frame; the rest changes on events
+                // The frame times change every frame (the status bar shows them); the rest
+                // changes on events.
+                state.erase("frames");
+                state["panelText"].erase("Status");
                 requireFinite(state, "the viewer state");
                 const std::string text = state.dump(2) + "\n";
                 if (text != lastState) {

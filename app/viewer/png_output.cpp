@@ -1,4 +1,4 @@
-#include "app/viewer/gl/png_output.h"
+#include "app/viewer/png_output.h"
 
 #include <stdexcept>
 #include <string>

@@ -1,4 +1,4 @@
-#include "engine/render/embree_scene.h"
+#include "engine/raytrace/embree_scene.h"
 
 #include <embree3/rtcore.h>
 
@@ -11,6 +11,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "engine/scene/random.h"
 #include "visibility/pair_occluders.h"
 
 namespace penumbra {
@@ -56,18 +57,6 @@ void ignoreFacesFilter(const RTCFilterFunctionNArguments* args) {
         if (face == ctx->ignoreA || face == ctx->ignoreB) args->valid[i] = 0;
     }
 }
-
-// SplitMix64: small, fast, good enough for jittering strata; local to each call.
-struct SplitMix64 {
-    uint64_t state;
-    uint64_t next() {
-        uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-        return z ^ (z >> 31);
-    }
-    double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }  // [0, 1)
-};
 
 void setRay(RTCRay& ray, Vec3 org, Vec3 dir, double tnear, double tfar) {
     ray.org_x = static_cast<float>(org.x);
@@ -351,7 +340,7 @@ double EmbreeScene::sampledFraction(uint32_t receiver, uint32_t light, Vec3 x, i
     while (a > 1 && samples % a != 0) --a;
     const int b = samples / a;
 
-    SplitMix64 rng{seed};
+    SplitMix64 rng{seed};  // local to each call: the same seed gives the same strata
     int visible = 0;
     for (int i = 0; i < b; ++i) {
         for (int j = 0; j < a; ++j) {

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "app/viewer/gl/offscreen_context.h"
+#include "app/viewer/host/host_error.h"
 #include "app/viewer/viewer.h"
 
 namespace penumbra::viewer {
@@ -35,8 +36,8 @@ struct HeadlessOptions {
     ViewerOptions viewer;
 };
 
-// Throws cli::CommandError for bad input (scene, point, pixel) and std::runtime_error when the
-// GL backend cannot start (its message says why).
+// Throws HostInputError (host_error.h) for bad input (scene, point, pixel) and
+// std::runtime_error when the GL backend cannot start (its message says why).
 void runHeadless(const HeadlessOptions& options);
 
 }  // namespace penumbra::viewer

@@ -1,6 +1,7 @@
 // The content hash that ties precomputed history trees to the scene and the settings that shaped
 // them: a visibility file made for another scene, or with other build options or patch size, is
-// stale and must be recomputed.
+// stale and must be recomputed. In engine/precompute/ beside VisibilityStore, whose options it
+// hashes (the scene room below knows nothing of the precompute).
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,4 @@
-#include "app/viewer/gl/headless_host.h"
+#include "app/viewer/host/headless_host.h"
 
 #include <imgui.h>
 
@@ -6,9 +6,9 @@
 #include <chrono>
 #include <iostream>
 
-#include "app/cli/commands.h"
-#include "app/viewer/gl/imgui_session.h"
-#include "app/viewer/gl/png_output.h"
+#include "app/viewer/host/host_error.h"
+#include "app/viewer/host/imgui_session.h"
+#include "app/viewer/png_output.h"
 #include "engine/io/finite_output.h"
 
 namespace penumbra::viewer {
@@ -23,7 +23,8 @@ void runHeadless(const HeadlessOptions& o) {
     ImGui::GetIO().MousePos = ImVec2(-FLT_MAX, -FLT_MAX);
 
     Viewer viewer(o.viewer);
-    if (!viewer.openScene(o.scene)) throw cli::inputError(viewer.status());
+    if (!viewer.openScene(o.scene))
+        throw HostInputError(HostInputError::Input::Scene, viewer.status());
     if (o.printWarnings)
         for (const std::string& warning : viewer.scene()->scene.warnings)
             std::cerr << "penumbra: warning: " << warning << '\n';
@@ -31,9 +32,9 @@ void runHeadless(const HeadlessOptions& o) {
     const double dt = 1.0 / 60;
     viewer.frame(o.width, o.height, dt);  // lays out the panels, builds the font atlas
     if (o.point && !viewer.selectPoint(*o.point))
-        throw cli::inputError("--point: " + viewer.status());
+        throw HostInputError(HostInputError::Input::Point, viewer.status());
     if (o.pixel && !viewer.pickPixel((*o.pixel)[0], (*o.pixel)[1], o.width, o.height))
-        throw cli::inputError("--pixel: " + viewer.status());
+        throw HostInputError(HostInputError::Input::Pixel, viewer.status());
 
     nlohmann::json precomputeFrames;
     if (o.precompute) {

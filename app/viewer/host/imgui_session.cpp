@@ -1,4 +1,4 @@
-#include "app/viewer/gl/imgui_session.h"
+#include "app/viewer/host/imgui_session.h"
 
 #include <imgui.h>
 #include <imgui_impl_opengl3.h>

@@ -1,6 +1,8 @@
-// Counter-based random numbers for the renderer: every pixel, pass and light gets its own stream,
-// seeded by hashing the indices, so an image does not depend on how tiles are scheduled over
-// threads and one seed can be changed while the others stay fixed.
+// Counter-based random numbers for the engine: the renderer gives every pixel, pass and light its
+// own stream, seeded by hashing the indices, so an image does not depend on how tiles are
+// scheduled over threads and one seed can be changed while the others stay fixed; the procedural
+// scenes and the ray-traced baseline (EmbreeScene::sampledFraction) draw from one seeded stream.
+// In engine/scene/, the lowest room of the engine, so that every room above can use it.
 #pragma once
 
 #include <cstdint>
