@@ -90,6 +90,16 @@ TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1 second_deadlock_stack=1 suppressio
   SUITE_TARGET=penumbra_concurrency_tests SUITE_TESTS='^(PrecomputeScheduler|VisibilityStore)\.' \
   run_suite tsan build-tsan 0.25 -DPENUMBRA_TSAN=ON
 
+# The include graph: no include from a lower room of the source to a higher one (the rooms and
+# their order are in scripts/check_includes.sh). One test.
+echo "=== includes"
+if bash scripts/check_includes.sh; then
+  total_passed=$((total_passed + 1))
+else
+  total_failed=$((total_failed + 1))
+  problems+=("includes: an include from a lower room to a higher one (scripts/check_includes.sh)")
+fi
+
 # The libFuzzer harnesses, each for PENUMBRA_FUZZ_SECONDS (12 here; scripts/fuzz.sh runs them
 # longer on demand), one per core at a time. A finding fails the run; it counts as one test.
 echo "=== fuzz: ${PENUMBRA_FUZZ_SECONDS:-12} s per harness"

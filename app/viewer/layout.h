@@ -31,7 +31,7 @@ struct LayoutSettings {
 inline constexpr int kMinViewWidth = 240;
 
 // Every docked rectangle lies inside the framebuffer, none overlaps another or the view, and
-// together with the view they tile it (tests/app/viewer_test.cpp checks sizes from 1280x720 to
+// together with the view they tile it (tests/app/viewer/viewer_test.cpp checks sizes from 1280x720 to
 // 3840x2160 at scales 1 to 2).
 Layout computeLayout(int width, int height, const LayoutSettings& settings = {});
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "tests/app/viewer_test_support.h"
+#include "tests/app/viewer/viewer_test_support.h"
 
 namespace penumbra {
 namespace {

@@ -17,7 +17,7 @@
 #include "app/viewer/panels/help_panel.h"
 #include "app/viewer/panels/precompute_panel.h"
 #include "engine/io/scene_loader.h"
-#include "tests/app/viewer_test_support.h"
+#include "tests/app/viewer/viewer_test_support.h"
 #include "tools/devkit/headless_imgui.h"
 
 namespace penumbra {

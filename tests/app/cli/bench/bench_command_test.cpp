@@ -14,7 +14,7 @@
 
 #include "engine/io/obj_io.h"
 #include "engine/scene/procedural_scenes.h"
-#include "tests/app/viewer_test_support.h"
+#include "tests/app/viewer/viewer_test_support.h"
 #include "tests/support/run_penumbra.h"
 #include "tests/support/test_files.h"
 

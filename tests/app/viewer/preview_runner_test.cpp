@@ -6,7 +6,7 @@
 
 #include "app/viewer/loaded_scene.h"
 #include "engine/render/default_camera.h"
-#include "tests/app/viewer_test_support.h"
+#include "tests/app/viewer/viewer_test_support.h"
 
 namespace penumbra {
 namespace {

@@ -21,7 +21,7 @@
 #include "engine/io/scene_loader.h"
 #include "engine/precompute/point_inspection.h"
 #include "engine/raytrace/embree_scene.h"
-#include "tests/app/viewer_test_support.h"
+#include "tests/app/viewer/viewer_test_support.h"
 #include "tests/support/exact_reference.h"
 #include "tests/support/read_pfm.h"
 
@@ -729,7 +729,7 @@ TEST(ViewerScreenshot, EglBackendRendersTheSameOverlayOrSaysWhy) {
     // Under the sanitizer build: libglvnd unloads the EGL vendor library before exit, so what it
     // keeps allocated is reported from "<unknown module>" frames that no suppression can name.
     // Leak checking is off for this one child (its other sanitizers stay on); the OSMesa tests
-    // keep it, with tests/app/lsan_gl.supp.
+    // keep it, with tests/app/viewer/lsan_gl.supp.
     const char* previous = std::getenv("ASAN_OPTIONS");
     const std::string saved = previous != nullptr ? previous : "";
     setenv("ASAN_OPTIONS", (saved.empty() ? "detect_leaks=0" : saved + ":detect_leaks=0").c_str(),

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "engine/render/answers.h"
-#include "tests/app/viewer_test_support.h"
+#include "tests/app/viewer/viewer_test_support.h"
 #include "tests/support/read_pfm.h"
 #include "tests/support/run_penumbra.h"
 

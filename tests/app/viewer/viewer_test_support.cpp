@@ -1,4 +1,4 @@
-#include "tests/app/viewer_test_support.h"
+#include "tests/app/viewer/viewer_test_support.h"
 
 #include <stb_image.h>
 #include <sys/wait.h>
@@ -40,9 +40,9 @@ static std::string slurp(const fs::path& p) {
 }
 
 // Under the sanitizer build, the child processes' LeakSanitizer ignores what the GL libraries
-// keep at exit (tests/app/lsan_gl.supp); an LSAN_OPTIONS set by the caller wins.
+// keep at exit (tests/app/viewer/lsan_gl.supp); an LSAN_OPTIONS set by the caller wins.
 static void suppressGlLeaksInChildren() {
-    const std::string supp = (sourceDir() / "tests" / "app" / "lsan_gl.supp").string();
+    const std::string supp = (sourceDir() / "tests" / "app" / "viewer" / "lsan_gl.supp").string();
     setenv("LSAN_OPTIONS", ("suppressions=" + supp).c_str(), /*overwrite=*/0);
 }
 
