@@ -7,10 +7,10 @@
 #   build-tsan/  RelWithDebInfo with -DPENUMBRA_TSAN=ON (ThreadSanitizer): only penumbra_tests is
 #                built and only the tests that run threads (scheduler, store) run, to stay fast
 #   fuzz:        every harness of tests/fuzz/ (from build-sanitize/) for PENUMBRA_FUZZ_SECONDS
-#                (12) each, one per core at a time (scripts/fuzz.sh). 12 s is some 27000 inputs
+#                (6) each, one per core at a time (scripts/fuzz.sh). 6 s is some 13000 inputs
 #                per harness on 2 cores, a smoke test on top of the seeds and regression inputs
-#                that the FuzzRegressions test replays; at 20 s a clean run took 883 s of CI's
-#                900. Longer runs: scripts/fuzz.sh SECONDS.
+#                that the FuzzRegressions test replays; at 12 s a clean run took 913 s of CI's
+#                900 (2026-12-05). Longer runs: scripts/fuzz.sh SECONDS.
 # Every build compiles with line tables only (-g1: file and line in every backtrace and sanitizer
 # report, a quarter less compile time than -g) and as a unity build (CMAKE_UNITY_BUILD: the files
 # of a target compiled eight at a time, each heavy header parsed once per batch; a developer's
@@ -100,11 +100,11 @@ else
   problems+=("includes: an include from a lower room to a higher one (scripts/check_includes.sh)")
 fi
 
-# The libFuzzer harnesses, each for PENUMBRA_FUZZ_SECONDS (12 here; scripts/fuzz.sh runs them
+# The libFuzzer harnesses, each for PENUMBRA_FUZZ_SECONDS (6 here; scripts/fuzz.sh runs them
 # longer on demand), one per core at a time. A finding fails the run; it counts as one test.
-echo "=== fuzz: ${PENUMBRA_FUZZ_SECONDS:-12} s per harness"
+echo "=== fuzz: ${PENUMBRA_FUZZ_SECONDS:-6} s per harness"
 if PENUMBRA_FUZZ_SEED="${PENUMBRA_FUZZ_SEED:-1}" PENUMBRA_FUZZ_BUILD=build-sanitize \
-  bash scripts/fuzz.sh "${PENUMBRA_FUZZ_SECONDS:-12}"; then
+  bash scripts/fuzz.sh "${PENUMBRA_FUZZ_SECONDS:-6}"; then
   total_passed=$((total_passed + 1))
 else
   total_failed=$((total_failed + 1))
