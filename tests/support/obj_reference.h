@@ -10,17 +10,20 @@
 //   - numbers: [+-]digits[.digits][(e|E)[+-]digits] (digits on at least one side of the point)
 //     whose value is a finite double (strtod, no range error);
 //   - OBJ: `v` with 3 to 7 numbers (x y z [w [r g b]]); `f` with at least 3 references v, v/vt,
-//     v//vn or v/vt/vn of nonzero integers, a negative v counting back from the vertices defined
-//     before the line, a positive one checked against the whole file once it is read (the first
-//     such face's line is reported, after every other error of the text); `usemtl NAME`; `mtllib
-//     NAME` reads the one library text given (at the first mtllib, named NAME); the statements of
-//     the spec that carry nothing a polygon renderer reads (texture coordinates, normals,
-//     grouping, display attributes) are skipped; any other statement is refused;
+//     v//vn or v/vt/vn of nonzero integers (vt and vn checked for form only: penumbra reads
+//     positions, not texture coordinates or normals), a negative v counting back from the
+//     vertices defined before the line, a positive one checked against the whole file once it is
+//     read (the first such face's line is reported, after every other error of the text);
+//     `usemtl NAME`; `mtllib NAME` reads the one library text given (at the first mtllib, named
+//     NAME); the statements of the spec that carry nothing a polygon renderer reads (texture
+//     coordinates, normals, grouping, display attributes) are skipped; any other is refused;
 //   - MTL: keys in any case; `newmtl NAME` (a name defined twice is refused; one without a name
 //     is skipped with its statements); Kd, Ks, Ke with 1 or 3 non-negative numbers and Ns with
 //     one, refused before any newmtl; other keys skipped;
 //   - a usemtl naming no material gives the faces a default, non-emissive material; a face is an
-//     area light when its material has a positive Ke; a text without faces is refused at line 0.
+//     area light when its material has a positive Ke;
+//   - refused at line 0 (the file as a whole): a text without faces, then one with a coordinate
+//     beyond the scene contract's magnitude, 2^59 (engine/scene/scene_validation.h).
 // Not modelled: repeated vertices in a face and the loader's repairs of faces (degenerate ones
 // dropped, non-planar and non-convex ones split): a caller compares faces only where the loader
 // reports no repair.

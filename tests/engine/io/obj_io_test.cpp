@@ -17,6 +17,7 @@
 #include "engine/scene/scene_error.h"
 #include "engine/scene/scene_validation.h"
 #include "tests/support/obj_reference.h"
+#include "tests/support/test_scale.h"
 
 namespace penumbra {
 namespace {
@@ -703,14 +704,14 @@ TEST(ObjRobustness, TruncationAtEveryByteIsRefusedOrLoadsWhatRemains) {
     EXPECT_GT(loaded, 100);
 }
 
-// Random byte changes, deletions and insertions: refused at the file and line the reference reading
-// names, or loaded as it reads them (faces the change made degenerate, non-planar or non-convex
-// may be repaired, with a warning). Each kind of outcome must occur.
+// Random byte changes, deletions and insertions (3000, scaled): refused at the file and line the
+// reference reading names, or loaded as it reads them (faces the change made degenerate, non-planar
+// or non-convex may be repaired, with a warning). Each kind of outcome must occur.
 TEST(ObjRobustness, RandomByteCorruptionIsRefusedOrLoadsWhatIsLeft) {
     const test::ObjReading sample = test::readObjReference(kRobustObj, kRobustMtl, "r.obj");
     ASSERT_FALSE(sample.refused());
     std::mt19937 rng(12345);
-    const int iterations = 3000;
+    const int iterations = test::scaled(3000);
     int refused = 0, unchanged = 0, changed = 0;
     for (int iter = 0; iter < iterations; ++iter) {
         std::string obj = kRobustObj, mtl = kRobustMtl;
