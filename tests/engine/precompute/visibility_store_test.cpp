@@ -3,7 +3,8 @@
 // exact for their sub-patches (checked against the exact CGAL reference and the parent's tree),
 // keyAt serves them only once built, also to threads asking while another refines, the key
 // encoding holds its levels, and visibility files keep the patches' own trees only. Built into
-// penumbra_concurrency_tests, which CI also runs under ThreadSanitizer (scripts/run_tests.sh).
+// penumbra_concurrency_tests, which CI also runs under ThreadSanitizer (scripts/run_tests.sh), all
+// but the exact-reference test there.
 #include "engine/precompute/visibility_store.h"
 
 #include <gtest/gtest.h>
@@ -17,7 +18,9 @@
 #include "engine/io/visibility_file.h"
 #include "engine/raytrace/embree_scene.h"
 #include "engine/scene/procedural_scenes.h"
+#ifndef PENUMBRA_NO_EXACT_REFERENCE
 #include "tests/support/exact_reference.h"
+#endif
 #include "tests/support/tree_reference.h"
 #include "visibility/form_factor.h"
 #include "visibility/fp_query/from_point_query.h"
@@ -25,24 +28,6 @@
 
 namespace penumbra {
 namespace {
-
-double visibleFraction(const Scene& scene, const vis::HistoryTree& tree, const Vec3& x) {
-    vis::FromPointQuery query;
-    const vis::FragmentList& list = query.run(scene.mesh, tree, x);
-    double area = 0;
-    for (size_t i = 0; i < list.size(); ++i) area += vis::polygonArea(list[i]);
-    return area / scene.mesh.faceArea(tree.light);
-}
-
-// A point of triangle `t` shrunk by 1% about its centroid (inside it, away from its edges).
-Vec3 pointIn(const std::vector<Vec3>& t, std::mt19937_64& rng) {
-    std::uniform_real_distribution<double> u(0, 1);
-    double a = u(rng), b = u(rng);
-    if (a + b > 1) a = 1 - a, b = 1 - b;
-    const Vec3 c = (t[0] + t[1] + t[2]) / 3.0;
-    const Vec3 p = t[0] + (t[1] - t[0]) * a + (t[2] - t[0]) * b;
-    return c + (p - c) * 0.99;
-}
 
 // The table under its light (foliage: hundreds of leaves over the floor), with a small build
 // budget so that the floor's patch trees are partial, as the renderer's are on the real scene.
@@ -66,6 +51,28 @@ struct TableRig {
     EmbreeScene bvh;
     VisibilityStore store;
 };
+
+// The exact reference (CGAL) is not built under ThreadSanitizer (tests/CMakeLists.txt): this test
+// runs no threads, and CI's TSan run would compile CGAL for it alone.
+#ifndef PENUMBRA_NO_EXACT_REFERENCE
+
+double visibleFraction(const Scene& scene, const vis::HistoryTree& tree, const Vec3& x) {
+    vis::FromPointQuery query;
+    const vis::FragmentList& list = query.run(scene.mesh, tree, x);
+    double area = 0;
+    for (size_t i = 0; i < list.size(); ++i) area += vis::polygonArea(list[i]);
+    return area / scene.mesh.faceArea(tree.light);
+}
+
+// A point of triangle `t` shrunk by 1% about its centroid (inside it, away from its edges).
+Vec3 pointIn(const std::vector<Vec3>& t, std::mt19937_64& rng) {
+    std::uniform_real_distribution<double> u(0, 1);
+    double a = u(rng), b = u(rng);
+    if (a + b > 1) a = 1 - a, b = 1 - b;
+    const Vec3 c = (t[0] + t[1] + t[2]) / 3.0;
+    const Vec3 p = t[0] + (t[1] - t[0]) * a + (t[2] - t[0]) * b;
+    return c + (p - c) * 0.99;
+}
 
 TEST(VisibilityStore, RefinedSubPatchTreesMatchTheExactReferenceInTheirSubPatches) {
     TableRig rig;
@@ -130,6 +137,8 @@ TEST(VisibilityStore, RefinedSubPatchTreesMatchTheExactReferenceInTheirSubPatche
     }
     EXPECT_GT(penumbra, 0);
 }
+
+#endif  // PENUMBRA_NO_EXACT_REFERENCE
 
 TEST(VisibilityStore, RefinementStopsAtItsLevelsAndFilesKeepThePatchTreesOnly) {
     TableRig rig;
