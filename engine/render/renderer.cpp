@@ -4,6 +4,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
@@ -18,6 +19,7 @@
 #include "engine/render/cpu_time.h"
 #include "engine/render/shading.h"
 #include "engine/render/shading_point.h"
+#include "engine/render/tile_schedule.h"
 #include "engine/scene/random.h"
 #include "visibility/face_plane.h"
 
@@ -26,10 +28,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-constexpr int kTileSize = 16;
 // The exact method shades a tile in cells of kRegionCell x kRegionCell pixels: the points of one
-// receiver patch in one cell share the region decisions of the from-point query.
+// receiver patch in one cell share the region decisions of the from-point query. A tile is one
+// cell (engine/render/tile_schedule.h).
 constexpr int kRegionCell = 8;
+constexpr int kTileSize = TileSchedule::kTileSize;
 static_assert(kTileSize % kRegionCell == 0 &&
               (kTileSize / kRegionCell) * (kTileSize / kRegionCell) <= 256);
 
@@ -72,10 +75,6 @@ void validate(const RenderSettings& s) {
                 std::to_string(VisibilityStore::kMaxRefineLevels) + ")");
 }
 
-struct Tile {
-    int x0, y0, x1, y1;
-};
-
 // Query-driven refinement's cost model (refineWhere), in shadow rays, measured on the table scene
 // (2-core EPYC): a linear program of a tree's build costs about 5 us, a shadow ray about 0.1 us
 // (128 rays: 6-13 us), a tree about 0.1 ms besides its programs. Counts, not seconds: what is
@@ -83,15 +82,10 @@ struct Tile {
 constexpr double kRefineRaysPerLpSolve = 50, kRefineRaysPerTree = 1000;
 
 Tile tileAt(int index, const RenderSettings& s) {
-    const int tilesX = (s.width + kTileSize - 1) / kTileSize;
-    const int tx = index % tilesX, ty = index / tilesX;
-    return {tx * kTileSize, ty * kTileSize, std::min(s.width, (tx + 1) * kTileSize),
-            std::min(s.height, (ty + 1) * kTileSize)};
+    return TileSchedule::tileAt(index, s.width, s.height);
 }
 
-int tileCount(const RenderSettings& s) {
-    return ((s.width + kTileSize - 1) / kTileSize) * ((s.height + kTileSize - 1) / kTileSize);
-}
+int tileCount(const RenderSettings& s) { return TileSchedule::tileCount(s.width, s.height); }
 
 // The primary ray of pixel (x, y) in pass `pass`: a uniform jitter inside the pixel drawn from
 // the stream (seed, pass, pixel).
@@ -362,13 +356,16 @@ struct PassFindings {
     }
 };
 
-// One task's tiles traced and shaded into image, their thread time added to primaryNs and
-// shadingNs (when not null); false when cancelled before a tile.
-bool shadeTiles(TileShader& shader, const tbb::blocked_range<int>& range,
-                const RenderSettings& settings, std::vector<Vec3>& image,
-                const std::atomic<bool>* cancel, std::atomic<int64_t>* primaryNs,
-                std::atomic<int64_t>* shadingNs) {
-    for (int t = range.begin(); t != range.end(); ++t) {
+// One worker's share of a pass: the tiles it takes from the schedule, traced and shaded into
+// image, each tile's thread time recorded in the schedule and added to primaryNs and shadingNs
+// (when not null); false when cancelled before a tile.
+bool shadeTiles(TileShader& shader, TileSchedule& schedule, const RenderSettings& settings,
+                std::vector<Vec3>& image, const std::atomic<bool>* cancel,
+                std::atomic<int64_t>* primaryNs, std::atomic<int64_t>* shadingNs) {
+    auto ns = [](Clock::time_point a, Clock::time_point b) {
+        return std::chrono::duration_cast<std::chrono::nanoseconds>(b - a).count();
+    };
+    for (int t = schedule.next(); t >= 0; t = schedule.next()) {
         if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return false;
         const Tile tile = tileAt(t, settings);
         const auto a = Clock::now();
@@ -376,13 +373,10 @@ bool shadeTiles(TileShader& shader, const tbb::blocked_range<int>& range,
         const auto b = Clock::now();
         shader.shade(tile, image);
         const auto c = Clock::now();
+        schedule.record(t, ns(a, c));
         if (primaryNs != nullptr) {
-            primaryNs->fetch_add(
-                std::chrono::duration_cast<std::chrono::nanoseconds>(b - a).count(),
-                std::memory_order_relaxed);
-            shadingNs->fetch_add(
-                std::chrono::duration_cast<std::chrono::nanoseconds>(c - b).count(),
-                std::memory_order_relaxed);
+            primaryNs->fetch_add(ns(a, b), std::memory_order_relaxed);
+            shadingNs->fetch_add(ns(b, c), std::memory_order_relaxed);
         }
     }
     return true;
@@ -638,18 +632,20 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                         &overLimitCells_,
                         answering ? passAnswers_.data() : nullptr};
 
-    tbb::parallel_for(tbb::blocked_range<int>(0, tileCount(settings), 1),
-                      [&](const tbb::blocked_range<int>& range) {
-                          TileShader shader(in, !directMissing_, queries_->perThread.local());
-                          if (!shadeTiles(shader, range, settings, image, cancel,
-                                          times != nullptr ? &times->primaryNs : nullptr,
-                                          times != nullptr ? &times->shadingNs : nullptr)) {
-                              cancelled.store(true, std::memory_order_relaxed);
-                              return;
-                          }
-                          found.add(shader);
-                      });
+    // Each worker takes tiles from the schedule until none is left (tile_schedule.h).
+    schedule_.start(w, h);
+    tbb::parallel_for(0, tbb::this_task_arena::max_concurrency(), [&](int) {
+        TileShader shader(in, !directMissing_, queries_->perThread.local());
+        if (!shadeTiles(shader, schedule_, settings, image, cancel,
+                        times != nullptr ? &times->primaryNs : nullptr,
+                        times != nullptr ? &times->shadingNs : nullptr)) {
+            cancelled.store(true, std::memory_order_relaxed);
+            return;
+        }
+        found.add(shader);
+    });
     if (cancelled.load()) return false;
+    schedule_.finish();
 
     overLimitCells_.insert(found.overLimitNow.begin(), found.overLimitNow.end());
     addPass(film, pass, w, h, image, passAnswers_, lights);

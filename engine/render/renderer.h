@@ -33,6 +33,7 @@
 #include "engine/precompute/visibility_store.h"
 #include "engine/render/answers.h"
 #include "engine/render/effects_summary.h"
+#include "engine/render/tile_schedule.h"
 #include "engine/scene/camera.h"
 #include "engine/scene/scene.h"
 #include "visibility/fp_query/from_point_query.h"
@@ -212,6 +213,8 @@ class ProgressiveRenderer {
     // node stamps: 2 MB on the 871k dragon) on its first point.
     struct QueryPool;
     std::unique_ptr<QueryPool> queries_;
+    // The order of a pass's tiles, from the last whole pass's costs (tile_schedule.h).
+    TileSchedule schedule_;
     // Set by prepare() with minTreeSamples > 0: the passes evaluate the pairs without a tree
     // point by point instead of building them (written by prepare, read by the passes, never at
     // the same time).

@@ -3,6 +3,7 @@
 #include "engine/render/renderer.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -189,6 +190,34 @@ TEST(Renderer, ExactDiffuseIsIndependentOfTheLightSeed) {
     s.lightSeed = 1;
     const Film d = rig.renderer.render(penumbraCamera(), s);
     EXPECT_NE(c.sum, d.sum);
+}
+
+// The tiles of a pass go to whichever core is free, in an order set by the last pass's costs
+// (tile_schedule.h): the image must not depend on it. One thread against the default pool, and
+// a second film on the same renderer (its passes ordered by the first film's costs).
+TEST(Renderer, ExactImageIsTheSameForAnyThreadCountAndTileOrder) {
+    RenderSettings s;
+    s.width = 40;
+    s.height = 28;
+    s.spp = 3;
+    s.minTreeSamples = 0;
+    Film one;
+    {
+        const tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1);
+        Rig rig(penumbraScene(Material{}));
+        one = rig.renderer.render(penumbraCamera(), s);
+    }
+    Rig rig(penumbraScene(Material{}));
+    const Film first = rig.renderer.render(penumbraCamera(), s);
+    const Film again = rig.renderer.render(penumbraCamera(), s);
+    ASSERT_EQ(one.sum.size(), first.sum.size());
+    size_t lit = 0;
+    for (size_t i = 0; i < one.sum.size(); ++i) {
+        EXPECT_EQ(one.sum[i], first.sum[i]) << "pixel " << i;
+        EXPECT_EQ(first.sum[i], again.sum[i]) << "pixel " << i;
+        if (channelSum(one.sum[i]) > 0) ++lit;
+    }
+    EXPECT_GT(lit, one.sum.size() / 3);
 }
 
 // The exact image of `s` (trees for every pair: minTreeSamples 0) as channel sums, checked against
