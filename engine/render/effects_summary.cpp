@@ -11,11 +11,16 @@ std::string plural(size_t n, const char* one, const char* many) {
     return std::to_string(n) + " " + (n == 1 ? one : many);
 }
 
-// "median M us, 99th percentile P us, mean A us" of a histogram in nanoseconds.
-std::string costText(const CostHistogram& ns) {
-    char cost[160];
+// "median M us, 99th percentile P us, mean A us" of costs in nanoseconds (nearest rank; the
+// subsample says so where the costs kept are one in n of those timed).
+std::string costText(const CostSamples& ns) {
+    const Quantiles q = ns.quantiles();
+    char cost[200];
     std::snprintf(cost, sizeof cost, "median %.2f us, 99th percentile %.2f us, mean %.2f us",
-                  ns.quantile(0.5) * 1e-3, ns.quantile(0.99) * 1e-3, ns.mean() * 1e-3);
+                  q.median * 1e-3, q.p99 * 1e-3, ns.mean() * 1e-3);
+    if (ns.stride() > 1)
+        return cost + (" (median and percentile of one in " + std::to_string(ns.stride()) +
+                       " of those timed)");
     return cost;
 }
 

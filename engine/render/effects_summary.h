@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <string>
 
-#include "engine/render/cost_histogram.h"
+#include "engine/render/cost_samples.h"
 #include "visibility/fp_query/work_budget.h"
 
 namespace penumbra {
@@ -22,11 +22,12 @@ struct EvaluationCosts {
     // Of one evaluation in kTimedEvery: per evaluation answered exactly, its time
     // in nanoseconds (the query and the shading of its fragments); per sampled one, the time of
     // its shadow rays alone (the exact method's points over the work limit, per light; the
-    // sampled method's points, all lights).
-    CostHistogram exactNs, sampledNs;
+    // sampled method's points, all lights). Their medians and percentiles are exact order
+    // statistics of the timed ones (CostSamples: of one in stride() of them past its capacity).
+    CostSamples exactNs, sampledNs;
     // Per timed evaluation whose query reached the work limit (the exact method's), the time
     // the query ran before it stopped: spent before the shadow rays, and lost.
-    CostHistogram attemptNs;
+    CostSamples attemptNs;
     // The exact evaluations the boundary chain answered (vis::FromPointQuery::ChainCounts: it cut
     // L into cells), their occluders' edges (each use by a face; a face group taken whole counts
     // its boundary only), the chain edges left of them, the cells those cut L into and the

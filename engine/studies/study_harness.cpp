@@ -43,16 +43,6 @@ void runOnWorkers(const std::function<void()>& work) {
     runWithLimit(INFINITY, never, work);
 }
 
-Quantiles quantiles(std::vector<double> v) {
-    if (v.empty()) return {};
-    std::sort(v.begin(), v.end());
-    auto rank = [&](double q) {
-        const size_t k = static_cast<size_t>(std::ceil(q * static_cast<double>(v.size())));
-        return v[std::clamp<size_t>(k, 1, v.size()) - 1];
-    };
-    return {rank(0.5), rank(0.99), v.back()};
-}
-
 void logLine(const StudyLog& log, const char* format, ...) {
     if (!log) return;
     va_list args;

@@ -1,7 +1,7 @@
 // What the bench's studies share to measure: the wall clock, work run on every core under a time
-// limit, nearest-rank quantiles, the progress lines a study prints as it goes, and the error a
-// study stops with. The numbers are measurements of one run on one machine (shared machines
-// vary 10-25% from run to run): nothing here is exact but the counts.
+// limit, nearest-rank quantiles (engine/scene/quantiles.h), the progress lines a study prints as
+// it goes, and the error a study stops with. The numbers are measurements of one run on one
+// machine (shared machines vary 10-25% from run to run): nothing here is exact but the counts.
 #pragma once
 
 #include <atomic>
@@ -11,6 +11,8 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "engine/scene/quantiles.h"  // (the studies' medians and 99th percentiles)
 
 namespace penumbra {
 
@@ -40,13 +42,6 @@ bool runWithLimit(double limit, std::atomic<bool>& cancel, const std::function<v
 
 // The same without a limit.
 void runOnWorkers(const std::function<void()>& work);
-
-// Nearest-rank quantiles of a sample: the values below which half, 99% and all of it lie.
-struct Quantiles {
-    double median = 0, p99 = 0, max = 0;
-};
-// Zeros for an empty sample.
-Quantiles quantiles(std::vector<double> v);
 
 // Where a study reports its progress, one line at a time (what `penumbra bench` prints as it
 // measures); empty: nowhere.

@@ -7,9 +7,9 @@
 #include "engine/io/image_io.h"
 #include "engine/io/visibility_file.h"
 #include "engine/precompute/visibility_store.h"
+#include "engine/raytrace/embree_scene.h"
 #include "engine/render/cpu_time.h"
 #include "engine/render/default_camera.h"
-#include "engine/raytrace/embree_scene.h"
 #include "engine/render/renderer.h"
 
 namespace penumbra {
@@ -31,10 +31,12 @@ WorkByPath workByPath(const EffectsSummary& fx) { return {fx.workAt[0], fx.workA
 EvaluationTimes evaluationTimes(const EffectsSummary& fx) {
     const EvaluationCosts& c = fx.costs;
     EvaluationTimes t;
+    const Quantiles q = c.exactNs.quantiles();
     t.evaluations = c.exactNs.count();
-    t.medianUs = c.exactNs.quantile(0.5) * 1e-3;
-    t.p99Us = c.exactNs.quantile(0.99) * 1e-3;
+    t.medianUs = q.median * 1e-3;
+    t.p99Us = q.p99 * 1e-3;
     t.meanUs = c.exactNs.mean() * 1e-3;
+    t.quantileStride = c.exactNs.stride();
     t.chainEvaluations = c.chainEvaluations;
     t.chainEdges = c.chainBoundaryEdges;
     t.chainCells = c.chainCells;
@@ -60,10 +62,12 @@ SampledRender measureSampled(const Scene& scene, const EmbreeScene& bvh, const C
     SampledRender out;
     out.wall = t.total;
     out.cpu = t.totalCpu;
+    const Quantiles q = fx.costs.sampledNs.quantiles();
     out.points = fx.costs.sampledNs.count();
-    out.pointMedianUs = fx.costs.sampledNs.quantile(0.5) * 1e-3;
-    out.pointP99Us = fx.costs.sampledNs.quantile(0.99) * 1e-3;
+    out.pointMedianUs = q.median * 1e-3;
+    out.pointP99Us = q.p99 * 1e-3;
     out.pointMeanUs = fx.costs.sampledNs.mean() * 1e-3;
+    out.pointQuantileStride = fx.costs.sampledNs.stride();
     logLine(log, "  sampled 128: %.2f s wall, %.2f s cpu", t.total, t.totalCpu);
     return out;
 }
@@ -83,7 +87,8 @@ void countEvaluations(const EffectsSummary& fx, ExactRender& e) {
     e.notTried = fx.notTriedEvaluations();
     e.workAt = workByPath(fx);
     e.cost.times = evaluationTimes(fx);
-    e.cost.sampledMedianUs = fx.costs.sampledNs.quantile(0.5) * 1e-3;
+    e.cost.sampledMedianUs = fx.costs.sampledNs.quantiles().median * 1e-3;
+    e.cost.sampledQuantileStride = fx.costs.sampledNs.stride();
     e.cost.chainOccluderEdges = fx.costs.chainOccluderEdges;
     const EvaluationCosts::TimeSplit split = fx.costs.timeSplit();
     e.cost.timeSplit = {split.exact, split.attempts, split.rays};

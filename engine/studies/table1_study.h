@@ -5,8 +5,9 @@
 //
 // Exact and measured: the counts (evaluations, trees, pairs, answers, plane tests) are exact for
 // this render; the times are wall and process CPU seconds of one run on a shared machine; the
-// per-evaluation costs time one evaluation in EvaluationCosts::kTimedEvery and read their
-// quantiles off a log histogram (to within 19%).
+// per-evaluation costs time one evaluation in EvaluationCosts::kTimedEvery, and their medians and
+// 99th percentiles are nearest-rank order statistics of the timed ones (CostSamples: of one in
+// n of them where more were timed than it keeps; each figure's *QuantileStride says which).
 #pragma once
 
 #include <array>
@@ -36,12 +37,19 @@ struct WorkByPath {
     StageCounts trees{}, direct{};
 };
 
+// Of what the median and 99th percentile of a set of timed costs are the order statistics: 1,
+// every timed cost; n > 1, one in n of them (CostSamples::stride). 0 is kept for the bench.json
+// files written before the exact quantiles, read back to write their report again: there they
+// are the middles of log-histogram buckets, to within 19% (the report says so).
+inline constexpr uint64_t kHistogramQuantiles = 0;
+
 // The sampled render (128 shadow rays per light): its times and its timed points (all lights of a
 // shading point together).
 struct SampledRender {
     double wall = 0, cpu = 0;
     uint64_t points = 0;
     double pointMedianUs = 0, pointP99Us = 0, pointMeanUs = 0;
+    uint64_t pointQuantileStride = 1;  // (kHistogramQuantiles)
 };
 
 // An exact render's timed evaluations answered exactly (query and shading), and the boundary
@@ -49,6 +57,7 @@ struct SampledRender {
 struct EvaluationTimes {
     uint64_t evaluations = 0;
     double medianUs = 0, p99Us = 0, meanUs = 0;
+    uint64_t quantileStride = 1;  // (kHistogramQuantiles)
     uint64_t chainEvaluations = 0, chainEdges = 0, chainCells = 0, chainFragments = 0;
 };
 
@@ -61,8 +70,9 @@ struct TimeSplit {
 // The default exact render's evaluation costs.
 struct ExactCost {
     EvaluationTimes times;
-    double sampledMedianUs = 0;       // the points over the work limit: their 128 rays
-    uint64_t chainOccluderEdges = 0;  // the edges of the occluders the chain's edges came from
+    double sampledMedianUs = 0;          // the points over the work limit: their 128 rays
+    uint64_t sampledQuantileStride = 1;  // (of sampledMedianUs: kHistogramQuantiles)
+    uint64_t chainOccluderEdges = 0;     // the edges of the occluders the chain's edges came from
     TimeSplit timeSplit;
 };
 

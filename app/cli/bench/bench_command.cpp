@@ -33,6 +33,7 @@
 #include "app/cli/commands.h"
 #include "engine/io/atomic_file.h"
 #include "engine/io/finite_output.h"
+#include "engine/io/text_input.h"
 #include "engine/studies/study_harness.h"
 
 #ifndef PENUMBRA_BUILD_TYPE
@@ -61,6 +62,7 @@ struct BenchOptions {
     bool skipLarge = false;
     bool noPlots = false;
     bool strict = false;
+    bool reportOnly = false;  // DIR/report.md again from DIR/bench.json, nothing measured
     // The image of the per-point cost with every point exact, for the scenes whose Table 1 image
     // is too costly to render without the work limit (the large ones, and those above
     // kAllPairsMaxFaces faces): one sample per pixel.
@@ -263,6 +265,11 @@ void runBench(const BenchOptions& o, const std::string& commandLine) {
     parseSize("--large-size", o.largeSize, kImageSize);
     parseSize("--accuracy-size", o.accuracySize, kImageSize);
     parseSize("--exact-cost-size", o.exactCostSize, kImageSize);
+    const BenchSettings settings{o.size,      o.largeSize, o.spp,          o.quick,
+                                 o.skipLarge, o.limit,     o.exactCostSize};
+    // Before anything else on stderr (and first in the report): what a quick run's figures are
+    // not for.
+    if (o.quick) std::fprintf(stderr, "penumbra bench: %s\n", quickRunNote(settings).c_str());
     const StudyWorkers workers;
     std::error_code ec;
     fs::create_directories(o.out, ec);
@@ -271,7 +278,7 @@ void runBench(const BenchOptions& o, const std::string& commandLine) {
     BenchResults b;
     b.machine = machine();
     b.command = commandLine;
-    b.options = {o.size, o.largeSize, o.spp, o.quick, o.skipLarge, o.limit, o.exactCostSize};
+    b.options = settings;
     std::vector<std::string> small;
     b.table1 = measureTable1(o, dir, small, b.skipped);
     b.accuracy = measureAccuracy(o);
@@ -293,6 +300,29 @@ void runBench(const BenchOptions& o, const std::string& commandLine) {
     // The report reads bench.json back: it shows what the file holds, and a key the writer and
     // the reader spell differently stops the bench here.
     writeAtomically(dir / "report.md", benchReport(readBenchJson(bench), plots, note));
+    std::printf("wrote %s\n", (dir / "report.md").c_str());
+}
+
+// --report-only: DIR/report.md written again from DIR/bench.json, nothing measured (after a
+// change to the report's layout); the plots already in DIR are shown, not drawn again.
+void rewriteReport(const BenchOptions& o) {
+    if (o.out.empty()) throw usageError("--out DIR is required");
+    const fs::path dir = o.out;
+    const fs::path file = dir / "bench.json";
+    BenchResults b;
+    try {
+        b = readBenchJson(nlohmann::json::parse(readWholeFile(file)));
+    } catch (const FileReadError& e) {
+        throw inputError(e.what());
+    } catch (const nlohmann::json::exception& e) {
+        throw inputError(file.string() + ": " + e.what());
+    } catch (const BenchJsonError& e) {
+        throw inputError((dir / "").string() + e.what());  // ("bench.json: WHERE: WHY")
+    }
+    bool plots = true;
+    for (const char* png : {"table1.png", "accuracy.png"}) plots = plots && fs::exists(dir / png);
+    writeAtomically(dir / "report.md",
+                    benchReport(b, plots, "table1.png or accuracy.png not in " + o.out));
     std::printf("wrote %s\n", (dir / "report.md").c_str());
 }
 
@@ -329,15 +359,19 @@ void registerBenchCommand(CLI::App& app) {
         ->check(CLI::PositiveNumber);
     sub->add_flag("--quick", o->quick,
                   "CI-sized run: small scenes, small images, few rays, 20 s precompute limit, no "
-                  "scaling study");
+                  "scaling study; its figures are for CI and smoke tests, not for conclusions");
     sub->add_option("--exact-cost-size", o->exactCostSize,
                     "Image size (WxH, 1 spp) of the per-point cost with every point exact for "
                     "the scenes whose Table 1 image is too costly to render so");
     sub->add_flag("--skip-large", o->skipLarge, "Skip the scenes above 300k triangles");
     sub->add_flag("--no-plots", o->noPlots, "Do not run scripts/plot_bench.py");
+    sub->add_flag("--report-only", o->reportOnly,
+                  "Measure nothing: write DIR/report.md again from DIR/bench.json (the plots "
+                  "already in DIR are shown)");
     addStrictOption(*sub, o->strict);
     sub->callback([o, sub] {
         BenchOptions opt = *o;
+        if (opt.reportOnly) return rewriteReport(opt);
         if (opt.quick) {
             if (sub->count("--size") == 0) opt.size = "64x64";
             if (sub->count("--spp") == 0) opt.spp = 2;

@@ -180,7 +180,8 @@ struct Schema<SampledRender> {
                           field("points", &S::points),
                           field("pointMedianUs", &S::pointMedianUs),
                           field("pointP99Us", &S::pointP99Us),
-                          field("pointMeanUs", &S::pointMeanUs)};
+                          field("pointMeanUs", &S::pointMeanUs),
+                          field("pointQuantileStride", &S::pointQuantileStride)};
     }
 };
 
@@ -192,6 +193,7 @@ struct Schema<EvaluationTimes> {
                           field("medianUs", &S::medianUs),
                           field("p99Us", &S::p99Us),
                           field("meanUs", &S::meanUs),
+                          field("quantileStride", &S::quantileStride),
                           field("chainEvaluations", &S::chainEvaluations),
                           field("chainEdges", &S::chainEdges),
                           field("chainCells", &S::chainCells),
@@ -214,6 +216,7 @@ struct Schema<ExactCost> {
     using S = ExactCost;
     static auto fields() {
         return std::tuple{inlined(&S::times), field("sampledMedianUs", &S::sampledMedianUs),
+                          field("sampledQuantileStride", &S::sampledQuantileStride),
                           field("chainOccluderEdges", &S::chainOccluderEdges),
                           field("timeSplit", &S::timeSplit)};
     }

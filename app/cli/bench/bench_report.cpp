@@ -14,7 +14,7 @@
 #include "visibility/fp_query/work_budget.h"
 
 namespace penumbra::cli {
-namespace {
+namespace bench_report_detail {
 
 namespace fs = std::filesystem;
 
@@ -28,6 +28,9 @@ std::string numOrDash(double v, const char* f = "%.2f") {
 // The scene's file name: the tables have no room for the directories.
 std::string sceneName(const std::string& scene) { return fs::path(scene).filename().string(); }
 
+// A speed-up (sampled time over exact time) as the tables print it, "12.90x".
+std::string speedup(double ratio) { return num(ratio) + "x"; }
+
 // Whether some Table 1 row has an exact render (its sections are written only then).
 bool anyExactRender(const std::vector<Table1Row>& rows) {
     for (const Table1Row& row : rows)
@@ -35,7 +38,7 @@ bool anyExactRender(const std::vector<Table1Row>& rows) {
     return false;
 }
 
-// An exact render's sampled evaluations (over the work limit) as a percentage of those that
+// An exact render's evaluations over the work limit (sampled) as a percentage of those that
 // needed a query.
 double sampledPercent(const ExactRender& exact) {
     return 100.0 * static_cast<double>(exact.sampledEvaluations) /
@@ -48,6 +51,156 @@ std::string chainPer(const EvaluationTimes& cost, uint64_t count) {
     const double chain = static_cast<double>(cost.chainEvaluations);
     if (!(chain > 0)) return "-";
     return fmt("%.1f", static_cast<double>(count) / chain);
+}
+
+// ---- Medians and percentiles of timed evaluations -------------------------------------------
+
+// A median or 99th percentile of timed evaluations in microseconds, marked where it is not an
+// order statistic of every timed evaluation: "(1 in N)" where it is one of a subsample, "†"
+// where it is a log-histogram bucket's middle (bench.json files written before the exact
+// quantiles).
+std::string quantileUs(double us, uint64_t stride) {
+    if (stride == kHistogramQuantiles) return num(us) + " †";
+    if (stride > 1) return num(us) + " (1 in " + std::to_string(stride) + ")";
+    return num(us);
+}
+
+// What the marks of quantileUs mean, after a table that has any (`strides`: its figures').
+void writeQuantileNote(std::ostream& r, const std::vector<uint64_t>& strides) {
+    const bool histogram = std::count(strides.begin(), strides.end(), kHistogramQuantiles) > 0;
+    const bool subsampled =
+        std::any_of(strides.begin(), strides.end(), [](uint64_t s) { return s > 1; });
+    if (histogram)
+        r << "† Not an order statistic: the middle of a log-histogram bucket, to within 19% (this "
+             "run predates exact quantiles), so scenes whose costs fall in one bucket print the "
+             "same value.\n\n";
+    if (subsampled)
+        r << "(1 in N): the order statistic of one timed evaluation in N, spread evenly: more "
+             "were timed than the 2^20 the renderer keeps per distribution.\n\n";
+}
+
+// ---- The top: the conclusion, the run, the terms ---------------------------------------------
+
+// "stairs.json 12.90x, cornell_box.json 23.17x" (or with the slow-downs' inverse) of `rows`.
+std::string speedupList(const std::vector<const Table1Row*>& rows) {
+    std::string out;
+    for (const Table1Row* row : rows) {
+        const double s = row->speedup->wall;
+        out += (out.empty() ? "" : ", ") + sceneName(row->scene) + " " + speedup(s);
+        if (s < 1) out += " (sampling " + speedup(1 / s) + " faster)";
+    }
+    return out;
+}
+
+// Exact against 128 rays per scene (Table 1): where exact wins, where it loses, where it had no
+// render, and how much of it was not exact.
+void writeTable1Conclusion(std::ostream& r, const std::vector<Table1Row>& rows, double limit) {
+    std::vector<const Table1Row*> faster, slower, none, sampled;
+    for (const Table1Row& row : rows) {
+        if (!row.speedup)
+            none.push_back(&row);
+        else
+            (row.speedup->wall > 1 ? faster : slower).push_back(&row);
+        if (row.exact.render && row.exact.render->sampledEvaluations > 0) sampled.push_back(&row);
+    }
+    const auto bySpeedup = [](const Table1Row* a, const Table1Row* b) {
+        return a->speedup->wall > b->speedup->wall;
+    };
+    std::sort(faster.begin(), faster.end(), bySpeedup);
+    std::sort(slower.begin(), slower.end(), bySpeedup);
+    const std::string of = " of " + std::to_string(rows.size()) + " scenes";
+    r << "**Exact against 128 shadow rays per light, the same image** (Table 1: the sampled "
+         "render's wall time over the exact precompute and render's; above 1x exact is "
+         "faster):\n\n"
+      << "- exact faster on " << faster.size() << of
+      << (faster.empty() ? "" : ": " + speedupList(faster)) << ".\n"
+      << "- exact slower on " << slower.size() << of
+      << (slower.empty() ? "" : ": " + speedupList(slower)) << ".\n";
+    if (!none.empty()) {
+        r << "- no exact render (precompute over the " << num(limit, "%.0f") << " s limit): ";
+        for (size_t i = 0; i < none.size(); ++i)
+            r << (i == 0 ? "" : ", ") << sceneName(none[i]->scene);
+        r << ".\n";
+    }
+    if (sampled.empty()) {
+        r << "- every evaluation exact: none over the work limit.\n";
+    } else {
+        r << "- not all exact: over the work limit, shaded with 128 rays instead, ";
+        for (size_t i = 0; i < sampled.size(); ++i)
+            r << (i == 0 ? "" : ", ") << sceneName(sampled[i]->scene) << " "
+              << fmt("%.1f%%", sampledPercent(*sampled[i]->exact.render));
+        r << " of the evaluations that needed a query.\n";
+    }
+    r << "\n";
+}
+
+// Exact against sampling at equal error and at equal time: the error-against-time study, the one
+// study that measures error (on one scene).
+void writeAccuracyConclusion(std::ostream& r, const AccuracyBenchRun& run) {
+    const AccuracyStudy& a = run.study;
+    const AccuracyPoint& e = a.exact;
+    const std::string scene = sceneName(run.scene);
+    if (std::isfinite(a.equalErrorSeconds) && e.seconds > 0) {
+        const double ratio = a.equalErrorSeconds / e.seconds;
+        r << "**At equal error** (" << scene
+          << " only: the bench measures error on no other scene): sampling reaches the exact "
+             "image's RMSE ("
+          << num(e.rmse, "%.4g") << ") at about " << numOrDash(a.equalErrorRays, "%.0f")
+          << " rays per light and " << num(a.equalErrorSeconds, "%.3f") << " s wall, against "
+          << num(e.seconds, "%.3f") << " s exact: exact " << speedup(ratio)
+          << (ratio < 1 ? " (sampling " + speedup(1 / ratio) + " faster)" : std::string())
+          << (a.equalErrorExtrapolated ? ", extrapolated beyond the measured curve" : "")
+          << ".\n\n";
+    } else {
+        r << "**At equal error**: no figure. The error-against-time study (" << scene
+          << ") has fewer than two usable points on its sampled curve, and the bench measures "
+             "error on no other scene.\n\n";
+    }
+    // Equal time: the most rays whose measured render took no longer than the exact one.
+    const AccuracyPoint* within = nullptr;
+    const AccuracyPoint* fastest = nullptr;
+    for (const AccuracyPoint& p : a.sampled) {
+        if (fastest == nullptr || p.seconds < fastest->seconds) fastest = &p;
+        if (p.seconds <= e.seconds && (within == nullptr || p.rays > within->rays)) within = &p;
+    }
+    if (within != nullptr) {
+        r << "**At equal time** (" << scene << "): in the exact image's " << num(e.seconds, "%.3f")
+          << " s, sampling affords " << within->rays << (within->rays == 1 ? " ray" : " rays")
+          << " per light (" << num(within->seconds, "%.3f") << " s), whose RMSE against the exact "
+          << "image, " << num(within->rmse, "%.4g") << ", is "
+          << (e.rmse > 0 ? num(within->rmse / e.rmse, "%.1f") + "x" : std::string("-"))
+          << " the exact image's against the converged reference (" << num(e.rmse, "%.4g")
+          << ").\n\n";
+    } else if (fastest != nullptr) {
+        r << "**At equal time** (" << scene << "): no sampled render is as fast as the exact "
+          << "image's " << num(e.seconds, "%.3f") << " s: " << fastest->rays
+          << (fastest->rays == 1 ? " ray" : " rays") << " per light took "
+          << num(fastest->seconds, "%.3f") << " s.\n\n";
+    }
+}
+
+void writeConclusion(std::ostream& r, const BenchResults& b) {
+    r << "## In short\n\n";
+    if (!b.table1.empty()) writeTable1Conclusion(r, b.table1, b.options.limit);
+    writeAccuracyConclusion(r, b.accuracy);
+}
+
+void writeHeading(std::ostream& r, const BenchResults& b) {
+    if (b.options.quick) r << "> **" << quickRunNote(b.options) << "**\n\n";
+    r << "# Penumbra: what accuracy costs in time\n\n";
+    writeConclusion(r, b);
+    const BenchMachine& m = b.machine;
+    r << "## This run\n\nMeasured by `" << b.command << "` on " << m.date << ". Machine: " << m.cpu
+      << ", " << m.cores << " logical cores, load average at the start `" << m.loadavg
+      << "`, build type " << m.buildType
+      << ". Compare ratios and CPU times, not seconds across runs (a shared machine varies "
+         "10-25% from run to run).\n\n"
+      << "Terms: an *evaluation* is one (shading point, area light) pair of a render; a *tree* "
+         "is the history tree of one (receiver patch, light) pair, the exact visibility "
+         "precomputed for every point of the patch, and a *partial* one left some occluders to be "
+         "clipped per point (still exact); *over the work limit*: an evaluation whose exact answer "
+         "needs more than `--exact-work-limit` plane tests, shaded with 128 shadow rays instead "
+         "(not exact); times are wall / CPU seconds (CPU: all threads); *us*: microseconds.\n\n";
 }
 
 // The scenes `study` skipped because files they need are missing.
@@ -70,14 +223,6 @@ void writeSkipped(std::ostream& r, const std::vector<SkippedScene>& skipped) {
     r << ".\n\n";
 }
 
-void writeHeading(std::ostream& r, const BenchResults& b) {
-    const BenchMachine& m = b.machine;
-    r << "# Penumbra: what accuracy costs in time\n\n"
-      << "Measured by `" << b.command << "` on " << m.date << ".\n\nMachine: " << m.cpu << ", "
-      << m.cores << " logical cores, load average at the start `" << m.loadavg
-      << "` (shared machine: compare CPU times), build type " << m.buildType << ".\n\n";
-}
-
 // ---- Table 1 -------------------------------------------------------------------------------
 
 void writeTable1Row(std::ostream& r, const Table1Row& row) {
@@ -88,8 +233,9 @@ void writeTable1Row(std::ostream& r, const Table1Row& row) {
       << num(row.sampled128.cpu) << " | " << num(x.precomputeWall) << " / " << num(x.precomputeCpu)
       << (x.precomputeComplete ? "" : " (over the limit)") << " | "
       << (e ? num(e->renderWall) + " / " + num(e->renderCpu) : std::string("-")) << " | "
-      << (row.speedup ? num(row.speedup->wall) + "x (" + num(row.speedup->renderOnlyWall) + "x)"
-                      : std::string("-"))
+      << (row.speedup
+              ? speedup(row.speedup->wall) + " (" + speedup(row.speedup->renderOnlyWall) + ")"
+              : std::string("-"))
       << " | " << x.trees << " (" << x.kinds.partial << ") | "
       << (e ? std::to_string(e->pairsWithoutTree) : "-")
       << (e && e->pairsGroupedNoTree > 0
@@ -117,18 +263,19 @@ void writeTable1Row(std::ostream& r, const Table1Row& row) {
     }
 }
 
-// Of Table 1's sampled points, the stage each query was in when it reached the work limit
-// (vis::WorkStage), and those not tried: later points of a region whose query had reached it.
+// Of Table 1's evaluations over the work limit, the stage each query was in when it reached it,
+// and those not tried: later points of a region whose query had reached it.
 void writeOverLimit(std::ostream& r, const std::vector<Table1Row>& rows) {
     if (!anyExactRender(rows)) return;
     std::vector<std::string> stages;  // in the order a query goes through them
     for (size_t i = 0; i < vis::kWorkStages; ++i)
         stages.emplace_back(vis::toString(static_cast<vis::WorkStage>(i)));
-    r << "### Where the sampled points reached the work limit\n\n"
-      << "Of each scene's sampled points (Table 1), those whose query reached the limit, by the "
-         "stage it was in (`vis::WorkStage`), and those not tried: later points of a region "
-         "(one receiver patch in a few pixels of a tile) whose query had reached it.\n\n"
-      << "| scene | sampled | not tried |";
+    r << "### Where the evaluations over the work limit stopped\n\n"
+      << "Of each scene's evaluations over the work limit (Table 1), those whose exact query "
+         "reached the limit, by the stage of the query it was in, and those not tried: later "
+         "points of a region (one receiver patch in a few pixels of a tile) whose query had "
+         "reached it. The largest stage is the one to make cheaper.\n\n"
+      << "| scene | over the limit | not tried |";
     for (const std::string& s : stages) r << " " << s << " |";
     r << "\n|---|---|---|";
     for (size_t i = 0; i < stages.size(); ++i) r << "---|";
@@ -144,20 +291,19 @@ void writeOverLimit(std::ostream& r, const std::vector<Table1Row>& rows) {
     r << "\n";
 }
 
-// Of Table 1's exact renders, how each pixel was answered (engine/render/answers.h): the shares
-// of the evaluations and the images.
+// Of Table 1's exact renders, how each evaluation was answered: the shares and the images.
 void writeAnswers(std::ostream& r, const std::vector<Table1Row>& rows) {
     if (!anyExactRender(rows)) return;
-    r << "### How each pixel was answered\n\n"
-      << "Table 1's exact renders, each evaluation (point, light) by the answer it took "
-         "(`engine/render/answers.h`; `penumbra render --out-answers`, the viewer's answers "
-         "view): a fully visible pair (the whole light, no query), no light (a back-facing or "
-         "fully hidden pair, or a point behind the light's plane), a history tree's walk, the "
-         "direct path (no tree), the boundary chain (on either), or sampled over the work limit "
-         "(not exact). Shares of all evaluations (Table 1's sampled points are a share of those "
-         "that needed a query: tree walk, direct, chain and sampled); in the images each pixel "
-         "is the mean colour of its evaluations, black where it has none (the background, the "
-         "light itself).\n\n"
+    r << "### How each evaluation was answered\n\n"
+      << "Table 1's exact renders, each evaluation by the answer it took (the colours of "
+         "`penumbra render --out-answers` and of the viewer's answers view): a fully visible "
+         "pair (the whole light, no query), no light (a back-facing or fully hidden pair, or a "
+         "point behind the light's plane), a history tree's walk, the direct path (no tree), "
+         "the boundary chain (on either), or sampled over the work limit (not exact). Shares of "
+         "all evaluations (Table 1's *over the work limit* is a share of those that needed a "
+         "query: tree walk, direct, chain and sampled); in the images each pixel is the mean "
+         "colour of its evaluations, black where it has none (the background, the light "
+         "itself).\n\n"
       << "| scene |";
     for (size_t i = 0; i < kAnswers; ++i) {
         const auto a = static_cast<Answer>(i);
@@ -184,11 +330,10 @@ void writeAnswers(std::ostream& r, const std::vector<Table1Row>& rows) {
 void writeRefined(std::ostream& r, const std::vector<Table1Row>& rows) {
     if (!anyExactRender(rows)) return;
     r << "### Query-driven refinement\n\n"
-      << "After each pass, the trees whose walks reached the work limit have their receiver "
-         "patch split (`VisibilityStore::refine`), and the sub-patches holding those points get "
-         "their own trees where the build costs less than sampling them would in the passes "
-         "left, both counted in shadow rays (`RenderSettings::refineLevels`, `refineCostShare`). "
-         "The time is part of the exact render's.\n\n"
+      << "After each pass, a tree whose walks reached the work limit has its receiver patch "
+         "split (up to `--refine-levels` times), and the sub-patches holding those points get "
+         "their own trees where building them costs less than sampling the points would in the "
+         "passes left, both counted in shadow rays. The time is part of the exact render's.\n\n"
       << "| scene | pairs refined | sub-patch trees built | used | left unrefined (not worth "
          "it) | seconds |\n|---|---|---|---|---|---|\n";
     for (const Table1Row& row : rows) {
@@ -206,12 +351,12 @@ void writeRefined(std::ostream& r, const std::vector<Table1Row>& rows) {
 void writeWork(std::ostream& r, const std::vector<Table1Row>& rows) {
     if (!anyExactRender(rows)) return;
     r << "### Where the exact work goes\n\n"
-      << "The plane tests of Table 1's exact renders (the unit of the work limit; "
-         "`FromPointQuery::stageWork`), by the stage they went to: walking history trees and "
-         "evaluating pairs without a tree, at the default work limit and, for the scenes the "
-         "bench also renders with every point exact, without a limit. Tests per evaluation: "
-         "all of that path's tests over all the exact evaluations.\n\n"
-      << "| scene | work limit | path | tests per evaluation |";
+      << "The plane tests of Table 1's exact renders (the work limit's unit), by the stage of "
+         "the query they went to: walking history trees and evaluating pairs without a tree, at "
+         "the default work limit and, for the scenes the bench also renders with every point "
+         "exact, without a limit. Plane tests per evaluation: all of that path's tests over all "
+         "the evaluations that needed a query.\n\n"
+      << "| scene | work limit | path | plane tests per evaluation |";
     for (size_t i = 0; i < vis::kWorkStages; ++i)
         r << " " << vis::toString(static_cast<vis::WorkStage>(i)) << " |";
     r << "\n|---|---|---|---|";
@@ -244,52 +389,59 @@ void writeWork(std::ostream& r, const std::vector<Table1Row>& rows) {
 }
 
 // Of Table 1's renders, each evaluation timed: the exact ones answered exactly (query and
-// shading; the points over the work limit are not among them) against the sampled render's
-// points (128 rays per light), and the boundary chain's edges against its fragments.
+// shading; those over the work limit are not among them) against the sampled render's points
+// (128 rays per light), and the boundary chain's edges against its fragments.
 void writeCost(std::ostream& r, const std::vector<Table1Row>& rows) {
     if (!anyExactRender(rows)) return;
     r << "### Cost per evaluation\n\n"
       << "One evaluation in 8 of Table 1's renders timed alone (wall, one thread; the clock's own "
-         "cost, some 20-40 ns, included): the exact render's (point, light) evaluations that "
-         "needed a query and were answered exactly (the query and the shading of its fragments; "
-         "the points over the work limit are not among them: their 128 rays are the last "
-         "column), and the sampled render's points (128 rays per light). Median and 99th "
-         "percentile from a log histogram (to within 19%). Chain: the exact evaluations the "
-         "boundary chain answered, with its edges (silhouettes and borders), their share of the "
-         "edges of the occluders they came from (each use by a face; a face group taken whole "
-         "counts its boundary only, so the share understates what groups save), the cells the "
-         "chain cut the light into (each cut, then labelled: the chain's work) and the convex "
-         "fragments kept (the cells seen: the shading's work), per evaluation.\n\n"
-      << "| scene | exact evaluations timed | median us | p99 us | mean us | sampled points timed "
-         "| 128 "
-         "rays median us | p99 us | by the chain | chain edges | of the occluders' edges | cells | "
-         "fragments | over the limit: 128 rays median us "
+         "cost, some 20-40 ns, included): the exact render's evaluations that needed a query and "
+         "were answered exactly (the query and the shading of its fragments; those over the work "
+         "limit are not among them: their 128 rays are the last column), and the sampled "
+         "render's shading points (128 rays per light, every light). Medians and 99th "
+         "percentiles are order statistics of the timed evaluations (nearest rank). Chain: the "
+         "exact evaluations the boundary chain answered, per such evaluation its edges "
+         "(silhouettes and borders), their share of the edges of the occluders they came from "
+         "(a face group taken whole counts its boundary only, so the share understates what "
+         "groups save), the cells the chain cut the light into (the chain's work) and the convex "
+         "fragments kept (the shading's work).\n\n"
+      << "| scene | exact: timed | exact: median us | exact: p99 us | exact: mean us | 128 rays: "
+         "points timed | 128 rays: median us | 128 rays: p99 us | by the chain | chain edges | "
+         "share of the occluders' edges | cells | fragments | over the limit: 128 rays median us "
          "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    std::vector<uint64_t> strides;
     for (const Table1Row& row : rows) {
         if (!row.exact.render) continue;
         const ExactRender& e = *row.exact.render;
         const EvaluationTimes& c = e.cost.times;
         const SampledRender& sp = row.sampled128;
+        strides.insert(strides.end(), {c.quantileStride, sp.pointQuantileStride});
+        if (e.sampledEvaluations > 0) strides.push_back(e.cost.sampledQuantileStride);
         r << "| " << sceneName(row.scene) << " | " << c.evaluations << " | "
-          << num(c.medianUs, "%.2f") << " | " << num(c.p99Us, "%.2f") << " | "
-          << num(c.meanUs, "%.2f") << " | " << sp.points << " | " << num(sp.pointMedianUs) << " | "
-          << num(sp.pointP99Us) << " | " << c.chainEvaluations << " | " << chainPer(c, c.chainEdges)
-          << " | "
+          << quantileUs(c.medianUs, c.quantileStride) << " | "
+          << quantileUs(c.p99Us, c.quantileStride) << " | " << num(c.meanUs) << " | " << sp.points
+          << " | " << quantileUs(sp.pointMedianUs, sp.pointQuantileStride) << " | "
+          << quantileUs(sp.pointP99Us, sp.pointQuantileStride) << " | " << c.chainEvaluations
+          << " | " << chainPer(c, c.chainEdges) << " | "
           << (c.chainEvaluations > 0 && e.cost.chainOccluderEdges > 0
                   ? fmt("%.1f%%", 100.0 * static_cast<double>(c.chainEdges) /
                                       static_cast<double>(e.cost.chainOccluderEdges))
                   : "-")
           << " | " << chainPer(c, c.chainCells) << " | " << chainPer(c, c.chainFragments) << " | "
-          << (e.sampledEvaluations > 0 ? num(e.cost.sampledMedianUs, "%.2f") : "-") << " |\n";
+          << (e.sampledEvaluations > 0
+                  ? quantileUs(e.cost.sampledMedianUs, e.cost.sampledQuantileStride)
+                  : "-")
+          << " |\n";
     }
     r << "\n";
+    writeQuantileNote(r, strides);
     r << "Where the exact render's evaluations that needed a query spent their time, estimated "
          "from the same timed evaluations (their sums times 8, CPU seconds): the exact answers, "
-         "the queries that reached the work limit before they stopped (lost), and the sampled "
-         "points' 128 rays. The last two are what the work limit's sampling costs the exact "
-         "render.\n\n"
-      << "| scene | sampled points | exact answers | queries stopped at the limit | "
-         "sampled points' rays | in all, s |\n|---|---|---|---|---|---|\n";
+         "the queries that reached the work limit before they stopped (lost), and the 128 rays "
+         "of the evaluations over the limit. The last two are what the work limit costs the "
+         "exact render.\n\n"
+      << "| scene | over the work limit | exact answers | queries stopped at the limit | 128 rays "
+         "over the limit | in all, s |\n|---|---|---|---|---|---|\n";
     for (const Table1Row& row : rows) {
         if (!row.exact.render) continue;
         const ExactRender& e = *row.exact.render;
@@ -303,20 +455,20 @@ void writeCost(std::ostream& r, const std::vector<Table1Row>& rows) {
     r << "\n";
 }
 
-// Issue 13's per-point goals, measured without the work limit (the cost above leaves out the
-// points over it, which are the expensive ones): the exact evaluations' distribution against
-// the sampled render's 128 rays per point, and 16 rays taken as an eighth of their median (strict:
-// with a point's own cost, 16 rays measure about a seventh of 128).
+// The per-evaluation goals, measured without the work limit (the cost above leaves out the
+// evaluations over it, which are the expensive ones): the exact evaluations' distribution
+// against the sampled render's 128 rays per point, and 16 rays taken as an eighth of their
+// median (strict: with a point's own cost, 16 rays measure about a seventh of 128).
 void writeCostEveryPointExact(std::ostream& r, const std::vector<Table1Row>& rows) {
     const auto has = [](const Table1Row& row) {
         return row.exact.render && row.exact.render->costEveryPointExact;
     };
     if (std::none_of(rows.begin(), rows.end(), has)) return;
     r << "### Per-point cost with every point exact\n\n"
-      << "The goals of issue 13 per evaluation: the median exact evaluation costing at most 16 "
-         "shadow rays, the 99th percentile at most 128. Measured on a render without the work "
-         "limit, so that the points the default render samples count too: Table 1's image where "
-         "the default render sampled nothing (the same render) or where the bench also renders it "
+      << "The goals per evaluation: the median exact evaluation costing at most 16 shadow rays, "
+         "the 99th percentile at most 128. Measured on a render without the work limit, so that "
+         "the evaluations the default render samples count too: Table 1's image where the "
+         "default render sampled nothing (the same render) or where the bench also renders it "
          "with every point exact, else a smaller image at one sample per pixel "
          "(`--exact-cost-size`; the large scenes' evaluations average milliseconds). One "
          "evaluation in 8 timed, query and shading, as above; 128 rays: the sampled render's "
@@ -324,55 +476,57 @@ void writeCostEveryPointExact(std::ostream& r, const std::vector<Table1Row>& row
          "section below measures 16 rays at about a seventh of 128, a point's own cost "
          "included). Chain: of all the render's evaluations, those the boundary chain answered, "
          "and per such evaluation its edges, the cells they cut the light into and the fragments "
-         "kept (what the expensive points' cost follows: the cells, each cut and labelled, "
-         "against the fragments).\n\n"
-      << "| scene | image | evaluations timed | median us | p99 us | mean us | 128 rays median "
-         "us | 128 rays p99 us | median <= 16 rays | p99 <= 128 rays | by the chain | chain "
-         "edges | cells | fragments |\n"
+         "kept.\n\n"
+      << "| scene | image | exact: timed | exact: median us | exact: p99 us | exact: mean us | "
+         "128 rays: median us | 128 rays: p99 us | median <= 16 rays | p99 <= 128 rays | by the "
+         "chain | chain edges | cells | fragments |\n"
       << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+    std::vector<uint64_t> strides;
     for (const Table1Row& row : rows) {
         if (!has(row)) continue;
         const EveryPointExactCost& every = *row.exact.render->costEveryPointExact;
         const EvaluationTimes& c = every.times;
         const SampledRender& sp = row.sampled128;
+        strides.insert(strides.end(), {c.quantileStride, sp.pointQuantileStride});
         const bool have = c.evaluations > 0;
         auto verdict = [&](bool met) { return have ? (met ? "yes" : "no") : "-"; };
         r << "| " << sceneName(row.scene) << " | " << every.width << "x" << every.height << ", "
           << every.spp << " spp (" << every.image << (every.complete ? "" : "; cut at the limit")
-          << ") | " << c.evaluations << " | " << num(c.medianUs, "%.2f") << " | "
-          << num(c.p99Us, "%.2f") << " | " << num(c.meanUs, "%.2f") << " | "
-          << num(sp.pointMedianUs) << " | " << num(sp.pointP99Us) << " | "
+          << ") | " << c.evaluations << " | " << quantileUs(c.medianUs, c.quantileStride) << " | "
+          << quantileUs(c.p99Us, c.quantileStride) << " | " << num(c.meanUs) << " | "
+          << quantileUs(sp.pointMedianUs, sp.pointQuantileStride) << " | "
+          << quantileUs(sp.pointP99Us, sp.pointQuantileStride) << " | "
           << verdict(have && c.medianUs <= sp.pointMedianUs / 8) << " | "
           << verdict(have && c.p99Us <= sp.pointP99Us) << " | " << c.chainEvaluations << " | "
           << chainPer(c, c.chainEdges) << " | " << chainPer(c, c.chainCells) << " | "
           << chainPer(c, c.chainFragments) << " |\n";
     }
     r << "\n";
+    writeQuantileNote(r, strides);
 }
 
 void writeTable1(std::ostream& r, const std::vector<Table1Row>& rows,
                  const std::vector<SkippedScene>& skipped, bool plots) {
-    r << "## Table 1 re-measured\n\n"
-      << "Sampled: 128 shadow rays per light per shading point. Exact: the trees the image "
-         "needs (`ProgressiveRenderer::prepare`) then the render, with the product's "
-         "defaults: a build budget of `BuildOptions::maxLpSolves` linear programs per tree "
-         "(a tree that reaches it is *partial*: its other occluders are clipped by each "
-         "point's query, still exact), no tree for a pair the image samples fewer than "
-         "`RenderSettings::minTreeSamples` times (its points are evaluated directly, exact) "
-         "nor for one whose shaft holds `RenderSettings::groupedShaftMin` faces or more, a "
-         "quarter of them in face groups (*by groups*: the direct path with the groups answers "
-         "its points, as it would its partial tree's), "
-         "and a work limit of `RenderSettings::exactWorkLimit` plane tests per query: a "
-         "point whose exact answer needs more is sampled with 128 rays (the *sampled "
-         "points* column; not exact). *Every point exact*: the same render with no work "
-         "limit. All pairs: every (receiver patch, light) pair on the `PrecomputeScheduler` "
-         "(skipped above "
+    r << "## Table 1: exact against 128 shadow rays\n\n"
+      << "The paper's Table 1 re-measured: per scene the same image rendered twice, *sampled* "
+         "with 128 shadow rays per light per shading point, and *exact*: the history trees the "
+         "image needs (precompute), then the render. The exact renderer runs with the defaults of "
+         "its options (docs/cli.md, the exact-visibility options): a build budget per tree "
+         "(`--max-lp-solves`; a tree that reaches it is *partial*), no tree for a pair the image "
+         "samples fewer than `--min-tree-samples` times nor for one whose shaft holds "
+         "`--grouped-shaft-min` faces or more, a quarter of them in groups of faces seen from one "
+         "side (*by groups*): the points of the pairs without a tree are evaluated directly, "
+         "exact; and the work limit (`--exact-work-limit`): the evaluations over it are sampled "
+         "with 128 rays (not exact). *Every point exact*: the same render with no work limit. "
+         "*All pairs*: every (receiver patch, light) pair precomputed, skipped above "
       << kAllPairsMaxFaces
-      << " faces). Times in seconds, wall / CPU (all threads). Speed-up = sampled time / "
-         "(exact precompute + render), wall; in parentheses the render alone.\n\n"
-      << "| scene | faces | image | sampled 128 | exact precompute | exact render | speed-up "
-         "| trees (partial) | pairs without a tree | sampled points | every point exact | "
-         "file (image) | all pairs: time | all pairs: file |\n"
+      << " triangles. Times in seconds, wall / CPU. Speed-up: the sampled wall time over the "
+         "exact precompute and render's, above 1x where exact is faster; in parentheses the "
+         "render alone.\n\n"
+      << "| scene | triangles | image | sampled, 128 rays | exact: precompute | exact: render | "
+         "speed-up (render only) | trees (partial) | pairs without a tree | over the work limit "
+         "| render with every point exact | visibility file, the image's trees | all pairs: "
+         "precompute | all pairs: file |\n"
          "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Table1Row& row : rows) writeTable1Row(r, row);
     r << "\n";
@@ -397,7 +551,8 @@ void writeAccuracy(std::ostream& r, const AccuracyBenchRun& run, bool plots) {
          "from the exact one only by their shadow-ray noise). RMSE and max error over all "
          "pixels and RGB channels of linear radiance (mean radiance of the exact image "
       << num(a.meanRadiance, "%.4g") << ").\n\n"
-      << "| method | rays | wall s | CPU s | RMSE | max error |\n|---|---|---|---|---|---|\n";
+      << "| method | rays per light | wall s | CPU s | RMSE | max error |\n"
+         "|---|---|---|---|---|---|\n";
     for (const AccuracyPoint& p : a.sampled)
         r << "| sampled vs exact | " << p.rays << " | " << num(p.seconds, "%.3f") << " | "
           << num(p.cpuSeconds, "%.3f") << " | " << num(p.rmse, "%.4g") << " | "
@@ -418,28 +573,39 @@ void writeAccuracy(std::ostream& r, const AccuracyBenchRun& run, bool plots) {
           << num(e.rmse, "%.4g") << ", an upper bound on the exact image's error) at about "
           << numOrDash(a.equalErrorRays, "%.0f") << " rays per light and "
           << num(a.equalErrorSeconds, "%.3f") << " s wall, against " << num(e.seconds, "%.3f")
-          << " s for the exact method: " << num(a.equalErrorSeconds / e.seconds) << "x"
+          << " s for the exact method: " << speedup(a.equalErrorSeconds / e.seconds)
           << (a.equalErrorExtrapolated ? " (extrapolated beyond the measured curve)" : "")
           << ". Interpolated linearly on the log-log curve.\n\n";
     if (plots) r << "![error against time](accuracy.png)\n\n";
 }
 
+// The predicate modes as a reader names them (PredicateStudy::modes).
+std::string predicateName(const std::string& mode) {
+    if (mode == "filtered") return "filtered (the product's)";
+    if (mode == "alwaysExact") return "always exact";
+    if (mode == "naive") return "naive doubles";
+    return mode;
+}
+
 void writePredicates(std::ostream& r, const PredicateStudy& p) {
     r << "## What exactness costs: predicates\n\n"
-      << "FPQuery on the " << p.cases.size() << " hard cases (`makeHardCases()`), " << p.queries
-      << " queries (patch vertices, edge midpoints and random points of every penumbra pair). "
-         "Wrong: the visible fraction differs from the AlwaysExact answer by more than 1e-9 "
-         "of L's area, or the fragments overlap or leave L. (The test suite checks Filtered "
-         "against an exact CGAL reference.)\n\n"
-      << "| predicates | us per query (wall) | us per query (CPU) | wrong | other fragment "
-         "count than AlwaysExact |\n|---|---|---|---|---|\n";
+      << "The from-point query on the test suite's " << p.cases.size() << " hard cases, "
+      << p.queries
+      << " queries (patch vertices, edge midpoints and random points of every penumbra pair), "
+         "with three kinds of geometric predicates: filtered (an interval filter, exact "
+         "arithmetic where it cannot decide: the product's), always exact, and naive doubles. "
+         "Wrong: the visible fraction differs from the always-exact answer by "
+         "more than 1e-9 of the light's area, or the fragments overlap or leave the light. (The "
+         "test suite checks the filtered query against an exact CGAL reference.)\n\n"
+      << "| predicates | us per query (wall) | us per query (CPU) | wrong | another fragment "
+         "count than always exact |\n|---|---|---|---|---|\n";
     for (const PredicateModeResult& m : p.modes)
-        r << "| " << m.mode << " | " << num(m.usPerQuery, "%.3f") << " | "
+        r << "| " << predicateName(m.mode) << " | " << num(m.usPerQuery, "%.3f") << " | "
           << num(m.cpuUsPerQuery, "%.3f") << " | " << m.wrong << " | " << m.otherCount << " |\n";
-    r << "\nNaive answers with another fragment count than Filtered: " << p.naiveOtherThanFiltered
+    r << "\nNaive answers with another fragment count than filtered: " << p.naiveOtherThanFiltered
       << ". A different fragment count is a sliver more or less (the topology of the answer); "
-         "Filtered decides rounded constructed vertices by its filter and so may drop slivers "
-         "that AlwaysExact's exact sign of the rounded vertex keeps.\n\nPer case (naive wrong "
+         "filtered decides rounded constructed vertices by its filter and so may drop slivers "
+         "that always exact's exact sign of the rounded vertex keeps.\n\nPer case (naive wrong "
          "/ naive other count / filtered other count): ";
     for (const PredicateCaseResult& c : p.cases)
         r << c.name << " " << c.wrong[2] << "/" << c.otherCount[2] << "/" << c.otherCount[0]
@@ -448,9 +614,10 @@ void writePredicates(std::ostream& r, const PredicateStudy& p) {
 }
 
 void writeBuildOptions(std::ostream& r, const std::vector<BuildOptionsRow>& rows) {
-    r << "## Quadric pruning and leaf merging\n\nAll pairs of each scene.\n\n"
-      << "| scene | merge leaves | quadric pruning | nodes | bytes | precompute wall / CPU s "
-         "| us per query |\n|---|---|---|---|---|---|---|\n";
+    r << "## Quadric pruning and leaf merging\n\nEvery pair of each scene precomputed with the "
+         "tree builder's two savings on and off.\n\n"
+      << "| scene | merge leaves | quadric pruning | tree nodes | tree bytes | precompute wall / "
+         "CPU s | us per query |\n|---|---|---|---|---|---|---|\n";
     for (const BuildOptionsRow& o : rows) {
         const PrecomputeRun& p = o.precompute;
         r << "| " << sceneName(o.scene) << " | " << (o.mergeLeaves ? "on" : "off") << " | "
@@ -470,10 +637,10 @@ void writeScaling(std::ostream& r, const std::vector<ScalingRow>& rows, double l
     r << "## Precompute against triangle count\n\n";
     if (!rows.empty()) {
         r << "A fixed set of receiver patches: every patch of the floor and 32 faces of the model "
-             "drawn with a fixed seed, against the light; built on the `PrecomputeScheduler` ("
+             "drawn with a fixed seed, against the light, precomputed on every core ("
           << num(limit, "%.0f") << " s limit per scene).\n\n"
-          << "| scene | faces | pairs | done | wall s | CPU s | nodes | bytes | penumbra | "
-             "partial |\n|---|---|---|---|---|---|---|---|---|---|\n";
+          << "| scene | triangles | pairs | built | wall s | CPU s | tree nodes | tree bytes | "
+             "penumbra pairs | partial trees |\n|---|---|---|---|---|---|---|---|---|---|\n";
         for (const ScalingRow& s : rows) {
             const PrecomputeRun& p = s.precompute;
             r << "| " << sceneName(s.scene) << " | " << s.faces << " | " << p.pairs << " | "
@@ -489,10 +656,11 @@ void writeScaling(std::ostream& r, const std::vector<ScalingRow>& rows, double l
 
 void writePerPoint(std::ostream& r, const std::vector<PerPointRow>& rows) {
     r << "## Per point: exact query against shadow rays\n\nLight 0, one thread. The exact "
-         "query's mean over all points, then its median, 99th percentile and maximum with each "
-         "point timed alone.\n\n"
-      << "| scene | points | exact query + form factor us | median | p99 | max | nodes | "
-         "fragments | 16 rays us | 128 rays us |\n|---|---|---|---|---|---|---|---|---|---|\n";
+         "query and its form factor: the mean over all points, then the median, 99th percentile "
+         "and maximum with each point timed alone (order statistics, nearest rank).\n\n"
+      << "| scene | points | exact: mean us | exact: median us | exact: p99 us | exact: max us "
+         "| tree nodes visited | fragments | 16 rays us | 128 rays us "
+         "|\n|---|---|---|---|---|---|---|---|---|---|\n";
     for (const PerPointRow& p : rows)
         r << "| " << sceneName(p.scene) << " | " << p.points << " | " << num(p.exactUs) << " | "
           << num(p.exactMedianUs) << " | " << num(p.exactP99Us) << " | " << num(p.exactMaxUs)
@@ -504,11 +672,11 @@ void writePerPoint(std::ostream& r, const std::vector<PerPointRow>& rows) {
 // The same points: the visible region's boundary against the fragments.
 void writeOutline(std::ostream& r, const std::vector<PerPointRow>& rows) {
     r << "### The visible region's boundary\n\nThe same points: the fragments' edges, and "
-         "the boundary of their union (`vis::visibleOutline`, what `penumbra query` and the "
-         "viewer show): its loops (outer boundaries and holes) and edges, once the edges two "
-         "fragments share cancel and straight runs merge. Then per point the fragments' form "
-         "factor (what the renderer computes) and the outline built and integrated (Lambert's "
-         "contour integral over the boundary: the same value). Per point, means.\n\n"
+         "the boundary of their union (what `penumbra query` and the viewer show): its loops "
+         "(outer boundaries and holes) and edges, once the edges two fragments share cancel and "
+         "straight runs merge. Then per point the fragments' form factor (what the renderer "
+         "computes) and the outline built and integrated (Lambert's contour integral over the "
+         "boundary: the same value). Per point, means.\n\n"
       << "| scene | fragments | their edges | boundary loops | boundary edges | fragments' form "
          "factor us | outline + its form factor us |\n|---|---|---|---|---|---|---|\n";
     for (const PerPointRow& p : rows) {
@@ -526,20 +694,19 @@ void writeOutline(std::ostream& r, const std::vector<PerPointRow>& rows) {
 // The same points: the boundary chain and the partial trees' silhouettes.
 void writeChain(std::ostream& r, const std::vector<PerPointRow>& rows) {
     r << "### The boundary chain\n\nOf the points clipped against at least "
-         "`ChainOptions::minOccluders` occluders per point (a partial tree's deferred ones): "
-         "their occluder edges, and the boundary edges left once edges shared by faces turned "
-         "the same way cancel (silhouettes, borders, chords). The points where few enough remain "
-         "are evaluated by the chain: the cells it cut L into (and of them, those labelled from "
-         "the cell before by the chain edges between the two, without a line test) and the "
-         "fragments kept. Last, the "
-         "mean query with every occluder clipped one by one (Algorithm 1 only) against the "
-         "product's. The partial trees' silhouettes (`DeferredSilhouettes`): of the partial trees "
-         "the points use, those whose deferred faces share enough edges, the share of their edge "
-         "uses kept for the patch (the others cancel for all of it), and the points answered "
-         "from them.\n\n"
+         "`--chain-min-occluders` occluders (a partial tree's deferred ones): their occluder "
+         "edges, and the boundary edges left once edges shared by faces "
+         "turned the same way cancel (silhouettes, borders, chords). The points where few "
+         "enough remain are evaluated by the chain: the cells it cut the light into (and of "
+         "them, those labelled from the cell before by the chain edges between the two, without "
+         "a line test) and the fragments kept. Then the mean query with every occluder clipped "
+         "one by one (Algorithm 1 alone) against the product's. Last, the partial "
+         "trees' silhouettes: of the partial trees the points use, those whose deferred faces "
+         "share enough edges, the share of their edge uses kept for the patch (the others "
+         "cancel for all of it), and the points answered from them.\n\n"
       << "| scene | points with many occluders | occluder edges | boundary edges | share | "
-         "points by the chain | cells | by crossings | fragments | Algorithm 1 only us | with the "
-         "chain us | trees with silhouettes | uses kept | points by them "
+         "points by the chain | cells | labelled by crossings | fragments | Algorithm 1 alone us "
+         "| with the chain us | trees with silhouettes | edge uses kept | points by them "
          "|\n|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const PerPointRow& p : rows) {
         const ChainStats& c = p.chain;
@@ -563,10 +730,11 @@ void writeChain(std::ostream& r, const std::vector<PerPointRow>& rows) {
 void writeClicks(std::ostream& r, const std::vector<PerPointRow>& rows) {
     r << "### A click in the viewer\n\nEvery light at a point: the fragments from the "
          "tree-less query the viewer answers a click with (within its work budget; points over "
-         "it wait for the trees), and the former click, with the pairs' history trees built and "
+         "it wait for the trees), and the same click with the pairs' history trees built and "
          "walked (a fresh store).\n\n"
-      << "| scene | clicks | fragments median ms | p99 | max | over budget | clicks with trees | "
-         "trees median ms | max |\n|---|---|---|---|---|---|---|---|---|\n";
+      << "| scene | clicks | fragments: median ms | fragments: p99 ms | fragments: max ms | "
+         "over budget | clicks with trees | with trees: median ms | with trees: max ms "
+         "|\n|---|---|---|---|---|---|---|---|---|\n";
     for (const PerPointRow& p : rows) {
         const ClickLatency& c = p.click;
         r << "| " << sceneName(p.scene) << " | " << c.points << " | "
@@ -578,7 +746,7 @@ void writeClicks(std::ostream& r, const std::vector<PerPointRow>& rows) {
     r << "\n";
 }
 
-}  // namespace
+}  // namespace bench_report_detail
 
 std::string fmt(const char* f, double v) {
     char b[64];
@@ -586,7 +754,15 @@ std::string fmt(const char* f, double v) {
     return b;
 }
 
+std::string quickRunNote(const BenchSettings& o) {
+    return "Quick run (--quick): " + o.size + " images at " + std::to_string(o.spp) +
+           " spp and a " + fmt("%g", o.limit) +
+           " s limit, sizes for CI and smoke tests, not for conclusions: run the bench without "
+           "--quick for figures to compare.";
+}
+
 std::string benchReport(const BenchResults& b, bool plots, const std::string& plotNote) {
+    using namespace bench_report_detail;
     std::ostringstream r;
     writeHeading(r, b);
     writeTable1(r, b.table1, skippedBy(b, "table1"), plots);

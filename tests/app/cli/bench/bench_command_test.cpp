@@ -14,6 +14,7 @@
 
 #include "engine/io/obj_io.h"
 #include "engine/scene/procedural_scenes.h"
+#include "tests/app/cli/bench/report_check.h"
 #include "tests/app/viewer/viewer_test_support.h"
 #include "tests/support/run_penumbra.h"
 #include "tests/support/test_files.h"
@@ -173,6 +174,63 @@ TEST_F(BenchCommand, SkipsTheScalingRowsWhoseMeshesAreMissing) {
     const size_t clicks = report.find("### A click in the viewer");
     ASSERT_NE(clicks, std::string::npos) << report;
     EXPECT_NE(report.find("| stairs.obj | 1 |", clicks), std::string::npos) << report;
+    // The conclusion at the top: exact against sampling on the one scene, faster or slower as
+    // Table 1 has it, and at equal error and equal time as the error-against-time study has it.
+    EXPECT_EQ(report.rfind("# Penumbra: what accuracy costs in time\n\n## In short\n", 0), 0u)
+        << report;
+    int checked = 0;
+    const std::vector<std::string> wrong = penumbra::test::conclusionAgainstTables(report, checked);
+    EXPECT_TRUE(wrong.empty()) << ::testing::PrintToString(wrong) << "\n" << report;
+    EXPECT_GE(checked, 4) << report;
+    // The timed evaluations' medians: order statistics of every one (a few dozen here).
+    EXPECT_EQ(cost["quantileStride"], 1);
+    EXPECT_EQ(row["sampled128"]["pointQuantileStride"], 1);
+    EXPECT_EQ(report.find("†"), std::string::npos) << report;
+    // Written again from bench.json, measuring nothing: the same report, but for the plots' line.
+    fs::remove(out / "report.md");
+    const ProcessResult again =
+        penumbra::test::runPenumbra({"bench", "--out", out.string(), "--report-only"}, root_);
+    ASSERT_EQ(again.exitCode, 0) << again.out << again.err;
+    const std::string rewritten = readFile(out / "report.md");
+    const size_t plots = report.rfind("Plots skipped: ");
+    ASSERT_NE(plots, std::string::npos) << report;
+    EXPECT_EQ(rewritten.substr(0, plots), report.substr(0, plots));
+    EXPECT_EQ(rewritten.substr(plots),
+              "Plots skipped: table1.png or accuracy.png not in " + out.string() + "\n");
+    EXPECT_EQ(again.out.find("table1 "), std::string::npos) << again.out;  // nothing measured
+}
+
+TEST_F(BenchCommand, ReportOnlyRefusesABenchJsonItDidNotWrite) {
+    const fs::path out = root_ / "out";
+    fs::create_directories(out);
+    std::ofstream(out / "bench.json") << R"({"machine": {}})";
+    const ProcessResult r =
+        penumbra::test::runPenumbra({"bench", "--out", out.string(), "--report-only"}, root_);
+    EXPECT_EQ(r.exitCode, 1) << r.out << r.err;
+    EXPECT_NE(r.err.find("bench.json: machine: missing \"cpu\""), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(out / "report.md"));
+    fs::remove(out / "bench.json");
+    const ProcessResult none =
+        penumbra::test::runPenumbra({"bench", "--out", out.string(), "--report-only"}, root_);
+    EXPECT_EQ(none.exitCode, 1) << none.out << none.err;
+    EXPECT_NE(none.err.find("bench.json: cannot read file"), std::string::npos) << none.err;
+}
+
+TEST_F(BenchCommand, AQuickRunSaysFirstThatItsSizesAreNotForConclusions) {
+    // --quick with the smallest sizes given (they override its own): its first line on stderr
+    // and in the report says what its figures are for.
+    const fs::path out = root_ / "out";
+    const ProcessResult r =
+        penumbra::test::runPenumbra(smallestBench("assets/stairs.obj", out, {"--quick"}), root_);
+    ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+    const std::string note =
+        "Quick run (--quick): 8x8 images at 1 spp and a 1 s limit, sizes for CI and smoke tests, "
+        "not for conclusions: run the bench without --quick for figures to compare.";
+    EXPECT_EQ(r.err.substr(0, r.err.find('\n')), "penumbra bench: " + note) << r.err;
+    const std::string report = readFile(out / "report.md");
+    EXPECT_EQ(report.substr(0, report.find('\n')), "> **" + note + "**") << report;
+    int checked = 0;
+    EXPECT_TRUE(penumbra::test::conclusionAgainstTables(report, checked).empty()) << report;
 }
 
 TEST_F(BenchCommand, MeasuresEveryPointExactOnASmallerImageAboveTheAllPairsSize) {
@@ -217,7 +275,7 @@ TEST_F(BenchCommand, MeasuresEveryPointExactOnASmallerImageAboveTheAllPairsSize)
     // One evaluation in 8 is timed: of 30 pixels and one light, at most 4.
     EXPECT_LE(every["evaluations"].get<uint64_t>(), 30u / 8 + 1);
     const std::string report = readFile(out / "report.md");
-    EXPECT_NE(report.find("### How each pixel was answered"), std::string::npos) << report;
+    EXPECT_NE(report.find("### How each evaluation was answered"), std::string::npos) << report;
     EXPECT_NE(report.find("<img src=\"answers_soup.png\""), std::string::npos) << report;
     const size_t goals = report.find("### Per-point cost with every point exact");
     ASSERT_NE(goals, std::string::npos) << report;
