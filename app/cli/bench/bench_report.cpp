@@ -185,7 +185,7 @@ void writeRefined(std::ostream& r, const std::vector<Table1Row>& rows) {
     if (!anyExactRender(rows)) return;
     r << "### Query-driven refinement\n\n"
       << "After each pass, the trees whose walks reached the work limit have their receiver "
-         "patch split (`VisibilityStore::refine`), and the sub-patches holding those points get "
+         "patch split (`PatchLayout::refine`), and the sub-patches holding those points get "
          "their own trees where the build costs less than sampling them would in the passes "
          "left, both counted in shadow rays (`RenderSettings::refineLevels`, `refineCostShare`). "
          "The time is part of the exact render's.\n\n"
