@@ -38,27 +38,11 @@
 #include "app/viewer/precompute_job.h"
 #include "app/viewer/preview_runner.h"
 #include "app/viewer/selection.h"
+#include "app/viewer/viewer_options.h"
 #include "engine/precompute/point_inspection.h"
 #include "engine/render/exact_options.h"
 
 namespace penumbra::viewer {
-
-struct ViewerOptions {
-    std::filesystem::path assetsDirectory = "assets";  // the scene list of the Scene panel
-    bool showHelp = true;
-    bool preview = true;               // run the progressive preview (when the renderer exists)
-    PreviewSettings previewSettings;   // width/height are overwritten from the viewport
-    double previewScale = 0.25;        // preview pixels per viewport pixel (the panel's thumbnail)
-    ViewMode view = ViewMode::Raster;  // the rendered view renders at the viewport's resolution
-    double split = 0.5;  // side by side in the rendered view: exact left of this fraction
-    ExactOptions exact;  // the build budget and the renderer's exact settings
-    // Scenes load in strict mode (--strict: what the loaders repair is an error instead,
-    // engine/io/load_options.h).
-    bool strict = false;
-    // The content scale (the window host sets GLFW's; screenshot --ui-scale) and the columns'
-    // widths (dragged at the 3D view's edges).
-    LayoutSettings layout;
-};
 
 class Viewer {
   public:
