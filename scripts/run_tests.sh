@@ -96,7 +96,7 @@ CXX=clang++ CC=clang UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_
   run_suite sanitize build-sanitize 0.25 -DPENUMBRA_SANITIZE=ON
 # oneTBB and Embree are not instrumented: tests/tsan.supp lists (and justifies) what that hides.
 TSAN_OPTIONS="${TSAN_OPTIONS:-halt_on_error=1 second_deadlock_stack=1 suppressions=${PWD}/tests/tsan.supp}" \
-  SUITE_TARGET=penumbra_concurrency_tests SUITE_TESTS='^(PrecomputeScheduler|VisibilityStore)\.' \
+  SUITE_TARGET=penumbra_concurrency_tests SUITE_TESTS='^(PrecomputeScheduler|VisibilityStore|PatchLayout)\.' \
   run_suite tsan build-tsan 0.25 -DPENUMBRA_TSAN=ON
 
 # The include graph: no include from a lower room of the source to a higher one (the rooms and

@@ -106,8 +106,8 @@ int main(int argc, char** argv) {
         std::vector<Row> rows;
         const auto start = std::chrono::steady_clock::now();
         for (uint32_t f = 0; f < scene.faceCount(); ++f) {
-            const auto patches =
-                static_cast<uint32_t>(std::max<size_t>(store.patches(f).patches.size(), 1));
+            const auto patches = static_cast<uint32_t>(
+                std::max<size_t>(store.layout().patches(f).patches.size(), 1));
             for (uint32_t p = 0; p < patches; ++p)
                 for (uint32_t light : scene.lights) {
                     if (light == f) continue;

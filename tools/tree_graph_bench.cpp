@@ -85,7 +85,7 @@ void benchTree(const char* name, const vis::HistoryTree& tree) {
 
     ui::TreeGraphPanel panel;
     panel.setTree(&tree, {});
-    panel.fit();
+    panel.view().fit();
     frame(panel);
     const Frame fit = frame(panel);
     const auto fitStats = panel.lastFrameStats();
@@ -112,7 +112,7 @@ void benchTree(const char* name, const vis::HistoryTree& tree) {
     for (const View v :
          {View{"busiest layer at 1 px/unit", 1.0}, View{"busiest layer at 2.5 px/unit", 2.5},
           View{"busiest layer at 6 px/unit", 6.0}, View{"busiest layer at 40 px/unit", 40.0}}) {
-        panel.setView(cx, cy, v.zoom);
+        panel.view().centreOn(cx, cy, v.zoom);
         const Frame f = frame(panel);
         row(v.what, f, panel.lastFrameStats());
     }

@@ -151,13 +151,13 @@ int main(int argc, char** argv) try {
     // Zoomed in on the deepest node of the path, hovering it (tooltip).
     const ui::TreeGraphLayout& l = *panel.layout();
     const auto& deepest = l.item(l.itemOfNode(path.back()));
-    panel.setView(deepest.x, l.layerY(deepest.depth) - 2.0, 28.0);
+    panel.view().centreOn(deepest.x, l.layerY(deepest.depth) - 2.0, 28.0);
     shots.frame(panel);
     if (auto p = panel.screenPosOfNode(path.back())) shots.hover(*p);
     shots.save(panel, "stairs_zoom");
     shots.hover(ImVec2(-100, -100));
     panel.collapseToDepth(5);
-    panel.fit();
+    panel.view().fit();
     shots.save(panel, "stairs_collapsed");
 
     const vis::HistoryTree big = devkit::randomHistoryTree(50000, 1);
@@ -168,8 +168,8 @@ int main(int argc, char** argv) try {
     uint32_t busiest = 0;
     for (uint32_t d = 0; d < bl.layerCount(); ++d)
         if (bl.layer(d).size() > bl.layer(busiest).size()) busiest = d;
-    bigPanel.setView(bl.item(bl.layer(busiest)[bl.layer(busiest).size() / 2]).x, bl.layerY(busiest),
-                     6.0);
+    bigPanel.view().centreOn(bl.item(bl.layer(busiest)[bl.layer(busiest).size() / 2]).x,
+                             bl.layerY(busiest), 6.0);
     shots.save(bigPanel, "random50k_boxes");
 } catch (const std::exception& e) {
     std::fprintf(stderr, "penumbra_tree_graph_snapshot: error: %s\n", e.what());

@@ -121,7 +121,7 @@ void addExactOptions(CLI::App& sub, ExactOptions& o, ExactOptionSet set) {
                    "Exact: after each pass, a tree whose points reached the work limit has its "
                    "receiver patch split and the sub-patches holding those points get their own "
                    "trees, up to this many levels (the same answer; 0 = never)")
-        ->check(CLI::Range(0, VisibilityStore::kMaxRefineLevels))
+        ->check(CLI::Range(0, PatchLayout::kMaxRefineLevels))
         ->capture_default_str();
 }
 

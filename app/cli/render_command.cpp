@@ -163,7 +163,7 @@ void printTimes(const RenderOptions& o, const Scene& scene, const RenderSettings
     if (settings.method == DirectMethod::Reference)
         std::printf(" (%d shadow rays per light)", settings.referenceSamples);
     std::printf("\ntime: precompute %.3f s (%zu trees", times.precompute, store.treeCount());
-    if (store.refinedCount() > 0)
+    if (store.layout().refinedCount() > 0)
         std::printf("; %.3f s of it refining between passes", times.refine);
     std::printf("), primary rays %.3f s, shading %.3f s, total %.3f s\n", times.primary,
                 times.shading, times.total);

@@ -108,7 +108,7 @@ nlohmann::json Viewer::stateJson() const {
     s["panels"] = {{"help", helpPanel_.visible()},
                    {"tree", showTree_},
                    {"preview", options_.preview},
-                   {"accuracy", showAccuracy_}};
+                   {"accuracy", accuracy_.shown()}};
     json rects = json::object();
     for (const auto& [name, r] : panelRects_) rects[name] = {r[0], r[1], r[2], r[3]};
     rects["3D view"] = {layout_.view.x, layout_.view.y, layout_.view.width, layout_.view.height};
@@ -119,12 +119,13 @@ nlohmann::json Viewer::stateJson() const {
     s["point"] = scene_ ? pointJson(selection_, scene_->scene) : nullptr;
     // What the 3D view shows: "raster", or "rendered" (the preview's image at the view's size, in
     // the preview's mode; side by side split at `split`).
-    s["view"] = {{"mode", options_.view == ViewMode::Rendered ? "rendered" : "raster"},
-                 {"showsImage", options_.view == ViewMode::Rendered && !previewImage_.rgba.empty()},
-                 {"split", options_.split}};
+    s["view"] = {
+        {"mode", options_.view == ViewMode::Rendered ? "rendered" : "raster"},
+        {"showsImage", options_.view == ViewMode::Rendered && !preview_.image().rgba.empty()},
+        {"split", options_.split}};
     // The pixel inspector's report for the pixel under the mouse (rendered view only).
-    if (hover_ != nullptr) {
-        const PixelReport& r = *hover_;
+    if (preview_.hover() != nullptr) {
+        const PixelReport& r = *preview_.hover();
         auto radiance = [&](const std::optional<Vec3>& c) { return c ? vec(*c) : json(nullptr); };
         json lights = json::array();
         for (const LightAtPoint& l : r.lights) lights.push_back(lightAnswerJson(l));
@@ -147,20 +148,21 @@ nlohmann::json Viewer::stateJson() const {
                   {"refineLevels", options_.exact.refineLevels},
                   {"passes", options_.previewSettings.passes},
                   {"lightSamples", options_.previewSettings.lightSamples}};
+    const PreviewImage& image = preview_.image();
     s["preview"] = {{"mode", toString(options_.previewSettings.mode)},
-                    {"passes", previewImage_.passes},
-                    {"width", previewImage_.width},
-                    {"height", previewImage_.height},
-                    {"finished", previewImage_.finished},
-                    {"relativeRmsError", previewImage_.relativeRmsError},
-                    {"errorHistory", previewImage_.errorHistory},
-                    {"answers", answerTotalsJson(previewImage_.answers)},
-                    {"error", previewImage_.error}};
+                    {"passes", image.passes},
+                    {"width", image.width},
+                    {"height", image.height},
+                    {"finished", image.finished},
+                    {"relativeRmsError", image.relativeRmsError},
+                    {"errorHistory", image.errorHistory},
+                    {"answers", answerTotalsJson(image.answers)},
+                    {"error", image.error}};
     s["frames"] = {{"count", frameStats_.frames},
                    {"maxSeconds", frameStats_.maxSeconds},
                    {"meanSeconds",
                     frameStats_.frames > 0 ? frameStats_.sumSeconds / frameStats_.frames : 0.0}};
-    s["accuracy"] = accuracyJson(accuracyPanel_, showAccuracy_, accuracyStudyRunning());
+    s["accuracy"] = accuracyJson(accuracy_.plot(), accuracy_.shown(), accuracy_.running());
     if (precompute_.started()) {
         const PrecomputeProgress p = precompute_.progress();
         s["precompute"] = {

@@ -401,8 +401,14 @@ class SceneFileReader {
         const Json* overrides = nullptr;
         if (j.contains("materials")) overrides = &object(j["materials"], path + ".materials");
         std::error_code ec;
-        if (!fs::is_regular_file(meshPath, ec))
+        if (!fs::is_regular_file(meshPath, ec)) {
+            // Not there at all (a mesh not fetched yet), or something else (a directory).
+            if (!fs::exists(meshPath, ec))
+                throw makeMissingFileError(file_, 0,
+                                           path + ".file: no such file: " + meshPath.string(),
+                                           meshPath.string());
             fail(path + ".file", "no such file: " + meshPath.string());
+        }
 
         Scene part;
         try {

@@ -37,7 +37,8 @@ bool isSupportedSceneExtension(std::string_view extension) {
 Scene loadScene(const std::filesystem::path& path, const LoadOptions& options) {
     std::error_code ec;
     const std::filesystem::file_status status = std::filesystem::status(path, ec);
-    if (!std::filesystem::exists(status)) throw makeSceneError(path.string(), 0, "no such file");
+    if (!std::filesystem::exists(status))
+        throw makeMissingFileError(path.string(), 0, "no such file", path.string());
     if (std::filesystem::is_directory(status))
         throw makeSceneError(path.string(), 0, "it is a directory, not a scene file");
     const std::string e = lowerExtension(path);

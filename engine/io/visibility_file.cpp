@@ -74,10 +74,10 @@ class ByteWriter {
 
 std::vector<unsigned char> serialize(const VisibilityStore& store, bool withStats) {
     std::vector<std::pair<PairKey, const PairRecord*>> trees;
-    // The refined sub-patches' trees are the render's cache (VisibilityStore::refine): only the
+    // The refined sub-patches' trees are the render's cache (PatchLayout::refine): only the
     // patches' own trees are kept.
     store.forEach([&](const PairKey& k, const PairRecord& r) {
-        if (VisibilityStore::refineLevel(k) == 0) trees.emplace_back(k, &r);
+        if (PatchLayout::refineLevel(k) == 0) trees.emplace_back(k, &r);
     });
     std::sort(trees.begin(), trees.end(),
               [](const auto& a, const auto& b) { return a.first < b.first; });
@@ -195,7 +195,7 @@ void validateTree(const PairKey& key, const vis::HistoryTree& t, const Visibilit
     if (t.receiver != key.receiver || t.light != key.lightFace)
         fail("tree faces (" + std::to_string(t.receiver) + ", " + std::to_string(t.light) +
              ") differ from its key");
-    const size_t patches = std::max<size_t>(store.patches(key.receiver).patches.size(), 1);
+    const size_t patches = std::max<size_t>(store.layout().patches(key.receiver).patches.size(), 1);
     if (key.patch >= patches)
         fail("patch out of range (the receiver has " + std::to_string(patches) + ")");
     if (t.meshVertexCount != scene.mesh.vertices.size())
@@ -384,7 +384,7 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
         ParsedTree pt = parseTree(p, where);
         validateTree(pt.key, pt.record.tree, store, where);
         vis::prepareForQueries(store.scene().mesh, pt.record.tree,
-                               store.patches(pt.key.receiver).patches[pt.key.patch]);
+                               store.layout().patches(pt.key.receiver).patches[pt.key.patch]);
         if (!seen.insert(pt.key).second) throw Corrupt(where + ": a second tree for the same pair");
         out.push_back(std::move(pt));
     }

@@ -36,7 +36,7 @@ PointInspection inspectPoint(VisibilityStore& store, uint32_t face, const Vec3& 
         LightInspection li;
         const uint32_t lightFace = scene.lights[k];
         if (lightFace != face) {
-            li.key = store.keyAt(face, x, lightFace);
+            li.key = store.layout().keyAt(face, x, lightFace);
             li.treeWasBuilt = store.find(li.key) == nullptr;
         }
         const auto start = std::chrono::steady_clock::now();

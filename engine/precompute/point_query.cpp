@@ -216,7 +216,8 @@ std::vector<LightAtPoint> queryPoint(VisibilityStore& store, uint32_t face, cons
     checkQueryRange(store.scene(), face, onlyLight);
     const vis::AnsweredPoint x = answeredPointOn(store.scene(), face, input);
     return forEachLight(store.scene(), face, x.at, onlyLight, [&](LightAtPoint& r) {
-        const vis::HistoryTree& tree = store.getOrBuild(store.keyAt(face, x.at, r.lightFace)).tree;
+        const vis::HistoryTree& tree =
+            store.getOrBuild(store.layout().keyAt(face, x.at, r.lightFace)).tree;
         r.kind = tree.kind;
         vis::FromPointResult q = vis::fromPointQuery(mesh, tree, x);
         r.fragments = std::move(q.fragments);

@@ -302,7 +302,7 @@ void PrecomputeScheduler::requestAll() {
     const Scene& scene = store.scene();
     std::vector<PairKey> keys;
     for (uint32_t f = 0; f < scene.faceCount(); ++f) {
-        const auto patches = static_cast<uint32_t>(store.patchCount(f));
+        const auto patches = static_cast<uint32_t>(store.layout().patchCount(f));
         for (uint32_t p = 0; p < patches; ++p)
             for (uint32_t light : scene.lights)
                 if (light != f) keys.push_back({f, p, light});

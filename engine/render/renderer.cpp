@@ -70,9 +70,9 @@ void validate(const RenderSettings& s) {
             "glossy samples " + std::to_string(s.glossySamples) + " (must be >= 1)");
     require(s.refineCostShare >= 0 && std::isfinite(s.refineCostShare),
             "refine cost share " + std::to_string(s.refineCostShare) + " (must be finite, >= 0)");
-    require(s.refineLevels >= 0 && s.refineLevels <= VisibilityStore::kMaxRefineLevels,
+    require(s.refineLevels >= 0 && s.refineLevels <= PatchLayout::kMaxRefineLevels,
             "refine levels " + std::to_string(s.refineLevels) + " (must be 0.." +
-                std::to_string(VisibilityStore::kMaxRefineLevels) + ")");
+                std::to_string(PatchLayout::kMaxRefineLevels) + ")");
 }
 
 // Query-driven refinement's cost model (refineWhere), in shadow rays, measured on the table scene
@@ -201,7 +201,7 @@ class TileShader {
         int x = 0, y = 0;
         SurfacePoint point;
         // Receiver face and the patch field of its first light's key (a refined patch's
-        // sub-patch: VisibilityStore::keyAt), and the region cell (exact method).
+        // sub-patch: PatchLayout::keyAt), and the region cell (exact method).
         uint64_t group = 0;
         uint32_t cell = 0;
         std::optional<PairKey> firstKey;  // that key (ExactScratch::pointKey)
@@ -274,11 +274,13 @@ class TileShader {
                     // The previous point's patch first (ReceiverPatches::find): neighbouring
                     // pixels mostly share one, and one exact test then replaces the lookup.
                     const uint32_t hint = f == hintFace ? hintPatch : vis::ReceiverPatches::kNoHint;
-                    if (light != lights.end()) tp.firstKey = in_.store.keyAt(f, p.x, *light, hint);
-                    const uint32_t patch =
-                        tp.firstKey ? tp.firstKey->patch : in_.store.patches(f).find(p.x, hint);
+                    if (light != lights.end())
+                        tp.firstKey = in_.store.layout().keyAt(f, p.x, *light, hint);
+                    const uint32_t patch = tp.firstKey
+                                               ? tp.firstKey->patch
+                                               : in_.store.layout().patches(f).find(p.x, hint);
                     hintFace = f;
-                    hintPatch = tp.firstKey ? VisibilityStore::patchOf(*tp.firstKey) : patch;
+                    hintPatch = tp.firstKey ? PatchLayout::patchOf(*tp.firstKey) : patch;
                     tp.group = (static_cast<uint64_t>(f) << 32) | patch;
                 }
                 points_.push_back(tp);
@@ -533,7 +535,7 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
                                                    surfacePoint(hit->point, n, faceOrigin_[f]))
                                     .at;
                             for (uint32_t lf : scene_.lights)
-                                if (lf != f) ++local[store_.keyAt(f, xs, lf)];
+                                if (lf != f) ++local[store_.layout().keyAt(f, xs, lf)];
                         }
                     }
             }
@@ -674,9 +676,9 @@ bool ProgressiveRenderer::refineWhere(const std::vector<OverLimitPoint>& points,
     std::map<PairKey, std::pair<uint64_t, PairKey>> subPatches;
     std::vector<std::pair<PairKey, uint64_t>> cells;  // per point considered: sub-patch, cell
     for (const OverLimitPoint& p : points) {
-        if (VisibilityStore::refineLevel(p.key) >= settings.refineLevels) continue;
-        if (!store_.refine(p.key)) continue;
-        const PairKey sub = store_.subKeyAt(p.key, p.x);
+        if (PatchLayout::refineLevel(p.key) >= settings.refineLevels) continue;
+        if (!store_.layout().refine(p.key)) continue;
+        const PairKey sub = store_.layout().subKeyAt(p.key, p.x);
         auto& [count, parent] = subPatches[sub];
         ++count;
         parent = p.key;
@@ -820,7 +822,7 @@ EffectsSummary ProgressiveRenderer::effects() const {
     // Pairs by kind, from the trees the images used (a refined patch's sub-patch trees apart).
     size_t patchKeys = 0;
     for (const PairKey& key : usedKeys_) {
-        if (VisibilityStore::refineLevel(key) > 0) {
+        if (PatchLayout::refineLevel(key) > 0) {
             ++s.refinedTreesUsed;
             continue;
         }
@@ -849,7 +851,7 @@ EffectsSummary ProgressiveRenderer::effects() const {
     // Every (receiver patch, light) pair of the scene that no image needed.
     size_t total = 0;
     for (uint32_t f = 0; f < scene_.faceCount(); ++f) {
-        const size_t patches = store_.patchCount(f);
+        const size_t patches = store_.layout().patchCount(f);
         for (uint32_t lf : scene_.lights)
             if (lf != f) total += patches;
     }

@@ -82,13 +82,13 @@ struct RenderSettings {
     // shading.h), so building it would be wasted. 0 = build them.
     uint32_t groupedShaftMin = 1024;
     // Exact, with a work limit: query-driven refinement. After each pass, a tree whose points
-    // reached the work limit has its receiver patch split (VisibilityStore::refine) and the
+    // reached the work limit has its receiver patch split (PatchLayout::refine) and the
     // trees of the sub-patches those points lie in built, so that the later passes walk a tree
     // for a smaller region (narrower shaft, more of its occluders inserted) where the image
     // found the exact answer expensive; nothing is built where it did not, nor where the build
     // would cost more than sampling those points in the passes left. Up to this many levels
-    // below a patch (at most VisibilityStore::kMaxRefineLevels); 0 = never. The same answer.
-    int refineLevels = VisibilityStore::kMaxRefineLevels;
+    // below a patch (at most PatchLayout::kMaxRefineLevels); 0 = never. The same answer.
+    int refineLevels = PatchLayout::kMaxRefineLevels;
     // A sub-patch tree is built where its estimated cost is at most this many times that of the
     // sampling it replaces (1: break-even; tests raise it to refine wherever the limit was hit).
     double refineCostShare = 1;

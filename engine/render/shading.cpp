@@ -147,7 +147,7 @@ Vec3 DirectLighting::exactAreaLight(const SurfacePoint& p, size_t k, int glossyS
     const PairKey key = scratch.pointKey && scratch.pointKey->receiver == p.face &&
                                 scratch.pointKey->lightFace == light.face
                             ? *scratch.pointKey
-                            : store_->keyAt(p.face, p.x, light.face);
+                            : store_->layout().keyAt(p.face, p.x, light.face);
     const PairRecord* record = pairRecord(key, k, scratch);
     // The evaluations that need a query: a pair without a tree, or a tree to walk.
     const bool queried = record == nullptr || record->tree.kind == vis::PairKind::Penumbra;

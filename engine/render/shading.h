@@ -127,7 +127,7 @@ struct OverLimitPoint {
 struct ExactScratch {
     // The key of the next point's first light (the first that is not its own face), when the
     // caller looked it up already (the renderer groups a tile's points by it): exactAreaLights
-    // takes it instead of a second VisibilityStore::keyAt.
+    // takes it instead of a second PatchLayout::keyAt.
     std::optional<PairKey> pointKey;
     std::vector<PairKey> lastKey;             // per light
     std::vector<const PairRecord*> lastTree;  // per light (nullptr: none yet)

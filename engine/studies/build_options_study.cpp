@@ -19,7 +19,7 @@ double queryMicros(const Scene& scene, const VisibilityStore& store, size_t poin
     std::vector<std::pair<const PairRecord*, Vec3>> xs;
     for (size_t tries = 0; xs.size() < points && tries < 100 * points; ++tries) {
         const auto [f, x] = sampler.next();
-        if (const PairRecord* r = store.find(store.keyAt(f, x, l))) xs.push_back({r, x});
+        if (const PairRecord* r = store.find(store.layout().keyAt(f, x, l))) xs.push_back({r, x});
     }
     if (xs.empty()) return 0;
     vis::FromPointQuery q;

@@ -227,7 +227,8 @@ PerPointRow runPerPointStudy(const std::string& path, const Scene& scene, size_t
     const uint32_t light = scene.lights[0];
     std::vector<Sample> samples;
     for (const SurfaceSample& s : surfaceSamples(scene, points, 1))
-        samples.push_back({s.face, s.x, &store.getOrBuild(store.keyAt(s.face, s.x, light))});
+        samples.push_back(
+            {s.face, s.x, &store.getOrBuild(store.layout().keyAt(s.face, s.x, light))});
     PerPointMeasure measure(scene, embree, std::move(samples));
     PerPointRow row;
     row.scene = path;

@@ -59,7 +59,7 @@ PredicateStudy runPredicateStudy(int pointsPerPatch, int repeats, const StudyLog
             const double lightArea = mesh.faceArea(l);
             for (uint32_t f = 0; f < scene.faceCount(); ++f) {
                 if (f == l) continue;
-                const vis::ReceiverPatches& patches = store.patches(f);
+                const vis::ReceiverPatches& patches = store.layout().patches(f);
                 for (uint32_t p = 0; p < patches.patches.size(); ++p) {
                     const PairRecord& rec = store.getOrBuild({f, p, l});
                     if (rec.tree.kind != vis::PairKind::Penumbra) continue;

@@ -17,14 +17,14 @@ std::vector<PairKey> fixedPairs(const Scene& scene, const VisibilityStore& store
         if (scene.mesh.faceArea(f) > scene.mesh.faceArea(floor)) floor = f;
     std::vector<PairKey> keys;
     for (uint32_t l : scene.lights) {
-        for (uint32_t p = 0; p < store.patches(floor).patches.size(); ++p)
+        for (uint32_t p = 0; p < store.layout().patches(floor).patches.size(); ++p)
             keys.push_back({floor, p, l});
         std::mt19937_64 rng(3);
         std::uniform_int_distribution<uint32_t> pick(0, scene.faceCount() - 1);
         for (int i = 0; i < 32; ++i) {
             const uint32_t f = pick(rng);
             if (f == l || f == floor) continue;
-            for (uint32_t p = 0; p < store.patches(f).patches.size(); ++p)
+            for (uint32_t p = 0; p < store.layout().patches(f).patches.size(); ++p)
                 keys.push_back({f, p, l});
         }
     }

@@ -267,7 +267,7 @@ TEST(ContractEdges, PatchThatAnswersContainsThePoint) {
             VisibilityStore::Options options;
             options.patchFraction = 0.1;
             VisibilityStore store(scene, nullptr, options);
-            const vis::ReceiverPatches& patches = store.patches(0);
+            const vis::ReceiverPatches& patches = store.layout().patches(0);
             ASSERT_GT(patches.patches.size(), 4u);
             const int k = patches.cellsPerSide;
             const int steps = 2 * k;
@@ -278,19 +278,19 @@ TEST(ContractEdges, PatchThatAnswersContainsThePoint) {
                     if ((i * 7 + j * 3) % (4 / std::min(4, test::scaled(4))) != 0) continue;
                     // On the patch grid's lines, to a rounding (the grid is not dyadic here).
                     const Vec3 x{o + s * i / steps, o + s * j / steps, 0};
-                    PairKey key = store.keyAt(0, x, 2);
-                    ASSERT_TRUE(containsExactly(store.region(key), x))
+                    PairKey key = store.layout().keyAt(0, x, 2);
+                    ASSERT_TRUE(containsExactly(store.layout().region(key), x))
                         << vis::toString(x) << " patch " << key.patch;
                     // Two levels of refinement, each sub-patch holding x built.
                     if ((i + j) % 5 == 0) {
                         for (int level = 0; level < 2; ++level) {
-                            ASSERT_TRUE(store.refine(key));
-                            key = store.subKeyAt(key, x);
-                            ASSERT_TRUE(containsExactly(store.region(key), x))
+                            ASSERT_TRUE(store.layout().refine(key));
+                            key = store.layout().subKeyAt(key, x);
+                            ASSERT_TRUE(containsExactly(store.layout().region(key), x))
                                 << vis::toString(x) << " level " << level + 1;
                             store.getOrBuild(key);
                         }
-                        EXPECT_EQ(store.keyAt(0, x, 2), key);
+                        EXPECT_EQ(store.layout().keyAt(0, x, 2), key);
                     }
                     const double f = queryPoint(store, 0, x, 0u)[0].fraction;
                     EXPECT_NEAR(f, test::exactReference(scene.mesh, 0, 2, x).fraction, 1e-9)
@@ -306,8 +306,8 @@ TEST(ContractEdges, PatchThatAnswersContainsThePoint) {
                 for (const Vec3& corner : patches.patches[p]) {
                     const Vec3 x{corner.x, corner.y, 0};
                     if (!containsExactly(floor, x)) continue;
-                    const PairKey key = store.keyAt(0, x, 2);
-                    EXPECT_TRUE(containsExactly(store.region(key), x)) << vis::toString(x);
+                    const PairKey key = store.layout().keyAt(0, x, 2);
+                    EXPECT_TRUE(containsExactly(store.layout().region(key), x)) << vis::toString(x);
                     ++checked;
                 }
             EXPECT_GT(checked, 10);

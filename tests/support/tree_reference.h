@@ -14,7 +14,7 @@
 namespace penumbra::test {
 
 inline vis::HistoryTree referenceTree(const VisibilityStore& store, const PairKey& key) {
-    const vis::ReceiverPatches& p = store.patches(key.receiver);
+    const vis::ReceiverPatches& p = store.layout().patches(key.receiver);
     const bool whole = p.patches.size() <= 1;
     return vis::buildHistoryTree(
         store.scene().mesh, key.receiver, key.lightFace, store.options().build, {}, nullptr,

@@ -63,10 +63,10 @@ void forClusters(const Scene& scene, int clusters, double radius, uint64_t seed,
         if (f == l) continue;
         const std::vector<Vec3> points = cluster(scene.mesh, f, radius, 12, rng);
         // All points of one cluster must share the patch (as the renderer's groups do).
-        const PairKey key = store.keyAt(f, points[0], l);
+        const PairKey key = store.layout().keyAt(f, points[0], l);
         std::vector<Vec3> same;
         for (const Vec3& p : points)
-            if (store.keyAt(f, p, l) == key) same.push_back(p);
+            if (store.layout().keyAt(f, p, l) == key) same.push_back(p);
         const vis::HistoryTree& tree = store.getOrBuild(key).tree;
         if (tree.kind != vis::PairKind::Penumbra) continue;
         ++found;

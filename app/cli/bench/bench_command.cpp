@@ -77,19 +77,6 @@ void printLine(const std::string& line) {
 
 // ---- Scenes with fetched meshes --------------------------------------------------------------
 
-// The mesh file a JSON scene names and lacks, from the loader's error (engine/io/scene_file.h:
-// "meshes[1].file: no such file: PATH"), when the file is indeed not there; nullopt for any other
-// error (a scene that does not parse: loading it says what is wrong).
-std::optional<std::string> missingMeshFile(const SceneError& e) {
-    const std::string marker = "no such file: ";
-    const size_t at = e.message.rfind(marker);
-    if (at == std::string::npos) return std::nullopt;
-    const fs::path file = e.message.substr(at + marker.size());
-    std::error_code ec;
-    if (fs::exists(file, ec)) return std::nullopt;
-    return file.lexically_normal().string();
-}
-
 // The scene `study` measures, or nullopt when a file it needs is missing: the scene file itself,
 // or a mesh file it names (the committed scenes of the bunny, the motorbike and the dragon name
 // meshes that scripts/fetch_meshes.sh downloads into assets/external/, too large to commit, so a
@@ -105,8 +92,10 @@ std::optional<Scene> loadForStudy(const std::string& path, const std::string& st
         try {
             return loadSceneFile(path, strict);
         } catch (const SceneError& e) {
-            missing = missingMeshFile(e);
-            if (!missing) throw;
+            // A mesh file the scene names is not there (SceneError::Kind::MissingFile); any other
+            // error (a scene that does not parse) is thrown: loading it says what is wrong.
+            if (e.kind != SceneError::Kind::MissingFile) throw;
+            missing = fs::path(e.missingFile).lexically_normal().string();
         }
     }
     std::fprintf(stderr,

@@ -54,7 +54,7 @@ void runHeadless(const HeadlessOptions& o) {
     if (o.accuracy) {
         // As in the window: the study runs on the viewer's tasks while frames are drawn.
         viewer.openAccuracyStudy();
-        while (viewer.accuracyStudyRunning()) viewer.frame(o.width, o.height, dt);
+        while (viewer.accuracy().running()) viewer.frame(o.width, o.height, dt);
     }
     viewer.waitForBackground();
     // The mouse over --hover (the pixel inspector's tooltip in the rendered view), or nowhere.
@@ -65,11 +65,12 @@ void runHeadless(const HeadlessOptions& o) {
     for (int i = 0; i < 3; ++i) viewer.frame(o.width, o.height, dt);
     if (!o.saveView.empty()) {
         std::string message;
-        if (!viewer.saveView(o.saveView, message)) throw std::runtime_error(message);
+        if (!viewer.preview().save(o.saveView, viewer.scene(), viewer.camera(), message))
+            throw std::runtime_error(message);
     }
     const std::vector<uint8_t> pixels = context->readRgba();
     if (!o.out.empty()) writeRgbaPng(o.out, o.width, o.height, pixels);
-    const PreviewImage& preview = viewer.previewImage();
+    const PreviewImage& preview = viewer.preview().image();
     if (!o.previewOut.empty() && preview.width > 0)
         writeRgbaPng(o.previewOut, preview.width, preview.height, preview.rgba);
     if (!o.stateOut.empty()) {

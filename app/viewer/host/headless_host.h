@@ -23,7 +23,7 @@ struct HeadlessOptions {
     std::filesystem::path out;                   // the screenshot (PNG)
     std::filesystem::path stateOut;              // optional: the UI state (JSON)
     std::filesystem::path previewOut;            // optional: the preview image alone (PNG)
-    std::filesystem::path saveView;  // optional: Viewer::saveView to this stem (.png .pfm .json)
+    std::filesystem::path saveView;  // optional: Preview::save to this stem (.png .pfm .json)
     // Start the precompute of every pair and draw frames until it ends, recording the frame
     // times (state JSON "precomputeFrames").
     bool precompute = false;

@@ -29,7 +29,6 @@ constexpr float kRasterBelowPx = 3.0f;        // node width under which nodes be
 constexpr float kLabelsFromPx = 14.0f;        // node width from which boxes get borders and labels
 constexpr uint32_t kRasterEdgeBudget = 4000;  // edges drawn in Raster mode only below this
 constexpr size_t kBoxBudget = 20000;          // more items on screen than this: Raster mode
-constexpr double kMinZoom = 1e-5, kMaxZoom = 400.0;
 constexpr float kPickRadiusPx = 4.0f;
 
 ImU32 lerpColor(ImU32 a, ImU32 b, float t) {
@@ -106,7 +105,7 @@ void TreeGraphPanel::setTree(const vis::HistoryTree* tree,
         error_.clear();
         layout_ = TreeGraphLayout();
         layoutDirty_ = true;
-        fitPending_ = true;
+        view_.fit();
         drawn_ = false;
         if (tree_) {
             try {
@@ -117,34 +116,7 @@ void TreeGraphPanel::setTree(const vis::HistoryTree* tree,
         }
         collapsed_.assign(topology_ ? topology_->nodeCount() : 0, 0);
     }
-    const uint32_t n = topology_ ? topology_->nodeCount() : 0;
-    onPath_.assign(n, 0);
-    pathBelow_.assign(n, 0);
-    pathNodes_.clear();
-    pathSize_ = static_cast<uint32_t>(highlightedPath.size());
-    pathIgnored_ = 0;
-    for (uint32_t id : highlightedPath) {
-        if (id >= n || !topology_->reachable(id)) {
-            ++pathIgnored_;
-        } else if (!onPath_[id]) {
-            onPath_[id] = 1;
-            pathNodes_.push_back(id);
-        }
-    }
-    if (!topology_) return;
-    const auto& pre = topology_->preorder;
-    for (size_t i = pre.size(); i-- > 0;) {
-        const uint32_t v = pre[i];
-        pathBelow_[v] += onPath_[v];
-        if (topology_->parent[v] != kNoIndex) pathBelow_[topology_->parent[v]] += pathBelow_[v];
-    }
-}
-
-void TreeGraphPanel::setView(double x, double y, double pixelsPerUnitX, double pixelsPerUnitY) {
-    zoomX_ = std::clamp(pixelsPerUnitX, kMinZoom, kMaxZoom);
-    zoomY_ = std::clamp(pixelsPerUnitY, kMinZoom, kMaxZoom);
-    pendingCenter_ = {x, y};
-    fitPending_ = false;
+    highlight_.assign(topology_ ? &*topology_ : nullptr, highlightedPath);
 }
 
 void TreeGraphPanel::ensureLayout() {
@@ -171,7 +143,7 @@ void TreeGraphPanel::relayoutKeeping(uint32_t node) {
     layoutDirty_ = true;
     ensureLayout();
     const uint32_t after = layout_.itemOfNode(node);
-    if (before != kNoIndex && after != kNoIndex) viewX0_ += layout_.item(after).x - oldX;
+    if (before != kNoIndex && after != kNoIndex) view_.moveBy(layout_.item(after).x - oldX, 0);
 }
 
 void TreeGraphPanel::toggleCollapsed(uint32_t node) {
@@ -196,65 +168,39 @@ void TreeGraphPanel::collapseToDepth(uint32_t depth) {
 }
 
 void TreeGraphPanel::revealPath() {
-    if (!topology_ || pathNodes_.empty()) return;
+    if (!topology_ || highlight_.nodes().empty()) return;
     ensureLayout();
     // Expand every highlighted node and its ancestors; stop a walk at a node already expanded by
     // this pass (its ancestors are done), so the whole pass is O(n).
     std::vector<uint8_t> done(collapsed_.size(), 0);
-    for (uint32_t v : pathNodes_) {
+    for (uint32_t v : highlight_.nodes()) {
         for (uint32_t a = v; a != kNoIndex && !done[a]; a = topology_->parent[a]) {
             done[a] = 1;
             collapsed_[a] = 0;
         }
     }
-    relayoutKeeping(pathNodes_.front());
+    relayoutKeeping(highlight_.nodes().front());
 }
 
 std::optional<ImVec2> TreeGraphPanel::screenPosOfNode(uint32_t node) const {
     if (!topology_ || !drawn_ || layoutDirty_) return std::nullopt;
     const uint32_t i = layout_.itemOfNode(node);
     if (i == kNoIndex) return std::nullopt;
-    return toScreen(layout_.item(i).x, layout_.layerY(layout_.item(i).depth));
-}
-
-ImVec2 TreeGraphPanel::toScreen(double x, double y) const {
-    return ImVec2(canvasOrigin_.x + float((x - viewX0_) * zoomX_),
-                  canvasOrigin_.y + float((y - viewY0_) * zoomY_));
+    return view_.toScreen(layout_.item(i).x, layout_.layerY(layout_.item(i).depth));
 }
 
 void TreeGraphPanel::glyphRect(uint32_t item, ImVec2& a, ImVec2& c) const {
     const GraphItem& it = layout_.item(item);
-    const ImVec2 centre = toScreen(it.x, layout_.layerY(it.depth));
-    const float hx = float(layout_.halfWidth(it) * zoomX_);
-    const float hy = float(layout_.halfHeight(it) * std::min(zoomY_, zoomX_));
+    const ImVec2 centre = view_.toScreen(it.x, layout_.layerY(it.depth));
+    const float hx = float(layout_.halfWidth(it) * view_.zoomX());
+    const float hy = float(layout_.halfHeight(it) * std::min(view_.zoomY(), view_.zoomX()));
     a = ImVec2(centre.x - hx, centre.y - hy);
     c = ImVec2(centre.x + hx, centre.y + hy);
 }
 
-bool TreeGraphPanel::itemHighlighted(const GraphItem& it) const {
-    if (it.kind == GraphItemKind::Node) return onPath_[it.node] != 0;
-    if (it.kind == GraphItemKind::CollapsedNode) return pathBelow_[it.node] != 0;
-    return false;
-}
-
-void TreeGraphPanel::fitTo(ImVec2 canvasSize) {
-    fitPending_ = false;
-    const GraphRect b = layout_.bounds();
-    const double margin = 12.0;
-    const double w = std::max(b.x1 - b.x0, 1e-9), h = std::max(b.y1 - b.y0, 1e-9);
-    const double zx = std::max(1.0, canvasSize.x - 2 * margin) / w;
-    const double zy = std::max(1.0, canvasSize.y - 2 * margin) / h;
-    // Each axis fitted on its own, neither beyond 60 px per unit (a tiny tree stays small).
-    zoomX_ = std::clamp(std::min(zx, 60.0), kMinZoom, kMaxZoom);
-    zoomY_ = std::clamp(std::min(zy, 60.0), kMinZoom, kMaxZoom);
-    viewX0_ = 0.5 * (b.x0 + b.x1) - 0.5 * canvasSize.x / zoomX_;
-    viewY0_ = 0.5 * (b.y0 + b.y1) - 0.5 * canvasSize.y / zoomY_;
-}
-
 uint32_t TreeGraphPanel::pick(ImVec2 mouse) const {
-    const double x = viewX0_ + (mouse.x - canvasOrigin_.x) / zoomX_;
-    const double y = viewY0_ + (mouse.y - canvasOrigin_.y) / zoomY_;
-    const double rx = kPickRadiusPx / zoomX_, ry = kPickRadiusPx / zoomY_;
+    const auto [x, y] = view_.toLayout(mouse);
+    const double rx = kPickRadiusPx / view_.zoomX(), ry = kPickRadiusPx / view_.zoomY();
     std::vector<uint32_t> near;
     layout_.query({x - rx, y - ry, x + rx, y + ry}, near);
     uint32_t best = kNoIndex;
@@ -263,8 +209,8 @@ uint32_t TreeGraphPanel::pick(ImVec2 mouse) const {
         // Inside a box beats near one; boxes never overlap, so at most one contains the point.
         const GraphRect b = layout_.box(i);
         // Distance in pixels.
-        const double dx = (layout_.item(i).x - x) * zoomX_;
-        const double dy = (layout_.layerY(layout_.item(i).depth) - y) * zoomY_;
+        const double dx = (layout_.item(i).x - x) * view_.zoomX();
+        const double dy = (layout_.layerY(layout_.item(i).depth) - y) * view_.zoomY();
         const double d = b.contains(x, y) ? -1.0 : dx * dx + dy * dy;
         if (best == kNoIndex || d < bestD) {
             best = i;
@@ -319,24 +265,19 @@ void TreeGraphPanel::drawHeader() {
             "nodes %zu (%u reachable)   depth %u   leaves %u visible / %u hidden   %zu bytes",
             tree_->nodes.size(), t.reachableCount(), t.maxDepth + 1, t.visibleLeaves[0],
             t.hiddenLeaves[0], tree_->bytes());
-        if (pathSize_ > 0) {
+        if (highlight_.requested() > 0) {
             ImGui::SameLine();
-            if (pathIgnored_ > 0)
-                ImGui::Text("  path: %zu nodes (%u ids ignored: out of range)", pathNodes_.size(),
-                            pathIgnored_);
+            if (highlight_.ignored() > 0)
+                ImGui::Text("  path: %zu nodes (%u ids ignored: out of range)",
+                            highlight_.nodes().size(), highlight_.ignored());
             else
-                ImGui::Text("  path: %zu nodes", pathNodes_.size());
+                ImGui::Text("  path: %zu nodes", highlight_.nodes().size());
         }
-        if (ImGui::Button("Fit")) fit();
+        if (ImGui::Button("Fit")) view_.fit();
         if (ImGui::IsItemHovered())
             ImGui::SetTooltip("Whole tree in view, x and y scaled independently");
         ImGui::SameLine();
-        if (ImGui::Button("1:1")) {
-            // Same scale on both axes (the horizontal one), about the canvas centre.
-            const double cy = viewY0_ + 0.5 * canvasSize_.y / zoomY_;
-            zoomY_ = zoomX_;
-            viewY0_ = cy - 0.5 * canvasSize_.y / zoomY_;
-        }
+        if (ImGui::Button("1:1")) view_.sameScale();
         ImGui::SameLine();
         if (ImGui::Button("Expand all")) expandAll();
         ImGui::SameLine();
@@ -351,7 +292,7 @@ void TreeGraphPanel::drawHeader() {
             ImGui::SetTooltip("Expand the highlighted nodes and their ancestors");
         ImGui::SameLine();
         ImGui::TextDisabled("layout %.2f ms, %u items, %.3g x %.3g px/unit", layoutMs_,
-                            layout_.itemCount(), zoomX_, zoomY_);
+                            layout_.itemCount(), view_.zoomX(), view_.zoomY());
     }
     legendSwatch(kColorNode, "node", false);
     legendSwatch(kColorCollapsed, "collapsed (+hidden)", false);
@@ -374,32 +315,15 @@ void TreeGraphPanel::drawCanvas() {
                                                      ImGuiButtonFlags_MouseButtonMiddle);
     const bool hovered = ImGui::IsItemHovered();
     const bool active = ImGui::IsItemActive();
-    canvasOrigin_ = p0;
-    canvasSize_ = size;
-    if (fitPending_) fitTo(size);
-    if (pendingCenter_) {
-        viewX0_ = pendingCenter_->first - 0.5 * size.x / zoomX_;
-        viewY0_ = pendingCenter_->second - 0.5 * size.y / zoomY_;
-        pendingCenter_.reset();
-    }
+    view_.beginFrame(p0, size, layout_.bounds());
 
     // Pan with any button dragged; zoom at the mouse with the wheel.
     const bool dragging = ImGui::IsMouseDragging(ImGuiMouseButton_Left) ||
                           ImGui::IsMouseDragging(ImGuiMouseButton_Right) ||
                           ImGui::IsMouseDragging(ImGuiMouseButton_Middle);
-    if (active && dragging) {
-        viewX0_ -= io.MouseDelta.x / zoomX_;
-        viewY0_ -= io.MouseDelta.y / zoomY_;
-    }
-    if (hovered && io.MouseWheel != 0.0f) {
-        const double mx = io.MousePos.x - p0.x, my = io.MousePos.y - p0.y;
-        const double lx = viewX0_ + mx / zoomX_, ly = viewY0_ + my / zoomY_;
-        const double f = std::pow(1.2, double(io.MouseWheel));
-        if (!io.KeyCtrl) zoomX_ = std::clamp(zoomX_ * f, kMinZoom, kMaxZoom);
-        if (!io.KeyShift) zoomY_ = std::clamp(zoomY_ * f, kMinZoom, kMaxZoom);
-        viewX0_ = lx - mx / zoomX_;
-        viewY0_ = ly - my / zoomY_;
-    }
+    if (active && dragging) view_.pan(io.MouseDelta);
+    if (hovered && io.MouseWheel != 0.0f)
+        view_.zoomAt(io.MousePos, double(io.MouseWheel), !io.KeyCtrl, !io.KeyShift);
     // A left click that did not drag toggles the node under the mouse.
     const float threshold = io.MouseDragThreshold;
     if (released && ImGui::IsMouseReleased(ImGuiMouseButton_Left) &&
@@ -414,13 +338,13 @@ void TreeGraphPanel::drawCanvas() {
     dl->PushClipRect(p0, p1, true);
     dl->AddRectFilled(p0, p1, kColorBackground);
 
-    const GraphRect view{viewX0_, viewY0_, viewX0_ + size.x / zoomX_, viewY0_ + size.y / zoomY_};
+    const GraphRect view = view_.visible();
     scratch_.clear();
     layout_.query(view, scratch_);
     stats_ = {};
     stats_.itemsOnScreen = static_cast<uint32_t>(scratch_.size());
-    const float nodePx = float(layout_.style().nodeWidth * zoomX_);
-    const float layerPx = float(layout_.style().layerSpacing * zoomY_);
+    const float nodePx = float(layout_.style().nodeWidth * view_.zoomX());
+    const float layerPx = float(layout_.style().layerSpacing * view_.zoomY());
     // Raster when boxes would be under kRasterBelowPx wide or layers closer than that, or when
     // so many are on screen that one primitive each would make a large draw list.
     if (nodePx < kRasterBelowPx || layerPx < kRasterBelowPx || scratch_.size() > kBoxBudget) {
@@ -453,10 +377,11 @@ void TreeGraphPanel::drawCanvas() {
 // both its ends are off screen.
 void TreeGraphPanel::drawEdges(ImDrawList* dl) {
     const TreeGraphStyle& st = layout_.style();
-    const double x0 = viewX0_, x1 = viewX0_ + canvasSize_.x / zoomX_;
-    const double y0 = viewY0_, y1 = viewY0_ + canvasSize_.y / zoomY_;
+    const GraphRect view = view_.visible();
+    const double x0 = view.x0, x1 = view.x1;
+    const double y0 = view.y0, y1 = view.y1;
     if (layout_.layerCount() < 2) return;
-    const double glyphScaleY = std::min(zoomY_, zoomX_);  // as glyphRect()
+    const double glyphScaleY = std::min(view_.zoomY(), view_.zoomX());  // as glyphRect()
     // Child layers whose edges (from the parent's layer to theirs) can reach the view.
     const double lo = std::floor(y0 / st.layerSpacing), hi = std::ceil(y1 / st.layerSpacing) + 1;
     if (hi < 1 || lo > layout_.layerCount() - 1) return;
@@ -472,8 +397,8 @@ void TreeGraphPanel::drawEdges(ImDrawList* dl) {
         for (uint32_t k = k0; k < l.size(); ++k) {
             const GraphItem& c = layout_.item(l[k]);
             const GraphItem& p = layout_.item(c.parent);
-            ImVec2 a = toScreen(p.x, layout_.layerY(p.depth));
-            ImVec2 b = toScreen(c.x, layout_.layerY(c.depth));
+            ImVec2 a = view_.toScreen(p.x, layout_.layerY(p.depth));
+            ImVec2 b = view_.toScreen(c.x, layout_.layerY(c.depth));
             a.y += float(layout_.halfHeight(p) * glyphScaleY);
             b.y -= float(layout_.halfHeight(c) * glyphScaleY);
             if (std::fabs(a.x - b.x) >= 1.0f || std::fabs(a.y - b.y) >= 1.0f) {
@@ -486,16 +411,16 @@ void TreeGraphPanel::drawEdges(ImDrawList* dl) {
 }
 
 void TreeGraphPanel::drawPath(ImDrawList* dl) {
-    const ImVec2 lo = canvasOrigin_;
-    const ImVec2 hi(canvasOrigin_.x + canvasSize_.x, canvasOrigin_.y + canvasSize_.y);
-    for (uint32_t v : pathNodes_) {
+    const ImVec2 lo = view_.canvasOrigin(), size = view_.canvasSize();
+    const ImVec2 hi(lo.x + size.x, lo.y + size.y);
+    for (uint32_t v : highlight_.nodes()) {
         const uint32_t i = layout_.itemOfNode(v);
         if (i == kNoIndex) continue;
         const GraphItem& c = layout_.item(i);
-        if (c.parent == kNoIndex || !onPath_[layout_.item(c.parent).node]) continue;
+        if (c.parent == kNoIndex || !highlight_.onPath(layout_.item(c.parent).node)) continue;
         const GraphItem& p = layout_.item(c.parent);
-        const ImVec2 a = toScreen(p.x, layout_.layerY(p.depth));
-        const ImVec2 b = toScreen(c.x, layout_.layerY(c.depth));
+        const ImVec2 a = view_.toScreen(p.x, layout_.layerY(p.depth));
+        const ImVec2 b = view_.toScreen(c.x, layout_.layerY(c.depth));
         if (std::max(a.x, b.x) < lo.x || std::min(a.x, b.x) > hi.x || std::max(a.y, b.y) < lo.y ||
             std::min(a.y, b.y) > hi.y)
             continue;
@@ -512,7 +437,7 @@ void TreeGraphPanel::drawBoxes(ImDrawList* dl, const std::vector<uint32_t>& visi
         const GraphItem& it = layout_.item(i);
         ImVec2 a, c;
         glyphRect(i, a, c);
-        const bool highlight = itemHighlighted(it);
+        const bool highlight = highlight_.highlights(it);
         switch (it.kind) {
             case GraphItemKind::Node:
             case GraphItemKind::CollapsedNode: {
@@ -556,12 +481,14 @@ void TreeGraphPanel::drawBoxes(ImDrawList* dl, const std::vector<uint32_t>& visi
 // them are of that kind, and their half-way mix otherwise (approximate by design: an overview);
 // else the collapsed or node colour.
 void TreeGraphPanel::drawRaster(ImDrawList* dl, const std::vector<uint32_t>& visible) {
-    const int width = std::max(1, int(std::ceil(canvasSize_.x)));
+    const ImVec2 origin = view_.canvasOrigin();
+    const double x0 = view_.x0(), zoomX = view_.zoomX();
+    const int width = std::max(1, int(std::ceil(view_.canvasSize().x)));
     rasterDiff_.assign(size_t(width) + 1, RasterCell{});
     // Rows as bands: as tall as the boxes, but leaving at least 40% of a layer free.
     const float glyphPx =
-        std::clamp(float(layout_.style().nodeHeight * zoomY_), 1.0f,
-                   std::max(1.0f, 0.6f * float(layout_.style().layerSpacing * zoomY_)));
+        std::clamp(float(layout_.style().nodeHeight * view_.zoomY()), 1.0f,
+                   std::max(1.0f, 0.6f * float(layout_.style().layerSpacing * view_.zoomY())));
     const ImU32 mixed = lerpColor(kColorVisible, kColorHidden, 0.5f);
     int row = INT_MIN, minCol = width, maxCol = -1;
     float rowY = 0;
@@ -588,9 +515,8 @@ void TreeGraphPanel::drawRaster(ImDrawList* dl, const std::vector<uint32_t>& vis
             }
             if (col != runColor) {
                 if (runColor) {
-                    dl->AddRectFilled(ImVec2(canvasOrigin_.x + runStart, rowY - 0.5f * glyphPx),
-                                      ImVec2(canvasOrigin_.x + c, rowY + 0.5f * glyphPx),
-                                      *runColor);
+                    dl->AddRectFilled(ImVec2(origin.x + runStart, rowY - 0.5f * glyphPx),
+                                      ImVec2(origin.x + c, rowY + 0.5f * glyphPx), *runColor);
                     ++stats_.rasterRuns;
                 }
                 runColor = col;
@@ -603,7 +529,7 @@ void TreeGraphPanel::drawRaster(ImDrawList* dl, const std::vector<uint32_t>& vis
     };
     for (uint32_t i : visible) {
         const GraphItem& it = layout_.item(i);
-        const float y = toScreen(0, layout_.layerY(it.depth)).y;
+        const float y = view_.toScreen(0, layout_.layerY(it.depth)).y;
         const int r = int(std::floor(y));
         if (r != row) {
             flush();
@@ -611,8 +537,8 @@ void TreeGraphPanel::drawRaster(ImDrawList* dl, const std::vector<uint32_t>& vis
             rowY = float(r) + 0.5f;
         }
         const double hw = layout_.halfWidth(it);
-        const int c0 = std::clamp(int(std::floor((it.x - hw - viewX0_) * zoomX_)), 0, width - 1);
-        const int c1 = std::clamp(int(std::floor((it.x + hw - viewX0_) * zoomX_)), c0, width - 1);
+        const int c0 = std::clamp(int(std::floor((it.x - hw - x0) * zoomX)), 0, width - 1);
+        const int c1 = std::clamp(int(std::floor((it.x + hw - x0) * zoomX)), c0, width - 1);
         minCol = std::min(minCol, c0);
         maxCol = std::max(maxCol, c1);
         // +1 over columns [c0, c1]: at c0, -1 at c1 + 1 (the array has width + 1 cells).
@@ -635,7 +561,7 @@ void TreeGraphPanel::drawRaster(ImDrawList* dl, const std::vector<uint32_t>& vis
         }
         ++(on.*field);
         --(off.*field);
-        if (itemHighlighted(it)) {
+        if (highlight_.highlights(it)) {
             ++on.highlighted;
             --off.highlighted;
         }
@@ -674,12 +600,12 @@ void TreeGraphPanel::drawTooltip(uint32_t item) {
                     t.visibleLeaves[it.node], t.hiddenLeaves[it.node]);
         ImGui::Text("child[0] (+): %s   child[1] (-): %s", childText(n.child[0], a, sizeof a),
                     childText(n.child[1], b, sizeof b));
-        if (onPath_[it.node])
+        if (highlight_.onPath(it.node))
             ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(kColorHighlight),
                                "on the highlighted path");
-        else if (collapsed && pathBelow_[it.node])
+        else if (collapsed && highlight_.below(it.node))
             ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(kColorHighlight),
-                               "hides %u highlighted nodes", pathBelow_[it.node]);
+                               "hides %u highlighted nodes", highlight_.below(it.node));
         if (collapsed)
             ImGui::TextDisabled("%u nodes hidden: click to expand", t.subtreeNodes[it.node] - 1);
         else

@@ -8,6 +8,8 @@
 // both axes), expand all, collapse to depth N, reveal path (expand the ancestors of every
 // highlighted node). Visible and hidden leaves have their own colour and shape
 // (legend in the header); the highlighted path (FPQuery's visited nodes) is drawn thick.
+// What the canvas shows and at what scale is the panel's TreeGraphView (tree_graph_view.h); the
+// highlighted nodes are its TreeGraphHighlight (tree_graph_highlight.h).
 //
 // Cost per frame: the layout is recomputed only when the tree or its collapsed set changes (O(n));
 // drawing visits only the items on screen (TreeGraphLayout::query). Level of detail by the
@@ -25,7 +27,9 @@
 #include <vector>
 
 #include "app/viewer/panels/history_tree_topology.h"
+#include "app/viewer/panels/tree_graph_highlight.h"
 #include "app/viewer/panels/tree_graph_layout.h"
+#include "app/viewer/panels/tree_graph_view.h"
 
 namespace penumbra::ui {
 
@@ -57,14 +61,9 @@ class TreeGraphPanel {
     // Draws the window (ImGui::Begin/End inside). Call once per frame between NewFrame and Render.
     void draw(const char* windowTitle);
 
-    // Programmatic control (what the buttons do; also for tests).
-    void fit() { fitPending_ = true; }  // applied at the next draw()
-    // View centred on layout point (x, y) at `pixelsPerUnit` along both axes (applied at the next
-    // draw()).
-    void setView(double x, double y, double pixelsPerUnit) {
-        setView(x, y, pixelsPerUnit, pixelsPerUnit);
-    }
-    void setView(double x, double y, double pixelsPerUnitX, double pixelsPerUnitY);
+    // Programmatic control (what the buttons do; also for tests). The view: fit, centre and scale
+    // (applied at the next draw()).
+    TreeGraphView& view() { return view_; }
     void toggleCollapsed(uint32_t node);
     void expandAll();
     void collapseToDepth(uint32_t depth);  // nodes at that depth collapse, shallower ones expand
@@ -90,14 +89,11 @@ class TreeGraphPanel {
     void drawPath(ImDrawList* dl);
     void drawTooltip(uint32_t item);
     uint32_t pick(ImVec2 mouse) const;
-    ImVec2 toScreen(double x, double y) const;
     // The on-screen rectangle of an item's glyph: its layout box, but no taller than it would be
-    // at zoomX_ (a vertically stretched view spreads the layers, not the boxes).
+    // at the view's horizontal scale (a vertically stretched view spreads the layers, not the
+    // boxes).
     void glyphRect(uint32_t item, ImVec2& a, ImVec2& c) const;
-    bool itemHighlighted(const GraphItem& it) const;
-    void markLayoutDirty() { layoutDirty_ = true; }
     void relayoutKeeping(uint32_t node);
-    void fitTo(ImVec2 canvasSize);
 
     const vis::HistoryTree* tree_ = nullptr;
     const vis::HistoryNode* nodesData_ = nullptr;  // with receiver_, light_: "same tree" check
@@ -106,21 +102,13 @@ class TreeGraphPanel {
     std::optional<HistoryTreeTopology> topology_;
     std::string error_;
     std::vector<uint8_t> collapsed_;
-    std::vector<uint8_t> onPath_;      // per node
-    std::vector<uint32_t> pathBelow_;  // per node: highlighted nodes in its subtree
-    uint32_t pathSize_ = 0, pathIgnored_ = 0;
-    std::vector<uint32_t> pathNodes_;  // the valid highlighted ids
+    TreeGraphHighlight highlight_;
 
     TreeGraphLayout layout_;
     bool layoutDirty_ = true;
     double layoutMs_ = 0;
 
-    // View: layout coordinates of the canvas's top-left corner, and pixels per layout unit along
-    // x and y (fit() stretches them independently: a 50k-node tree is ~400 times wider than deep).
-    double viewX0_ = 0, viewY0_ = 0, zoomX_ = 40, zoomY_ = 40;
-    bool fitPending_ = true;
-    std::optional<std::pair<double, double>> pendingCenter_;
-    ImVec2 canvasOrigin_{0, 0}, canvasSize_{0, 0};
+    TreeGraphView view_;
     bool drawn_ = false;
     int collapseDepth_ = 4;
 

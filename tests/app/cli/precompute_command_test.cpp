@@ -61,7 +61,7 @@ TEST_F(PrecomputeCommand, WritesEveryPairThenLoadsWithoutRecomputing) {
     size_t expected = 0;
     for (uint32_t f = 0; f < box.faceCount(); ++f)
         for (uint32_t l : box.lights)
-            if (l != f) expected += std::max<size_t>(store.patches(f).patches.size(), 1);
+            if (l != f) expected += std::max<size_t>(store.layout().patches(f).patches.size(), 1);
     EXPECT_EQ(trees, expected);
     const auto kinds = store.kindCounts();
     EXPECT_NE(

@@ -202,6 +202,39 @@ TEST_F(SceneFile, MissingMaterialsRepairedUnlessStrict) {
                 {"meshes[0]", "m.obj:4: usemtl: unknown material 'Default'"});
 }
 
+// A file that is not there is its own kind of error, naming the file: a mesh a JSON scene names
+// (the bench skips such a scene on it, app/cli/bench/bench_command.cpp) or the scene file itself.
+// A malformed scene, or a mesh path naming a directory, is an Invalid one.
+TEST_F(SceneFile, AMissingFileIsItsOwnKindOfError) {
+    auto errorOf = [](const fs::path& p) -> SceneError {
+        try {
+            loadScene(p);  // through the loader, as the commands and the bench load
+        } catch (const SceneError& e) {
+            return e;
+        }
+        ADD_FAILURE() << p << " loaded";
+        return SceneError("", 0, "");
+    };
+    const SceneError mesh =
+        errorOf(write("scene.json", R"({"meshes": [{"file": "meshes/none.ply"}]})"));
+    EXPECT_EQ(mesh.kind, SceneError::Kind::MissingFile) << mesh.what();
+    EXPECT_EQ(fs::path(mesh.missingFile), dir_ / "meshes" / "none.ply");
+    EXPECT_NE(mesh.message.find("meshes[0].file: no such file: "), std::string::npos)
+        << mesh.what();
+    const SceneError scene = errorOf(dir_ / "none.json");
+    EXPECT_EQ(scene.kind, SceneError::Kind::MissingFile) << scene.what();
+    EXPECT_EQ(fs::path(scene.missingFile), dir_ / "none.json");
+
+    fs::create_directories(dir_ / "meshes" / "folder.ply");
+    for (const char* json :
+         {R"({"meshes": [{"file": "meshes/solid.ply", "transform": {"scale": "big"}}]})",
+          R"({"meshes": [{"file": "meshes/folder.ply"}]})", R"({"meshes": [)"}) {
+        const SceneError e = errorOf(write("scene.json", json));
+        EXPECT_EQ(e.kind, SceneError::Kind::Invalid) << e.what();
+        EXPECT_TRUE(e.missingFile.empty()) << e.what();
+    }
+}
+
 TEST_F(SceneFile, ErrorsNameTheJsonPath) {
     {
         const fs::path p =

@@ -87,7 +87,7 @@ void buildFaces(VisibilityStore& store, const std::vector<uint32_t>& faces) {
     for (uint32_t f : faces)
         for (uint32_t l : s.lights) {
             if (l == f) continue;
-            const size_t patches = std::max<size_t>(store.patches(f).patches.size(), 1);
+            const size_t patches = std::max<size_t>(store.layout().patches(f).patches.size(), 1);
             for (uint32_t p = 0; p < patches; ++p) store.getOrBuild({f, p, l});
         }
 }
@@ -139,7 +139,7 @@ TEST_F(VisibilityFileTest, RoundTripKeepsEveryFieldAndEveryQuery) {
         const uint32_t f = faces[rng() % faces.size()];
         if (f == light) continue;
         const Vec3 x = test::randomPointOn(scene.mesh, f, rng);
-        const PairKey key = loaded.keyAt(f, x, light);
+        const PairKey key = loaded.layout().keyAt(f, x, light);
         const PairRecord* r = loaded.find(key);
         ASSERT_NE(r, nullptr);
         auto it = fresh.find(key);
@@ -191,7 +191,7 @@ TEST_F(VisibilityFileTest, RoundTripKeepsPartialTrees) {
     for (uint32_t f : faces) {
         for (int i = 0; i < 5; ++i) {
             const Vec3 x = test::randomPointOn(scene.mesh, f, rng);
-            const PairKey key = loaded.keyAt(f, x, scene.lights[0]);
+            const PairKey key = loaded.layout().keyAt(f, x, scene.lights[0]);
             const PairRecord* a = loaded.find(key);
             const PairRecord* b = store.find(key);
             if (a == nullptr || b == nullptr) continue;

@@ -463,19 +463,19 @@ TEST(Renderer, RefinedSubPatchTreesServeLaterPassesWithTheSameExactImage) {
         return rig.renderer.effects();
     };
     Rig refined(penumbraScene(Material{})), plain(penumbraScene(Material{}));
-    const EffectsSummary on = sampledWith(VisibilityStore::kMaxRefineLevels, refined);
+    const EffectsSummary on = sampledWith(PatchLayout::kMaxRefineLevels, refined);
     const EffectsSummary off = sampledWith(0, plain);
     EXPECT_GT(on.refinedTrees, 0u);
     EXPECT_GT(on.refinedTreesUsed, 0u);
-    EXPECT_GT(refined.store.refinedCount(), 0u);
+    EXPECT_GT(refined.store.layout().refinedCount(), 0u);
     EXPECT_NE(on.text().find("pairs refined: "), std::string::npos) << on.text();
     EXPECT_EQ(off.refinedTrees, 0u);
-    EXPECT_EQ(plain.store.refinedCount(), 0u);
+    EXPECT_EQ(plain.store.layout().refinedCount(), 0u);
     EXPECT_LT(on.sampledEvaluations, off.sampledEvaluations);
     // Where no build is worth its cost, the sub-patches are counted and left without a tree.
     Rig frugal(penumbraScene(Material{}));
     s.refineCostShare = 0;
-    const EffectsSummary none = sampledWith(VisibilityStore::kMaxRefineLevels, frugal);
+    const EffectsSummary none = sampledWith(PatchLayout::kMaxRefineLevels, frugal);
     EXPECT_EQ(none.refinedTrees, 0u);
     EXPECT_GT(none.refineNotWorth, 0u);
     EXPECT_EQ(none.sampledEvaluations, off.sampledEvaluations);
@@ -749,7 +749,7 @@ TEST(Renderer, PointUnderSquareLightMatchesClosedForm) {
     EXPECT_GE(fx.pairsFullyVisible, 1u);
     EXPECT_LE(fx.pairsFullyVisible, 8u);
     EXPECT_EQ(fx.pairsPenumbra + fx.pairsFullyHidden + fx.pairsBackFacing, 0u);
-    const size_t floorPatches = std::max<size_t>(1, rig.store.patches(0).patches.size());
+    const size_t floorPatches = std::max<size_t>(1, rig.store.layout().patches(0).patches.size());
     EXPECT_GT(floorPatches, 8u);
     EXPECT_EQ(fx.pairsNeverSeen, floorPatches - fx.pairsFullyVisible);
     EXPECT_EQ(fx.materialsAnalytic, 1u);

@@ -58,7 +58,7 @@ struct Trees {
     explicit Trees(const Scene& s, const VisibilityStore::Options& o = {})
         : scene(s), store(s, nullptr, o) {}
     const vis::HistoryTree& get(uint32_t r, uint32_t l, const Vec3& x) {
-        return store.getOrBuild(store.keyAt(r, x, l)).tree;
+        return store.getOrBuild(store.layout().keyAt(r, x, l)).tree;
     }
 };
 

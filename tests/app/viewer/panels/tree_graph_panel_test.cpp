@@ -88,7 +88,7 @@ TEST(TreeGraphPanel, FiftyThousandNodesDrawBoundedAndClicksCollapse) {
     for (uint32_t d = 0; d < layout->layerCount(); ++d)
         if (layout->layer(d).size() > layout->layer(busiest).size()) busiest = d;
     const auto mid = layout->layer(busiest)[layout->layer(busiest).size() / 2];
-    panel.setView(layout->item(mid).x, layout->layerY(busiest), 40.0);
+    panel.view().centreOn(layout->item(mid).x, layout->layerY(busiest), 40.0);
     const ImDrawData* zoomed = host.frame(panel);
     EXPECT_EQ(panel.lastFrameStats().detail, TreeGraphDetail::Labelled);
     const uint32_t onScreen = panel.lastFrameStats().itemsOnScreen;
@@ -105,7 +105,7 @@ TEST(TreeGraphPanel, FiftyThousandNodesDrawBoundedAndClicksCollapse) {
     const uint32_t target = tree.nodes[0].child[0];
     ASSERT_FALSE(vis::isLeaf(target));
     const auto& targetItem = layout->item(layout->itemOfNode(target));
-    panel.setView(targetItem.x, layout->layerY(targetItem.depth) + 2.0, 40.0);
+    panel.view().centreOn(targetItem.x, layout->layerY(targetItem.depth) + 2.0, 40.0);
     host.frame(panel);
 
     // Click it: its subtree collapses, and it stays under the mouse.
@@ -138,7 +138,7 @@ TEST(TreeGraphPanel, DragPansWheelZoomsAtTheMouseAndNeitherCollapses) {
     TreeGraphPanel panel;
     panel.setTree(&tree, {});
     panel.ensureLayout();
-    panel.setView(panel.layout()->item(0).x, 3.0, 30.0);
+    panel.view().centreOn(panel.layout()->item(0).x, 3.0, 30.0);
     host.frame(panel);
     const auto start = panel.screenPosOfNode(0);
     ASSERT_TRUE(start.has_value());

@@ -1,0 +1,107 @@
+// Preview: the viewer's progressive preview (PreviewRunner, the CPU renderer in the background) as
+// the UI uses it: when to restart it, its newest image and the GL texture that holds it (the
+// Preview panel's thumbnail), the rendered view (ViewMode::Rendered: that image in the 3D view,
+// the line splitting exact from sampled, the pixel inspector's tooltip), and saving what it shows.
+//
+// Restarts: what it shows changed (settings, mode, view): a new preview at the next poll once the
+// camera rests; the camera set or a scene opened: at the next poll; the camera or the view's size
+// changing (a drag, the wheel, a column's edge): once it has rested for 200 ms, and meanwhile, in
+// the rendered view, a coarse single pass at most every 100 ms, so that the view follows the
+// camera blockily without ever waiting for it.
+//
+// It reads the viewer's options (the preview's settings, the view mode, the split) as they are at
+// each call: the viewer's panels and keys edit them.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "app/viewer/gl/scene_renderer.h"
+#include "app/viewer/layout.h"
+#include "app/viewer/loaded_scene.h"
+#include "app/viewer/pixel_inspector.h"
+#include "app/viewer/preview_runner.h"
+#include "app/viewer/viewer_options.h"
+#include "app/viewer/viewport.h"
+#include "engine/scene/camera.h"
+
+namespace penumbra::viewer {
+
+class Preview {
+  public:
+    // Needs the GL table current (makes the texture). `options` must outlive the preview.
+    explicit Preview(const ViewerOptions& options);
+    ~Preview();  // deletes the texture (the runner's destructor waits for its job)
+    Preview(const Preview&) = delete;
+    Preview& operator=(const Preview&) = delete;
+
+    // What it shows changed (settings, mode, view): a new preview at the next poll once the
+    // camera rests.
+    void markDirty() { dirty_ = true; }
+    // The camera or the view's size is changing: a new preview once it rests.
+    void viewChanging() {
+        dirty_ = true;
+        lastCameraChange_ = std::chrono::steady_clock::now();
+    }
+    // The camera was set (given, or a scene opened): a new preview at the next poll.
+    void cameraJumped() {
+        dirty_ = true;
+        lastCameraChange_ = {};
+    }
+    // Another scene: the old one's image and effects say nothing of it (the running job is
+    // cancelled).
+    void clear();
+
+    // Once per frame: restarts when due (above), and takes the runner's newest image into the
+    // texture. `layout`: the frame's (the previous frame's when called before the new layout).
+    void poll(const std::shared_ptr<LoadedScene>& scene, const Camera& camera,
+              const Layout& layout);
+    // Starts the pending preview now, if one is pending (headless, before waiting for it).
+    void restartPending(const std::shared_ptr<LoadedScene>& scene, const Camera& camera,
+                        const Layout& layout);
+
+    PreviewRunner& runner() { return runner_; }
+    const PreviewImage& image() const { return image_; }
+    GLuint texture() const { return texture_; }
+
+    // The rendered view's image for this frame (nullptr: draw the rasterised scene).
+    const ViewImage* viewImage();
+    // The rendered side-by-side view's split line over `view` (under the windows), with the names
+    // of its two sides; nothing in another view or mode.
+    void drawSplitLine(const Viewport& view) const;
+    // The rendered view's pixel inspector: a tooltip for the pixel of `view` under the mouse,
+    // unless the mouse is over a window or dragging (`splitDragged`: the split line).
+    void drawPixelInspector(const LoadedScene* scene, const Camera& camera, const Viewport& view,
+                            bool splitDragged);
+    // This frame's pixel report (nullptr: no tooltip).
+    const PixelReport* hover() const { return hover_; }
+
+    // Keep what you see: the image as STEM.png (as shown, 8-bit sRGB; side by side: both
+    // halves), its linear exact radiance (the sampled one when the mode renders no exact image)
+    // as STEM.pfm, and the scene with `camera` as STEM.json (engine/io/scene_file.h: `penumbra
+    // view STEM.json` or `penumbra render STEM.json --size WxH` give this view again). Every file
+    // atomically. False with the reason in `message` (no image yet, a write failed).
+    bool save(const std::filesystem::path& stem, const LoadedScene* scene, const Camera& camera,
+              std::string& message) const;
+
+  private:
+    // At the thumbnail's scale, or at the view's resolution in the rendered view; `coarse`: one
+    // pass at kCoarseScale (the rendered view while the camera moves).
+    void restart(const std::shared_ptr<LoadedScene>& scene, const Camera& camera,
+                 const Layout& layout, bool coarse = false);
+    void upload(const PreviewImage& image);
+
+    const ViewerOptions& options_;
+    PreviewRunner runner_;
+    PreviewImage image_;
+    GLuint texture_ = 0;
+    bool dirty_ = false;
+    std::chrono::steady_clock::time_point lastCameraChange_, lastCoarseRestart_;
+    ViewImage viewImage_;
+    PixelInspector pixelInspector_;
+    const PixelReport* hover_ = nullptr;  // this frame's pixel report (the inspector's)
+};
+
+}  // namespace penumbra::viewer

@@ -1,0 +1,31 @@
+// ViewerOptions: what the viewer starts with (the command line's view and screenshot options);
+// the viewer keeps them and its panels and keys edit them as it runs.
+#pragma once
+
+#include <filesystem>
+
+#include "app/viewer/layout.h"
+#include "app/viewer/panels/preview_panel.h"
+#include "app/viewer/preview_runner.h"
+#include "engine/render/exact_options.h"
+
+namespace penumbra::viewer {
+
+struct ViewerOptions {
+    std::filesystem::path assetsDirectory = "assets";  // the scene list of the Scene panel
+    bool showHelp = true;
+    bool preview = true;               // run the progressive preview (when the renderer exists)
+    PreviewSettings previewSettings;   // width/height are overwritten from the viewport
+    double previewScale = 0.25;        // preview pixels per viewport pixel (the panel's thumbnail)
+    ViewMode view = ViewMode::Raster;  // the rendered view renders at the viewport's resolution
+    double split = 0.5;  // side by side in the rendered view: exact left of this fraction
+    ExactOptions exact;  // the build budget and the renderer's exact settings
+    // Scenes load in strict mode (--strict: what the loaders repair is an error instead,
+    // engine/io/load_options.h).
+    bool strict = false;
+    // The content scale (the window host sets GLFW's; screenshot --ui-scale) and the columns'
+    // widths (dragged at the 3D view's edges).
+    LayoutSettings layout;
+};
+
+}  // namespace penumbra::viewer
