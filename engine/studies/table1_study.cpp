@@ -1,5 +1,7 @@
 #include "engine/studies/table1_study.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
 #include <system_error>
@@ -11,6 +13,8 @@
 #include "engine/render/cpu_time.h"
 #include "engine/render/default_camera.h"
 #include "engine/render/renderer.h"
+#include "visibility/light_silhouette_edges.h"
+#include "visibility/mesh_edges.h"
 
 namespace penumbra {
 namespace table1_detail {
@@ -214,6 +218,26 @@ std::optional<AllPairsRun> measureAllPairs(const Scene& scene, const EmbreeScene
     return all;
 }
 
+// S_L of every area light (visibility/light_silhouette_edges.h): its share of the mesh's edges.
+ShadowEdges measureShadowEdges(const Scene& scene, const StudyLog& log) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const vis::MeshEdges edges(scene.mesh);
+    ShadowEdges out;
+    out.edges = edges.size();
+    out.minShare = scene.lights.empty() ? 0 : 1;
+    for (uint32_t light : scene.lights) {
+        const vis::LightSilhouetteEdges set(scene.mesh, edges, light);
+        out.open = set.open();
+        out.keptOverLights += set.size();
+        out.minShare = std::min(out.minShare, set.share());
+        out.maxShare = std::max(out.maxShare, set.share());
+    }
+    out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    logLine(log, "  S_L: %zu edges (%zu open), share per light %.1f%%-%.1f%%, %.3f s", out.edges,
+            out.open, 100 * out.minShare, 100 * out.maxShare, out.seconds);
+    return out;
+}
+
 }  // namespace table1_detail
 
 Table1Row runTable1Study(const std::string& path, const Scene& scene, const Table1Options& o,
@@ -234,6 +258,7 @@ Table1Row runTable1Study(const std::string& path, const Scene& scene, const Tabl
     s.width = o.width;
     s.height = o.height;
     s.spp = o.spp;
+    row.shadowEdges = measureShadowEdges(scene, log);
     row.sampled128 = measureSampled(scene, bvh, camera, s, log);
     row.exact = measureExact(path, scene, bvh, camera, s, o, log);
     if (const std::optional<ExactRender>& e = row.exact.render) {

@@ -151,10 +151,19 @@ struct AllPairsRun {
     size_t fileBytes = 0;
 };
 
+// S_L (visibility/light_silhouette_edges.h) over the scene's area lights: the mesh's edges, the
+// open ones (kept for every light), the edges S_L holds summed over the lights and its smallest
+// and largest share of the edges, and the seconds it took (edge table and every light's set).
+struct ShadowEdges {
+    size_t edges = 0, open = 0, keptOverLights = 0;
+    double minShare = 0, maxShare = 0, seconds = 0;
+};
+
 struct Table1Row {
     std::string scene;  // the scene file
     uint32_t faces = 0;
     size_t areaLights = 0;
+    std::optional<ShadowEdges> shadowEdges;  // absent in the runs written before it
     int width = 0, height = 0, spp = 0;
     SampledRender sampled128;
     ExactRun exact;

@@ -334,12 +334,26 @@ struct Schema<AllPairsRun> {
 };
 
 template <>
+struct Schema<ShadowEdges> {
+    using S = ShadowEdges;
+    static auto fields() {
+        return std::tuple{field("edges", &S::edges),
+                          field("open", &S::open),
+                          field("keptOverLights", &S::keptOverLights),
+                          field("minShare", &S::minShare),
+                          field("maxShare", &S::maxShare),
+                          field("seconds", &S::seconds)};
+    }
+};
+
+template <>
 struct Schema<Table1Row> {
     using S = Table1Row;
     static auto fields() {
         return std::tuple{field("scene", &S::scene),
                           field("faces", &S::faces),
                           field("areaLights", &S::areaLights),
+                          optional("shadowEdges", &S::shadowEdges),
                           field("width", &S::width),
                           field("height", &S::height),
                           field("spp", &S::spp),

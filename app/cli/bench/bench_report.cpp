@@ -505,6 +505,31 @@ void writeCostEveryPointExact(std::ostream& r, const std::vector<Table1Row>& row
     writeQuantileNote(r, strides);
 }
 
+void writeShadowEdges(std::ostream& r, const std::vector<Table1Row>& rows) {
+    const auto has = [](const Table1Row& row) { return row.shadowEdges.has_value(); };
+    if (std::none_of(rows.begin(), rows.end(), has)) return;
+    r << "### Edges that can bound a shadow\n\n"
+      << "An occluder edge bounds a shadow of light L only if it is a silhouette seen from some "
+         "point of L: S_L, decided exactly per light from the signs of L's vertices against the "
+         "two face planes of each edge (open edges, i.e. borders, non-manifold edges and edges "
+         "between inconsistently oriented faces, always in; docs/exactness.md). Its share of "
+         "the mesh's edges bounds what a per-point search over S_L must look at; the seconds "
+         "are the edge table's and every light's set.\n\n"
+      << "| scene | edges | open | S_L share, per light | seconds |\n|---|---|---|---|---|\n";
+    for (const Table1Row& row : rows) {
+        if (!has(row)) continue;
+        const ShadowEdges& e = *row.shadowEdges;
+        const std::string share =
+            e.minShare == e.maxShare
+                ? num(100 * e.minShare, "%.1f") + "%"
+                : num(100 * e.minShare, "%.1f") + "-" + num(100 * e.maxShare, "%.1f") + "%";
+        r << "| " << sceneName(row.scene) << " | " << e.edges << " | " << e.open << " | "
+          << (row.areaLights == 0 ? std::string("-") : share) << " | " << num(e.seconds, "%.3f")
+          << " |\n";
+    }
+    r << "\n";
+}
+
 void writeTable1(std::ostream& r, const std::vector<Table1Row>& rows,
                  const std::vector<SkippedScene>& skipped, bool plots) {
     r << "## Table 1: exact against 128 shadow rays\n\n"
@@ -538,6 +563,7 @@ void writeTable1(std::ostream& r, const std::vector<Table1Row>& rows,
     writeWork(r, rows);
     writeCost(r, rows);
     writeCostEveryPointExact(r, rows);
+    writeShadowEdges(r, rows);
 }
 
 // ---- The other studies ---------------------------------------------------------------------

@@ -25,6 +25,7 @@ std::vector<Table1Row> sampleTable1() {
     full.scene = "assets/scenes/table.json";
     full.faces = 1348;
     full.areaLights = 1;
+    full.shadowEdges = ShadowEdges{3181, 2316, 2911, 0.25, 0.5, 0.125};
     full.width = full.height = 64;
     full.spp = 2;
     full.sampled128 = {1.5, 2.5, 64, 10, 20, 12};
@@ -131,6 +132,9 @@ TEST(BenchJson, ReadsBackWhatItWrites) {
     EXPECT_EQ(back.table1[0].exact.render->costEveryPointExact->image, "--exact-cost-size");
     ASSERT_TRUE(back.table1[0].allPairs.has_value());
     EXPECT_EQ(back.table1[0].allPairs->fileBytes, 4096u);
+    ASSERT_TRUE(back.table1[0].shadowEdges.has_value());
+    EXPECT_EQ(back.table1[0].shadowEdges->keptOverLights, 2911u);
+    EXPECT_FALSE(back.table1[1].shadowEdges.has_value());  // a run written before S_L
     EXPECT_FALSE(back.table1[1].exact.render.has_value());
     EXPECT_FALSE(back.table1[1].speedup.has_value());
     EXPECT_FALSE(back.table1[1].allPairs.has_value());
@@ -195,6 +199,8 @@ TEST(BenchReport, WritesTheRowsFromTheStructs) {
     EXPECT_NE(report.find("| dragon.json | 871414 | 16x16, 1 spp | 0.00 / 0.00 | 20.00 / 0.00 "
                           "(over the limit) | - | - | 3 (0) | - | - | - | 0.0 KB | skipped | - |"),
               std::string::npos)
+        << report;
+    EXPECT_NE(report.find("| table.json | 3181 | 2316 | 25.0-50.0% | 0.125 |"), std::string::npos)
         << report;
     // The accuracy study without an equal-error estimate leaves its sentence out.
     EXPECT_EQ(report.find("**Equal error:**"), std::string::npos) << report;
