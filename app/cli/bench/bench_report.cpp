@@ -248,7 +248,7 @@ void writeTable1Row(std::ostream& r, const Table1Row& row) {
         r << "- | ";
     if (e && e->everyPointExact) {
         const EveryPointExactRender& a = *e->everyPointExact;
-        r << (a.complete ? "" : "over ") << num(a.renderWall) << " | ";
+        r << (a.complete ? "" : "over ") << num(a.renderWall) << " / " << num(a.renderCpu) << " | ";
     } else {
         r << (e && e->sampledEvaluations == 0 ? "(the same) | " : "- | ");
     }
@@ -545,7 +545,8 @@ void writeTable1(std::ostream& r, const std::vector<Table1Row>& rows,
          "with 128 rays (not exact). *Every point exact*: the same render with no work limit. "
          "*All pairs*: every (receiver patch, light) pair precomputed, skipped above "
       << kAllPairsMaxFaces
-      << " triangles. Times in seconds, wall / CPU. Speed-up: the sampled wall time over the "
+      << " triangles. Times in seconds, wall / CPU (with every point exact, CPU over wall near the "
+         "core count says the cores stayed busy). Speed-up: the sampled wall time over the "
          "exact precompute and render's, above 1x where exact is faster; in parentheses the "
          "render alone.\n\n"
       << "| scene | triangles | image | sampled, 128 rays | exact: precompute | exact: render | "

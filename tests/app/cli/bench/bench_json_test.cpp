@@ -191,10 +191,11 @@ TEST(BenchJson, AMissingKeyOrAWrongTypeNamesItsPlace) {
 // it has none (a precompute cut at the limit), and the dragon's all-pairs column skipped.
 TEST(BenchReport, WritesTheRowsFromTheStructs) {
     const std::string report = benchReport(readBenchJson(benchJson(sample())), false, "--no-plots");
-    EXPECT_NE(report.find("| table.json | 1348 | 64x64, 2 spp | 1.50 / 2.50 | 0.25 / 0.00 | "
-                          "0.50 / 0.00 | 3.00x (5.00x) | 22 (10) | 0 | 10.0% | 0.75 | 2.0 KB | "
-                          "0.50 / 1.00 | 4.0 KB |"),
-              std::string::npos)
+    EXPECT_NE(
+        report.find("| table.json | 1348 | 64x64, 2 spp | 1.50 / 2.50 | 0.25 / 0.00 | "
+                    "0.50 / 0.00 | 3.00x (5.00x) | 22 (10) | 0 | 10.0% | 0.75 / 1.50 | 2.0 KB | "
+                    "0.50 / 1.00 | 4.0 KB |"),
+        std::string::npos)
         << report;
     EXPECT_NE(report.find("| dragon.json | 871414 | 16x16, 1 spp | 0.00 / 0.00 | 20.00 / 0.00 "
                           "(over the limit) | - | - | 3 (0) | - | - | - | 0.0 KB | skipped | - |"),
