@@ -169,7 +169,8 @@ struct EffectsSummary {
     size_t materialsAnalytic = 0;  // diffuse: form factor of the exact fragments, no samples
     size_t materialsSampled = 0;   // glossy: samples inside the visible fragments only
     size_t areaLights = 0;
-    size_t pointLights = 0;  // one shadow ray each
+    bool defaultLight = false;  // the one area light is the default light (Scene::defaultLight)
+    size_t pointLights = 0;     // one shadow ray each
     // How the area lights were shaded: "exact", "sampled" or "reference" (empty: nothing
     // rendered yet), with the sample counts that apply.
     std::string method;

@@ -773,6 +773,7 @@ Film ProgressiveRenderer::render(const Camera& camera, const RenderSettings& set
 EffectsSummary ProgressiveRenderer::effects() const {
     EffectsSummary s;
     s.areaLights = scene_.lights.size();
+    s.defaultLight = scene_.defaultLight.has_value();
     s.pointLights = scene_.pointLights.size();
     const vis::ClosedSurfaces& surfaces = bvh_.faceClusters().surfaces();
     s.components = surfaces.componentCount();
