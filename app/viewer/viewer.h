@@ -52,9 +52,9 @@ struct ViewerOptions {
     ViewMode view = ViewMode::Raster;  // the rendered view renders at the viewport's resolution
     double split = 0.5;  // side by side in the rendered view: exact left of this fraction
     ExactOptions exact;  // the build budget and the renderer's exact settings
-    // Scenes load in strict mode (--strict: what the loaders repair is an error instead,
-    // engine/io/load_options.h).
-    bool strict = false;
+    // How scenes load (engine/io/load_options.h): --strict (what the loaders repair is an error
+    // instead) and --no-default-light (a scene without any light stays unlit).
+    LoadOptions load = LoadOptions::forCommands();
     // The content scale (the window host sets GLFW's; screenshot --ui-scale) and the columns'
     // widths (dragged at the 3D view's edges).
     LayoutSettings layout;
