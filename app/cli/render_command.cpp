@@ -238,7 +238,10 @@ void runRender(const RenderOptions& o) {
         else
             writeVisibility(o.visibility, store, visibility);
     }
-    printEffects(renderer.effects().text());
+    const EffectsSummary effects = renderer.effects();
+    for (const std::string& w : effects.hiddenLights)
+        std::cerr << "penumbra: warning: " << w << '\n';
+    printEffects(effects.text());
     writeImages(film, out, o.exposure, o.outAnswers);
     std::fflush(stdout);
 }

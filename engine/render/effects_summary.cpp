@@ -60,6 +60,7 @@ void methodAndLights(const EffectsSummary& e, Lines& out) {
         out.add(lights + " - one-sided Lambertian emitters, visibility estimated by shadow rays");
     else if (e.defaultLight)
         out.add(lights);
+    for (const std::string& w : e.hiddenLights) out.add("  warning: " + w);
     if (e.pointLights == 0)
         out.add("point lights: none");
     else

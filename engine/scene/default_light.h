@@ -53,7 +53,7 @@ struct DefaultLight {
 inline constexpr std::string_view kDefaultLightMaterial = "penumbra_default_light";
 // What the summaries say of a scene's lights when they are the default one.
 inline constexpr std::string_view kDefaultLightNote =
-    "the default light (the scene has none of its own; --no-default-light turns it off)";
+    "the default light: the scene has none of its own; --no-default-light turns it off";
 
 // True for a scene with faces and no light at all: neither area lights nor point lights (a scene
 // with point lights only is lit: it keeps its own lighting).

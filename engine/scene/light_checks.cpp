@@ -65,13 +65,18 @@ std::optional<std::string> lightsFacingAwayWarning(const Scene& scene) {
            "counter-clockwise, and no face lies there: it lights nothing)";
 }
 
-std::string hiddenLightWarning(const Scene& scene, size_t light, size_t backFacing, size_t hidden) {
+std::string hiddenLightWarning(const Scene& scene, size_t light, size_t backFacing, size_t hidden,
+                               std::string_view receivers) {
+    const bool isDefault = scene.defaultLight && scene.lights[light] == scene.defaultLight->face;
     return scene.sourcePath + ": " + lightName(scene, light) +
-           " is hidden from every receiver: of its " + std::to_string(backFacing + hidden) +
-           " (receiver patch, light) pairs " + std::to_string(backFacing) +
-           " are back-facing and " + std::to_string(hidden) +
-           " hidden, so it lights nothing (enclosed by geometry, or facing only the backs "
-           "of faces: flipped winding?)";
+           (isDefault ? ", the default light," : "") + " is hidden from " + std::string(receivers) +
+           ": of its " + std::to_string(backFacing + hidden) + " (receiver patch, light) pairs " +
+           std::to_string(backFacing) + " are back-facing and " + std::to_string(hidden) +
+           " hidden, so it lights nothing" +
+           (isDefault ? " (it hangs over the scene and something covers all of it, as a closed "
+                        "room's ceiling does: give the scene a light of its own)"
+                      : " (enclosed by geometry, or facing only the backs of faces: flipped "
+                        "winding?)");
 }
 
 }  // namespace penumbra

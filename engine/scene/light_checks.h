@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/scene/scene.h"
@@ -31,7 +32,10 @@ std::optional<std::string> lightsFacingAwayWarning(const Scene& scene);
 
 // The warning for a light every one of whose (receiver patch, light) pairs is back-facing or
 // hidden (fully hidden, or a tree with no visible leaf), with those counts: no receiver gets any
-// of its light.
-std::string hiddenLightWarning(const Scene& scene, size_t light, size_t backFacing, size_t hidden);
+// of its light. `receivers` says which pairs were counted: "every receiver" (the precompute's,
+// all of them) or "every receiver the image sees" (a render's). For the default light, the
+// likely cause: geometry over the whole scene (a closed room).
+std::string hiddenLightWarning(const Scene& scene, size_t light, size_t backFacing, size_t hidden,
+                               std::string_view receivers = "every receiver");
 
 }  // namespace penumbra

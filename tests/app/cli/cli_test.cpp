@@ -422,8 +422,8 @@ TEST_F(CliTest, DefaultLightInEveryCommandThatLoadsAScene) {
     r = runPenumbra({"precompute", unlit, "-o", path("unlit.pvis").string()});
     ASSERT_EQ(r.exitCode, 0) << r.err;
     EXPECT_EQ(r.err.rfind(announced, 0), 0u) << r.err;
-    EXPECT_NE(r.out.find("3 faces, 1 lights (the default light (the scene has none of its own; "
-                         "--no-default-light turns it off))"),
+    EXPECT_NE(r.out.find("3 faces, 1 lights (the default light: the scene has none of its own; "
+                         "--no-default-light turns it off)\n"),
               std::string::npos)
         << r.out;
     r = runPenumbra({"precompute", unlit, "-o", path("dark.pvis").string(), "--no-default-light"});

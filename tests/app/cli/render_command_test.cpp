@@ -332,7 +332,10 @@ TEST_F(RenderCommand, SceneWithoutLightsGetsTheDefaultLightAndSaysSo) {
               std::string::npos)
         << r.err;
     EXPECT_NE(r.err.find("--no-default-light turns it off"), std::string::npos) << r.err;
-    EXPECT_NE(r.out.find("area lights: 1 (the default light"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("area lights: 1 (the default light: the scene has none of its own; "
+                         "--no-default-light turns it off) - one-sided"),
+              std::string::npos)
+        << r.out;
     int w = 0, h = 0;
     const std::vector<float> lit = penumbra::test::readPfm(path("lit.pfm"), w, h);
     ASSERT_EQ(w, 33);
@@ -376,6 +379,48 @@ TEST_F(RenderCommand, FlippedLightIsNamedInAWarning) {
               std::string::npos)
         << r.err;
     EXPECT_EQ(r.err.find("default light"), std::string::npos) << "it has a light: " << r.err;
+}
+
+// Lights the image gets nothing from: every pair it used back-facing or hidden. A lamp hung
+// above the ceiling (z up: floor at 0, ceiling at 1 facing down, lamp at 2 facing down), and the
+// default light over a closed room (a cube of inward faces, no light: y up, the light over its
+// ceiling). The render names the light and says why, on stderr and in its summary (from the
+// pairs' trees: a tree for every pair here; a pair evaluated without one is taken as lit).
+TEST_F(RenderCommand, LightTheImageGetsNothingFromIsNamed) {
+    std::ofstream(path("above.obj")) << "mtllib scene.mtl\n"
+                                        "v -2 -2 0\nv 2 -2 0\nv 2 2 0\nv -2 2 0\n"
+                                        "v -3 -3 1\nv -3 3 1\nv 3 3 1\nv 3 -3 1\n"
+                                        "v -0.5 -0.5 2\nv -0.5 0.5 2\nv 0.5 0.5 2\nv 0.5 -0.5 2\n"
+                                        "usemtl white\nf 1 2 3 4\nf 5 6 7 8\n"
+                                        "usemtl lamp\nf 9 10 11 12\n";
+    ProcessResult r =
+        run({path("above.obj"), "--camera", "0,-2.5,0.5,0,0,0,60", "--up", "0,0,1", "--size",
+             "16x12", "--spp", "1", "--min-tree-samples", "0", "--out", path("above.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    const std::string hidden =
+        ": light 0 (face 2, material 'lamp', line 18) is hidden from every "
+        "receiver the image sees";
+    EXPECT_NE(r.err.find("penumbra: warning: " + path("above.obj") + hidden), std::string::npos)
+        << r.err;
+    EXPECT_NE(r.out.find("warning: " + path("above.obj") + hidden), std::string::npos) << r.out;
+
+    std::ofstream(path("room.obj")) << "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\n"
+                                       "v -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+                                       "f 2 3 4 1\nf 8 7 6 5\nf 5 6 2 1\nf 6 7 3 2\n"
+                                       "f 7 8 4 3\nf 8 5 1 4\n";
+    r = run({path("room.obj"), "--camera", "0,0,0.9,0,-0.5,-1,60", "--size", "16x12", "--spp", "1",
+             "--min-tree-samples", "0", "--out", path("room.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(r.err.find("has no lights: added a default area light"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("light 0 (face 6, material 'penumbra_default_light'), the default light, "
+                         "is hidden from every receiver the image sees"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("a closed room's ceiling"), std::string::npos) << r.err;
+    // And a lit scene says nothing of the kind.
+    r = run(base(), {"--out", path("lit.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_EQ(r.err.find("hidden from"), std::string::npos) << r.err;
 }
 
 }  // namespace
