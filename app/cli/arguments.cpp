@@ -85,11 +85,20 @@ Vec3 parseDirection(std::string_view flag, std::string_view text) {
     return {v[0], v[1], v[2]};
 }
 
-void addStrictOption(CLI::App& sub, bool& strict) {
-    sub.add_flag("--strict", strict,
+LoadOptions SceneOptions::load() const {
+    LoadOptions o = strict ? LoadOptions::strictMode() : LoadOptions{};
+    o.defaultLight = !noDefaultLight;
+    return o;
+}
+
+void addSceneOptions(CLI::App& sub, SceneOptions& options) {
+    sub.add_flag("--strict", options.strict,
                  "Refuse what the loaders would repair with a warning (degenerate faces, "
                  "non-planar or non-convex polygons, missing OBJ materials, unknown PLY header "
                  "lines): an error naming the file, the line and the problem");
+    sub.add_flag("--no-default-light", options.noDefaultLight,
+                 "Leave a scene without any light unlit (by default it gets a square area light "
+                 "above it, facing down, announced on stderr)");
 }
 
 void addExactOptions(CLI::App& sub, ExactOptions& o, ExactOptionSet set) {

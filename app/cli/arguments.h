@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "engine/io/load_options.h"
 #include "engine/render/exact_options.h"
 #include "engine/scene/camera.h"
 
@@ -43,9 +44,17 @@ Vec3 parseDirection(std::string_view flag, std::string_view text);
 enum class ExactOptionSet { BuildOnly, Render };
 void addExactOptions(CLI::App& sub, ExactOptions& options, ExactOptionSet set);
 
-// --strict, on every subcommand that loads a scene: what the loaders repair with a warning by
-// default (degenerate faces, non-planar and non-convex polygons, missing OBJ materials, unknown
-// PLY header lines; engine/io/load_options.h) is an error instead.
-void addStrictOption(CLI::App& sub, bool& strict);
+// How every subcommand that loads a scene loads it, registered once (addSceneOptions):
+//   --strict: what the loaders repair with a warning by default (degenerate faces, non-planar
+//     and non-convex polygons, missing OBJ materials, unknown PLY header lines;
+//     engine/io/load_options.h) is an error instead;
+//   --no-default-light: a scene with no light at all stays unlit (by default it gets the default
+//     area light, engine/scene/default_light.h, announced on stderr).
+struct SceneOptions {
+    bool strict = false;
+    bool noDefaultLight = false;
+    LoadOptions load() const;
+};
+void addSceneOptions(CLI::App& sub, SceneOptions& options);
 
 }  // namespace penumbra::cli

@@ -7,11 +7,10 @@
 
 namespace penumbra::cli {
 
-Scene loadSceneFile(const std::filesystem::path& path, bool strict) {
-    Scene scene = loadScene(path, strict ? LoadOptions::strictMode() : LoadOptions{});
-    for (const std::string& warning : scene.warnings) {
-        std::cerr << "penumbra: warning: " << warning << '\n';
-    }
+Scene loadSceneFile(const std::filesystem::path& path, const LoadOptions& options) {
+    Scene scene = loadScene(path, options);
+    for (const std::string& notice : scene.loadNotices())
+        std::cerr << "penumbra: warning: " << notice << '\n';
     return scene;
 }
 

@@ -13,6 +13,7 @@
 #include <string>
 #include <string_view>
 
+#include "engine/io/load_options.h"
 #include "engine/scene/scene.h"
 
 namespace CLI {
@@ -43,13 +44,13 @@ inline CommandError inputError(const std::string& message) {
 }
 
 // Loads a scene file with engine/io/scene_loader.h, choosing the reader by extension
-// (case-insensitive): .obj (with its MTL libraries), .ply, .off, .stl, .gltf, .glb, .json. What
-// other tools repair is repaired, unless `strict` (the --strict option of every command that
-// loads a scene, addStrictOption in app/cli/arguments.h): engine/io/load_options.h. Prints the
-// scene's warnings to stderr ("penumbra: warning: ...", one line each). Throws SceneError (an
+// (case-insensitive): .obj (with its MTL libraries), .ply, .off, .stl, .gltf, .glb, .json, with
+// the options of every command that loads a scene (SceneOptions::load, app/cli/arguments.h:
+// --strict, --no-default-light). Prints the default light's announcement when it was added and
+// the scene's warnings to stderr ("penumbra: warning: ...", one line each). Throws SceneError (an
 // input error: exit status 1) for a missing file, a directory, an unknown extension or a malformed
 // scene.
-Scene loadSceneFile(const std::filesystem::path& path, bool strict);
+Scene loadSceneFile(const std::filesystem::path& path, const LoadOptions& options);
 
 // `penumbra query`: exact light visibility at points (app/cli/query_command.cpp).
 void registerQueryCommand(CLI::App& app);

@@ -9,6 +9,9 @@
 // recomputed and the file is left as it is). A stale or corrupt FILE is reported on stderr and
 // recomputed from scratch, then overwritten.
 //
+// Once every pair is built, a light no receiver gets any light from (each of its pairs back-facing
+// or fully hidden) is reported on stderr (engine/scene/light_checks.h).
+//
 // Ctrl-C cancels: the running builds stop, the pairs built so far are written (so a second run
 // resumes) and the exit status is 130. Reaching the memory budget also writes the pairs built so
 // far, then fails with exit status 1.
@@ -19,18 +22,22 @@
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "app/cli/arguments.h"
 #include "app/cli/commands.h"
 #include "engine/io/visibility_file.h"
+#include "engine/precompute/patch_layout.h"
 #include "engine/precompute/precompute_scheduler.h"
 #include "engine/raytrace/embree_scene.h"
+#include "engine/scene/light_checks.h"
 
 namespace penumbra::cli {
 namespace {
@@ -47,7 +54,7 @@ struct PrecomputeCommandOptions {
     double patchFraction = 1.0 / 4;
     ExactOptions exact;
     int threads = 0;
-    bool strict = false;
+    SceneOptions sceneOptions;
 };
 
 // The one piece of global state here: a signal handler can only reach a global, and only a
@@ -104,8 +111,45 @@ void printProgress(const PrecomputeProgress& p, bool tty) {
     std::fflush(stderr);
 }
 
+// Every light whose pairs are all back-facing or hidden (some hidden: a light that faces away
+// from everything is reported on load already), from a store holding every pair. A penumbra tree
+// none of whose leaves is visible hides the whole light too (occluders that each block part of
+// it, together all of it).
+void warnHiddenLights(const Scene& scene, const VisibilityStore& store) {
+    std::vector<size_t> lightOfFace(scene.faceCount(), SIZE_MAX);
+    for (size_t k = 0; k < scene.lights.size(); ++k) lightOfFace[scene.lights[k]] = k;
+    struct Counts {
+        size_t backFacing = 0, hidden = 0, lit = 0;
+    };
+    std::vector<Counts> counts(scene.lights.size());
+    store.forEach([&](const PairKey& key, const PairRecord& r) {
+        if (PatchLayout::refineLevel(key) > 0) return;
+        const size_t k = lightOfFace[key.lightFace];
+        if (k == SIZE_MAX) return;
+        switch (r.tree.kind) {
+            case vis::PairKind::BackFacing:
+                ++counts[k].backFacing;
+                break;
+            case vis::PairKind::FullyHidden:
+                ++counts[k].hidden;
+                break;
+            case vis::PairKind::FullyVisible:
+                ++counts[k].lit;
+                break;
+            case vis::PairKind::Penumbra:
+                ++(r.tree.leafCount(true) > 0 ? counts[k].lit : counts[k].hidden);
+                break;
+        }
+    });
+    for (size_t k = 0; k < counts.size(); ++k)
+        if (counts[k].lit == 0 && counts[k].hidden > 0)
+            std::cerr << "penumbra: warning: "
+                      << hiddenLightWarning(scene, k, counts[k].backFacing, counts[k].hidden)
+                      << '\n';
+}
+
 void runPrecompute(const PrecomputeCommandOptions& o) {
-    const Scene scene = loadSceneFile(o.scene, o.strict);
+    const Scene scene = loadSceneFile(o.scene, o.sceneOptions.load());
     const EmbreeScene bvh(scene.mesh);
     VisibilityStore::Options storeOptions;
     storeOptions.patchFraction = o.patchFraction;
@@ -157,6 +201,7 @@ void runPrecompute(const PrecomputeCommandOptions& o) {
         if (tty) std::fputc('\n', stderr);
     }
     if (p.state == State::Failed) throw inputError(o.scene + ": " + p.error);
+    if (p.state == State::Idle && store.treeCount() >= p.total) warnHiddenLights(scene, store);
 
     const bool nothingNew = loaded && store.treeCount() == loadedTrees;
     size_t fileBytes = 0;
@@ -176,8 +221,9 @@ void runPrecompute(const PrecomputeCommandOptions& o) {
         nodes += r.tree.nodes.size();
         deferred += r.tree.deferred.size();
     });
-    std::printf("scene    %s: %u faces, %zu lights\n", o.scene.c_str(), scene.faceCount(),
-                scene.lights.size());
+    std::printf("scene    %s: %u faces, %zu lights%s\n", o.scene.c_str(), scene.faceCount(),
+                scene.lights.size(),
+                scene.defaultLight ? (" (" + std::string(kDefaultLightNote) + ")").c_str() : "");
     std::printf(
         "pairs    %zu of %zu: %zu back-facing, %zu fully visible, %zu fully hidden, "
         "%zu penumbra (%zu partial: the build budget stopped them, %zu occluders left to the "
@@ -230,7 +276,7 @@ void registerPrecomputeCommand(CLI::App& app) {
     sub->add_option("--threads", options->threads,
                     "Concurrent builds (default: the number of cores)")
         ->check(CLI::PositiveNumber);
-    addStrictOption(*sub, options->strict);
+    addSceneOptions(*sub, options->sceneOptions);
     sub->callback([options] { runPrecompute(*options); });
 }
 

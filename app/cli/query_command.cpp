@@ -39,7 +39,7 @@ struct QueryOptions {
     std::string face;
     std::string light;
     ExactOptions exact;
-    bool strict = false;
+    SceneOptions sceneOptions;
 };
 
 // One point to query, and where it came from ("--point" or "FILE:LINE") for messages.
@@ -122,7 +122,7 @@ void runQuery(const CLI::App& sub, const QueryOptions& options) {
         points.push_back({{x[0], x[1], x[2]}, faceFlag, "--point"});
     }
 
-    const Scene scene = loadSceneFile(options.scene, options.strict);
+    const Scene scene = loadSceneFile(options.scene, options.sceneOptions.load());
     if (hasPoints) {
         points = readPointsFile(options.pointsFile);
         for (QueryPoint& p : points)
@@ -196,7 +196,7 @@ void registerQueryCommand(CLI::App& app) {
     sub->add_option("--light", options->light, "Only light K (default: every light)")
         ->type_name("K");
     addExactOptions(*sub, options->exact, ExactOptionSet::BuildOnly);
-    addStrictOption(*sub, options->strict);
+    addSceneOptions(*sub, options->sceneOptions);
     sub->callback([sub, options] { runQuery(*sub, *options); });
 }
 

@@ -60,7 +60,7 @@ struct RenderOptions {
     std::string outPfm;
     std::string outAnswers;
     std::string visibility;
-    bool strict = false;
+    SceneOptions sceneOptions;
 };
 
 RenderSettings renderSettings(const RenderOptions& o) {
@@ -210,7 +210,7 @@ void runRender(const RenderOptions& o) {
     if (!o.camera.empty()) camera = parseCamera("--camera", o.camera);
     std::optional<Vec3> up;
     if (!o.up.empty()) up = parseDirection("--up", o.up);
-    const Scene scene = loadSceneFile(o.scene, o.strict);
+    const Scene scene = loadSceneFile(o.scene, o.sceneOptions.load());
 
     std::optional<tbb::global_control> threads;
     if (o.threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, o.threads);
@@ -238,7 +238,10 @@ void runRender(const RenderOptions& o) {
         else
             writeVisibility(o.visibility, store, visibility);
     }
-    printEffects(renderer.effects().text());
+    const EffectsSummary effects = renderer.effects();
+    for (const std::string& w : effects.hiddenLights)
+        std::cerr << "penumbra: warning: " << w << '\n';
+    printEffects(effects.text());
     writeImages(film, out, o.exposure, o.outAnswers);
     std::fflush(stdout);
 }
@@ -293,7 +296,7 @@ void registerRenderCommand(CLI::App& app) {
     sub->add_option("--visibility", o->visibility,
                     "Visibility file (.pvis): read the history trees from it when current, write "
                     "it back with the trees this render added (exact method)");
-    addStrictOption(*sub, o->strict);
+    addSceneOptions(*sub, o->sceneOptions);
     sub->callback([o] { runRender(*o); });
 }
 

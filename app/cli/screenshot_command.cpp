@@ -21,7 +21,8 @@ struct ScreenshotOptions {
     std::string backend = "osmesa", previewMode = "exact", view = "raster";
     int lightSamples = 16, passes = 8;
     double uiScale = 1;
-    bool noPreview = false, precompute = false, accuracy = false, strict = false;
+    bool noPreview = false, precompute = false, accuracy = false;
+    SceneOptions sceneOptions;
     ExactOptions exact;
 };
 
@@ -89,7 +90,7 @@ void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
     h.viewer.previewSettings.passes = o.passes;
     h.viewer.preview = !o.noPreview;
     h.viewer.exact = o.exact;
-    h.viewer.strict = o.strict;
+    h.viewer.load = o.sceneOptions.load();
     h.printWarnings = true;
     h.viewer.showHelp = true;
     h.out = o.out;
@@ -163,7 +164,7 @@ void registerScreenshotCommand(CLI::App& app) {
     sub->add_flag("--accuracy", o->accuracy,
                   "Run the view's accuracy-vs-time study (64x64, 2 spp: exact against 1..1024 "
                   "shadow rays) in the background while drawing frames, and show its panel");
-    addStrictOption(*sub, o->strict);
+    addSceneOptions(*sub, o->sceneOptions);
     sub->callback([sub, o] { runScreenshot(*sub, *o); });
 }
 

@@ -23,7 +23,7 @@ struct ViewOptions {
     double quitAfter = 0;
     bool noPreview = false;
     bool precompute = false;
-    bool strict = false;
+    SceneOptions sceneOptions;
     ExactOptions exact;
 };
 
@@ -38,7 +38,7 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
         throw usageError("--view: expected " + std::string(viewer::kViewNames) + ", got '" +
                          o.view + "'");
     // Scene problems are reported before any window opens.
-    (void)loadSceneFile(o.scene, o.strict);
+    (void)loadSceneFile(o.scene, o.sceneOptions.load());
     const std::string why = viewer::windowUnavailableReason();
     if (why.empty()) {
         viewer::WindowOptions w;
@@ -50,7 +50,7 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
         w.quitAfterSeconds = o.quitAfter;
         w.viewer.preview = !o.noPreview;
         w.viewer.exact = o.exact;
-        w.viewer.strict = o.strict;
+        w.viewer.load = o.sceneOptions.load();
         w.viewer.view = view;
         w.viewer.previewSettings.mode = mode;
         w.precompute = o.precompute;
@@ -73,7 +73,7 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
     h.camera = camera;
     h.viewer.preview = !o.noPreview;
     h.viewer.exact = o.exact;
-    h.viewer.strict = o.strict;
+    h.viewer.load = o.sceneOptions.load();
     h.viewer.view = view;
     h.viewer.previewSettings.mode = mode;
     const std::filesystem::path dir(o.outDir);
@@ -131,7 +131,7 @@ void registerViewCommand(CLI::App& app) {
     addExactOptions(*sub, o->exact, ExactOptionSet::Render);
     sub->add_flag("--precompute", o->precompute,
                   "Start precomputing every pair in the background when the scene opens");
-    addStrictOption(*sub, o->strict);
+    addSceneOptions(*sub, o->sceneOptions);
     sub->callback([sub, o] { runView(*sub, *o); });
 }
 

@@ -5,11 +5,11 @@
 namespace penumbra::viewer {
 
 std::shared_ptr<LoadedScene> loadScene(const std::filesystem::path& path, const ExactOptions& exact,
-                                       bool strict) {
+                                       const LoadOptions& load) {
     auto s = std::make_shared<LoadedScene>();
     s->path = path;
-    s->scene = penumbra::loadScene(path, strict ? LoadOptions::strictMode() : LoadOptions{});
-    s->bounds = s->scene.mesh.bounds();
+    s->scene = penumbra::loadScene(path, load);
+    s->bounds = s->scene.fileBounds();
     s->bvh = std::make_unique<EmbreeScene>(s->scene.mesh);
     VisibilityStore::Options storeOptions;
     exact.applyTo(storeOptions);

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "engine/io/load_options.h"
 #include "engine/precompute/visibility_store.h"
 #include "engine/raytrace/embree_scene.h"
 #include "engine/render/exact_options.h"
@@ -23,9 +24,10 @@ struct LoadedScene {
 };
 
 // Loads the file (engine/io/scene_loader.h: errors as SceneError; repairs as warnings in
-// scene.warnings, or errors when `strict`) and builds the BVH and an empty store whose trees
-// follow `exact` (the build budget).
+// scene.warnings, or errors in strict mode; the default light for a scene without any, as
+// `load` says) and builds the BVH and an empty store whose trees follow `exact` (the build
+// budget).
 std::shared_ptr<LoadedScene> loadScene(const std::filesystem::path& path, const ExactOptions& exact,
-                                       bool strict = false);
+                                       const LoadOptions& load = LoadOptions::forCommands());
 
 }  // namespace penumbra::viewer

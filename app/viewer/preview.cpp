@@ -190,7 +190,9 @@ bool Preview::save(const std::filesystem::path& stem, const LoadedScene* scene,
             writePfm(film, withExtension(".pfm").string());
         }
         writeTextFile(withExtension(".json"),
-                      jsonSceneWithCamera(scene->path, camera, withExtension(".json")));
+                      jsonSceneWithCamera(
+                          scene->path, camera, withExtension(".json"),
+                          scene->scene.defaultLight ? &*scene->scene.defaultLight : nullptr));
     } catch (const std::exception& e) {
         message = std::string("save view: ") + e.what();
         return false;

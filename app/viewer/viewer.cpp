@@ -47,7 +47,7 @@ Viewer::~Viewer() {
 bool Viewer::openScene(const std::filesystem::path& path) {
     std::shared_ptr<LoadedScene> loaded;
     try {
-        loaded = loadScene(path, options_.exact, options_.strict);
+        loaded = loadScene(path, options_.exact, options_.load);
     } catch (const std::exception& e) {
         status_ = "cannot open " + path.string() + ": " + e.what();
         return false;
@@ -66,6 +66,8 @@ bool Viewer::openScene(const std::filesystem::path& path) {
     preview_.cameraJumped();
     status_ = "opened " + path.string() + ": " + std::to_string(scene_->scene.faceCount()) +
               " faces, " + std::to_string(scene_->scene.lights.size()) + " area lights";
+    if (const auto& light = scene_->scene.defaultLight)
+        status_ += "; " + light->announcement(path.filename().string());
     const std::vector<std::string>& warnings = scene_->scene.warnings;
     if (!warnings.empty())
         status_ += "; " + std::to_string(warnings.size()) +

@@ -7,6 +7,7 @@
 #include "app/viewer/layout.h"
 #include "app/viewer/panels/preview_panel.h"
 #include "app/viewer/preview_runner.h"
+#include "engine/io/load_options.h"
 #include "engine/render/exact_options.h"
 
 namespace penumbra::viewer {
@@ -20,9 +21,9 @@ struct ViewerOptions {
     ViewMode view = ViewMode::Raster;  // the rendered view renders at the viewport's resolution
     double split = 0.5;  // side by side in the rendered view: exact left of this fraction
     ExactOptions exact;  // the build budget and the renderer's exact settings
-    // Scenes load in strict mode (--strict: what the loaders repair is an error instead,
-    // engine/io/load_options.h).
-    bool strict = false;
+    // How scenes load (engine/io/load_options.h): --strict (what the loaders repair is an error
+    // instead) and --no-default-light (a scene without any light stays unlit).
+    LoadOptions load = LoadOptions::forCommands();
     // The content scale (the window host sets GLFW's; screenshot --ui-scale) and the columns'
     // widths (dragged at the 3D view's edges).
     LayoutSettings layout;

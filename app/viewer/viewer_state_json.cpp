@@ -96,6 +96,18 @@ nlohmann::json Viewer::stateJson() const {
     s["scene"] = scene_ ? scene_->path.string() : "";
     s["sceneWarnings"] = scene_ ? scene_->scene.warnings : std::vector<std::string>{};
     s["status"] = status_;
+    // The light added because the scene has none (engine/scene/default_light.h), or null.
+    if (scene_ && scene_->scene.defaultLight) {
+        const DefaultLight& d = *scene_->scene.defaultLight;
+        json corners = json::array();
+        for (const Vec3& c : d.corners) corners.push_back(vec(c));
+        s["defaultLight"] = {{"face", d.face},     {"light", scene_->scene.lights.size() - 1},
+                             {"corners", corners}, {"side", d.side},
+                             {"height", d.height}, {"emission", d.emission},
+                             {"up", d.upName()},   {"upFromCamera", d.upFromCamera}};
+    } else {
+        s["defaultLight"] = nullptr;
+    }
     s["size"] = {layout_.width, layout_.height};
     s["viewport"] = {{"x", layout_.view.x},
                      {"y", layout_.view.y},

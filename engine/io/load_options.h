@@ -10,6 +10,10 @@
 // Broken data (indices out of range, non-finite or out-of-contract coordinates, truncated files,
 // numbers that do not parse, unsupported glTF versions and required extensions) is refused in
 // both modes.
+//
+// Not a repair: `defaultLight` gives a scene with no light at all the default area light
+// (engine/scene/default_light.h). Off here, so that a scene is what its file says; the commands
+// and the viewer turn it on (their --no-default-light turns it off).
 #pragma once
 
 #include "engine/scene/face_check.h"
@@ -19,6 +23,7 @@ namespace penumbra {
 struct LoadOptions {
     DegenerateFaces faces = DegenerateFaces::kDrop;
     bool strict = false;
+    bool defaultLight = false;
 
     LoadOptions() = default;
     // A face policy alone (the loaders' former parameter): kReject is strict mode, every repair
@@ -28,6 +33,12 @@ struct LoadOptions {
 
     // Every repair an error.
     static LoadOptions strictMode() { return LoadOptions(DegenerateFaces::kReject); }
+    // What the commands and the viewer load with by default: repairs, and the default light.
+    static LoadOptions forCommands() {
+        LoadOptions o;
+        o.defaultLight = true;
+        return o;
+    }
 };
 
 }  // namespace penumbra

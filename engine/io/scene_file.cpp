@@ -412,7 +412,7 @@ class SceneFileReader {
 
         Scene part;
         try {
-            part = loadScene(meshPath, options);
+            part = loadScenePart(meshPath, options);
         } catch (const SceneError& e) {
             fail(path, e.what());
         }
@@ -567,7 +567,8 @@ Scene loadJsonSceneFromString(std::string_view json, const fs::path& baseDirecto
 }
 
 std::string jsonSceneWithCamera(const std::filesystem::path& source, const Camera& camera,
-                                const std::filesystem::path& target) {
+                                const std::filesystem::path& target,
+                                const DefaultLight* defaultLight) {
     namespace fs = std::filesystem;
     const fs::path targetDir = fs::absolute(target).parent_path();
     // A path as the new file names it: relative to its directory (absolute when there is no
@@ -594,6 +595,19 @@ std::string jsonSceneWithCamera(const std::filesystem::path& source, const Camer
     } else {
         root["comment"] = "The view of " + source.filename().string() + " saved by the viewer.";
         root["meshes"] = nlohmann::ordered_json::array({{{"file", rebased(fs::absolute(source))}}});
+    }
+    if (defaultLight != nullptr) {
+        // The scene has no light of its own, so "area_lights" is absent or empty.
+        if (!root.contains("area_lights") || !root["area_lights"].is_array())
+            root["area_lights"] = nlohmann::ordered_json::array();
+        nlohmann::ordered_json vertices = nlohmann::ordered_json::array();
+        for (const Vec3& c : defaultLight->corners) vertices.push_back({c.x, c.y, c.z});
+        root["area_lights"].push_back(
+            {{"comment", "penumbra's default light: the scene has no light of its own (up " +
+                             defaultLight->upName() + ")"},
+             {"vertices", vertices},
+             {"emission", defaultLight->emission},
+             {"kd", 0}});
     }
     root["camera"] = {{"eye", {camera.eye.x, camera.eye.y, camera.eye.z}},
                       {"target", {camera.target.x, camera.target.y, camera.target.z}},

@@ -76,8 +76,12 @@ Scene loadJsonSceneFromString(std::string_view json, const std::filesystem::path
 // JSON scene or a mesh file of any supported format) from `camera`: a JSON source is kept as it is
 // but for its "camera" (its mesh paths rebased onto target's directory); a mesh file becomes
 // {"meshes": [{"file": ...}], "camera": ...}. Loading it gives the same scene and that camera
-// (the viewer's "save view"). Throws SceneError when a JSON source cannot be read or parsed.
+// (the viewer's "save view"). A scene that got the default light (`defaultLight`, from
+// Scene::defaultLight) keeps it as an explicit area light, the last (as it was): loading the file
+// gives the same lit scene with or without --no-default-light. Throws SceneError when a JSON
+// source cannot be read or parsed.
 std::string jsonSceneWithCamera(const std::filesystem::path& source, const Camera& camera,
-                                const std::filesystem::path& target);
+                                const std::filesystem::path& target,
+                                const DefaultLight* defaultLight = nullptr);
 
 }  // namespace penumbra

@@ -8,6 +8,8 @@
 #include "engine/io/openmesh_io.h"
 #include "engine/io/scene_file.h"
 #include "engine/io/text_input.h"
+#include "engine/scene/default_light.h"
+#include "engine/scene/light_checks.h"
 #include "engine/scene/scene_validation.h"
 
 namespace penumbra {
@@ -34,7 +36,7 @@ bool isSupportedSceneExtension(std::string_view extension) {
     return false;
 }
 
-Scene loadScene(const std::filesystem::path& path, const LoadOptions& options) {
+Scene loadScenePart(const std::filesystem::path& path, const LoadOptions& options) {
     std::error_code ec;
     const std::filesystem::file_status status = std::filesystem::status(path, ec);
     if (!std::filesystem::exists(status))
@@ -56,6 +58,14 @@ Scene loadScene(const std::filesystem::path& path, const LoadOptions& options) {
                          "unknown scene format '" +
                              (e.empty() ? std::string("(no extension)") : e) +
                              "' (supported: " + supportedSceneExtensions() + ")");
+}
+
+Scene loadScene(const std::filesystem::path& path, const LoadOptions& options) {
+    Scene scene = loadScenePart(path, options);
+    if (options.defaultLight && needsDefaultLight(scene)) addDefaultLight(scene);
+    if (auto warning = lightsFacingAwayWarning(scene))
+        scene.warnings.push_back(std::move(*warning));
+    return scene;
 }
 
 }  // namespace penumbra

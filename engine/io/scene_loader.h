@@ -27,10 +27,17 @@ std::string supportedSceneExtensions();
 // True when loadScene can read files with this extension ("." included, any case).
 bool isSupportedSceneExtension(std::string_view extension);
 
+// Reads the file as loadScenePart does, then what concerns the whole scene: the default light when
+// `options.defaultLight` and the scene has no light (engine/scene/default_light.h), and a warning
+// for lights that face away from every other face (engine/scene/light_checks.h).
 // Reads the file in repair mode (the default) or strict mode; a JSON scene file takes `options`
 // for its meshes unless it says otherwise ("strict", "drop_degenerate_faces":
 // engine/io/scene_file.h). Throws SceneError; an unknown extension is the SceneError
 // "unknown scene format '.xyz' (supported: ...)".
 Scene loadScene(const std::filesystem::path& path, const LoadOptions& options = {});
+
+// The file alone, as one part of a scene (a JSON scene's meshes are read this way): its format's
+// reader and the lights' area check, no default light and no scene-wide light warnings.
+Scene loadScenePart(const std::filesystem::path& path, const LoadOptions& options = {});
 
 }  // namespace penumbra

@@ -9,6 +9,15 @@
 // front side of a face. A heuristic: ties keep the first candidate (the traditional -z view of the
 // Cornell box comes first). With `up` given, only that up direction is tried (and the scene's own
 // camera gets it).
+//
+// A light emits from its front only and its back renders black: a candidate whose rays reach the
+// back of a light first (the eye strictly behind the light's plane, exact; the grid's rays, and
+// rays to the light's centroid and corners for a light small in the image) is taken only when no
+// other shows anything. When the best candidate sees one, the best of the others is taken, else
+// of the same directions raised only 5 degrees (an eye below a light that hangs over the
+// scene); only when none of them shows anything without a light's back is the best
+// kept. The candidates are fitted to the file's geometry (Scene::fileBounds): the default light
+// hangs D / 2 over it, above the eye (engine/scene/default_light.h).
 #pragma once
 
 #include <optional>

@@ -4,6 +4,8 @@
 #include <cstdio>
 #include <string>
 
+#include "engine/scene/default_light.h"
+
 namespace penumbra {
 namespace effects_text {
 
@@ -51,14 +53,19 @@ void methodAndLights(const EffectsSummary& e, Lines& out) {
         out.add("method: " + e.method + " - " + std::to_string(e.lightSamples) +
                 " stratified shadow rays per area light per shading point");
     }
+    const std::string lights =
+        "area lights: " + std::to_string(e.areaLights) +
+        (e.defaultLight ? " (" + std::string(kDefaultLightNote) + ")" : std::string());
     if (e.areaLights == 0)
         out.add("area lights: none - no soft shadows to compute, no history trees");
     else if (exact)
-        out.add("area lights: " + std::to_string(e.areaLights) +
+        out.add(lights +
                 " - one-sided Lambertian emitters, seen through their exactly visible fragments");
     else if (!e.method.empty())
-        out.add("area lights: " + std::to_string(e.areaLights) +
-                " - one-sided Lambertian emitters, visibility estimated by shadow rays");
+        out.add(lights + " - one-sided Lambertian emitters, visibility estimated by shadow rays");
+    else if (e.defaultLight)
+        out.add(lights);
+    for (const std::string& w : e.hiddenLights) out.add("  warning: " + w);
     if (e.pointLights == 0)
         out.add("point lights: none");
     else

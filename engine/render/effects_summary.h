@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "engine/render/cost_samples.h"
 #include "visibility/fp_query/work_budget.h"
@@ -170,6 +171,12 @@ struct EffectsSummary {
     size_t materialsAnalytic = 0;  // diffuse: form factor of the exact fragments, no samples
     size_t materialsSampled = 0;   // glossy: samples inside the visible fragments only
     size_t areaLights = 0;
+    bool defaultLight = false;  // the one area light is the default light (Scene::defaultLight)
+    // The exact method's lights none of whose pairs the image used is lit (each back-facing or
+    // hidden, some hidden; a pair without a tree counts as lit: its kind is not known): one
+    // warning each
+    // (engine/scene/light_checks.h), which `render` also prints on stderr.
+    std::vector<std::string> hiddenLights;
     size_t pointLights = 0;  // one shadow ray each
     // How the area lights were shaded: "exact", "sampled" or "reference" (empty: nothing
     // rendered yet), with the sample counts that apply.

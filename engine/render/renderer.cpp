@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -19,6 +20,7 @@
 #include "engine/render/cpu_time.h"
 #include "engine/render/shading.h"
 #include "engine/render/shading_point.h"
+#include "engine/scene/light_checks.h"
 #include "engine/render/tile_schedule.h"
 #include "engine/scene/random.h"
 #include "visibility/face_plane.h"
@@ -771,6 +773,7 @@ Film ProgressiveRenderer::render(const Camera& camera, const RenderSettings& set
 EffectsSummary ProgressiveRenderer::effects() const {
     EffectsSummary s;
     s.areaLights = scene_.lights.size();
+    s.defaultLight = scene_.defaultLight.has_value();
     s.pointLights = scene_.pointLights.size();
     const vis::ClosedSurfaces& surfaces = bvh_.faceClusters().surfaces();
     s.components = surfaces.componentCount();
@@ -848,6 +851,33 @@ EffectsSummary ProgressiveRenderer::effects() const {
                 break;
         }
     }
+    // Lights that no pair the image used is lit by.
+    std::vector<size_t> lightOfFace(scene_.faceCount(), SIZE_MAX);
+    for (size_t k = 0; k < scene_.lights.size(); ++k) lightOfFace[scene_.lights[k]] = k;
+    struct LightPairs {
+        size_t backFacing = 0, hidden = 0, lit = 0;
+    };
+    std::vector<LightPairs> perLight(scene_.lights.size());
+    for (const PairKey& key : usedKeys_) {
+        const PairRecord* record = store_.find(key);
+        if (record == nullptr || lightOfFace[key.lightFace] == SIZE_MAX) continue;
+        LightPairs& l = perLight[lightOfFace[key.lightFace]];
+        const vis::HistoryTree& t = record->tree;
+        if (t.kind == vis::PairKind::BackFacing)
+            ++l.backFacing;
+        else if (t.kind == vis::PairKind::FullyHidden ||
+                 (t.kind == vis::PairKind::Penumbra && t.leafCount(true) == 0))
+            ++l.hidden;
+        else
+            ++l.lit;
+    }
+    for (const PairKey& key : directUsed_)
+        if (lightOfFace[key.lightFace] != SIZE_MAX) ++perLight[lightOfFace[key.lightFace]].lit;
+    for (size_t k = 0; k < perLight.size(); ++k)
+        if (perLight[k].lit == 0 && perLight[k].hidden > 0)
+            s.hiddenLights.push_back(hiddenLightWarning(scene_, k, perLight[k].backFacing,
+                                                        perLight[k].hidden,
+                                                        "every receiver the image sees"));
     // Every (receiver patch, light) pair of the scene that no image needed.
     size_t total = 0;
     for (uint32_t f = 0; f < scene_.faceCount(); ++f) {

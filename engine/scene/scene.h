@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/scene/camera.h"
+#include "engine/scene/default_light.h"
 #include "visibility/polygon_mesh.h"
 
 namespace penumbra {
@@ -49,9 +50,18 @@ struct Scene {
     // Problems the loader worked around (e.g. dropped degenerate faces), one message each, naming
     // the file; commands print them to stderr.
     std::vector<std::string> warnings;
+    // The light added because the file has none (engine/scene/default_light.h): the last face,
+    // its material the last; nullopt when the scene's lights are its file's.
+    std::optional<DefaultLight> defaultLight;
 
     uint32_t faceCount() const { return static_cast<uint32_t>(mesh.faces.size()); }
     const Material& material(uint32_t face) const;
+    // The bounds of the file's geometry: the mesh's, the default light left out (what cameras are
+    // fitted to).
+    vis::Bounds3 fileBounds() const;
+    // What the commands print on stderr after loading, one line each: the default light's
+    // announcement, then the warnings.
+    std::vector<std::string> loadNotices() const;
     // Rebuilds `lights` from the face materials (file order).
     void collectLights();
 };

@@ -61,7 +61,7 @@ struct BenchOptions {
     bool quick = false;
     bool skipLarge = false;
     bool noPlots = false;
-    bool strict = false;
+    SceneOptions sceneOptions;
     bool reportOnly = false;  // DIR/report.md again from DIR/bench.json, nothing measured
     // The image of the per-point cost with every point exact, for the scenes whose Table 1 image
     // is too costly to render without the work limit (the large ones, and those above
@@ -83,14 +83,14 @@ void printLine(const std::string& line) {
 // fresh clone lacks them). Then says on stderr which file is missing and records the skip in
 // `skipped` (the report lists it under the study): the one way the bench leaves out a scene, so
 // that a fresh clone still gets a report. Other load errors are thrown.
-std::optional<Scene> loadForStudy(const std::string& path, const std::string& study, bool strict,
-                                  std::vector<SkippedScene>& skipped) {
+std::optional<Scene> loadForStudy(const std::string& path, const std::string& study,
+                                  const LoadOptions& load, std::vector<SkippedScene>& skipped) {
     std::optional<std::string> missing;
     if (!fs::exists(path)) {
         missing = path;
     } else {
         try {
-            return loadSceneFile(path, strict);
+            return loadSceneFile(path, load);
         } catch (const SceneError& e) {
             // A mesh file the scene names is not there (SceneError::Kind::MissingFile); any other
             // error (a scene that does not parse) is thrown: loading it says what is wrong.
@@ -138,7 +138,7 @@ std::vector<Table1Row> measureTable1(const BenchOptions& o, const fs::path& dir,
     if (small.empty()) {
         small = {"assets/scenes/stairs.json", "assets/scenes/table.json",
                  "assets/scenes/grids.json", "assets/scenes/cornell_box.json"};
-        if (!o.quick) bunnyScene = loadForStudy(bunny, "table1", o.strict, skipped);
+        if (!o.quick) bunnyScene = loadForStudy(bunny, "table1", o.sceneOptions.load(), skipped);
         if (bunnyScene) small.push_back(bunny);
         if (!o.skipLarge && !o.quick)
             large = {"assets/scenes/motorbike.json", "assets/scenes/dragon.json"};
@@ -147,18 +147,20 @@ std::vector<Table1Row> measureTable1(const BenchOptions& o, const fs::path& dir,
         if (!fs::exists(s)) throw inputError(s + ": no such scene file");
     std::vector<Table1Row> rows;
     for (const std::string& path : small) {
-        const Scene scene =
-            path == bunny && bunnyScene ? std::move(*bunnyScene) : loadSceneFile(path, o.strict);
+        const Scene scene = path == bunny && bunnyScene
+                                ? std::move(*bunnyScene)
+                                : loadSceneFile(path, o.sceneOptions.load());
         rows.push_back(runTable1Study(path, scene, table1Options(o, dir, false), printLine));
     }
     for (const std::string& path : large)
-        if (const std::optional<Scene> scene = loadForStudy(path, "table1", o.strict, skipped))
+        if (const std::optional<Scene> scene =
+                loadForStudy(path, "table1", o.sceneOptions.load(), skipped))
             rows.push_back(runTable1Study(path, *scene, table1Options(o, dir, true), printLine));
     return rows;
 }
 
 AccuracyBenchRun measureAccuracy(const BenchOptions& o) {
-    const Scene scene = loadSceneFile(o.accuracyScene, o.strict);
+    const Scene scene = loadSceneFile(o.accuracyScene, o.sceneOptions.load());
     AccuracyStudyOptions a;
     const auto [width, height] = parseSize("--accuracy-size", o.accuracySize, kImageSize);
     a.width = width;
@@ -174,7 +176,7 @@ std::vector<BuildOptionsRow> measureBuildOptions(const BenchOptions& o) {
     if (o.quick) scenes = {"assets/scenes/cornell_box.json"};
     std::vector<BuildOptionsRow> rows;
     for (const std::string& path : scenes) {
-        const Scene scene = loadSceneFile(path, o.strict);
+        const Scene scene = loadSceneFile(path, o.sceneOptions.load());
         for (BuildOptionsRow& r :
              runBuildOptionsStudy(path, scene, o.limit, static_cast<size_t>(o.points), printLine))
             rows.push_back(std::move(r));
@@ -193,7 +195,8 @@ std::vector<ScalingRow> measureScaling(const BenchOptions& o, std::vector<Skippe
     std::vector<ScalingRow> rows;
     for (const std::string& path : scenes) {
         const auto l0 = StudyClock::now();
-        const std::optional<Scene> scene = loadForStudy(path, "scaling", o.strict, skipped);
+        const std::optional<Scene> scene =
+            loadForStudy(path, "scaling", o.sceneOptions.load(), skipped);
         if (!scene) continue;
         const double loadSeconds = secondsBetween(l0, StudyClock::now());
         rows.push_back(runScalingStudy(path, *scene, loadSeconds, o.limit, printLine));
@@ -277,7 +280,7 @@ void runBench(const BenchOptions& o, const std::string& commandLine) {
     b.buildOptions = measureBuildOptions(o);
     b.scaling = measureScaling(o, b.skipped);
     for (const std::string& path : small)
-        b.perPoint.push_back(runPerPointStudy(path, loadSceneFile(path, o.strict),
+        b.perPoint.push_back(runPerPointStudy(path, loadSceneFile(path, o.sceneOptions.load()),
                                               static_cast<size_t>(o.points), printLine));
 
     const nlohmann::json bench = benchJson(b);
@@ -357,7 +360,7 @@ void registerBenchCommand(CLI::App& app) {
     sub->add_flag("--report-only", o->reportOnly,
                   "Measure nothing: write DIR/report.md again from DIR/bench.json (the plots "
                   "already in DIR are shown)");
-    addStrictOption(*sub, o->strict);
+    addSceneOptions(*sub, o->sceneOptions);
     sub->callback([o, sub] {
         BenchOptions opt = *o;
         if (opt.reportOnly) return rewriteReport(opt);
@@ -381,7 +384,8 @@ void registerBenchCommand(CLI::App& app) {
                opt.exactCostSize;
         if (opt.quick) cmd += " --quick";
         if (opt.skipLarge) cmd += " --skip-large";
-        if (opt.strict) cmd += " --strict";
+        if (opt.sceneOptions.strict) cmd += " --strict";
+        if (opt.sceneOptions.noDefaultLight) cmd += " --no-default-light";
         try {
             runBench(opt, cmd);
         } catch (const StudyError& e) {

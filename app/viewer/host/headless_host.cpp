@@ -26,8 +26,8 @@ void runHeadless(const HeadlessOptions& o) {
     if (!viewer.openScene(o.scene))
         throw HostInputError(HostInputError::Input::Scene, viewer.status());
     if (o.printWarnings)
-        for (const std::string& warning : viewer.scene()->scene.warnings)
-            std::cerr << "penumbra: warning: " << warning << '\n';
+        for (const std::string& notice : viewer.scene()->scene.loadNotices())
+            std::cerr << "penumbra: warning: " << notice << '\n';
     if (o.camera) viewer.setCamera(*o.camera);
     const double dt = 1.0 / 60;
     viewer.frame(o.width, o.height, dt);  // lays out the panels, builds the font atlas

@@ -32,6 +32,7 @@ std::string effectsText(const EffectsSummary& effects, const Scene* scene) {
     const auto count = [](size_t n) { return n == 0 ? std::string("none") : std::to_string(n); };
     std::string s = "nothing rendered yet\narea lights: " + count(scene->lights.size());
     if (scene->lights.empty()) s += " - no soft shadows to compute, no history trees";
+    if (scene->defaultLight) s += " (" + std::string(kDefaultLightNote) + ")";
     s += "\npoint lights: " + count(scene->pointLights.size()) + "\n";
     return s;
 }

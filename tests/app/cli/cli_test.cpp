@@ -391,6 +391,95 @@ TEST_F(CliTest, CommandLineUsage) {
     EXPECT_NE(version.out.find("penumbra"), std::string::npos) << version.out;
 }
 
+// A scene without lights (a 2 x 2 floor at y = 0 and a tile at y = 0.4 over its corner): every
+// command that loads a scene gives it the default light, says so on stderr and in its summary,
+// and --no-default-light (one option, on every such command) leaves it unlit. The light, by the
+// rule of engine/scene/default_light.h: a 0.5 x 0.5 square centred over the scene, D / 2 above
+// its top (D = sqrt(8.16), the bounds' diagonal): the floor's centre sees it whole, with the
+// closed form's form factor.
+TEST_F(CliTest, DefaultLightInEveryCommandThatLoadsAScene) {
+    write("unlit.obj",
+          "v -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\n"
+          "v 0.5 0.4 0.5\nv 0.5 0.4 0.9\nv 0.9 0.4 0.9\nv 0.9 0.4 0.5\n"
+          "f 1 2 3 4\nf 5 6 7 8\n");
+    const std::string unlit = path("unlit.obj").string();
+    const std::string announced =
+        "penumbra: warning: " + unlit + " has no lights: added a default area light";
+    ProcessResult r = runPenumbra({"query", unlit, "--point", "0,0,0"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err.rfind(announced, 0), 0u) << r.err;
+    const json j = json::parse(lines(r.out).at(0));
+    ASSERT_EQ(j["lights"].size(), 1u) << j.dump();
+    EXPECT_EQ(j["lights"][0]["light_face"], 2);
+    EXPECT_EQ(j["lights"][0]["pair"], "fully-visible");
+    const double f = 4 * cornerFormFactor(0.25, 0.25, std::sqrt(8.16) / 2 + 0.4);
+    EXPECT_NEAR(j["lights"][0]["form_factor"].get<double>(), f, 1e-12);
+    r = runPenumbra({"query", unlit, "--point", "0,0,0", "--no-default-light"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err, "");
+    EXPECT_TRUE(json::parse(lines(r.out).at(0))["lights"].empty()) << r.out;
+
+    r = runPenumbra({"precompute", unlit, "-o", path("unlit.pvis").string()});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_EQ(r.err.rfind(announced, 0), 0u) << r.err;
+    EXPECT_NE(r.out.find("3 faces, 1 lights (the default light: the scene has none of its own; "
+                         "--no-default-light turns it off)\n"),
+              std::string::npos)
+        << r.out;
+    r = runPenumbra({"precompute", unlit, "-o", path("dark.pvis").string(), "--no-default-light"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("2 faces, 0 lights\n"), std::string::npos) << r.out;
+
+    // The same flag, registered once, in every command that loads a scene.
+    for (const char* command : {"query", "render", "precompute", "bench", "view", "screenshot"}) {
+        const ProcessResult help = runPenumbra({command, "--help"});
+        EXPECT_EQ(help.exitCode, 0) << command;
+        EXPECT_NE(help.out.find("--no-default-light"), std::string::npos) << command;
+        EXPECT_NE(help.out.find("--strict"), std::string::npos) << command;
+    }
+}
+
+// A lamp hung above the ceiling instead of below it: it faces the floor, but every
+// (receiver patch, light) pair is back-facing (the ceiling, facing down, away from it) or fully
+// hidden (the floor, behind the ceiling), which only the precompute's classification knows; it
+// says so, naming the light.
+TEST_F(CliTest, PrecomputeNamesALightHiddenFromEveryReceiver) {
+    // Floor [-2,2]^2 at z = 0 facing up, ceiling [-3,3]^2 at z = 1 facing down, the lamp at z = 2
+    // facing down (line 18).
+    write("above.obj",
+          "mtllib scene.mtl\n"
+          "v -2 -2 0\nv 2 -2 0\nv 2 2 0\nv -2 2 0\n"
+          "v -3 -3 1\nv -3 3 1\nv 3 3 1\nv 3 -3 1\n"
+          "v -0.5 -0.5 2\nv -0.5 0.5 2\nv 0.5 0.5 2\nv 0.5 -0.5 2\n"
+          "usemtl white\nf 1 2 3 4\nf 5 6 7 8\n"
+          "usemtl lamp\nf 9 10 11 12\n");
+    const ProcessResult r = runPenumbra({"precompute", path("above.obj").string(), "-o",
+                                         path("above.pvis").string(), "--patch-fraction", "0"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("1 back-facing, 0 fully visible, 1 fully hidden, 0 penumbra"),
+              std::string::npos)
+        << r.out;
+    EXPECT_NE(r.err.find("penumbra: warning: " + path("above.obj").string() +
+                         ": light 0 (face 2, material 'lamp', line 18) is hidden from every "
+                         "receiver: of its 2 (receiver patch, light) pairs 1 are back-facing and "
+                         "1 hidden"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find("normal points away"), std::string::npos) << "it faces the floor";
+    // The lamp below the ceiling lights the floor: no warning.
+    write("below.obj",
+          "mtllib scene.mtl\n"
+          "v -2 -2 0\nv 2 -2 0\nv 2 2 0\nv -2 2 0\n"
+          "v -3 -3 1\nv -3 3 1\nv 3 3 1\nv 3 -3 1\n"
+          "v -0.5 -0.5 0.5\nv -0.5 0.5 0.5\nv 0.5 0.5 0.5\nv 0.5 -0.5 0.5\n"
+          "usemtl white\nf 1 2 3 4\nf 5 6 7 8\n"
+          "usemtl lamp\nf 9 10 11 12\n");
+    const ProcessResult b = runPenumbra({"precompute", path("below.obj").string(), "-o",
+                                         path("below.pvis").string(), "--patch-fraction", "0"});
+    ASSERT_EQ(b.exitCode, 0) << b.err;
+    EXPECT_EQ(b.err.find("warning"), std::string::npos) << b.err;
+}
+
 // ---- findFaceContaining and queryPoint, directly ------------------------------------------------
 
 Scene testScene() { return loadObjFromString(kSceneObj, kSceneMtl, "scene.obj"); }

@@ -13,6 +13,7 @@
 
 #include "engine/render/answers.h"
 #include "tests/app/viewer/viewer_test_support.h"
+#include "tests/support/closed_forms.h"
 #include "tests/support/read_pfm.h"
 #include "tests/support/run_penumbra.h"
 
@@ -302,6 +303,124 @@ TEST_F(RenderCommand, BadInputGetsAClearErrorAndExitCode) {
     EXPECT_EQ(r.exitCode, 1);
     EXPECT_NE(output(r).find("a.png"), std::string::npos) << output(r);
     EXPECT_FALSE(fs::exists(path("a.png")));
+}
+
+// A 2 x 2 floor at y = 0 facing up and a tile at y = 0.4 over its corner, no material (kd 0.8),
+// no light.
+const char* kUnlitObj =
+    "v -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\n"
+    "v 0.5 0.4 0.5\nv 0.5 0.4 0.9\nv 0.9 0.4 0.9\nv 0.9 0.4 0.5\n"
+    "f 1 2 3 4\nf 5 6 7 8\n";
+
+// The scene has no light: the default light (engine/scene/default_light.h) lights it, and says
+// so. By the rule, for bounds [-1, 1] x [0, 0.4] x [-1, 1] (diagonal D = sqrt(8.16)), the light is
+// a 0.5 x 0.5 square centred on the y axis, D / 2 above y = 0.4, facing down, with emission
+// E = 1 / F(D / 2), F(c) the form factor of the square from a point c below its centre facing it
+// (Howell's closed form, four corner rectangles). The floor's centre, D / 2 + 0.4 below it and
+// seen by nothing in between, then has radiance kd E F(D / 2 + 0.4): derived by hand, not
+// captured from a run. No receiver sees more of the light than the top of the scene's centre:
+// every pixel is at most kd.
+TEST_F(RenderCommand, SceneWithoutLightsGetsTheDefaultLightAndSaysSo) {
+    std::ofstream(path("unlit.obj")) << kUnlitObj;
+    // Looking down at the floor's centre: the centre pixel of an odd-sized image is the ray to it.
+    const std::vector<std::string> view = {
+        path("unlit.obj"), "--camera", "0,2,1,0,0,0,30", "--size", "33x33", "--spp", "4"};
+    ProcessResult r = run(view, {"--out", path("lit.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(r.err.find("penumbra: warning: " + path("unlit.obj") +
+                         " has no lights: added a default area light"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("--no-default-light turns it off"), std::string::npos) << r.err;
+    EXPECT_NE(r.out.find("area lights: 1 (the default light: the scene has none of its own; "
+                         "--no-default-light turns it off) - one-sided"),
+              std::string::npos)
+        << r.out;
+    int w = 0, h = 0;
+    const std::vector<float> lit = penumbra::test::readPfm(path("lit.pfm"), w, h);
+    ASSERT_EQ(w, 33);
+    ASSERT_EQ(h, 33);
+    const double kd = 0.8, half = 0.25, above = std::sqrt(8.16) / 2;
+    const double expected = kd * penumbra::test::cornerFormFactor(half, half, above + 0.4) /
+                            penumbra::test::cornerFormFactor(half, half, above);
+    const size_t centre = (16 * 33 + 16) * 3;
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(lit[centre + c], expected, 1e-3 * expected) << c;
+    double sum = 0, most = 0;
+    for (float v : lit) {
+        sum += v;
+        most = std::max<double>(most, v);
+    }
+    EXPECT_GT(sum / lit.size(), 0.1 * expected) << "the whole view is lit";
+    EXPECT_LE(most, kd * (1 + 1e-9));
+
+    // Turned off: the old black image and "area lights: none".
+    r = run(view, {"--out", path("dark.pfm"), "--no-default-light"});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_EQ(r.err.find("default"), std::string::npos) << r.err;
+    EXPECT_NE(r.out.find("area lights: none"), std::string::npos) << r.out;
+    const std::vector<float> dark = penumbra::test::readPfm(path("dark.pfm"), w, h);
+    EXPECT_EQ(std::count(dark.begin(), dark.end(), 0.0f), static_cast<ptrdiff_t>(dark.size()));
+}
+
+// The lamp's vertices in the other order: it faces up, away from the floor and the blocker. The
+// render says which light and why; the image is black.
+TEST_F(RenderCommand, FlippedLightIsNamedInAWarning) {
+    std::string flipped = kObj;
+    const std::string lamp = "usemtl lamp\nf 5 6 7 8\n";
+    flipped.replace(flipped.find(lamp), lamp.size(), "usemtl lamp\nf 5 8 7 6\n");
+    std::ofstream(path("flipped.obj")) << flipped;
+    std::vector<std::string> args = base();
+    args[0] = path("flipped.obj");
+    const ProcessResult r = run(args, {"--out", path("f.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(r.err.find("penumbra: warning: " + path("flipped.obj") +
+                         ": light 0 (face 1, material 'lamp', line 17): its normal points away "
+                         "from every other face: flipped winding?"),
+              std::string::npos)
+        << r.err;
+    EXPECT_EQ(r.err.find("default light"), std::string::npos) << "it has a light: " << r.err;
+}
+
+// Lights the image gets nothing from: every pair it used back-facing or hidden. A lamp hung
+// above the ceiling (z up: floor at 0, ceiling at 1 facing down, lamp at 2 facing down), and the
+// default light over a closed room (a cube of inward faces, no light: y up, the light over its
+// ceiling). The render names the light and says why, on stderr and in its summary (from the
+// pairs' trees: a tree for every pair here; a pair evaluated without one is taken as lit).
+TEST_F(RenderCommand, LightTheImageGetsNothingFromIsNamed) {
+    std::ofstream(path("above.obj")) << "mtllib scene.mtl\n"
+                                        "v -2 -2 0\nv 2 -2 0\nv 2 2 0\nv -2 2 0\n"
+                                        "v -3 -3 1\nv -3 3 1\nv 3 3 1\nv 3 -3 1\n"
+                                        "v -0.5 -0.5 2\nv -0.5 0.5 2\nv 0.5 0.5 2\nv 0.5 -0.5 2\n"
+                                        "usemtl white\nf 1 2 3 4\nf 5 6 7 8\n"
+                                        "usemtl lamp\nf 9 10 11 12\n";
+    ProcessResult r =
+        run({path("above.obj"), "--camera", "0,-2.5,0.5,0,0,0,60", "--up", "0,0,1", "--size",
+             "16x12", "--spp", "1", "--min-tree-samples", "0", "--out", path("above.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    const std::string hidden =
+        ": light 0 (face 2, material 'lamp', line 18) is hidden from every "
+        "receiver the image sees";
+    EXPECT_NE(r.err.find("penumbra: warning: " + path("above.obj") + hidden), std::string::npos)
+        << r.err;
+    EXPECT_NE(r.out.find("warning: " + path("above.obj") + hidden), std::string::npos) << r.out;
+
+    std::ofstream(path("room.obj")) << "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\n"
+                                       "v -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+                                       "f 2 3 4 1\nf 8 7 6 5\nf 5 6 2 1\nf 6 7 3 2\n"
+                                       "f 7 8 4 3\nf 8 5 1 4\n";
+    r = run({path("room.obj"), "--camera", "0,0,0.9,0,-0.5,-1,60", "--size", "16x12", "--spp", "1",
+             "--min-tree-samples", "0", "--out", path("room.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(r.err.find("has no lights: added a default area light"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("light 0 (face 6, material 'penumbra_default_light'), the default light, "
+                         "is hidden from every receiver the image sees"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("a closed room's ceiling"), std::string::npos) << r.err;
+    // And a lit scene says nothing of the kind.
+    r = run(base(), {"--out", path("lit.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_EQ(r.err.find("hidden from"), std::string::npos) << r.err;
 }
 
 }  // namespace

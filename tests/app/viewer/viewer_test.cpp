@@ -612,6 +612,129 @@ TEST(ViewerScreenshot, SavedViewReopensAsTheSameView) {
     }
 }
 
+// A scene without lights opens with the default light (engine/scene/default_light.h): the status
+// line and stderr say so, the state records it, and a saved view keeps it as an area light of its
+// own: the saved scene renders to the same image with the default light turned off.
+TEST(ViewerScreenshot, DefaultLightIsAnnouncedRecordedAndSaved) {
+    const fs::path dir = test::scratchDir("viewer_default_light");
+    std::ofstream(dir / "unlit.obj")
+        << "v -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\n"
+           "v 0.5 0.4 0.5\nv 0.5 0.4 0.9\nv 0.9 0.4 0.9\nv 0.9 0.4 0.5\n"
+           "f 1 2 3 4\nf 5 6 7 8\n";
+    const std::string scene = (dir / "unlit.obj").string();
+    const fs::path stem = dir / "saved";
+    const test::ProcessResult r = test::runPenumbraGl(
+        {"screenshot", scene, "--view", "rendered", "--camera", "0,2,2.5,0,0,0,40", "--size",
+         "640x400", "--passes", "1", "--save-view", stem.string(), "--out",
+         (dir / "shot.png").string(), "--state-out", (dir / "state.json").string()});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.err.find("penumbra: warning: " + scene +
+                         " has no lights: added a default area "
+                         "light"),
+              std::string::npos)
+        << r.err;
+    const json state = test::readJson(dir / "state.json");
+    const std::string status = state["status"].get<std::string>();
+    EXPECT_NE(status.find("3 faces, 1 area lights; unlit.obj has no lights: added a default"),
+              std::string::npos)
+        << status;
+    EXPECT_NE(status.find("--no-default-light turns it off"), std::string::npos) << status;
+    const json& d = state["defaultLight"];
+    ASSERT_TRUE(d.is_object()) << state.dump();
+    EXPECT_EQ(d["face"], 2);
+    EXPECT_EQ(d["light"], 0);
+    EXPECT_EQ(d["up"], "+y");
+    ASSERT_EQ(d["corners"].size(), 4u);
+    // The rule's numbers for these bounds, by hand: side 2 / 4, D / 2 above y = 0.4.
+    EXPECT_DOUBLE_EQ(d["side"].get<double>(), 0.5);
+    EXPECT_DOUBLE_EQ(d["corners"][0][1].get<double>(), 0.4 + std::sqrt(8.16) / 2);
+
+    const json saved = test::readJson(stem.string() + ".json");
+    ASSERT_EQ(saved["area_lights"].size(), 1u) << saved.dump();
+    EXPECT_EQ(saved["area_lights"][0]["vertices"], d["corners"]);
+    EXPECT_EQ(saved["area_lights"][0]["emission"], d["emission"]);
+    const int vw = state["panelRects"]["3D view"][2], vh = state["panelRects"]["3D view"][3];
+    const fs::path rendered = dir / "rendered.pfm";
+    const test::ProcessResult rr = test::runPenumbra(
+        {"render", stem.string() + ".json", "--size", std::to_string(vw) + "x" + std::to_string(vh),
+         "--spp", "1", "--method", "exact", "--no-default-light", "--out", rendered.string()});
+    ASSERT_EQ(rr.exitCode, 0) << rr.err;
+    EXPECT_EQ(rr.err.find("default"), std::string::npos) << "the light is the file's: " << rr.err;
+    int w1 = 0, h1 = 0, w2 = 0, h2 = 0;
+    const std::vector<float> shown = test::readPfm(stem.string() + ".pfm", w1, h1);
+    const std::vector<float> again = test::readPfm(rendered.string(), w2, h2);
+    ASSERT_EQ(w1, w2);
+    ASSERT_EQ(h1, h2);
+    size_t differ = 0, lit = 0;
+    for (size_t i = 0; i < shown.size(); ++i) {
+        differ += shown[i] != again[i];
+        lit += shown[i] > 0;
+    }
+    EXPECT_EQ(differ, 0u);
+    EXPECT_GT(lit, shown.size() / 4);
+}
+
+// The raster view draws a light as the renderer does, one-sided: its own colour seen from the
+// front, dark from behind (a flipped light reads as one). A lamp facing down at y = 1, seen from
+// above and from below (right of the view's centre, clear of the help window).
+TEST(ViewerScreenshot, RasterViewDrawsLightsOneSided) {
+    const fs::path dir = test::scratchDir("viewer_one_sided_light");
+    std::ofstream(dir / "lamp.mtl")
+        << "newmtl white\nKd 0.8 0.8 0.8\nnewmtl lamp\nKd 0 0 0\nKe 5 5 5\n";
+    std::ofstream(dir / "lamp.obj") << "mtllib lamp.mtl\nv -1 0 -1\nv -1 0 1\nv 1 0 1\nv 1 0 -1\n"
+                                       "v -0.2 1 -0.2\nv 0.2 1 -0.2\nv 0.2 1 0.2\nv -0.2 1 0.2\n"
+                                       "usemtl white\nf 1 2 3 4\nusemtl lamp\nf 5 6 7 8\n";
+    for (const bool fromAbove : {true, false}) {
+        SCOPED_TRACE(fromAbove ? "from above: its back" : "from below: its front");
+        const fs::path png = dir / (fromAbove ? "above.png" : "below.png");
+        const fs::path stateFile = dir / "state.json";
+        const test::ProcessResult r = test::runPenumbraGl(
+            {"screenshot", (dir / "lamp.obj").string(), "--camera",
+             fromAbove ? "0,3,1.5,-0.1,1,0,30" : "0,0.3,1.5,-0.1,1,0,30", "--size", "1280x800",
+             "--no-preview", "--out", png.string(), "--state-out", stateFile.string()});
+        ASSERT_EQ(r.exitCode, 0) << r.err;
+        const json state = test::readJson(stateFile);
+        const json& rects = state["panelRects"];
+        const int vx = rects["3D view"][0], vy = rects["3D view"][1], vw = rects["3D view"][2],
+                  vh = rects["3D view"][3];
+        Camera camera;
+        camera.eye = {0, fromAbove ? 3.0 : 0.3, 1.5};
+        camera.target = {-0.1, 1, 0};
+        camera.fovYDegrees = 30;
+        const test::Image image = test::readPng(png);
+        ASSERT_GT(image.width, 0);
+        // Points of the lamp (inset from its edges) where they show in the view, not under the
+        // windows drawn over it (help, status).
+        auto covered = [&](double x, double y) {
+            for (const char* name : {"Help", "Status"}) {
+                if (!rects.contains(name)) continue;
+                const json& r = rects[name];
+                if (x >= r[0].get<double>() && x < r[0].get<double>() + r[2].get<double>() &&
+                    y >= r[1].get<double>() && y < r[1].get<double>() + r[3].get<double>())
+                    return true;
+            }
+            return false;
+        };
+        int checked = 0;
+        for (int i = -3; i <= 3; ++i)
+            for (int j = -3; j <= 3; ++j) {
+                double px = 0, py = 0;
+                if (!camera.project({0.05 * i, 1, 0.05 * j}, vw, vh, px, py)) continue;
+                px += vx;
+                py += vy;
+                if (covered(px, py)) continue;
+                const unsigned char* p = image.at(static_cast<int>(px), static_cast<int>(py));
+                const int brightest = std::max({p[0], p[1], p[2]});
+                ++checked;
+                if (fromAbove)
+                    EXPECT_LT(brightest, 40) << "the lamp's back, dark: " << px << ", " << py;
+                else
+                    EXPECT_GT(brightest, 240) << "its front, its own colour: " << px << ", " << py;
+            }
+        EXPECT_GT(checked, 10);
+    }
+}
+
 // The "Accuracy vs time" panel of the view, run as the viewer runs it (in the background, frames
 // drawn meanwhile): the study's curve behaves as Monte Carlo must (the error of the sampled image
 // falls with every doubling of the rays, by about 1/sqrt(2) or faster with stratification), the
