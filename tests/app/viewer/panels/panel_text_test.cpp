@@ -77,7 +77,7 @@ TEST(PanelText, PrecomputePanelBeforeAnyRenderCountsTheScenesLights) {
     devkit::HeadlessImGui imgui;
     viewer::PanelText text;
     const viewer::PanelRect rect{0, 0, 600, 400};
-    viewer::PrecomputeJob job;  // never started
+    const std::optional<PrecomputeProgress> job;  // never started
     Scene scene;
     for (size_t area : {size_t{0}, size_t{1}, size_t{3}}) {
         scene.lights.assign(area, 0);
