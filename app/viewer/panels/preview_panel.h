@@ -14,11 +14,11 @@
 
 namespace penumbra::viewer {
 
-// What the 3D view shows: the rasterised scene (flat colours, the default; also what the rendered
-// view shows until its image pictures the view: before the first pass, and while the camera moves
-// faster than the coarse passes follow), or the preview's image at the view's own resolution (the
-// rendered view: exact, sampled, exact and sampled split at a draggable line, the difference or
-// the answers, as the preview's mode says), with the overlays on top.
+// What the 3D view shows: the preview's image at the view's own resolution (the rendered view, the
+// default: exact, sampled, exact and sampled split at a draggable line, the difference or the
+// answers, as the preview's mode says), or the rasterised scene (flat colours; also what the
+// rendered view shows until its image pictures the view: before the first pass, and while the
+// camera moves faster than the coarse passes follow), with the overlays on top.
 enum class ViewMode { Raster, Rendered };
 
 // The names of the command line's --view (screenshot, view): raster, or the rendered view with
