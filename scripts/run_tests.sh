@@ -90,8 +90,12 @@ run_suite release build 1
 fuzz_targets="fuzz_scene_obj fuzz_scene_ply fuzz_scene_off fuzz_scene_stl fuzz_scene_gltf"
 fuzz_targets+=" fuzz_scene_glb fuzz_scene_json fuzz_visibility_file penumbra_fuzz_seed"
 asan_options="${ASAN_OPTIONS:-malloc_context_size=15}"
+# The viewer test that draws in process (tests/app/viewer/panels/panel_text_test.cpp) opens OSMesa
+# in the test binary itself: its LeakSanitizer ignores what the GL libraries keep at exit, as the
+# child processes' does (tests/app/viewer/lsan_gl.supp).
 CXX=clang++ CC=clang UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}" \
   ASAN_OPTIONS="${asan_options}" SUITE_SKIP='^ExactReference\.' \
+  LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=${PWD}/tests/app/viewer/lsan_gl.supp}" \
   SUITE_TARGET="penumbra_tests penumbra_concurrency_tests ${fuzz_targets}" \
   run_suite sanitize build-sanitize 0.25 -DPENUMBRA_SANITIZE=ON
 # oneTBB and Embree are not instrumented: tests/tsan.supp lists (and justifies) what that hides.

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "visibility/face_plane.h"
+#include "visibility/polygon_clip.h"
 
 namespace penumbra::vis {
 
@@ -20,6 +21,18 @@ std::string_view toString(PairKind k) {
             return "penumbra";
     }
     return "?";
+}
+
+bool horizonClipsLight(const PolygonMesh& mesh, uint32_t receiver, uint32_t light) {
+    const FacePlane b = facePlane(mesh, receiver);
+    std::vector<Vec3> polygon;
+    for (uint32_t v : mesh.faces[light]) polygon.push_back(mesh.vertices[v]);
+    return anyVertexBehind(polygon, OrientedPlane{b.a, b.b, b.c});
+}
+
+std::string_view describeKind(PairKind k, bool horizonClipped) {
+    if (k == PairKind::FullyVisible && horizonClipped) return "unoccluded, horizon-clipped";
+    return toString(k);
 }
 
 std::span<const std::string_view> knownReasons() {

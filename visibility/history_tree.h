@@ -50,6 +50,13 @@ enum class PairKind : uint8_t {
 };
 inline constexpr int kPairKindCount = 4;
 std::string_view toString(PairKind k);
+// Whether B's plane cuts the light: part of L lies behind it, below the horizon of every point of
+// B (exact signs). Even with nothing in the shaft such a point sees only the part above.
+bool horizonClipsLight(const PolygonMesh& mesh, uint32_t receiver, uint32_t light);
+// The kind in words for a reader, which must not call "fully visible" a light the horizon cuts:
+// toString(k), but "unoccluded, horizon-clipped" for a FullyVisible pair whose light B's plane
+// cuts (horizonClipsLight).
+std::string_view describeKind(PairKind k, bool horizonClipped);
 
 // The sentences HistoryTree::why points to: the builder uses these, and a tree read back from a
 // file maps its stored text to one of them (knownReasons()).

@@ -272,4 +272,10 @@ std::vector<Vec3> clipConvexPositive(std::span<const Vec3> polygon, const Orient
     return clipConvex(polygon, plane).positive;
 }
 
+bool anyVertexBehind(std::span<const Vec3> polygon, const OrientedPlane& plane) {
+    for (const Vec3& v : polygon)
+        if (plane.side(v) == Sign::Negative) return true;
+    return false;
+}
+
 }  // namespace penumbra::vis

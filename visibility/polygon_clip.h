@@ -94,4 +94,9 @@ ClipResult clipConvex(std::span<const Vec3> polygon, const OrientedPlane& plane)
 // Only the part with side > 0 (same rules).
 std::vector<Vec3> clipConvexPositive(std::span<const Vec3> polygon, const OrientedPlane& plane);
 
+// Whether the plane cuts something off the polygon: some vertex lies strictly behind it (exact
+// signs). When none does, clipConvexPositive keeps the whole polygon (vertices on the plane
+// included, by the rules above). A receiver's plane that cuts the light is the point's horizon.
+bool anyVertexBehind(std::span<const Vec3> polygon, const OrientedPlane& plane);
+
 }  // namespace penumbra::vis

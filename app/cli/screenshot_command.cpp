@@ -18,7 +18,7 @@ namespace {
 struct ScreenshotOptions {
     std::string scene, point, pixel, hover, camera, size = "1280x800", out, stateOut, previewOut,
                                                     saveView;
-    std::string backend = "osmesa", previewMode = "exact", view = "raster";
+    std::string backend = "osmesa", previewMode = "exact", view = "rendered";
     int lightSamples = 16, passes = 8;
     double uiScale = 1;
     bool noPreview = false, precompute = false, accuracy = false;
@@ -149,9 +149,9 @@ void registerScreenshotCommand(CLI::App& app) {
                     "exact (default), sampled, side, diff or answers")
         ->type_name("MODE");
     sub->add_option("--view", o->view,
-                    "What the 3D view shows: raster (default), or the render at the view's size: "
-                    "rendered (exact), sampled, side (exact | sampled), diff, answers (how the "
-                    "exact render answered each pixel)")
+                    "What the 3D view shows: the render at the view's size, rendered (exact, the "
+                    "default; in the --preview-mode), sampled, side (exact | sampled), diff, "
+                    "answers (how the exact render answered each pixel); or raster (flat colours)")
         ->type_name("MODE");
     sub->add_option("--light-samples", o->lightSamples, "Shadow rays per light (sampled)")
         ->type_name("N");

@@ -19,7 +19,7 @@ namespace {
 
 struct ViewOptions {
     std::string scene = "assets/cornell_box.obj";
-    std::string camera, size = "1280x800", stateOut, outDir = "out", view = "raster";
+    std::string camera, size = "1280x800", stateOut, outDir = "out", view = "rendered";
     double quitAfter = 0;
     bool noPreview = false;
     bool precompute = false;
@@ -32,7 +32,7 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
     std::optional<Camera> camera;
     if (sub.count("--camera") > 0) camera = parseCamera("--camera", o.camera);
     if (o.quitAfter < 0) throw usageError("--quit-after: must be >= 0 seconds");
-    viewer::ViewMode view = viewer::ViewMode::Raster;
+    viewer::ViewMode view = viewer::ViewerOptions{}.view;
     viewer::PreviewMode mode = viewer::PreviewSettings{}.mode;
     if (!viewer::parseViewName(o.view, view, mode))
         throw usageError("--view: expected " + std::string(viewer::kViewNames) + ", got '" +
@@ -121,9 +121,9 @@ void registerViewCommand(CLI::App& app) {
     sub->add_option("--out-dir", o->outDir, "Where the no-display fallback writes (default out/)")
         ->type_name("DIR");
     sub->add_option("--view", o->view,
-                    "What the 3D view shows: raster (default), or the render at the view's size: "
-                    "rendered (exact), sampled, side (exact | sampled), diff, answers (how the "
-                    "exact render answered each pixel) (V toggles)")
+                    "What the 3D view shows: the render at the view's size, rendered (exact, the "
+                    "default), sampled, side (exact | sampled), diff, answers (how the exact "
+                    "render answered each pixel); or raster (flat colours) (V toggles)")
         ->type_name("MODE");
     sub->add_option("--quit-after", o->quitAfter, "Close the window after this many seconds")
         ->type_name("SECONDS");

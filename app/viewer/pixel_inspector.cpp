@@ -1,5 +1,6 @@
 #include "app/viewer/pixel_inspector.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace penumbra::viewer {
@@ -15,11 +16,21 @@ std::optional<Vec3> radianceAt(const std::vector<float>& radiance, int width, in
     return Vec3{p[0], p[1], p[2]};
 }
 
-bool sameCamera(const Camera& a, const Camera& b) {
-    return a.eye == b.eye && a.target == b.target && a.up == b.up && a.fovYDegrees == b.fovYDegrees;
-}
-
 }  // namespace
+
+const char* toString(PixelSource source) {
+    switch (source) {
+        case PixelSource::NoImage:
+            return "none";
+        case PixelSource::ViewPixel:
+            return "view";
+        case PixelSource::CoarsePixel:
+            return "coarse";
+        case PixelSource::OtherView:
+            return "other view";
+    }
+    return "?";
+}
 
 const PixelReport* PixelInspector::inspect(const LoadedScene& scene, const Camera& camera,
                                            const Viewport& view, const PreviewImage& image,
@@ -27,9 +38,11 @@ const PixelReport* PixelInspector::inspect(const LoadedScene& scene, const Camer
     if (!view.contains(px, py)) return nullptr;
     const int x = static_cast<int>(std::floor(px)) - view.x;
     const int y = static_cast<int>(std::floor(py)) - view.y;
-    const bool samePixel = valid_ && report_.x == x && report_.y == y && scene_ == &scene &&
-                           sameCamera(camera_, camera);
-    if (samePixel && passes_ == image.passes) return &report_;
+    const bool samePixel =
+        valid_ && report_.x == x && report_.y == y && scene_ == &scene && camera_ == camera;
+    if (samePixel && passes_ == image.passes && imageWidth_ == image.imageWidth &&
+        imageCamera_ == image.camera)
+        return &report_;
     if (!samePixel) {
         // A new pixel: its surface point and the lights' exact answers there.
         report_ = PixelReport{};
@@ -41,22 +54,34 @@ const PixelReport* PixelInspector::inspect(const LoadedScene& scene, const Camer
                                               report_.hit->face, report_.hit->point, std::nullopt,
                                               kHoverWork, &scene.bvh->faceClusters());
     }
-    // The radiance follows the preview's passes (the image refines under a still mouse).
-    const int h = image.height;
-    report_.exact = radianceAt(image.exactRadiance, image.imageWidth, h, x, y);
-    report_.sampled = radianceAt(image.sampledRadiance, image.imageWidth, h, x, y);
+    // The radiance follows the preview's passes (the image refines under a still mouse), read
+    // where the image pictures this view: at the image's pixel that covers this one.
+    const int w = image.imageWidth, h = image.height;
+    report_.exact = report_.sampled = {};
     report_.answers.reset();
-    if (image.answers.size() == static_cast<size_t>(image.imageWidth) * h && x < image.imageWidth &&
-        y < h)
-        report_.answers = image.answers[static_cast<size_t>(y) * image.imageWidth + x];
-    if (image.imageWidth != view.width || h != view.height) {
-        report_.exact = report_.sampled = {};
-        report_.answers.reset();
+    report_.imageWidth = w;
+    report_.imageHeight = h;
+    if (w <= 0 || h <= 0) {
+        report_.source = PixelSource::NoImage;
+    } else if (!picturesView(image, camera, view.width, view.height)) {
+        report_.source = PixelSource::OtherView;
+    } else {
+        const bool full = w == view.width && h == view.height;
+        report_.source = full ? PixelSource::ViewPixel : PixelSource::CoarsePixel;
+        report_.imageX = std::clamp(static_cast<int>((x + 0.5) * w / view.width), 0, w - 1);
+        report_.imageY = std::clamp(static_cast<int>((y + 0.5) * h / view.height), 0, h - 1);
+        const int ix = report_.imageX, iy = report_.imageY;
+        report_.exact = radianceAt(image.exactRadiance, w, h, ix, iy);
+        report_.sampled = radianceAt(image.sampledRadiance, w, h, ix, iy);
+        if (image.answers.size() == static_cast<size_t>(w) * h)
+            report_.answers = image.answers[static_cast<size_t>(iy) * w + ix];
     }
     valid_ = true;
     scene_ = &scene;
     camera_ = camera;
     passes_ = image.passes;
+    imageWidth_ = w;
+    imageCamera_ = image.camera;
     return &report_;
 }
 

@@ -1,6 +1,7 @@
 // PixelInspector: what the rendered view shows under the mouse. For a pixel of the 3D view: its
 // linear radiance in the exact and in the sampled image of the preview (when the mode renders
-// them, and the preview is at the view's resolution), how the exact render answered it
+// them, and the image pictures this view: the pixel of a coarse pass covering it while the full
+// render runs, nothing while the image is of another camera), how the exact render answered it
 // (answers.h), and per light the exactly visible fraction
 // and form factor of the surface point its centre ray hits (picking.h), from the tree-less exact
 // query (point_query.h queryPointDirect) within a small work budget, so that hovering never
@@ -19,9 +20,21 @@
 
 namespace penumbra::viewer {
 
+// Where a pixel's radiance comes from: the preview's image at the view's resolution; a coarser
+// image of the same view (a coarse pass while the camera moved, the thumbnail: one of its pixels
+// covers several of the view's); or none: no image yet, or one of another camera or view shape
+// (the camera moved or the view was resized since, and the new image is being rendered).
+enum class PixelSource { NoImage, ViewPixel, CoarsePixel, OtherView };
+const char* toString(PixelSource source);  // "none", "view", "coarse", "other view"
+
 struct PixelReport {
-    int x = 0, y = 0;                     // in the view, from its top-left corner
-    std::optional<Vec3> exact, sampled;   // linear radiance of the pixel in each image
+    int x = 0, y = 0;  // in the view, from its top-left corner
+    PixelSource source = PixelSource::NoImage;
+    int imageX = 0, imageY = 0;  // the image's pixel read (ViewPixel, CoarsePixel)
+    int imageWidth = 0, imageHeight = 0;
+    // Linear radiance of that pixel in each image; none for an image the preview's mode does not
+    // render, or no source.
+    std::optional<Vec3> exact, sampled;
     std::optional<AnswerCounts> answers;  // the exact image's evaluations by answer
     std::optional<PickedPoint> hit;       // the surface point under the pixel's centre
     // Per light, at `hit` (empty without a hit): the direct query's answer; a light whose query
@@ -35,7 +48,8 @@ class PixelInspector {
     static constexpr uint64_t kHoverWork = uint64_t{1} << 15;
 
     // The report for framebuffer pixel (px, py) of `view` (nullptr outside it). `image` is the
-    // preview's newest image: its radiance is read when it has the view's size.
+    // preview's newest image: its radiance is read when it pictures this view from `camera`
+    // (picturesView), at the image's pixel covering (px, py).
     const PixelReport* inspect(const LoadedScene& scene, const Camera& camera, const Viewport& view,
                                const PreviewImage& image, double px, double py);
     void clear() { valid_ = false; }
@@ -46,6 +60,10 @@ class PixelInspector {
     const LoadedScene* scene_ = nullptr;
     Camera camera_;
     int passes_ = -1;
+    // Of the image the report read (a coarse pass and the full one differ in width, the image of
+    // the camera before and of this one in camera).
+    int imageWidth_ = -1;
+    Camera imageCamera_;
 };
 
 }  // namespace penumbra::viewer

@@ -29,24 +29,38 @@ Preview::~Preview() { glDeleteTextures(1, &texture_); }
 void Preview::clear() {
     runner_.clear();
     image_ = PreviewImage{};
+    running_ = false;
+    effects_ = EffectsSummary{};
 }
 
 void Preview::poll(const std::shared_ptr<LoadedScene>& scene, const Camera& camera,
                    const Layout& layout) {
+    PreviewRunner::Snapshot now = runner_.take();
+    if (now.update) upload(*now.update);
+    running_ = now.running;
+    effects_ = std::move(now.effects);
     if (options_.preview && scene && dirty_) {
         // The full preview once the camera has rested for 200 ms; meanwhile, in the rendered
         // view, a coarse single pass at most every 100 ms, so that the view follows the camera
-        // blockily without ever waiting for it.
+        // blockily without ever waiting for it. At rest, a rendered view with no image of this
+        // view (a scene opened, the camera set or moved, the view resized) gets a coarse pass
+        // first, which shows the shadows in a fraction of the first full pass's time, then the
+        // full render.
         const auto now = std::chrono::steady_clock::now();
+        const bool rendered = options_.view == ViewMode::Rendered;
         if (now - lastCameraChange_ > std::chrono::milliseconds(200)) {
-            restart(scene, camera, layout);
-        } else if (options_.view == ViewMode::Rendered &&
-                   now - lastCoarseRestart_ > std::chrono::milliseconds(100)) {
+            const bool coarseHere = lastCoarse_ && coarseCamera_ == camera &&
+                                    coarseView_.width == layout.view.width &&
+                                    coarseView_.height == layout.view.height;
+            if (rendered && !coarseHere && !showsImage(camera, layout.view))
+                restart(scene, camera, layout, true);
+            else if (!(coarseHere && running_))  // (else: its image comes first)
+                restart(scene, camera, layout);
+        } else if (rendered && now - lastCoarseRestart_ > std::chrono::milliseconds(100)) {
             lastCoarseRestart_ = now;
             restart(scene, camera, layout, true);
         }
     }
-    if (std::optional<PreviewImage> image = runner_.takeUpdate()) upload(*image);
 }
 
 void Preview::restartPending(const std::shared_ptr<LoadedScene>& scene, const Camera& camera,
@@ -70,7 +84,12 @@ void Preview::restart(const std::shared_ptr<LoadedScene>& scene, const Camera& c
     s.width = std::max(8, static_cast<int>(std::lround(l.view.width * scale)));
     s.height = std::max(8, static_cast<int>(std::lround(l.view.height * scale)));
     if (coarse) s.passes = 1;
+    s.coarse = coarse;
+    lastCoarse_ = coarse;
+    coarseCamera_ = camera;
+    coarseView_ = l.view;
     runner_.restart(scene, camera, s);
+    running_ = true;  // (until the next poll says otherwise)
 }
 
 void Preview::upload(const PreviewImage& image) {
@@ -83,14 +102,36 @@ void Preview::upload(const PreviewImage& image) {
     glBindTexture(GL_TEXTURE_2D, 0);
 }
 
-const ViewImage* Preview::viewImage() {
-    if (options_.view != ViewMode::Rendered || image_.width == 0 || image_.rgba.empty())
-        return nullptr;  // no image yet: the rasterised scene meanwhile
+bool Preview::showsImage(const Camera& camera, const Viewport& view) const {
+    return options_.view == ViewMode::Rendered && !image_.rgba.empty() &&
+           picturesView(image_, camera, view.width, view.height);
+}
+
+bool Preview::splitShown(const Camera& camera, const Viewport& view) const {
+    return showsImage(camera, view) && image_.mode == PreviewMode::SideBySide;
+}
+
+std::string Preview::viewNote(const Camera& camera, const Viewport& view) const {
+    if (options_.view != ViewMode::Rendered) return "";
+    if (showsImage(camera, view)) {
+        if (image_.imageWidth == view.width && image_.height == view.height) return "";
+        return "3D view: a coarser image (" + std::to_string(image_.imageWidth) + "x" +
+               std::to_string(image_.height) + ") until the full render's first pass";
+    }
+    if (!options_.preview) return "3D view: flat colours (the preview is off)";
+    if (!image_.error.empty()) return "3D view: flat colours (the render failed)";
+    if (image_.rgba.empty()) return "3D view: flat colours until the render's first pass";
+    return "3D view: flat colours while the camera moves (the image is of the view before)";
+}
+
+const ViewImage* Preview::viewImage(const Camera& camera, const Viewport& view) {
+    // No image of this view yet: the rasterised scene meanwhile.
+    if (!showsImage(camera, view)) return nullptr;
     viewImage_.texture = texture_;
     viewImage_.bands.clear();
-    if (options_.previewSettings.mode == PreviewMode::SideBySide) {
+    if (image_.mode == PreviewMode::SideBySide) {
         // Exact left of the split, sampled right of it: each half of the texture is one image of
-        // the view's size.
+        // the view's size. (The image's mode: after a switch, the last image until the new one.)
         const float t = static_cast<float>(std::clamp(options_.split, 0.0, 1.0));
         viewImage_.bands.push_back({0, t, 0, 0.5f * t});
         viewImage_.bands.push_back({t, 1, 0.5f + 0.5f * t, 1});
@@ -100,10 +141,8 @@ const ViewImage* Preview::viewImage() {
     return &viewImage_;
 }
 
-void Preview::drawSplitLine(const Viewport& vp) const {
-    if (options_.view != ViewMode::Rendered ||
-        options_.previewSettings.mode != PreviewMode::SideBySide)
-        return;
+void Preview::drawSplitLine(const Camera& camera, const Viewport& vp) const {
+    if (!splitShown(camera, vp)) return;
     const float x = static_cast<float>(vp.x + options_.split * vp.width);
     const float midY = static_cast<float>(vp.y) + 0.5f * static_cast<float>(vp.height);
     ImDrawList* draw = ImGui::GetBackgroundDrawList();
@@ -133,11 +172,30 @@ void Preview::drawPixelInspector(const LoadedScene* scene, const Camera& camera,
     const PixelReport& r = *hover_;
     ImGui::BeginTooltip();
     ImGui::Text("pixel (%d, %d)", r.x, r.y);
-    auto radiance = [](const char* name, const std::optional<Vec3>& c) {
+    // Where the numbers below come from: what the view shows under the mouse.
+    switch (r.source) {
+        case PixelSource::NoImage:
+            ImGui::TextUnformatted(running_ ? "no rendered image yet: the first pass is rendering"
+                                            : "no rendered image (the preview is off or failed)");
+            break;
+        case PixelSource::OtherView:
+            ImGui::TextUnformatted(
+                "the rendered image is of the view before it moved: a new one is rendering");
+            break;
+        case PixelSource::CoarsePixel:
+            ImGui::Text("coarse pass: image pixel (%d, %d) of %dx%d covers this one%s", r.imageX,
+                        r.imageY, r.imageWidth, r.imageHeight,
+                        running_ ? "; the full render follows" : "");
+            break;
+        case PixelSource::ViewPixel:
+            break;
+    }
+    const bool imaged = r.source == PixelSource::ViewPixel || r.source == PixelSource::CoarsePixel;
+    auto radiance = [&](const char* name, const std::optional<Vec3>& c) {
         if (c)
             ImGui::Text("%-8s L = (%.4g, %.4g, %.4g)", name, c->x, c->y, c->z);
-        else
-            ImGui::Text("%-8s not rendered (the preview's mode or size)", name);
+        else if (imaged)
+            ImGui::Text("%-8s not rendered in the %s mode", name, toString(image_.mode));
     };
     radiance("exact", r.exact);
     radiance("sampled", r.sampled);

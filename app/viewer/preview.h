@@ -7,7 +7,9 @@
 // camera rests; the camera set or a scene opened: at the next poll; the camera or the view's size
 // changing (a drag, the wheel, a column's edge): once it has rested for 200 ms, and meanwhile, in
 // the rendered view, a coarse single pass at most every 100 ms, so that the view follows the
-// camera blockily without ever waiting for it.
+// camera blockily without ever waiting for it. The rendered view shows an image only where it
+// pictures the view as it is (picturesView: the rasterised scene until then); at rest, without
+// one, a coarse pass comes before the full render.
 //
 // It reads the viewer's options (the preview's settings, the view mode, the split) as they are at
 // each call: the viewer's panels and keys edit them.
@@ -63,14 +65,29 @@ class Preview {
                         const Layout& layout);
 
     PreviewRunner& runner() { return runner_; }
+    // As the last poll found them (one moment for the whole frame): the newest image, whether the
+    // render goes on (more images to come), and what it simulates.
     const PreviewImage& image() const { return image_; }
+    bool running() const { return running_; }
+    const EffectsSummary& effects() const { return effects_; }
     GLuint texture() const { return texture_; }
 
-    // The rendered view's image for this frame (nullptr: draw the rasterised scene).
-    const ViewImage* viewImage();
+    // Whether the 3D view shows the preview's image now: the rendered view, with an image that
+    // pictures the view from `camera` (picturesView: a coarse pass counts, an image of the camera
+    // before a move or of the view before a resize does not).
+    bool showsImage(const Camera& camera, const Viewport& view) const;
+    // What the 3D view shows when that is not the preview's image at the view's resolution: a
+    // line for the Preview panel ("" in the raster view, or with the full image shown).
+    std::string viewNote(const Camera& camera, const Viewport& view) const;
+    // The rendered view's image for this frame when it shows one (showsImage), else nullptr:
+    // draw the rasterised scene (before the first pass, and while the camera moves faster than
+    // the coarse passes follow).
+    const ViewImage* viewImage(const Camera& camera, const Viewport& view);
+    // Whether the view shows a side-by-side image, split at a line that the mouse may drag.
+    bool splitShown(const Camera& camera, const Viewport& view) const;
     // The rendered side-by-side view's split line over `view` (under the windows), with the names
-    // of its two sides; nothing in another view or mode.
-    void drawSplitLine(const Viewport& view) const;
+    // of its two sides; nothing in another view or mode, or while the view shows no image.
+    void drawSplitLine(const Camera& camera, const Viewport& view) const;
     // The rendered view's pixel inspector: a tooltip for the pixel of `view` under the mouse,
     // unless the mouse is over a window or dragging (`splitDragged`: the split line).
     void drawPixelInspector(const LoadedScene* scene, const Camera& camera, const Viewport& view,
@@ -96,9 +113,15 @@ class Preview {
     const ViewerOptions& options_;
     PreviewRunner runner_;
     PreviewImage image_;
+    bool running_ = false;
+    EffectsSummary effects_;
     GLuint texture_ = 0;
     bool dirty_ = false;
     std::chrono::steady_clock::time_point lastCameraChange_, lastCoarseRestart_;
+    // The last restart: whether it was a coarse pass, and for which camera and view.
+    bool lastCoarse_ = false;
+    Camera coarseCamera_;
+    Viewport coarseView_;
     ViewImage viewImage_;
     PixelInspector pixelInspector_;
     const PixelReport* hover_ = nullptr;  // this frame's pixel report (the inspector's)

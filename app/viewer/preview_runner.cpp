@@ -81,6 +81,17 @@ double relativeRms(const Film& exact, const Film& sampled) {
 
 }  // namespace
 
+bool picturesView(const PreviewImage& image, const Camera& camera, int viewWidth, int viewHeight) {
+    const int w = image.imageWidth, h = image.height;
+    if (w <= 0 || h <= 0 || viewWidth <= 0 || viewHeight <= 0 || !(image.camera == camera))
+        return false;
+    // Rendered for a view of W x H at scale k: w = round(W k), h = round(H k), so that
+    // |w H - h W| <= (W + H) / 2 exactly when the shapes agree (to the rounding of w and h).
+    const double skew =
+        std::fabs(static_cast<double>(w) * viewHeight - static_cast<double>(h) * viewWidth);
+    return skew <= 0.5 * (viewWidth + viewHeight);
+}
+
 const char* toString(PreviewMode mode) {
     switch (mode) {
         case PreviewMode::Exact:
@@ -112,6 +123,7 @@ void PreviewRunner::restart(std::shared_ptr<LoadedScene> scene, const Camera& ca
         const std::lock_guard lock(mutex_);
         if (current_) current_->cancel = true;
         current_ = job;
+        publishedLast_ = false;
         latest_ = PreviewImage{};
         changed_ = false;
     }
@@ -134,7 +146,17 @@ void PreviewRunner::clear() {
 
 bool PreviewRunner::running() const {
     const std::lock_guard lock(mutex_);
-    return current_ && !current_->ended && !current_->cancel;
+    return current_ && !current_->ended && !current_->cancel && !publishedLast_;
+}
+
+PreviewRunner::Snapshot PreviewRunner::take() {
+    const std::lock_guard lock(mutex_);
+    Snapshot s;
+    if (changed_) s.update = latest_;
+    changed_ = false;
+    s.running = current_ && !current_->ended && !current_->cancel && !publishedLast_;
+    s.effects = effects_;
+    return s;
 }
 
 std::optional<PreviewImage> PreviewRunner::takeUpdate() {
@@ -164,6 +186,10 @@ void PreviewRunner::run(const std::shared_ptr<Job>& job) {
     PreviewImage image;
     image.width = s.mode == PreviewMode::SideBySide ? 2 * s.width : s.width;
     image.height = s.height;
+    image.camera = job->camera;
+    image.mode = s.mode;
+    image.passesPlanned = s.passes;
+    image.coarse = s.coarse;
     image.rgba.assign(static_cast<size_t>(image.width) * image.height * 4, 0);
     auto publish = [&](bool finished) {
         image.seconds =
@@ -173,6 +199,7 @@ void PreviewRunner::run(const std::shared_ptr<Job>& job) {
         if (current_ != job) return;
         latest_ = image;
         changed_ = true;
+        publishedLast_ = finished;
     };
     LoadedScene& scene = *job->scene;
     try {
@@ -191,12 +218,23 @@ void PreviewRunner::run(const std::shared_ptr<Job>& job) {
         exact.reset(s.width, s.height);
         sampled.reset(s.width, s.height);
         if (wantExact) renderer.prepare(job->camera, exactSettings, &job->cancel);
+        // What the render simulates, after its first pass: the exact image's (the sampled image
+        // beside it in the side-by-side and difference modes is its shadow rays alone), so taken
+        // before a sampled pass makes the renderer's summary the sampled one's. Computed outside
+        // the lock: the UI thread takes it every frame.
+        const auto takeEffects = [&] {
+            EffectsSummary effects = renderer.effects();
+            const std::lock_guard lock(mutex_);
+            if (current_ == job) effects_ = effects;
+        };
         for (int pass = 0; pass < s.passes && !job->cancel; ++pass) {
             if (wantExact && !renderer.renderPass(job->camera, exactSettings, exact, &job->cancel))
                 return;
+            if (pass == 0 && wantExact) takeEffects();
             if (wantSampled &&
                 !renderer.renderPass(job->camera, sampledSettings, sampled, &job->cancel))
                 return;
+            if (pass == 0 && !wantExact) takeEffects();
             switch (s.mode) {
                 case PreviewMode::Exact:
                     putFilm(image, exact, 0, s.exposure);
@@ -240,12 +278,6 @@ void PreviewRunner::run(const std::shared_ptr<Job>& job) {
             if (wantExact && wantSampled) {
                 image.relativeRmsError = relativeRms(exact, sampled);
                 image.errorHistory.push_back(image.relativeRmsError);
-            }
-            if (pass == 0) {
-                // Computed outside the lock: the UI thread takes it every frame.
-                EffectsSummary effects = renderer.effects();
-                const std::lock_guard lock(mutex_);
-                if (current_ == job) effects_ = effects;
             }
             publish(pass + 1 == s.passes);
         }

@@ -37,12 +37,17 @@ struct PreviewSettings {
     int lightSamples = 16;
     double exposure = 1.0;
     ExactOptions exact;  // the exact render's tree threshold and work limit
+    // A coarse pass (the viewer's, while the camera moves): one pass at a fraction of the view's
+    // resolution, the full render to follow. Said of the image (PreviewImage::coarse).
+    bool coarse = false;
 };
 
 struct PreviewImage {
     int width = 0, height = 0;         // SideBySide: twice the settings' width
     std::vector<uint8_t> rgba;         // top row first
     int passes = 0;                    // passes accumulated in the image
+    int passesPlanned = 0;             // of its render (PreviewSettings::passes)
+    bool coarse = false;               // a coarse pass (PreviewSettings::coarse)
     double relativeRmsError = -1;      // sampled vs exact (when both are rendered), else -1
     std::vector<double> errorHistory;  // relativeRmsError after each pass
     double seconds = 0;                // since the job started
@@ -55,7 +60,15 @@ struct PreviewImage {
     std::vector<float> exactRadiance, sampledRadiance;
     // The exact image's answers (Film::answers), per pixel; empty when it is not rendered.
     std::vector<AnswerCounts> answers;
+    Camera camera;                          // the camera it was rendered from
+    PreviewMode mode = PreviewMode::Exact;  // and the mode
 };
+
+// Whether `image` pictures a view of viewWidth x viewHeight pixels from `camera`: rendered from
+// that camera for a view of that shape (the same frustum), at any resolution (a coarse pass and
+// the thumbnail have fewer pixels than the view). False for no image, an image of another camera
+// (the camera moved since) or of another shape (the view was resized since).
+bool picturesView(const PreviewImage& image, const Camera& camera, int viewWidth, int viewHeight);
 
 class PreviewRunner {
   public:
@@ -72,8 +85,18 @@ class PreviewRunner {
     void clear();
     // The newest image when it changed since the last call.
     std::optional<PreviewImage> takeUpdate();
+    // Whether the current job has more to publish: started, not cancelled, its last image not
+    // yet published (a job is no longer running once its finished image is out).
     bool running() const;
     EffectsSummary effects() const;
+    // All three at one moment (under one lock), as the UI shows them together in a frame: an
+    // image, whether more are coming and the effects never contradict each other.
+    struct Snapshot {
+        std::optional<PreviewImage> update;  // takeUpdate()
+        bool running = false;
+        EffectsSummary effects;
+    };
+    Snapshot take();
     // Blocks until every job has ended (headless use only, never on an interactive UI thread).
     void wait();
 
@@ -82,8 +105,9 @@ class PreviewRunner {
     void run(const std::shared_ptr<Job>& job);
 
     tbb::task_group tasks_;
-    mutable std::mutex mutex_;  // guards latest_, changed_, effects_ and current_
+    mutable std::mutex mutex_;  // guards latest_, changed_, effects_, current_, published_
     std::shared_ptr<Job> current_;
+    bool publishedLast_ = false;  // the current job published its finished image
     PreviewImage latest_;
     bool changed_ = false;
     EffectsSummary effects_;

@@ -151,12 +151,24 @@ void Viewer::pollBackground() {
         updateOverlay();
     }
     preview_.poll(scene_, orbit_.camera(), layout_);
+    // The precompute's progress, one reading for the frame (the panel, the status, the state).
+    precomputeNow_.reset();
+    if (precompute_.started()) precomputeNow_ = precompute_.progress();
+    // The status line said the precompute was running: once it ends, how it ended.
+    const bool running =
+        precomputeNow_ && precomputeNow_->state == PrecomputeProgress::State::Running;
+    if (precomputeWatched_ && !running) {
+        precomputeWatched_ = false;
+        if (precomputeNow_)
+            status_ = "precompute " + PrecomputePanel::progressLine(*precomputeNow_);
+    }
 }
 
 void Viewer::startPrecompute() {
     if (!scene_) return;
     precompute_.start(*scene_->store);
     status_ = "precomputing every (receiver patch, light) pair in the background";
+    precomputeWatched_ = true;
 }
 
 void Viewer::openAccuracyStudy() { accuracy_.open(scene_, orbit_.camera(), tasks_); }
@@ -171,8 +183,7 @@ void Viewer::waitForBackground() {
 void Viewer::handleInput(int width, int height) {
     ImGuiIO& io = ImGui::GetIO();
     if (!scene_) return;
-    const bool split = options_.view == ViewMode::Rendered &&
-                       options_.previewSettings.mode == PreviewMode::SideBySide;
+    const bool split = preview_.splitShown(orbit_.camera(), layout_.view);
     const ViewMouse::Result mouse =
         mouse_.update(layout_.view, width, split, options_.layout, options_.split, orbit_);
     if (mouse.resized) preview_.viewChanging();  // the view's size changed: anew once it rests
@@ -230,7 +241,7 @@ void Viewer::frame(int width, int height, double deltaSeconds) {
         double nearDistance = 0, farDistance = 1;
         orbit_.clipRange(scene_->bounds, nearDistance, farDistance);
         renderer_.draw(orbit_.camera(), nearDistance, farDistance, layout_.view, height,
-                       preview_.viewImage());
+                       preview_.viewImage(orbit_.camera(), layout_.view));
     }
     glViewport(0, 0, width, height);
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -253,7 +264,7 @@ void Viewer::drawPanels() {
     };
     const ScenePanel::Actions scene = scenePanel_.draw(l.scene, scene_.get());
     record("Scene", l.scene);
-    switch (PrecomputePanel::draw(l.precompute, precompute_, preview_.runner().effects(),
+    switch (PrecomputePanel::draw(l.precompute, precomputeNow_, preview_.effects(),
                                   scene_ ? &scene_->scene : nullptr)) {
         case PrecomputePanel::Action::Start:
             startPrecompute();
@@ -271,8 +282,8 @@ void Viewer::drawPanels() {
         record("History tree", l.tree);
     }
     switch (PreviewPanel::draw(l.preview, options_.previewSettings, options_.view, options_.exact,
-                               saveStem_, preview_.image(), preview_.runner().running(),
-                               preview_.texture())) {
+                               saveStem_, preview_.image(), preview_.running(), preview_.texture(),
+                               preview_.viewNote(orbit_.camera(), layout_.view))) {
         case PreviewPanel::Action::Reopen:
             // The store's trees follow the build budget: a new store, the scene reopened.
             if (scene_) openAfterFrame_ = scene_->path;
@@ -287,7 +298,7 @@ void Viewer::drawPanels() {
             break;
     }
     // The split line over the view (under the windows), with the names of its two sides.
-    preview_.drawSplitLine(l.view);
+    preview_.drawSplitLine(orbit_.camera(), l.view);
     record("Preview", l.preview);
     if (PointPanel::draw(l.point, selection_)) updateOverlay();
     record("Point", l.point);

@@ -115,6 +115,9 @@ class Viewer {
     ViewMouse mouse_;
 
     PrecomputeJob precompute_;
+    // The status line tells of a running precompute: it says how it ended at the next poll after.
+    bool precomputeWatched_ = false;
+    std::optional<PrecomputeProgress> precomputeNow_;  // this frame's reading (none: not started)
 
     // The panels that keep state of their own.
     ScenePanel scenePanel_;

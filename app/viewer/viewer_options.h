@@ -15,10 +15,12 @@ namespace penumbra::viewer {
 struct ViewerOptions {
     std::filesystem::path assetsDirectory = "assets";  // the scene list of the Scene panel
     bool showHelp = true;
-    bool preview = true;               // run the progressive preview (when the renderer exists)
-    PreviewSettings previewSettings;   // width/height are overwritten from the viewport
-    double previewScale = 0.25;        // preview pixels per viewport pixel (the panel's thumbnail)
-    ViewMode view = ViewMode::Raster;  // the rendered view renders at the viewport's resolution
+    bool preview = true;              // run the progressive preview (when the renderer exists)
+    PreviewSettings previewSettings;  // width/height are overwritten from the viewport
+    double previewScale = 0.25;       // preview pixels per viewport pixel (the panel's thumbnail)
+    // The rendered view (the default: the exact soft shadows from the first screen) renders at the
+    // viewport's resolution; the raster view is flat colours.
+    ViewMode view = ViewMode::Rendered;
     double split = 0.5;  // side by side in the rendered view: exact left of this fraction
     ExactOptions exact;  // the build budget and the renderer's exact settings
     // How scenes load (engine/io/load_options.h): --strict (what the loaders repair is an error

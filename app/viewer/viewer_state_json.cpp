@@ -131,10 +131,9 @@ nlohmann::json Viewer::stateJson() const {
     s["point"] = scene_ ? pointJson(selection_, scene_->scene) : nullptr;
     // What the 3D view shows: "raster", or "rendered" (the preview's image at the view's size, in
     // the preview's mode; side by side split at `split`).
-    s["view"] = {
-        {"mode", options_.view == ViewMode::Rendered ? "rendered" : "raster"},
-        {"showsImage", options_.view == ViewMode::Rendered && !preview_.image().rgba.empty()},
-        {"split", options_.split}};
+    s["view"] = {{"mode", options_.view == ViewMode::Rendered ? "rendered" : "raster"},
+                 {"showsImage", preview_.showsImage(orbit_.camera(), layout_.view)},
+                 {"split", options_.split}};
     // The pixel inspector's report for the pixel under the mouse (rendered view only).
     if (preview_.hover() != nullptr) {
         const PixelReport& r = *preview_.hover();
@@ -144,6 +143,7 @@ nlohmann::json Viewer::stateJson() const {
         s["pixel"] = {
             {"x", r.x},
             {"y", r.y},
+            {"source", toString(r.source)},
             {"exact", radiance(r.exact)},
             {"sampled", radiance(r.sampled)},
             {"answers", r.answers ? answerTotalsJson(std::span(&*r.answers, 1)) : json(nullptr)},
@@ -161,7 +161,14 @@ nlohmann::json Viewer::stateJson() const {
                   {"passes", options_.previewSettings.passes},
                   {"lightSamples", options_.previewSettings.lightSamples}};
     const PreviewImage& image = preview_.image();
+    // "mode": the preview's setting; "imageMode": of the image shown (the last one until the new
+    // mode's first pass); "simulates": whose effects the Precompute panel lists ("exact",
+    // "sampled"; "" before any render).
     s["preview"] = {{"mode", toString(options_.previewSettings.mode)},
+                    {"imageMode", toString(image.mode)},
+                    {"running", preview_.running()},
+                    {"coarse", image.coarse},
+                    {"simulates", preview_.effects().method},
                     {"passes", image.passes},
                     {"width", image.width},
                     {"height", image.height},
@@ -175,8 +182,8 @@ nlohmann::json Viewer::stateJson() const {
                    {"meanSeconds",
                     frameStats_.frames > 0 ? frameStats_.sumSeconds / frameStats_.frames : 0.0}};
     s["accuracy"] = accuracyJson(accuracy_.plot(), accuracy_.shown(), accuracy_.running());
-    if (precompute_.started()) {
-        const PrecomputeProgress p = precompute_.progress();
+    if (precomputeNow_) {
+        const PrecomputeProgress& p = *precomputeNow_;
         s["precompute"] = {
             {"done", p.done},       {"total", p.total},
             {"seconds", p.seconds}, {"nodes", p.nodes},

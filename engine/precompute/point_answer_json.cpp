@@ -44,6 +44,9 @@ nlohmann::json lightAnswerJson(const LightAtPoint& l) {
     j["path_sides"] = std::move(sides);
     if (l.answeredOnContact) j["answered_on_contact"] = true;
     j["pair"] = l.fromTree ? nlohmann::json(std::string(vis::toString(l.kind))) : nullptr;
+    // The pair's kind says what its shaft holds; a fully-visible pair whose light x's horizon
+    // cuts still shows x only the part above it.
+    if (l.horizonClipped) j["horizon_clipped"] = true;
     if (l.deferredOccluders > 0) {
         // A partial tree: the budget stopped the build; the query clipped the rest from x.
         j["deferred_occluders"] = l.deferredOccluders;

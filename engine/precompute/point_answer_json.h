@@ -18,6 +18,9 @@
 // contour integral: f to within the outline's weld, about 2^-40 of the region's extent).
 // Keys that say the answer took an unusual path appear only when it did:
 //   "answered_on_contact": true     x on a contact line: the contact rule answered, no walk
+//   "horizon_clipped": true         x's horizon (its face's plane) cuts the light: a point of a
+//                                   "fully-visible" pair (nothing in the shaft) sees the part
+//                                   above it, fraction < 1
 //   "deferred_occluders": n, "deferred_clipped": m   a partial tree (its build stopped at the
 //                                   budget): the occluders it left, those this point's query
 //                                   clipped; the answer is exact all the same

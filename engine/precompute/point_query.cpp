@@ -187,6 +187,7 @@ std::vector<LightAtPoint> forEachLight(const Scene& scene, uint32_t face, const 
             continue;
         }
         answer(r);
+        r.horizonClipped = vis::anyVertexBehind(lightPolygon, receiverFront);
         for (const vis::Polygon3& fragment : r.fragments) {
             r.visibleArea += vis::polygonArea(fragment);
             r.formFactor += vis::formFactor(x, normal, fragment);

@@ -87,6 +87,9 @@ struct LightAtPoint {
     std::vector<vis::TraceStep> trace;  // those nodes, depth-first, with sides
     bool answeredOnContact = false;     // x on a contact line: answered directly, no trace
     vis::PairKind kind = vis::PairKind::BackFacing;  // what the (receiver, light) pair is
+    // x's horizon (the receiver's plane) cuts the light: part of it lies behind x, so even a pair
+    // with nothing in its shaft leaves less than the whole light (vis::horizonClipsLight).
+    bool horizonClipped = false;
     // A partial tree (vis::HistoryTree::deferred): its deferred occluders, those the query clipped
     // against from x, and the clips that changed a fragment.
     uint32_t deferredOccluders = 0, deferredActive = 0, deferredClips = 0;

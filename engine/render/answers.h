@@ -18,16 +18,19 @@
 namespace penumbra {
 
 enum class Answer : uint8_t {
-    FullyVisible,  // a pair with nothing in its shaft: the whole light, no query
-    NoLight,       // a back-facing or fully hidden pair, or x behind the light's plane (or the
-                   // light behind x's): no light, and no plane test beyond those signs
-    TreeWalk,      // the pair's history tree walked from x (its deferred occluders clipped from x)
-    Direct,        // no tree: the faces in x's pyramid to the light clipped from x (with or
-                   // without face groups and solids)
-    Chain,         // the boundary chain (silhouettes and borders) cut the light into cells
-    Sampled,       // over the work limit: shadow rays, not exact
+    FullyVisible,    // a pair with nothing in its shaft and the light wholly above x's horizon:
+                     // the whole light, no query
+    HorizonClipped,  // a pair with nothing in its shaft whose light x's horizon (the receiver's
+                     // plane) cuts: the part of the light above it, no query
+    NoLight,         // a back-facing or fully hidden pair, or x behind the light's plane (or the
+                     // light behind x's): no light, and no plane test beyond those signs
+    TreeWalk,  // the pair's history tree walked from x (its deferred occluders clipped from x)
+    Direct,    // no tree: the faces in x's pyramid to the light clipped from x (with or
+               // without face groups and solids)
+    Chain,     // the boundary chain (silhouettes and borders) cut the light into cells
+    Sampled,   // over the work limit: shadow rays, not exact
 };
-inline constexpr size_t kAnswers = 6;
+inline constexpr size_t kAnswers = 7;
 
 // Per pixel: how many evaluations took each answer (indexed by Answer).
 using AnswerCounts = std::array<uint32_t, kAnswers>;
@@ -36,6 +39,8 @@ constexpr const char* toString(Answer a) {
     switch (a) {
         case Answer::FullyVisible:
             return "fully visible";
+        case Answer::HorizonClipped:
+            return "horizon-clipped";
         case Answer::NoLight:
             return "no light";
         case Answer::TreeWalk:
@@ -60,6 +65,8 @@ constexpr AnswerColour answerColour(Answer a) {
     switch (a) {
         case Answer::FullyVisible:
             return {{0.95, 0.85, 0.35}, "yellow"};
+        case Answer::HorizonClipped:
+            return {{0.90, 0.55, 0.15}, "orange"};
         case Answer::NoLight:
             return {{0.25, 0.25, 0.30}, "dark grey"};
         case Answer::TreeWalk:
@@ -104,7 +111,7 @@ inline std::array<double, kAnswers> answerShares(const std::array<uint64_t, kAns
     return share;
 }
 
-// A legend with the shares: "fully visible (yellow) 41.2%, no light (dark grey) 3.0%, ..." over
+// A legend with the shares: "fully visible (yellow) 41.2%, horizon-clipped (orange) 3.0%, ..." over
 // all evaluations, every answer listed; "no evaluation" when there is none.
 std::string describeAnswers(std::span<const AnswerCounts> pixels);
 

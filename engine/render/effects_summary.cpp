@@ -88,8 +88,9 @@ void components(const EffectsSummary& e, Lines& out) {
 void treePairs(const EffectsSummary& e, Lines& out) {
     out.add("pairs with a tree walked per point (penumbra): " + std::to_string(e.pairsPenumbra) +
             " - partly blocked, the tree decides per point");
-    out.add("pairs fully visible: " + std::to_string(e.pairsFullyVisible) +
-            " - nothing in the shaft, the whole light (clipped to the horizon), no walk");
+    out.add("pairs unoccluded: " + std::to_string(e.pairsFullyVisible) +
+            " - nothing in the shaft: the whole light, or the part above the receiver's plane "
+            "where that plane cuts it (horizon-clipped), no walk");
     out.add("pairs fully hidden: " + std::to_string(e.pairsFullyHidden) +
             " - every line blocked: skipped, no light arrives");
     out.add("pairs back-facing: " + std::to_string(e.pairsBackFacing) +

@@ -130,6 +130,7 @@ Vec3 DirectLighting::exactAreaLights(const SurfacePoint& p, int glossySamples, i
         scratch.clippedFace.assign(lights_.size(), EmbreeScene::kNoFace);
         scratch.lastDirect.assign(lights_.size(), 0);
         scratch.clippedLight.assign(lights_.size(), vis::Polygon3{});
+        scratch.clippedByHorizon.assign(lights_.size(), 0);
     }
     // Starting from +0, adding the +0 of a light that gives nothing changes no bit.
     Vec3 out{};
@@ -275,15 +276,17 @@ Vec3 DirectLighting::fullyVisibleAnswer(Evaluation& e) const {
     }
     if (scratch.clippedFace[k] != e.p.face) {
         const vis::FacePlane receiver = vis::facePlane(scene_.mesh, e.p.face);
-        scratch.clippedLight[k] = vis::clipConvexPositive(
-            e.light.polygon, vis::OrientedPlane{receiver.a, receiver.b, receiver.c});
+        const vis::OrientedPlane horizon{receiver.a, receiver.b, receiver.c};
+        scratch.clippedLight[k] = vis::clipConvexPositive(e.light.polygon, horizon);
+        scratch.clippedByHorizon[k] = vis::anyVertexBehind(e.light.polygon, horizon);
         scratch.clippedFace[k] = e.p.face;
     }
     if (scratch.clippedLight[k].size() < 3) {
         scratch.note(e.cell, Answer::NoLight);
         return {};
     }
-    scratch.note(e.cell, Answer::FullyVisible);
+    scratch.note(e.cell,
+                 scratch.clippedByHorizon[k] ? Answer::HorizonClipped : Answer::FullyVisible);
     static const vis::FragmentList kNone;  // immutable: shared by every thread
     return shadeFragments(e.p, e.light, kNone,
                           std::span<const vis::Polygon3>(&scratch.clippedLight[k], 1),

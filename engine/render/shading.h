@@ -121,9 +121,10 @@ struct OverLimitPoint {
 
 // Per-thread (per-tile) state of the exact estimator: the last tree used per light (neighbouring
 // pixels hit the same receiver patch, so most lookups skip the store), the keys the tile needed,
-// and scratch for the fragments. For a fully visible pair the fragment is the light clipped to
-// the receiver's front half-space, whatever x: it is cached per light for the last receiver face
-// (the same polygon FPQuery would return, without walking or allocating per point).
+// and scratch for the fragments. For a pair with nothing in its shaft the fragment is the light
+// clipped to the receiver's front half-space, whatever x: it is cached per light for the last
+// receiver face (the same polygon FPQuery would return, without walking or allocating per point),
+// with whether that plane cut anything (horizon-clipped) or left the whole light (fully visible).
 struct ExactScratch {
     // The key of the next point's first light (the first that is not its own face), when the
     // caller looked it up already (the renderer groups a tile's points by it): exactAreaLights
@@ -133,7 +134,9 @@ struct ExactScratch {
     std::vector<const PairRecord*> lastTree;  // per light (nullptr: none yet)
     std::vector<uint32_t> clippedFace;        // per light: the receiver of clippedLight
     std::vector<vis::Polygon3> clippedLight;  // per light
-    std::vector<char> lastDirect;             // per light: lastKey is a direct pair
+    // Per light: whether that receiver's plane cut clippedLight from the light (its horizon).
+    std::vector<uint8_t> clippedByHorizon;
+    std::vector<char> lastDirect;  // per light: lastKey is a direct pair
     std::unordered_set<PairKey, PairKeyHash> used;
     TriangleSampler fragments;
     vis::FromPointQuery query;     // FPQuery workspace: no allocation per point after warm-up

@@ -21,6 +21,8 @@ struct Camera {
     Vec3 up{0, 1, 0};
     double fovYDegrees = 45;  // vertical field of view
 
+    bool operator==(const Camera&) const = default;  // the same view, bit for bit
+
     // The ray through continuous pixel position (px, py) of a width x height image.
     Ray ray(double px, double py, int width, int height) const;
     // Orthonormal frame: right, true up, forward (unit, forward = normalize(target - eye)).

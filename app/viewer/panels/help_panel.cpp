@@ -31,7 +31,8 @@ PanelRect HelpPanel::draw(const Viewport& vp) {
             "F: fit scene   T: tree panel   H: this help   drag the view's side edges: "
             "resize the columns\n"
             "1-5: preview exact / sampled / side by side / difference / answers   R: restart\n"
-            "V: rendered view (the preview in the 3D view; side by side: drag the split line)\n"
+            "V: the rendered view (the preview in the 3D view; side by side: drag the split "
+            "line) or flat colours\n"
             "P: precompute all   C: cancel   A: accuracy vs time   Ctrl+Q: quit   drop scene: "
             "open");
         ImGui::PopTextWrapPos();

@@ -30,8 +30,17 @@ void PathPanel::draw(const PanelRect& rect, const Selection& selection) {
                     "left out (a segment that crosses such a surface crosses it from the front)",
                     li->result.solidGroupsLeftOut, li->result.solidFacesLeftOut);
         } else {
+            const std::string kind(vis::describeKind(li->result.kind, li->result.horizonClipped));
             ImGui::Text("light %u, tree %s: %zu nodes visited (L cycles lights)", li->result.light,
-                        std::string(vis::toString(li->result.kind)).c_str(), li->steps.size());
+                        kind.c_str(), li->steps.size());
+            if (li->result.horizonClipped)
+                ImGui::TextWrapped(
+                    "the point's horizon (its face's plane) cuts the light: %.2f%% of it is "
+                    "visible%s",
+                    100 * li->result.fraction,
+                    li->result.kind == vis::PairKind::FullyVisible
+                        ? ", the part above, with nothing in the pair's shaft"
+                        : "");
             if (li->result.deferredOccluders > 0)
                 ImGui::Text(
                     "partial tree: %u deferred occluders, %u clipped from this point "

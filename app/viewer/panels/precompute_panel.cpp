@@ -8,10 +8,11 @@
 namespace penumbra::viewer {
 namespace {
 
-const char* stateName(PrecomputeProgress::State s) {
-    switch (s) {
+const char* stateName(const PrecomputeProgress& p) {
+    switch (p.state) {
         case PrecomputeProgress::State::Idle:
-            return "idle";
+            // Idle after a batch: every pair of it built.
+            return p.total > 0 && p.done == p.total ? "done" : "idle";
         case PrecomputeProgress::State::Running:
             return "running";
         case PrecomputeProgress::State::Cancelled:
@@ -39,21 +40,28 @@ std::string effectsText(const EffectsSummary& effects, const Scene* scene) {
 
 }  // namespace
 
-PrecomputePanel::Action PrecomputePanel::draw(const PanelRect& rect, const PrecomputeJob& job,
+std::string PrecomputePanel::progressLine(const PrecomputeProgress& p) {
+    char line[160];
+    std::snprintf(line, sizeof line, "%s: %zu of %zu pairs, %zu nodes, %s, %.1f s", stateName(p),
+                  p.done, p.total, p.nodes, humanBytes(p.bytes).c_str(), p.seconds);
+    return line;
+}
+
+PrecomputePanel::Action PrecomputePanel::draw(const PanelRect& rect,
+                                              const std::optional<PrecomputeProgress>& progress,
                                               const EffectsSummary& effects, const Scene* scene) {
     Action action = Action::None;
     placeNextWindow(rect);
     if (ImGui::Begin("Precompute", nullptr, kDockedPanel)) {
-        if (job.started()) {
-            const PrecomputeProgress p = job.progress();
+        if (progress) {
+            const PrecomputeProgress& p = *progress;
             const float fraction =
                 p.total > 0 ? static_cast<float>(p.done) / static_cast<float>(p.total) : 0.0f;
             char overlay[96];
             std::snprintf(overlay, sizeof overlay, "%zu / %zu pairs, %.0f s left", p.done, p.total,
                           p.secondsLeft);
             ImGui::ProgressBar(fraction, ImVec2(-1, 0), overlay);
-            ImGui::Text("%s: %zu pairs done, %zu nodes, %s, %.1f s", stateName(p.state), p.done,
-                        p.nodes, humanBytes(p.bytes).c_str(), p.seconds);
+            ImGui::TextUnformatted(progressLine(p).c_str());
             if (!p.error.empty()) ImGui::TextWrapped("error: %s", p.error.c_str());
             if (p.state == PrecomputeProgress::State::Running) {
                 if (ImGui::Button("Cancel (C)")) action = Action::Cancel;
@@ -63,6 +71,10 @@ PrecomputePanel::Action PrecomputePanel::draw(const PanelRect& rect, const Preco
         } else if (ImGui::Button("Precompute all (P)")) {
             action = Action::Start;
         }
+        // Below the precompute, the preview's: what its render simulated, said as such.
+        ImGui::Separator();
+        if (!effects.method.empty())
+            ImGui::Text("What the preview's %s image simulates:", effects.method.c_str());
         ImGui::TextWrapped("%s", effectsText(effects, scene).c_str());
     }
     ImGui::End();

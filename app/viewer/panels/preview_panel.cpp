@@ -49,7 +49,8 @@ void drawAnswerLegend(const PreviewImage& image) {
 
 PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& s, ViewMode& view,
                                         ExactOptions& exact, std::array<char, 256>& saveStem,
-                                        const PreviewImage& image, bool running, uint32_t texture) {
+                                        const PreviewImage& image, bool running, uint32_t texture,
+                                        const std::string& viewNote) {
     bool changed = false, save = false, reopen = false;
     placeNextWindow(rect);
     if (ImGui::Begin("Preview", nullptr, kDockedPanel)) {
@@ -58,6 +59,7 @@ PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& 
             view = rendered ? ViewMode::Rendered : ViewMode::Raster;
             changed = true;
         }
+        if (!viewNote.empty()) ImGui::TextWrapped("%s", viewNote.c_str());
         int mode = static_cast<int>(s.mode);
         const char* names[] = {"exact", "sampled", "side by side", "difference", "answers"};
         if (ImGui::Combo("mode (1-5)", &mode, names, 5)) {
@@ -109,8 +111,19 @@ PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& 
             if (ImGui::SmallButton("apply")) reopen = true;
             ImGui::TreePop();
         }
-        ImGui::Text("%d / %d passes, %.1f s%s", image.passes, s.passes, image.seconds,
-                    !running && image.passes > 0 ? " (done)" : "");
+        // Of the image shown (a restart pending after a change keeps it until the new one's first
+        // pass): its own passes, and whether it is a coarse pass or the render of these settings.
+        if (image.coarse)
+            ImGui::Text("a coarse pass, %.2f s (the camera moved; the full render follows)",
+                        image.seconds);
+        else
+            ImGui::Text("%d / %d passes, %.1f s%s", image.passes,
+                        image.passesPlanned > 0 ? image.passesPlanned : s.passes, image.seconds,
+                        // A finished image while a render runs is the last one's.
+                        image.passes == 0 ? ""
+                        : image.finished  ? (running ? " (rendering anew)" : " (done)")
+                        : running         ? ""
+                                          : " (stopped)");
         if (image.relativeRmsError >= 0)
             ImGui::Text("sampled vs exact: %.2f%% RMS", 100 * image.relativeRmsError);
         if (s.mode == PreviewMode::Answers && !image.answers.empty()) drawAnswerLegend(image);

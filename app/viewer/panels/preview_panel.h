@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <string_view>
 
 #include "app/viewer/layout.h"
@@ -13,9 +14,11 @@
 
 namespace penumbra::viewer {
 
-// What the 3D view shows: the rasterised scene (flat colours, the default), or the preview's image
-// at the view's own resolution (the rendered view: exact, sampled, exact and sampled split at a
-// draggable line, or the difference, as the preview's mode says), with the overlays on top.
+// What the 3D view shows: the preview's image at the view's own resolution (the rendered view, the
+// default: exact, sampled, exact and sampled split at a draggable line, the difference or the
+// answers, as the preview's mode says), or the rasterised scene (flat colours; also what the
+// rendered view shows until its image pictures the view: before the first pass, and while the
+// camera moves faster than the coarse passes follow), with the overlays on top.
 enum class ViewMode { Raster, Rendered };
 
 // The names of the command line's --view (screenshot, view): raster, or the rendered view with
@@ -30,9 +33,12 @@ struct PreviewPanel {
     // restart); Reopen when the build budget is applied (the store's trees follow it: the scene
     // is reopened); SaveView when its button asks to save the view under the path `saveStem`
     // (edited here). `texture` holds `image`.
+    // `viewNote`: what the 3D view shows when the rendered view shows no full image (Preview::
+    // viewNote; "" for none).
     static Action draw(const PanelRect& rect, PreviewSettings& settings, ViewMode& view,
                        ExactOptions& exact, std::array<char, 256>& saveStem,
-                       const PreviewImage& image, bool running, uint32_t texture);
+                       const PreviewImage& image, bool running, uint32_t texture,
+                       const std::string& viewNote);
 };
 
 }  // namespace penumbra::viewer

@@ -241,7 +241,11 @@ void TreeGraphPanel::drawHeader() {
             "No history tree selected: pick a (receiver, light) pair, e.g. by clicking a point.");
         return;
     }
-    const std::string_view kind = vis::toString(tree_->kind);
+    // (A tree drawn without its mesh, or not of it, says its kind alone.)
+    const bool ofMesh = mesh_ != nullptr && tree_->receiver < mesh_->faces.size() &&
+                        tree_->light < mesh_->faces.size();
+    const std::string_view kind = vis::describeKind(
+        tree_->kind, ofMesh && vis::horizonClipsLight(*mesh_, tree_->receiver, tree_->light));
     ImGui::Text("receiver face %u, light face %u: %.*s", tree_->receiver, tree_->light,
                 int(kind.size()), kind.data());
     if (!error_.empty()) {

@@ -864,7 +864,8 @@ TEST(Renderer, AnswerMapSaysHowEachPixelWasAnsweredAndItIsTrue) {
             EXPECT_GT(of(Answer::TreeWalk), 0u);
             EXPECT_EQ(of(Answer::Direct), 0u);
         } else {
-            EXPECT_EQ(of(Answer::FullyVisible) + of(Answer::TreeWalk), 0u);
+            EXPECT_EQ(of(Answer::FullyVisible) + of(Answer::HorizonClipped) + of(Answer::TreeWalk),
+                      0u);
             EXPECT_GT(of(Answer::Direct), 0u);
         }
         // Over a limit of one plane test: the queried answers are sampled (a trivial query may
@@ -884,11 +885,90 @@ TEST(Renderer, AnswerMapSaysHowEachPixelWasAnsweredAndItIsTrue) {
             const AnswerCounts& c = limited.answers[i];
             EXPECT_EQ(queried(c) + count(c, Answer::Sampled), queried(film.answers[i]))
                 << "pixel " << i;
-            for (const Answer a : {Answer::FullyVisible, Answer::NoLight})
+            for (const Answer a : {Answer::FullyVisible, Answer::HorizonClipped, Answer::NoLight})
                 EXPECT_EQ(count(limited.answers[i], a), count(film.answers[i], a))
                     << "pixel " << i << ", " << toString(a);
         }
     }
+}
+
+// "Fully visible" only where a point sees the whole light: a wall whose plane (x = 0.2) cuts the
+// light ([-0.5, 0.5]^2 at z = 2) in two, nothing between them. Its pixels are answered
+// "horizon-clipped" (nothing in the shaft, the part above the horizon), never "fully visible",
+// and are as bright as in the same scene whose light is only that part, [0.2, 0.5] x [-0.5, 0.5]
+// (an independent outcome: there the wall's plane touches the light's edge and cuts nothing, so
+// those pixels are answered "fully visible"). The floor, under the whole light, is answered
+// fully visible where the wall is not in its pair's shaft (a few patches far from the wall).
+TEST(Renderer, HorizonClippedLightIsNotCalledFullyVisible) {
+    const auto wallScene = [](double lightX0) {
+        Scene s;
+        s.materials.push_back(Material{});
+        const int32_t light = addMaterial(s, {0.2, 0.2, 0.2}, {}, 0, {6, 5, 4});
+        addRect(s, -2, 2, -2, 2, 0, true, 0);
+        addRect(s, lightX0, 0.5, -0.5, 0.5, 2, false, light);
+        // The wall at x = 0.2 facing +x, floating above the floor.
+        const uint32_t wall =
+            addFace(s, {{0.2, -1.5, 0.1}, {0.2, 1.5, 0.1}, {0.2, 1.5, 1.5}, {0.2, -1.5, 1.5}}, 0);
+        s.collectLights();
+        return std::pair{std::move(s), wall};
+    };
+    Camera camera;
+    camera.eye = {4, -3, 1.2};
+    camera.target = {0.2, 0, 0.7};
+    camera.up = {0, 0, 1};
+    camera.fovYDegrees = 45;
+    RenderSettings s;
+    s.width = s.height = 32;
+    s.spp = 2;
+    s.exactWorkLimit = 0;
+    s.minTreeSamples = 0;
+    s.recordAnswers = true;
+    auto [whole, wall] = wallScene(-0.5);
+    auto [part, partWall] = wallScene(0.2);
+    ASSERT_EQ(wall, partWall);
+    Rig cut(std::move(whole)), above(std::move(part));
+    const Film film = cut.renderer.render(camera, s);
+    const Film partFilm = above.renderer.render(camera, s);
+    ASSERT_EQ(film.answers.size(), film.sum.size());
+    ASSERT_EQ(partFilm.answers.size(), film.sum.size());
+    // How many of the rays through pixel i's centre and its 8 neighbours' meet the wall: 9, and
+    // every sample of the pixel lies on it; 0, and none does.
+    const auto wallRays = [&](size_t i) {
+        int n = 0;
+        for (double dx : {-1.0, 0.0, 1.0})
+            for (double dy : {-1.0, 0.0, 1.0}) {
+                const Ray ray =
+                    camera.ray(static_cast<double>(i % s.width) + 0.5 + dx,
+                               static_cast<double>(i / s.width) + 0.5 + dy, s.width, s.height);
+                if (!(ray.direction.x < 0)) continue;
+                const double t = (0.2 - ray.origin.x) / ray.direction.x;
+                const Vec3 p = ray.origin + ray.direction * t;
+                n += std::fabs(p.y) < 1.5 && p.z > 0.1 && p.z < 1.5;
+            }
+        return n;
+    };
+    auto count = [](const AnswerCounts& c, Answer a) { return c[static_cast<size_t>(a)]; };
+    size_t wallPixels = 0, floorVisible = 0;
+    for (size_t i = 0; i < film.sum.size(); ++i) {
+        const AnswerCounts& c = film.answers[i];
+        uint32_t all = 0;
+        for (uint32_t n : c) all += n;
+        const int rays = wallRays(i);
+        if (rays == 9) {
+            ++wallPixels;
+            EXPECT_GT(all, 0u) << "wall pixel " << i;
+            EXPECT_EQ(count(c, Answer::HorizonClipped), all) << "wall pixel " << i;
+            EXPECT_EQ(count(partFilm.answers[i], Answer::FullyVisible), all) << "wall pixel " << i;
+            EXPECT_NEAR(channelSum(film.sum[i]), channelSum(partFilm.sum[i]),
+                        1e-9 * (1 + channelSum(partFilm.sum[i])))
+                << "wall pixel " << i;
+        } else if (rays == 0) {
+            EXPECT_EQ(count(c, Answer::HorizonClipped), 0u) << "pixel " << i << " is off the wall";
+            floorVisible += all > 0 && count(c, Answer::FullyVisible) == all;
+        }
+    }
+    EXPECT_GT(wallPixels, film.sum.size() / 20);
+    EXPECT_GT(floorVisible, 0u);
 }
 
 TEST(Renderer, CancelledPassLeavesTheFilmUnchanged) {
