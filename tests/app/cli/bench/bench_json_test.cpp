@@ -168,6 +168,22 @@ TEST(BenchJson, EveryRenamedKeyStopsTheReading) {
     }
 }
 
+// A bench.json from before the horizon-clipped answer (docs/bench/bench.json) still reads: its
+// count is 0 there, the others as written; any other missing count stays an error.
+TEST(BenchJson, AFileFromBeforeTheHorizonClippedAnswerStillReads) {
+    json j = benchJson(sample());
+    json& counts = j["table1"][0]["exact"]["answers"]["counts"];
+    const uint64_t fully = counts["fully visible"];
+    counts.erase("horizon-clipped");
+    const BenchResults back = readBenchJson(j);
+    const auto& c = back.table1[0].exact.render->answers.counts;
+    EXPECT_EQ(c[static_cast<size_t>(Answer::HorizonClipped)], 0u);
+    EXPECT_EQ(c[static_cast<size_t>(Answer::FullyVisible)], fully);
+    counts.erase("fully visible");
+    EXPECT_EQ(readError(j),
+              "bench.json: table1[0].exact.answers.counts: missing \"fully visible\"");
+}
+
 TEST(BenchJson, AMissingKeyOrAWrongTypeNamesItsPlace) {
     json j = benchJson(sample());
     j["table1"][1]["exact"].erase("trees");
