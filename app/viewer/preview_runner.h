@@ -23,6 +23,7 @@
 
 #include "app/viewer/loaded_scene.h"
 #include "engine/render/effects_summary.h"
+#include "engine/render/renderer.h"
 #include "engine/scene/camera.h"
 
 namespace penumbra::viewer {
@@ -56,6 +57,11 @@ struct PreviewImage {
     // The exact image's answers (Film::answers), per pixel; empty when it is not rendered.
     std::vector<AnswerCounts> answers;
 };
+
+// The image's linear radiance as a film of one pass (what Save view and `screenshot
+// --preview-out FILE.pfm|.exr` write): the exact image's, else the sampled one's (a mode that
+// renders no exact image); nullopt before either is rendered.
+std::optional<Film> radianceFilm(const PreviewImage& image);
 
 class PreviewRunner {
   public:

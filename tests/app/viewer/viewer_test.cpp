@@ -23,6 +23,7 @@
 #include "engine/raytrace/embree_scene.h"
 #include "tests/app/viewer/viewer_test_support.h"
 #include "tests/support/exact_reference.h"
+#include "tests/support/read_exr.h"
 #include "tests/support/read_pfm.h"
 
 namespace penumbra {
@@ -559,9 +560,10 @@ TEST(ViewerScreenshot, PixelInspectorReportsTheRenderedPixelAndTheExactFraction)
 }
 
 // Keep what you see (--save-view, the Preview panel's button): the rendered view saved as PNG,
-// linear PFM and a JSON scene with the view's camera, in another directory than the scene; that
-// scene reopened by `penumbra render` at the view's size gives the same radiance, pixel for
-// pixel, and by `penumbra screenshot` the same camera. Also from a mesh file (no JSON scene).
+// linear PFM and OpenEXR and a JSON scene with the view's camera, in another directory than the
+// scene; that scene reopened by `penumbra render` at the view's size gives the same radiance,
+// pixel for pixel, and by `penumbra screenshot` the same camera. Also from a mesh file (no JSON
+// scene). --preview-out FILE.exr writes the same radiance.
 TEST(ViewerScreenshot, SavedViewReopensAsTheSameView) {
     const fs::path dir = test::scratchDir("viewer_save_view");
     const std::string camera = "300,250,-700,270,280,0,42";
@@ -572,11 +574,12 @@ TEST(ViewerScreenshot, SavedViewReopensAsTheSameView) {
         const test::ProcessResult r = test::runPenumbraGl(
             {"screenshot", scene.string(), "--view", "rendered", "--camera", camera, "--size",
              "640x400", "--passes", "1", "--save-view", stem.string(), "--out",
-             (dir / "shot.png").string(), "--state-out", (dir / "state.json").string()});
+             (dir / "shot.png").string(), "--state-out", (dir / "state.json").string(),
+             "--preview-out", (dir / "preview.exr").string()});
         ASSERT_EQ(r.exitCode, 0) << r.err;
         const json state = test::readJson(dir / "state.json");
         const int vw = state["panelRects"]["3D view"][2], vh = state["panelRects"]["3D view"][3];
-        for (const char* ext : {".png", ".pfm", ".json"})
+        for (const char* ext : {".png", ".pfm", ".exr", ".json"})
             EXPECT_TRUE(fs::exists(fs::path(stem.string() + ext))) << ext;
         const test::Image png = test::readPng(stem.string() + ".png");
         EXPECT_EQ(png.width, vw);
@@ -600,6 +603,13 @@ TEST(ViewerScreenshot, SavedViewReopensAsTheSameView) {
         }
         EXPECT_EQ(differ, 0u);
         EXPECT_GT(lit, saved.size() / 2);
+        // The OpenEXR files hold the PFM's floats.
+        for (const fs::path& exrPath : {fs::path(stem.string() + ".exr"), dir / "preview.exr"}) {
+            const test::ExrImage exr = test::readExr(exrPath.string());
+            EXPECT_EQ(exr.width, w1);
+            EXPECT_EQ(exr.height, h1);
+            EXPECT_EQ(exr.rgb, saved) << exrPath;
+        }
         // And the viewer opens it with the saved camera.
         const test::ProcessResult rs = test::runPenumbraGl(
             {"screenshot", stem.string() + ".json", "--size", "400x300", "--no-preview", "--out",
@@ -709,6 +719,7 @@ TEST(ViewerScreenshot, BadArgumentsAreRefusedWithTheReason) {
         {{"--backend", "vulkan"}, 2, "osmesa or egl"},
         {{"--pixel", "5000,5"}, 2, "outside"},
         {{"--point", "1,2,3"}, 1, "lies on no face"},
+        {{"--preview-out", (dir / "p.jpg").string()}, 2, ".png, .pfm or .exr"},
     };
     for (const Case& c : cases) {
         std::vector<std::string> args = {"screenshot", cornell().string(), "--out", out};
