@@ -22,7 +22,7 @@
 #include "tests/support/read_pfm.h"
 
 namespace penumbra {
-namespace {
+namespace exr_io_test {
 
 namespace fs = std::filesystem;
 
@@ -142,5 +142,5 @@ TEST(ExrOutput, BadPathsAndFilmsGetErrorsNamingTheFile) {
     fs::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace exr_io_test
 }  // namespace penumbra

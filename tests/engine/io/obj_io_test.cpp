@@ -854,8 +854,8 @@ TEST_F(ObjFiles, WriteThenReadIsBitIdentical) {
     std::uniform_real_distribution<double> coord(-1e3, 1e3);
     Scene s;
     s.sourcePath = "generated";
-    s.materials = {Material{"white", {0.1, 1.0 / 3, 0.7}, {0.01, 0, 0}, {0, 0, 0}, 1.0 / 7},
-                   Material{"lamp light", {0, 0, 0}, {0, 0, 0}, {17.3, 1e-3, 2.0 / 3}, 0}};
+    s.materials = {Material{"white", {0.1, 1.0 / 3, 0.7}, {0.01, 0, 0}, {0, 0, 0}, 1.0 / 7, {}},
+                   Material{"lamp light", {0, 0, 0}, {0, 0, 0}, {17.3, 1e-3, 2.0 / 3}, 0, {}}};
     for (int t = 0; t < 200; ++t) {
         const auto base = static_cast<uint32_t>(s.mesh.vertices.size());
         for (int k = 0; k < 3; ++k) s.mesh.vertices.push_back({coord(rng), coord(rng), coord(rng)});
