@@ -21,6 +21,7 @@ PACKAGES=(
   libopenmesh-dev
   libtinygltf-dev
   libstb-dev
+  libopenexr-dev
   libglfw3-dev
   libglm-dev
   libimgui-dev

@@ -4,11 +4,11 @@
 //                  --exposure, --threads, --out-pfm, --out-answers, --visibility; see --help)
 //
 // Renders the scene with the progressive CPU renderer (engine/render/renderer.h) and writes the
-// image: FILE ending in .png (tone mapped, sRGB) or .pfm (linear float); --out may be given twice
-// (one of each) and --out-pfm names a PFM file explicitly. The camera defaults to the scene's, else
-// the viewer's (engine/render/default_camera.h). Prints the time breakdown and what was simulated
-// and why. --out-answers FILE.png (exact): how each pixel was answered (engine/render/answers.h),
-// with the shares of each answer printed as its legend.
+// image: FILE ending in .png (tone mapped, sRGB), .pfm or .exr (linear float); --out may be given
+// several times (one file per format, say) and --out-pfm names a PFM file explicitly. The camera
+// defaults to the scene's, else the viewer's (engine/render/default_camera.h). Prints the time
+// breakdown and what was simulated and why. --out-answers FILE.png (exact): how each pixel was
+// answered (engine/render/answers.h), with the shares of each answer printed as its legend.
 // --visibility FILE.pvis: the history trees are read from FILE when it is current for this scene
 // (as `penumbra precompute` writes it; a stale or corrupt file is reported and recomputed), and
 // FILE is written back atomically with every tree the render added, so the next render of the
@@ -25,6 +25,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "app/cli/arguments.h"
@@ -87,23 +88,21 @@ RenderSettings renderSettings(const RenderOptions& o) {
     return settings;
 }
 
-// The images to write, by format (--out FILE.png|.pfm, --out-pfm FILE).
+// The images to write, each with its format (--out FILE.png|.pfm|.exr, --out-pfm FILE).
 struct Outputs {
-    std::vector<std::string> png, pfm;
+    std::vector<std::pair<std::string, ImageFormat>> images;
 };
 
 Outputs outputs(const RenderOptions& o) {
     Outputs out;
     for (const std::string& f : o.out) {
-        if (lowerExtension(f) == ".png")
-            out.png.push_back(f);
-        else if (lowerExtension(f) == ".pfm")
-            out.pfm.push_back(f);
-        else
-            throw usageError("--out '" + f + "': the file must end in .png or .pfm");
+        const std::optional<ImageFormat> format = imageFormatOf(f);
+        if (!format)
+            throw usageError("--out '" + f + "': the file must end in " + kImageExtensions);
+        out.images.emplace_back(f, *format);
     }
-    if (!o.outPfm.empty()) out.pfm.push_back(o.outPfm);
-    if (out.png.empty() && out.pfm.empty()) throw usageError("nothing to write: give --out FILE");
+    if (!o.outPfm.empty()) out.images.emplace_back(o.outPfm, ImageFormat::Pfm);
+    if (out.images.empty()) throw usageError("nothing to write: give --out FILE");
     if (!o.outAnswers.empty()) {
         if (lowerExtension(o.outAnswers) != ".png")
             throw usageError("--out-answers '" + o.outAnswers + "': the file must end in .png");
@@ -190,12 +189,8 @@ void writeImages(const Film& film, const Outputs& out, double exposure,
             std::printf("wrote %s: how each pixel was answered, %s\n", answers.c_str(),
                         describeAnswers(film.answers).c_str());
         }
-        for (const std::string& f : out.png) {
-            writePng(film, f, exposure);
-            std::printf("wrote %s\n", f.c_str());
-        }
-        for (const std::string& f : out.pfm) {
-            writePfm(film, f);
+        for (const auto& [f, format] : out.images) {
+            writeImage(film, f, format, exposure);
             std::printf("wrote %s\n", f.c_str());
         }
     } catch (const std::runtime_error& e) {
@@ -286,7 +281,11 @@ void registerRenderCommand(CLI::App& app) {
     sub->add_option("--threads", o->threads, "Worker threads (0: all cores)")
         ->check(CLI::Range(0, 4096))
         ->capture_default_str();
-    sub->add_option("--out", o->out, "Output image, .png or .pfm (may be given twice)")->take_all();
+    sub->add_option(
+           "--out", o->out,
+           "Output image: .png (tone mapped), .pfm or .exr (linear radiance, 32-bit float); "
+           "may be given several times")
+        ->take_all();
     sub->add_option("--out-pfm", o->outPfm, "Also write the linear radiance as PFM to this file");
     sub->add_option("--out-answers", o->outAnswers,
                     "Exact: also write how each pixel was answered, as a PNG: fully visible "

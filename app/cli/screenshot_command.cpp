@@ -1,5 +1,5 @@
 // `penumbra screenshot SCENE [--point X,Y,Z | --pixel X,Y] [--camera ...] [--size WxH]
-//  --out FILE.png [--state-out FILE.json] [--preview-out FILE.png] [--backend osmesa|egl]
+//  --out FILE.png [--state-out FILE.json] [--preview-out FILE.png|.pfm|.exr] [--backend osmesa|egl]
 //  [--precompute] [--accuracy] ...`
 //
 // Renders the complete viewer UI offscreen (app/viewer/host/headless_host.h): the same Viewer code
@@ -11,6 +11,7 @@
 #include "app/cli/arguments.h"
 #include "app/cli/commands.h"
 #include "app/viewer/host/headless_host.h"
+#include "engine/io/image_io.h"
 
 namespace penumbra::cli {
 namespace {
@@ -95,6 +96,9 @@ void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
     h.viewer.showHelp = true;
     h.out = o.out;
     h.stateOut = o.stateOut;
+    if (!o.previewOut.empty() && !imageFormatOf(o.previewOut))
+        throw usageError("--preview-out '" + o.previewOut + "': the file must end in " +
+                         kImageExtensions);
     h.previewOut = o.previewOut;
     h.saveView = o.saveView;
     h.precompute = o.precompute;
@@ -135,14 +139,17 @@ void registerScreenshotCommand(CLI::App& app) {
     sub->add_option("--size", o->size, "Image size (default 1280x800)")->type_name("WxH");
     sub->add_option("--out", o->out, "The screenshot (PNG)")->required()->type_name("FILE.png");
     sub->add_option("--state-out", o->stateOut, "The UI state as JSON")->type_name("FILE.json");
-    sub->add_option("--preview-out", o->previewOut, "The preview image alone (PNG)")
-        ->type_name("FILE.png");
+    sub->add_option("--preview-out", o->previewOut,
+                    "The preview image alone: .png as shown, .pfm or .exr its linear radiance "
+                    "(the exact image's, else the sampled one's)")
+        ->type_name("FILE");
     sub->add_option("--ui-scale", o->uiScale,
                     "The UI's content scale, as a HiDPI monitor's (the window takes GLFW's)")
         ->type_name("S");
-    sub->add_option("--save-view", o->saveView,
-                    "Save the view as the UI's button does: STEM.png, STEM.pfm and STEM.json "
-                    "(the scene with this camera)")
+    sub->add_option(
+           "--save-view", o->saveView,
+           "Save the view as the UI's button does: STEM.png, STEM.pfm, STEM.exr and STEM.json "
+           "(the scene with this camera)")
         ->type_name("STEM");
     sub->add_option("--backend", o->backend, "osmesa (default) or egl")->type_name("NAME");
     sub->add_option("--preview-mode", o->previewMode,

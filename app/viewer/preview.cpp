@@ -228,8 +228,7 @@ bool Preview::save(const std::filesystem::path& stem, const LoadedScene* scene,
         message = "save view: no rendered image yet";
         return false;
     }
-    const std::vector<float>& radiance =
-        !image.exactRadiance.empty() ? image.exactRadiance : image.sampledRadiance;
+    const std::optional<Film> radiance = radianceFilm(image);
     auto withExtension = [&](const char* ext) {
         std::filesystem::path p = stem;
         p += ext;
@@ -239,13 +238,9 @@ bool Preview::save(const std::filesystem::path& stem, const LoadedScene* scene,
         std::error_code ec;
         if (stem.has_parent_path()) std::filesystem::create_directories(stem.parent_path(), ec);
         writeRgbaPng(withExtension(".png"), image.width, image.height, image.rgba);
-        if (!radiance.empty()) {
-            Film film;
-            film.reset(image.imageWidth, image.height);
-            film.passes = 1;
-            for (size_t i = 0; i < film.sum.size(); ++i)
-                film.sum[i] = Vec3{radiance[3 * i], radiance[3 * i + 1], radiance[3 * i + 2]};
-            writePfm(film, withExtension(".pfm").string());
+        if (radiance) {
+            writePfm(*radiance, withExtension(".pfm").string());
+            writeExr(*radiance, withExtension(".exr").string());
         }
         writeTextFile(withExtension(".json"),
                       jsonSceneWithCamera(
@@ -255,7 +250,8 @@ bool Preview::save(const std::filesystem::path& stem, const LoadedScene* scene,
         message = std::string("save view: ") + e.what();
         return false;
     }
-    message = "saved " + withExtension(".png").string() + ", .pfm and .json (" +
+    message = "saved " + withExtension(".png").string() +
+              (radiance ? ", .pfm, .exr and .json (" : " and .json (") +
               std::to_string(image.imageWidth) + "x" + std::to_string(image.height) + ", " +
               std::to_string(image.passes) + " passes)";
     return true;

@@ -97,9 +97,10 @@ class Preview {
 
     // Keep what you see: the image as STEM.png (as shown, 8-bit sRGB; side by side: both
     // halves), its linear exact radiance (the sampled one when the mode renders no exact image)
-    // as STEM.pfm, and the scene with `camera` as STEM.json (engine/io/scene_file.h: `penumbra
-    // view STEM.json` or `penumbra render STEM.json --size WxH` give this view again). Every file
-    // atomically. False with the reason in `message` (no image yet, a write failed).
+    // as STEM.pfm and STEM.exr (radianceFilm), and the scene with `camera` as STEM.json
+    // (engine/io/scene_file.h: `penumbra view STEM.json` or `penumbra render STEM.json --size WxH`
+    // give this view again). Every file atomically. False with the reason in `message` (no image
+    // yet, a write failed).
     bool save(const std::filesystem::path& stem, const LoadedScene* scene, const Camera& camera,
               std::string& message) const;
 

@@ -92,6 +92,18 @@ bool picturesView(const PreviewImage& image, const Camera& camera, int viewWidth
     return skew <= 0.5 * (viewWidth + viewHeight);
 }
 
+std::optional<Film> radianceFilm(const PreviewImage& image) {
+    const std::vector<float>& radiance =
+        !image.exactRadiance.empty() ? image.exactRadiance : image.sampledRadiance;
+    if (radiance.empty()) return std::nullopt;
+    Film film;
+    film.reset(image.imageWidth, image.height);
+    film.passes = 1;
+    for (size_t i = 0; i < film.sum.size(); ++i)
+        film.sum[i] = Vec3{radiance[3 * i], radiance[3 * i + 1], radiance[3 * i + 2]};
+    return film;
+}
+
 const char* toString(PreviewMode mode) {
     switch (mode) {
         case PreviewMode::Exact:

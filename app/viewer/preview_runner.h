@@ -23,6 +23,7 @@
 
 #include "app/viewer/loaded_scene.h"
 #include "engine/render/effects_summary.h"
+#include "engine/render/renderer.h"
 #include "engine/scene/camera.h"
 
 namespace penumbra::viewer {
@@ -69,6 +70,11 @@ struct PreviewImage {
 // the thumbnail have fewer pixels than the view). False for no image, an image of another camera
 // (the camera moved since) or of another shape (the view was resized since).
 bool picturesView(const PreviewImage& image, const Camera& camera, int viewWidth, int viewHeight);
+
+// The image's linear radiance as a film of one pass (what Save view and `screenshot
+// --preview-out FILE.pfm|.exr` write): the exact image's, else the sampled one's (a mode that
+// renders no exact image); nullopt before either is rendered.
+std::optional<Film> radianceFilm(const PreviewImage& image);
 
 class PreviewRunner {
   public:

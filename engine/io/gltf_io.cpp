@@ -9,11 +9,14 @@
 #include <exception>
 #include <nlohmann/json.hpp>
 #include <numbers>
+#include <span>
 #include <string>
 #include <system_error>
+#include <unordered_map>
 #include <vector>
 
 #include "engine/io/text_input.h"
+#include "engine/io/texture_io.h"
 #include "engine/scene/affine3.h"
 #include "engine/scene/scene_validation.h"
 
@@ -22,10 +25,39 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Images are not needed: accept them undecoded.
-bool skipImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-               const unsigned char*, int, void*) {
+// Images are decoded later, and only those a material's base colour uses (texture_io.h). Here the
+// bytes of an image given by a data URI are kept as they are; an image in a file is read again by
+// the reader (to name the reason when it cannot be), one in a buffer view from its buffer, within
+// the view's checked bounds (tinygltf hands over a pointer into the buffer without checking them,
+// so the bytes given for such an image are not touched).
+bool keepImageBytes(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                    const unsigned char* bytes, int size, void*) {
+    if (image->bufferView < 0 && image->uri.empty() && bytes != nullptr && size > 0) {
+        image->image.assign(bytes, bytes + size);
+        image->as_is = true;
+    }
     return true;
+}
+
+// A URI's %XX escapes decoded (RFC 3986), as tinygltf reads a file's name; a malformed escape is
+// left as it is.
+std::string percentDecoded(const std::string& uri) {
+    std::string out;
+    for (size_t i = 0; i < uri.size(); ++i) {
+        const auto hex = [](char c) {
+            return c >= '0' && c <= '9'   ? c - '0'
+                   : c >= 'a' && c <= 'f' ? c - 'a' + 10
+                   : c >= 'A' && c <= 'F' ? c - 'A' + 10
+                                          : -1;
+        };
+        if (uri[i] == '%' && i + 2 < uri.size() && hex(uri[i + 1]) >= 0 && hex(uri[i + 2]) >= 0) {
+            out += static_cast<char>(hex(uri[i + 1]) * 16 + hex(uri[i + 2]));
+            i += 2;
+        } else {
+            out += uri[i];
+        }
+    }
+    return out;
 }
 
 // File access for the buffers and images a glTF names by URI, in place of tinygltf's own. Its
@@ -69,8 +101,9 @@ bool refuseWrite(std::string* err, const std::string& path, const std::vector<un
 
 // ---- what tinygltf does not check: the version and the required extensions --------------------
 
-// Required extensions the loader reads (KHR_materials_emissive_strength) or whose content it never
-// looks at (textures: images are not decoded, so their format or transform changes nothing read).
+// Required extensions the loader reads (KHR_materials_emissive_strength, KHR_texture_transform) or
+// whose absence it handles (an image only in a format of the other texture extensions cannot be
+// decoded: its material keeps its colour factor, with a warning).
 constexpr std::string_view kSupportedRequiredExtensions[] = {"KHR_materials_emissive_strength",
                                                              "KHR_texture_transform",
                                                              "KHR_texture_basisu",
@@ -194,8 +227,13 @@ struct PrimitiveRange {
 
 class GltfReader {
   public:
-    GltfReader(const tinygltf::Model& model, std::string file, Scene& scene)
-        : model_(model), file_(std::move(file)), scene_(scene) {}
+    GltfReader(const tinygltf::Model& model, std::string file, fs::path directory, bool strict,
+               Scene& scene)
+        : model_(model),
+          file_(std::move(file)),
+          directory_(std::move(directory)),
+          strict_(strict),
+          scene_(scene) {}
 
     void read() {
         readMaterials();
@@ -216,6 +254,8 @@ class GltfReader {
         }
         visited_.assign(model_.nodes.size(), false);
         for (int r : roots) visit(r, Affine3{}, "scene root");
+        if (!scene_.faceUv.empty()) scene_.faceUv.resize(scene_.mesh.faces.size());
+        warnTextureRepairs();
     }
 
     const std::vector<PrimitiveRange>& ranges() const { return ranges_; }
@@ -251,6 +291,7 @@ class GltfReader {
             m.ks = Vec3{0.04, 0.04, 0.04} * (1 - metallic) + base * metallic;
             m.ns = 2 / std::pow(roughness, 4) - 2;
             m.ke = emissive * strength;
+            m.kdMap = baseColorTexture(g, i, texCoordSet_.emplace_back(0));
             for (const Vec3& c : {base, emissive, m.kd, m.ks, m.ke}) {
                 if (!std::isfinite(c.x) || !std::isfinite(c.y) || !std::isfinite(c.z) || c.x < 0 ||
                     c.y < 0 || c.z < 0) {
@@ -264,6 +305,214 @@ class GltfReader {
             }
             scene_.materials.push_back(m);
         }
+    }
+
+    // A texture that cannot be used (repair mode: counted for one warning; strict: an error).
+    struct TextureRepair {
+        size_t count = 0;
+        std::string first;
+        void note(std::string what) {
+            if (count++ == 0) first = std::move(what);
+        }
+    };
+
+    void unusable(TextureRepair& repair, const std::string& what) {
+        if (strict_)
+            fail(what + " (repair mode uses the colour factor alone; strict mode refuses it)");
+        repair.note(what);
+    }
+
+    void warnTextureRepairs() {
+        if (unusableTextures_.count > 0)
+            scene_.warnings.push_back(
+                file_ + ": " + std::to_string(unusableTextures_.count) +
+                " base-colour texture(s) cannot be used (first: " + unusableTextures_.first +
+                "): their materials use the baseColorFactor alone");
+        if (missingTexCoords_.count > 0)
+            scene_.warnings.push_back(
+                file_ + ": " + std::to_string(missingTexCoords_.count) +
+                " primitive(s) lack the texture coordinates of their material's base-colour "
+                "texture (first: " +
+                missingTexCoords_.first + "): their faces use the baseColorFactor alone");
+    }
+
+    // The numbers of a KHR_texture_transform field: `count` numbers (1 for rotation).
+    std::vector<double> numbers(const tinygltf::Value& ext, const char* key, size_t count,
+                                const std::string& where) const {
+        if (!ext.Has(key)) return {};
+        const tinygltf::Value& v = ext.Get(key);
+        std::vector<double> out;
+        if (count == 1 && v.IsNumber()) {
+            out.push_back(v.GetNumberAsDouble());
+        } else if (count > 1 && v.IsArray() && v.ArrayLen() == count) {
+            for (size_t i = 0; i < count; ++i)
+                if (v.Get(static_cast<int>(i)).IsNumber())
+                    out.push_back(v.Get(static_cast<int>(i)).GetNumberAsDouble());
+        }
+        for (double x : out)
+            if (!std::isfinite(x)) out.clear();
+        if (out.size() != count)
+            fail(where + ": KHR_texture_transform " + key + " must be " +
+                 (count == 1 ? std::string("a finite number")
+                             : std::to_string(count) + " finite numbers"));
+        return out;
+    }
+
+    // Material i's baseColorTexture as a TextureRef (its image decoded into scene.textures once),
+    // and in texCoord the TEXCOORD set it reads; none when it has no such texture or the texture
+    // cannot be used (unusable: a warning or, in strict mode, an error). A reference to a
+    // texture, sampler or image that does not exist is an error (a broken file).
+    TextureRef baseColorTexture(const tinygltf::Material& g, size_t i, int& texCoord) {
+        const tinygltf::TextureInfo& info = g.pbrMetallicRoughness.baseColorTexture;
+        if (info.index < 0) return {};
+        const std::string where = "material " + std::to_string(i) +
+                                  (g.name.empty() ? "" : " '" + g.name + "'") + " baseColorTexture";
+        if (static_cast<size_t>(info.index) >= model_.textures.size())
+            fail(where + ": texture " + std::to_string(info.index) + " does not exist");
+        const tinygltf::Texture& texture = model_.textures[static_cast<size_t>(info.index)];
+        TextureRef ref;
+        texCoord = info.texCoord;
+        if (const auto ext = info.extensions.find("KHR_texture_transform");
+            ext != info.extensions.end()) {
+            const tinygltf::Value& t = ext->second;
+            if (const auto v = numbers(t, "offset", 2, where); !v.empty())
+                ref.transform.offset = {v[0], v[1]};
+            if (const auto v = numbers(t, "rotation", 1, where); !v.empty())
+                ref.transform.rotation = v[0];
+            if (const auto v = numbers(t, "scale", 2, where); !v.empty())
+                ref.transform.scale = {v[0], v[1]};
+            if (t.Has("texCoord")) {
+                if (!t.Get("texCoord").IsInt() || t.Get("texCoord").GetNumberAsInt() < 0)
+                    fail(where + ": KHR_texture_transform texCoord must be a non-negative integer");
+                texCoord = t.Get("texCoord").GetNumberAsInt();
+            }
+        }
+        if (texCoord < 0) fail(where + ": texCoord must be a non-negative integer");
+        if (texture.sampler >= 0) {
+            if (static_cast<size_t>(texture.sampler) >= model_.samplers.size())
+                fail(where + ": sampler " + std::to_string(texture.sampler) + " does not exist");
+            const tinygltf::Sampler& s = model_.samplers[static_cast<size_t>(texture.sampler)];
+            const auto wrap = [](int w) {
+                return w == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE     ? TextureWrap::ClampToEdge
+                       : w == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT ? TextureWrap::MirroredRepeat
+                                                                    : TextureWrap::Repeat;
+            };
+            ref.wrapU = wrap(s.wrapS);
+            ref.wrapV = wrap(s.wrapT);
+            if (s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST) ref.filter = TextureFilter::Nearest;
+        }
+        if (texture.source < 0) {
+            unusable(unusableTextures_,
+                     where + ": texture " + std::to_string(info.index) +
+                         " has no image in a decoded format (only in an extension's: basisu, "
+                         "webp, avif, dds)");
+            return {};
+        }
+        if (static_cast<size_t>(texture.source) >= model_.images.size())
+            fail(where + ": image " + std::to_string(texture.source) + " does not exist");
+        const int32_t image = decodedImage(texture.source, where);
+        if (image < 0) return {};
+        ref.image = image;
+        return ref;
+    }
+
+    // glTF image `index` decoded into scene.textures (once); -1 when it cannot be (unusable).
+    int32_t decodedImage(int index, const std::string& where) {
+        const auto cached = imageTexture_.find(index);
+        if (cached != imageTexture_.end()) {
+            if (cached->second < 0)
+                unusable(unusableTextures_,
+                         where + ": image " + std::to_string(index) + ": " + imageProblem_[index]);
+            return cached->second;
+        }
+        const tinygltf::Image& image = model_.images[static_cast<size_t>(index)];
+        const std::string name = file_ + " image " + std::to_string(index);
+        TextureRead read;
+        if (image.bufferView >= 0) {
+            if (static_cast<size_t>(image.bufferView) >= model_.bufferViews.size())
+                fail("image " + std::to_string(index) + ": buffer view " +
+                     std::to_string(image.bufferView) + " does not exist");
+            const tinygltf::BufferView& bv =
+                model_.bufferViews[static_cast<size_t>(image.bufferView)];
+            if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= model_.buffers.size())
+                fail("image " + std::to_string(index) + ": buffer " + std::to_string(bv.buffer) +
+                     " does not exist");
+            const std::vector<unsigned char>& data =
+                model_.buffers[static_cast<size_t>(bv.buffer)].data;
+            if (bv.byteOffset > data.size() || bv.byteLength > data.size() - bv.byteOffset)
+                fail("image " + std::to_string(index) +
+                     ": buffer view reaches past the end of its buffer (" +
+                     std::to_string(data.size()) + " bytes)");
+            read = decodeTexture(
+                std::span<const unsigned char>(data.data() + bv.byteOffset, bv.byteLength), name);
+        } else if (!image.uri.empty()) {
+            const fs::path path = directory_ / fs::path(percentDecoded(image.uri));
+            read = readTextureFile(path);
+            if (!read.image)
+                read.problem = "'" + image.uri + "' (" + path.string() + "): " + read.problem;
+        } else {
+            read = decodeTexture(image.image, name);  // a data URI's bytes
+        }
+        int32_t texture = -1;
+        if (read.image) {
+            texture = static_cast<int32_t>(scene_.textures.size());
+            scene_.textures.push_back(std::move(*read.image));
+        } else {
+            imageProblem_[index] = read.problem;
+            unusable(unusableTextures_,
+                     where + ": image " + std::to_string(index) + ": " + read.problem);
+        }
+        imageTexture_[index] = texture;
+        return texture;
+    }
+
+    // The TEXCOORD_<set> of a primitive, one Uv per POSITION element (FLOAT, or normalised
+    // UNSIGNED_BYTE / UNSIGNED_SHORT, VEC2); empty when the primitive lacks it (unusable).
+    std::vector<Uv> texCoords(const tinygltf::Primitive& prim, int set, size_t count,
+                              const std::string& where) {
+        const std::string name = "TEXCOORD_" + std::to_string(set);
+        const auto it = prim.attributes.find(name);
+        if (it == prim.attributes.end()) {
+            unusable(missingTexCoords_, where + ": no " + name + " attribute");
+            return {};
+        }
+        const std::string aw = where + " " + name;
+        if (it->second < 0 || static_cast<size_t>(it->second) >= model_.accessors.size())
+            fail(aw + ": accessor " + std::to_string(it->second) + " does not exist");
+        const tinygltf::Accessor& acc = model_.accessors[static_cast<size_t>(it->second)];
+        const int ct = acc.componentType;
+        const size_t component = ct == TINYGLTF_COMPONENT_TYPE_FLOAT            ? 4
+                                 : ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
+                                 : ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE  ? 1
+                                                                                : 0;
+        if (component == 0 || (component < 4 && !acc.normalized))
+            fail(aw + ": must be FLOAT, or normalized UNSIGNED_BYTE or UNSIGNED_SHORT");
+        const View view = accessorView(it->second, ct, TINYGLTF_TYPE_VEC2, 2 * component, aw);
+        if (view.count != count)
+            fail(aw + ": " + std::to_string(view.count) + " elements for " + std::to_string(count) +
+                 " POSITION elements");
+        std::vector<Uv> uvs(count);
+        for (size_t i = 0; i < count; ++i) {
+            const unsigned char* e = view.base + i * view.stride;
+            double c[2];
+            for (int k = 0; k < 2; ++k) {
+                if (component == 4) {
+                    float f;
+                    std::memcpy(&f, e + 4 * k, 4);
+                    c[k] = f;
+                } else if (component == 2) {
+                    uint16_t s;
+                    std::memcpy(&s, e + 2 * k, 2);
+                    c[k] = s / 65535.0;
+                } else {
+                    c[k] = e[k] / 255.0;
+                }
+            }
+            if (!std::isfinite(c[0]) || !std::isfinite(c[1]))
+                fail(aw + " " + std::to_string(i) + ": non-finite texture coordinate");
+            uvs[i] = {c[0], c[1]};
+        }
+        return uvs;
     }
 
     Affine3 localTransform(const tinygltf::Node& n, const std::string& where) const {
@@ -464,11 +713,23 @@ class GltfReader {
             scene_.mesh.vertices.push_back(world.point({f[0], f[1], f[2]}));
         }
 
+        // Texture coordinates where the primitive's material has a base-colour texture.
+        std::vector<Uv> uvs;
+        if (prim.material >= 0 &&
+            scene_.materials[static_cast<size_t>(prim.material)].kdMap.present())
+            uvs = texCoords(prim, texCoordSet_[static_cast<size_t>(prim.material)], positions.count,
+                            where);
+
         ranges_.push_back(
             {static_cast<uint32_t>(scene_.mesh.faces.size()), nodeIndex, meshIndex, p});
         const auto add = [&](uint32_t a, uint32_t b, uint32_t c) {
             const auto o = static_cast<uint32_t>(offset);
             if (flip) std::swap(b, c);
+            if (!uvs.empty()) {
+                // Faces before it without coordinates get none; later ones the same (read()).
+                scene_.faceUv.resize(scene_.mesh.faces.size());
+                scene_.faceUv.push_back({uvs[a], uvs[b], uvs[c]});
+            }
             scene_.mesh.faces.push_back({a + o, b + o, c + o});
             scene_.faceMaterial.push_back(prim.material);
         };
@@ -495,9 +756,15 @@ class GltfReader {
 
     const tinygltf::Model& model_;
     std::string file_;
+    fs::path directory_;  // where URIs resolve
+    bool strict_ = false;
     Scene& scene_;
     std::vector<bool> visited_;
     std::vector<PrimitiveRange> ranges_;
+    std::vector<int> texCoordSet_;  // per material: the TEXCOORD set its base colour reads
+    std::unordered_map<int, int32_t> imageTexture_;      // glTF image -> scene texture (-1: none)
+    std::unordered_map<int, std::string> imageProblem_;  // why an image is none
+    TextureRepair unusableTextures_, missingTexCoords_;
 };
 
 }  // namespace
@@ -512,7 +779,7 @@ Scene loadGltf(const fs::path& path, const LoadOptions& options) {
     checkVersionAndExtensions(data, binary, file);
 
     tinygltf::TinyGLTF loader;
-    loader.SetImageLoader(skipImage, nullptr);
+    loader.SetImageLoader(keepImageBytes, nullptr);
     loader.SetFsCallbacks({pathExists, samePath, readRegularFile, refuseWrite, nullptr});
     tinygltf::Model model;
     std::string err, warn;
@@ -540,7 +807,7 @@ Scene loadGltf(const fs::path& path, const LoadOptions& options) {
 
     Scene scene;
     scene.sourcePath = file;
-    GltfReader reader(model, file, scene);
+    GltfReader reader(model, file, path.parent_path(), options.strict, scene);
     reader.read();
     if (scene.mesh.faces.empty())
         throw makeSceneError(file, 0, "no faces (no triangle primitives)");

@@ -15,7 +15,15 @@
 //     kd = base (1 - metallic), ks = mix(0.04, base, metallic), ns = 2 / roughness^4 - 2 (roughness
 //     clamped to at least 0.01), base = baseColorFactor.rgb; ke = emissiveFactor times
 //     KHR_materials_emissive_strength.emissiveStrength (default 1). A nonzero ke makes every
-//     triangle with that material an area light. Textures are ignored (images are not decoded);
+//     triangle with that material an area light. pbrMetallicRoughness.baseColorTexture becomes
+//     Material::kdMap (engine/scene/texture.h): its image decoded (texture_io.h: a file next to
+//     the glTF, a data URI or a buffer view), the sampler's wrapS/wrapT and magFilter NEAREST
+//     (else bilinear), KHR_texture_transform's offset, rotation, scale and texCoord, and the
+//     primitive's TEXCOORD_n (FLOAT, or normalised UNSIGNED_BYTE/SHORT VEC2) as Scene::faceUv.
+//     An image that cannot be used (missing, undecodable, only in an extension's format such as
+//     basisu or webp) or a primitive without that TEXCOORD_n is a repair: one warning naming it,
+//     the material's baseColorFactor alone; an error in strict mode. The other textures (normal,
+//     metallic-roughness, emissive, occlusion) are not read;
 //   - the first node (in traversal order) that holds a perspective camera becomes Scene::camera:
 //     eye at the node's origin, looking down its -Z axis, up its +Y axis, fov_y = yfov. An
 //     orthographic camera is ignored with a warning.
@@ -23,9 +31,10 @@
 // (asset.version "1.x", a GLB of version 1, or, without asset.version, 1.0's dictionaries in place
 // of arrays) and any other version than 2.x; a required extension (extensionsRequired) the loader
 // does not implement, named (KHR_draco_mesh_compression with its own message; the loader implements
-// KHR_materials_emissive_strength and accepts the texture extensions KHR_texture_transform,
-// KHR_texture_basisu, EXT_texture_webp, EXT_texture_avif and MSFT_texture_dds, since images are
-// never decoded); a primitive compressed with Draco that keeps no uncompressed POSITION data.
+// KHR_materials_emissive_strength and KHR_texture_transform, and accepts KHR_texture_basisu,
+// EXT_texture_webp, EXT_texture_avif and MSFT_texture_dds: an image only in such a format is not
+// decoded, and its material keeps its factor, with the warning above); a primitive compressed with
+// Draco that keeps no uncompressed POSITION data.
 // Errors are SceneErrors naming the file and the element: tinygltf's own parse errors, an
 // accessor that is sparse, of the wrong type or reaches past its buffer view or buffer, an index
 // out of range of the POSITION accessor, a non-finite position ("node 2 mesh 0 primitive 1:

@@ -16,7 +16,9 @@
 #include <system_error>
 
 #include "engine/io/atomic_file.h"
+#include "engine/io/exr_io.h"
 #include "engine/io/finite_output.h"
+#include "engine/io/text_input.h"
 
 namespace penumbra {
 namespace {
@@ -106,6 +108,44 @@ void writePfm(const Film& film, const std::string& path) {
         }
     }
     writeFileAtomically(path, bytes);
+}
+
+void writeExr(const Film& film, const std::string& path) {
+    requireFilm(film, path);
+    std::vector<float> rgb(static_cast<size_t>(film.width) * film.height * 3);
+    size_t i = 0;
+    for (int y = 0; y < film.height; ++y) {  // OpenEXR rows run from the top (INCREASING_Y)
+        for (int x = 0; x < film.width; ++x) {
+            const Vec3 c = film.mean(x, y);
+            for (double v : {c.x, c.y, c.z}) rgb[i++] = static_cast<float>(v);
+        }
+    }
+    std::string bytes;
+    try {
+        bytes = encodeExr(film.width, film.height, rgb);
+    } catch (const std::runtime_error& e) {
+        throw std::runtime_error("cannot write '" + path + "': " + e.what());
+    }
+    writeFileAtomically(path, bytes);
+}
+
+std::optional<ImageFormat> imageFormatOf(const std::filesystem::path& path) {
+    const std::string e = lowerExtension(path);
+    if (e == ".png") return ImageFormat::Png;
+    if (e == ".pfm") return ImageFormat::Pfm;
+    if (e == ".exr") return ImageFormat::Exr;
+    return std::nullopt;
+}
+
+void writeImage(const Film& film, const std::string& path, ImageFormat format, double exposure) {
+    switch (format) {
+        case ImageFormat::Png:
+            return writePng(film, path, exposure);
+        case ImageFormat::Pfm:
+            return writePfm(film, path);
+        case ImageFormat::Exr:
+            return writeExr(film, path);
+    }
 }
 
 std::string encodePng(int width, int height, int channels, const uint8_t* pixels) {

@@ -17,6 +17,7 @@
 
 #include "engine/io/atomic_file.h"
 #include "engine/io/text_input.h"
+#include "engine/io/texture_io.h"
 #include "engine/scene/face_check.h"
 #include "engine/scene/scene_validation.h"
 
@@ -176,6 +177,8 @@ std::string fmt17(double x) {
 struct MaterialTable {
     std::vector<Material> materials;
     std::unordered_map<std::string, int32_t> byName;
+    std::vector<TextureImage> textures;                      // the map_Kd images, decoded
+    std::unordered_map<std::string, int32_t> textureByPath;  // each file decoded once
 };
 
 // A repair seen while reading one file: the first occurrence and how many there were.
@@ -213,15 +216,78 @@ Vec3 parseColor(Tokens& tokens, const Where& where, std::string_view key) {
     return {c[0], c[1], c[2]};
 }
 
+// A map_Kd statement: its options, then the image file (the rest of the line, spaces and all).
+// -o and -s (1 to 3 numbers: u, v, w) offset and scale the texture coordinates, -clamp on|off
+// clamps them; the other options of the MTL format are skipped with their arguments (they change
+// nothing a base colour needs). What cannot be used (an unknown option, a missing or malformed
+// argument, no file name) is `problem`, reported as an unusable texture (never a parse error: a
+// texture is never needed to load the geometry).
+struct MapKd {
+    std::string file;
+    Uv offset{0, 0}, scale{1, 1};
+    bool clamp = false;
+    std::string problem;
+};
+
+MapKd parseMapKd(Tokens tokens) {
+    MapKd map;
+    const auto isNumber = [](std::string_view t) { return parseFinite(t).has_value(); };
+    const auto refuse = [&map](std::string problem) {
+        map.problem = std::move(problem);
+        return map;
+    };
+    while (true) {
+        Tokens peek = tokens;
+        std::string_view option;
+        if (!peek.next(option) || option.size() < 2 || option[0] != '-' || isNumber(option)) break;
+        tokens = peek;
+        const std::string name(option);
+        std::string_view arg;
+        if (name == "-o" || name == "-s" || name == "-t") {
+            double v[3] = {0, 0, 0};
+            size_t n = 0;
+            while (n < 3) {
+                Tokens next = tokens;
+                if (!next.next(arg) || !isNumber(arg)) break;
+                v[n++] = *parseFinite(arg);
+                tokens = next;
+            }
+            if (n == 0) return refuse("option " + name + " needs 1 to 3 numbers");
+            if (name == "-o") map.offset = {v[0], n > 1 ? v[1] : 0};
+            if (name == "-s") map.scale = {v[0], n > 1 ? v[1] : 1};
+            continue;
+        }
+        // The options with one word (on/off, a name, a number) or two numbers.
+        size_t words = 0;
+        for (const char* o : {"-blendu", "-blendv", "-cc", "-clamp", "-imfchan", "-type", "-bm",
+                              "-boost", "-texres"})
+            if (name == o) words = 1;
+        if (name == "-mm") words = 2;
+        if (words == 0) return refuse("unknown option " + quoteForMessage(name));
+        for (size_t k = 0; k < words; ++k)
+            if (!tokens.next(arg)) return refuse("option " + name + " without its argument");
+        if (name == "-clamp") {
+            if (!equalsIgnoreCase(arg, "on") && !equalsIgnoreCase(arg, "off"))
+                return refuse("-clamp must be on or off, not " + quoteForMessage(arg));
+            map.clamp = equalsIgnoreCase(arg, "on");
+        }
+    }
+    map.file = std::string(tokens.rest());
+    if (map.file.empty()) return refuse("no file name");
+    return map;
+}
+
 // Reads one MTL library into `table`. A newmtl without a name is an error when `strict`; otherwise
 // that material (its statements up to the next newmtl) is ignored and one line per file is added to
-// `warnings`.
+// `warnings`. A map_Kd whose image cannot be used (unreadable, undecodable, an unknown option) is
+// an error when `strict`; otherwise its material keeps Kd alone and one line per file is added to
+// `warnings`. Images resolve against the library's directory.
 void parseMtl(std::string_view text, const std::string& file, MaterialTable& table, bool strict,
               std::vector<std::string>& warnings) {
     LineReader lines(text, file);
     constexpr int32_t kNone = -1, kUnnamed = -2;
     int32_t current = kNone;
-    Repair unnamed;
+    Repair unnamed, unusableMap;
     while (lines.next()) {
         const Where where{file, lines.lineNumber()};
         const std::string_view content = stripComment(lines.line());
@@ -247,11 +313,54 @@ void parseMtl(std::string_view text, const std::string& file, MaterialTable& tab
             continue;
         }
         const bool isKd = equalsIgnoreCase(key, "Kd"), isKs = equalsIgnoreCase(key, "Ks"),
-                   isKe = equalsIgnoreCase(key, "Ke"), isNs = equalsIgnoreCase(key, "Ns");
-        if (!isKd && !isKs && !isKe && !isNs) continue;  // Ka, Ni, d, Tr, illum, map_*, ...
+                   isKe = equalsIgnoreCase(key, "Ke"), isNs = equalsIgnoreCase(key, "Ns"),
+                   isMapKd = equalsIgnoreCase(key, "map_Kd");
+        if (!isKd && !isKs && !isKe && !isNs && !isMapKd)
+            continue;  // Ka, Ni, d, Tr, illum, the other map_*, ...
         if (current == kNone) where.fail(quoteForMessage(key) + " before any newmtl");
         if (current == kUnnamed) continue;  // the unnamed material's, ignored with it
         Material& m = table.materials[static_cast<size_t>(current)];
+        if (isMapKd) {
+            const MapKd map = parseMapKd(tokens);
+            const fs::path path = fs::path(file).parent_path() / fs::path(map.file);
+            std::string problem = map.problem;
+            int32_t image = -1;
+            if (problem.empty()) {
+                const std::string key = path.lexically_normal().string();
+                const auto cached = table.textureByPath.find(key);
+                if (cached != table.textureByPath.end()) {
+                    image = cached->second;
+                } else {
+                    TextureRead read = readTextureFile(path);
+                    if (read.image) {
+                        image = static_cast<int32_t>(table.textures.size());
+                        table.textures.push_back(std::move(*read.image));
+                        table.textureByPath.emplace(key, image);
+                    } else {
+                        problem = read.problem;
+                    }
+                }
+            }
+            if (image < 0) {
+                const std::string what =
+                    "map_Kd " +
+                    (map.file.empty() ? std::string()
+                                      : quoteForMessage(map.file) + " (" + path.string() + ") ") +
+                    "of material " + quoteForMessage(m.name) + ": " + problem;
+                if (strict) where.fail(what);
+                unusableMap.note(where.line, what);
+                m.kdMap = {};
+                continue;
+            }
+            m.kdMap = {};
+            m.kdMap.image = image;
+            if (map.clamp) m.kdMap.wrapU = m.kdMap.wrapV = TextureWrap::ClampToEdge;
+            // The MTL's offset and scale act on OBJ's (u, v up); the scene's v runs down
+            // (texture.h): v_image = 1 - (s_v (1 - v) + o_v) = s_v v + (1 - s_v - o_v).
+            m.kdMap.transform.scale = map.scale;
+            m.kdMap.transform.offset = {map.offset.u, 1 - map.scale.v - map.offset.v};
+            continue;
+        }
         if (isNs) {
             std::string_view value;
             if (!tokens.next(value)) where.fail("Ns: missing value");
@@ -271,15 +380,21 @@ void parseMtl(std::string_view text, const std::string& file, MaterialTable& tab
             (unnamed.count > 1 ? ": those materials are ignored, with their statements"
                                : ": that material is ignored, with its statements"));
     }
+    if (unusableMap.count > 0) {
+        warnings.push_back(file + ":" + std::to_string(unusableMap.line) + ": " + unusableMap.what +
+                           (unusableMap.count > 1
+                                ? " (and " + std::to_string(unusableMap.count - 1) + " more map_Kd)"
+                                : std::string()) +
+                           ": the material uses its Kd alone");
+    }
 }
 
 // ---- OBJ ----------------------------------------------------------------------------------------
 
 bool isIgnoredStatement(std::string_view k) {
     static constexpr std::string_view kIgnored[] = {
-        "vt",       "vn",     "vp",     "o",          "g",         "s",
-        "l",        "p",      "mg",     "lod",        "bevel",     "c_interp",
-        "d_interp", "usemap", "maplib", "shadow_obj", "trace_obj", "csh"};
+        "vn",    "vp",       "o",        "g",      "s",      "l",          "p",         "mg", "lod",
+        "bevel", "c_interp", "d_interp", "usemap", "maplib", "shadow_obj", "trace_obj", "csh"};
     return std::find(std::begin(kIgnored), std::end(kIgnored), k) != std::end(kIgnored);
 }
 
@@ -321,6 +436,8 @@ class ObjParser {
         if (!tokens.next(keyword)) return;
         if (keyword == "v") {
             vertex(tokens, where);
+        } else if (keyword == "vt") {
+            texCoord(tokens, where);
         } else if (keyword == "f") {
             face(tokens, where);
         } else if (keyword == "usemtl") {
@@ -368,9 +485,31 @@ class ObjParser {
         scene_.mesh.vertices.push_back({c[0], c[1], c[2]});
     }
 
+    // vt u [v [w]]: kept as (u, 1 - v), v down as the scene's coordinates run (texture.h).
+    void texCoord(Tokens& tokens, const Where& where) {
+        if (texCoords_.size() >= kMaxSceneElements)
+            where.fail("too many texture coordinates (the limit is 2^30)");
+        double c[2] = {0, 0};
+        size_t count = 0;
+        std::string_view token;
+        while (tokens.next(token)) {
+            if (count >= 3) where.fail("vt: too many numbers (at most u v w)");
+            const double value = numberOrFail(token, where, "texture coordinate");
+            if (count < 2) c[count] = value;
+            ++count;
+        }
+        if (count == 0) where.fail("vt: no coordinates");
+        texCoords_.push_back({c[0], 1 - c[1]});
+    }
+
+    // A face corner's texture coordinate: its 0-based vt index, or kNoVt.
+    static constexpr uint32_t kNoVt = UINT32_MAX;
+
     // One `v`, `v/vt`, `v//vn` or `v/vt/vn` reference; returns the 0-based vertex index, which for
-    // a positive index may still be out of range (checked at the end, against the whole file).
-    uint32_t faceVertex(std::string_view token, const Where& where, size_t faceIndex) {
+    // a positive index may still be out of range (checked at the end, against the whole file), and
+    // in `vt` the 0-based texture coordinate index (the same rules), or kNoVt.
+    uint32_t faceVertex(std::string_view token, const Where& where, size_t faceIndex,
+                        uint32_t& vt) {
         const auto fail = [&](std::string_view message) { failFace(where, faceIndex, message); };
         const auto malformed = [&] {
             fail("malformed vertex reference " + quoteForMessage(token) +
@@ -389,6 +528,7 @@ class ObjParser {
         if (parts[0].empty()) malformed();
         if (count == 2 && parts[1].empty()) malformed();
         if (count == 3 && parts[2].empty()) malformed();
+        vt = kNoVt;
         for (size_t i = 1; i < count; ++i) {
             if (parts[i].empty()) continue;
             const std::optional<int64_t> other = parseInteger(parts[i]);
@@ -396,6 +536,20 @@ class ObjParser {
             if (*other == 0) {
                 fail(std::string(i == 1 ? "texture" : "normal") +
                      " index 0 is invalid (OBJ indices start at 1)");
+            }
+            if (i != 1) continue;
+            const auto defined = static_cast<int64_t>(texCoords_.size());
+            if (*other < 0) {
+                if (*other < -defined)
+                    fail("texture index " + std::to_string(*other) + " out of range (only " +
+                         std::to_string(defined) +
+                         " texture coordinates defined before this line)");
+                vt = static_cast<uint32_t>(defined + *other);
+            } else {
+                if (*other > static_cast<int64_t>(kMaxSceneElements))
+                    fail("texture index " + std::to_string(*other) +
+                         " out of range (more than the 2^30 limit)");
+                vt = static_cast<uint32_t>(*other - 1);
             }
         }
         NumberFault fault{};
@@ -426,8 +580,18 @@ class ObjParser {
         const size_t faceIndex = scene_.mesh.faces.size();
         if (faceIndex >= kMaxSceneElements) where.fail("too many faces (the limit is 2^30)");
         std::vector<uint32_t> indices;
+        std::vector<uint32_t>& vts = vtScratch_;
+        vts.clear();
         std::string_view token;
-        while (tokens.next(token)) indices.push_back(faceVertex(token, where, faceIndex));
+        bool allVt = true;
+        uint32_t maxVt = 0;  // the largest vt index, 1-based (0: none)
+        while (tokens.next(token)) {
+            uint32_t vt = kNoVt;
+            indices.push_back(faceVertex(token, where, faceIndex, vt));
+            vts.push_back(vt);
+            allVt = allVt && vt != kNoVt;
+            if (vt != kNoVt) maxVt = std::max(maxVt, vt + 1);
+        }
         if (indices.size() < 3) {
             failFace(where, faceIndex,
                      "too few vertices (" + std::to_string(indices.size()) +
@@ -441,6 +605,16 @@ class ObjParser {
         if (dup != sorted.end() && options_.faces == DegenerateFaces::kReject) {
             failFace(where, faceIndex,
                      "vertex " + std::to_string(*dup + 1ull) + " repeated (degenerate face)");
+        }
+        // Its largest vt index (checked against the whole file in finish()), and its vt indices
+        // when every corner has one (its texture coordinates).
+        if (maxVt > 0) {
+            faceMaxVt_.resize(faceIndex);
+            faceMaxVt_.push_back(maxVt);
+        }
+        if (allVt) {
+            faceVt_.resize(faceIndex);
+            faceVt_.push_back(vts);
         }
         scene_.mesh.faces.push_back(std::move(indices));
         scene_.faceSourceLine.push_back(
@@ -506,10 +680,12 @@ class ObjParser {
 
         scene_.sourcePath = file_;
         scene_.materials = std::move(table_.materials);
+        scene_.textures = std::move(table_.textures);
         scene_.faceMaterial.reserve(faceUseMtl_.size());
         for (int32_t u : faceUseMtl_) {
             scene_.faceMaterial.push_back(u < 0 ? -1 : useMtlMaterial[static_cast<size_t>(u)]);
         }
+        resolveTexCoords();
         // One warning line per kind, the material ones before the faces': the MTL files' own
         // (newmtl without a name) came first; the default material's faces are counted in the
         // repaired mesh.
@@ -529,13 +705,40 @@ class ObjParser {
         return std::move(scene_);
     }
 
+    // Scene::faceUv from the faces' vt indices (in range: indexOutOfRange checked them); faces of
+    // a textured material without them counted for one warning (strict: an error).
+    void resolveTexCoords() {
+        const size_t nf = scene_.mesh.faces.size();
+        if (!faceVt_.empty()) {
+            faceVt_.resize(nf);
+            scene_.faceUv.resize(nf);
+            for (size_t f = 0; f < nf; ++f)
+                for (uint32_t vt : faceVt_[f]) scene_.faceUv[f].push_back(texCoords_.at(vt));
+        }
+        size_t without = 0;
+        int64_t firstLine = 0;
+        for (size_t f = 0; f < nf; ++f) {
+            if (!scene_.material(static_cast<uint32_t>(f)).kdMap.present()) continue;
+            if (f < scene_.faceUv.size() && !scene_.faceUv[f].empty()) continue;
+            if (without++ == 0) firstLine = scene_.faceSourceLine[f];
+        }
+        if (without == 0) return;
+        const std::string what = std::to_string(without) +
+                                 " faces of a material with a map_Kd have no texture coordinates "
+                                 "(vt), the first on line " +
+                                 std::to_string(firstLine);
+        if (options_.strict) throw makeSceneError(file_, firstLine, what);
+        scene_.warnings.push_back(file_ + ": " + what + ": they use the material's Kd alone");
+    }
+
     // The earliest deferred error: its line (INT64_MAX: none) and message.
     struct FirstError {
         int64_t line = INT64_MAX;
         std::string message;
     };
 
-    // The first face with a positive vertex index beyond the whole file's vertices.
+    // The first face with a positive vertex or texture index beyond the whole file's vertices or
+    // texture coordinates.
     FirstError indexOutOfRange() const {
         const size_t nv = scene_.mesh.vertices.size();
         for (size_t f = 0; f < scene_.mesh.faces.size(); ++f) {
@@ -546,6 +749,12 @@ class ObjParser {
                                 std::to_string(i + 1ull) + " out of range (file has " +
                                 std::to_string(nv) + " vertices)"};
                 }
+            }
+            if (f < faceMaxVt_.size() && faceMaxVt_[f] > texCoords_.size()) {
+                return {scene_.faceSourceLine[f],
+                        "face " + std::to_string(f) + ": texture index " +
+                            std::to_string(faceMaxVt_[f]) + " out of range (file has " +
+                            std::to_string(texCoords_.size()) + " texture coordinates)"};
             }
         }
         return {};
@@ -621,7 +830,10 @@ class ObjParser {
     std::unordered_set<std::string> mtlFilesRead_;
     bool mtlTextRead_ = false;
     Repair unreadableMtl_;  // mtllib lines whose library cannot be read (repair mode)
-    std::vector<uint32_t> sortedScratch_;
+    std::vector<uint32_t> sortedScratch_, vtScratch_;
+    std::vector<Uv> texCoords_;                  // the vt lines, v flipped
+    std::vector<std::vector<uint32_t>> faceVt_;  // per face its vt indices (empty: none), or empty
+    std::vector<uint32_t> faceMaxVt_;  // per face its largest vt index, 1-based (0: none), or empty
 };
 
 // ---- writing ------------------------------------------------------------------------------------

@@ -3,20 +3,27 @@
 //
 // What is read:
 //   v x y z [w | r g b | w r g b]  positions (only x y z used; all numbers must be finite)
+//   vt u [v [w]]     texture coordinates (w unused), kept as (u, 1 - v): the scene's v runs down
+//                    the image (engine/scene/texture.h)
 //   f a b c ...      faces; each vertex `v`, `v/vt`, `v//vn` or `v/vt/vn`, indices 1-based or
-//                    negative (relative: -1 is the last vertex so far); only v is used, vt and vn
-//                    must be nonzero integers
+//                    negative (relative: -1 is the last vertex or vt so far); v and vt are
+//                    checked like each other (a positive one against the whole file), vn must be
+//                    a nonzero integer; a face whose every corner names a vt gets those
+//                    coordinates (Scene::faceUv), another none
 //   usemtl NAME      material of the faces that follow
 //   mtllib FILE...   MTL libraries, relative to the OBJ's directory (the whole rest of the line
 //                    if that names a file, else whitespace-separated names)
-//   ignored: vt vn vp o g s l p mg lod bevel c_interp d_interp usemap maplib shadow_obj trace_obj
+//   ignored: vn vp o g s l p mg lod bevel c_interp d_interp usemap maplib shadow_obj trace_obj
 //   csh, comments (`#` to the end of the line), blank lines
 //   errors: free-form geometry (cstype, curv, surf, ...), `call`, any unknown statement, binary
 //   data (control bytes other than tab/VT/FF)
 // Lines end in LF, CRLF or CR; a UTF-8 byte-order mark is skipped; a line ending in `\` (and
 // without a `#` comment) continues on the next one, the backslash read as a space.
-// MTL: newmtl NAME, Kd, Ks, Ke (1 or 3 non-negative numbers), Ns (one non-negative number); key
-// case is ignored; every other key is ignored. A material defined twice is an error.
+// MTL: newmtl NAME, Kd, Ks, Ke (1 or 3 non-negative numbers), Ns (one non-negative number), map_Kd
+// [options] FILE (Material::kdMap: FILE, the rest of the line, relative to the MTL's directory,
+// decoded by engine/io/texture_io.h; -o and -s offset and scale the coordinates, -clamp on clamps
+// them, the format's other options are skipped with their arguments); key case is ignored; every
+// other key is ignored. A material defined twice is an error. writeObj writes no texture.
 //
 // Missing materials are repaired (LoadOptions, engine/io/load_options.h), each kind with one
 // warning line in Scene::warnings, and are errors in strict mode:
@@ -27,7 +34,11 @@
 //   - an mtllib whose library cannot be read: skipped ("model.obj:2: mtllib: cannot read material
 //     library ...; its materials are missing"); its usemtl names are then unknown, as above;
 //   - a newmtl without a name: that material and its statements are ignored (the warning names
-//     the MTL file and the line).
+//     the MTL file and the line);
+//   - a map_Kd that cannot be used (its file missing or not an image, an unknown option): the
+//     material keeps its Kd alone ("dir/m.mtl:7: map_Kd 'wood.png' (dir/wood.png) of material
+//     'table': cannot read file: No such file or directory: the material uses its Kd alone");
+//   - faces of a material with a map_Kd that have no vt: they use its Kd alone.
 // A repeated vertex index in a face is a degenerate face: dropped with the others under
 // DegenerateFaces::kDrop, an error under kReject.
 //

@@ -55,6 +55,8 @@ class SceneFileReader {
         }
         if (scene_.mesh.faces.empty())
             fail("(root)", "no faces (no meshes, polygons or area lights)");
+        // Texture coordinates: one entry per face once any mesh has them (the polygons have none).
+        if (!scene_.faceUv.empty()) scene_.faceUv.resize(scene_.mesh.faces.size());
         validateSceneStructure(scene_);
         scene_.collectLights();
         return std::move(scene_);
@@ -467,6 +469,8 @@ class SceneFileReader {
         for (Vec3& v : part.mesh.vertices) v = toWorld.point(v);
         if (det < 0) {
             for (auto& face : part.mesh.faces) std::reverse(face.begin() + 1, face.end());
+            for (auto& uvs : part.faceUv)
+                if (!uvs.empty()) std::reverse(uvs.begin() + 1, uvs.end());
         }
         if (part.camera) {
             Camera c = *part.camera;
@@ -495,17 +499,25 @@ class SceneFileReader {
         }
     }
 
-    // The mesh appended to the scene: its vertices, faces and materials (renamed where a name is
-    // taken) after those already there.
+    // The mesh appended to the scene: its vertices, faces (with their texture coordinates),
+    // materials (renamed where a name is taken) and textures after those already there.
     void append(Scene part, const std::string& path) {
         const auto vertexOffset = static_cast<uint32_t>(scene_.mesh.vertices.size());
         const auto materialOffset = static_cast<int32_t>(scene_.materials.size());
+        const auto textureOffset = static_cast<int32_t>(scene_.textures.size());
         if (scene_.mesh.vertices.size() + part.mesh.vertices.size() > kMaxSceneElements ||
             scene_.mesh.faces.size() + part.mesh.faces.size() > kMaxSceneElements)
             fail(path, "too many vertices or faces in the composed scene");
         for (Material& m : part.materials) {
             m.name = uniqueMaterialName(m.name);
+            if (m.kdMap.present()) m.kdMap.image += textureOffset;
             scene_.materials.push_back(std::move(m));
+        }
+        for (TextureImage& t : part.textures) scene_.textures.push_back(std::move(t));
+        if (!part.faceUv.empty() || !scene_.faceUv.empty()) {
+            scene_.faceUv.resize(scene_.mesh.faces.size());
+            part.faceUv.resize(part.mesh.faces.size());
+            for (std::vector<Uv>& uvs : part.faceUv) scene_.faceUv.push_back(std::move(uvs));
         }
         scene_.mesh.vertices.insert(scene_.mesh.vertices.end(), part.mesh.vertices.begin(),
                                     part.mesh.vertices.end());

@@ -238,7 +238,7 @@ void exactCosts(const EvaluationCosts& costs, Lines& out) {
 void materials(const EffectsSummary& e, Lines& out) {
     if (e.materialsAnalytic > 0)
         out.add("materials analytic: " + plural(e.materialsAnalytic, "material", "materials") +
-                " - diffuse: kd ke F from the form factor of the exact fragments, no samples, "
+                " - diffuse: kd(x) ke F from the form factor of the exact fragments, no samples, "
                 "no noise");
     if (e.materialsSampled > 0) {
         if (e.method == "exact")

@@ -266,6 +266,7 @@ class TileShader {
                 p.n = n;
                 p.wo = -ph.ray.direction;
                 p.material = &in_.scene.material(f);
+                p.kd = in_.scene.kdAt(f, p.input);
                 if (in_.exact) {
                     tp.cell = static_cast<uint32_t>(((y - tile.y0) / kRegionCell) *
                                                         (kTileSize / kRegionCell) +

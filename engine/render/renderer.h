@@ -222,9 +222,11 @@ class ProgressiveRenderer {
 };
 
 // Output (engine/io/image_io.cpp). PFM: linear float, little-endian, bottom-to-top rows as the
-// format requires. PNG: exposure then sRGB tone mapping. Both written atomically (temp file +
+// format requires. OpenEXR: linear 32-bit float RGB, the same values as the PFM
+// (engine/io/exr_io.h). PNG: exposure then sRGB tone mapping. All written atomically (temp file +
 // rename); failures throw std::runtime_error naming the file and the reason.
 void writePfm(const Film& film, const std::string& path);
+void writeExr(const Film& film, const std::string& path);
 void writePng(const Film& film, const std::string& path, double exposure = 1.0);
 
 }  // namespace penumbra

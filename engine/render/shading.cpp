@@ -22,8 +22,8 @@ double phongLobe(double ns, const Vec3& n, const Vec3& wo, const Vec3& wi) {
     return (ns + 2) / (2 * std::numbers::pi) * std::pow(c, ns);
 }
 
-Vec3 brdf(const Material& m, const Vec3& n, const Vec3& wo, const Vec3& wi) {
-    Vec3 f = m.kd * (1 / std::numbers::pi);
+Vec3 brdf(const Material& m, const Vec3& kd, const Vec3& n, const Vec3& wo, const Vec3& wi) {
+    Vec3 f = kd * (1 / std::numbers::pi);
     if (m.isGlossy()) f += m.ks * phongLobe(m.ns, n, wo, wi);
     return f;
 }
@@ -327,7 +327,7 @@ Vec3 DirectLighting::shadeFragments(const SurfacePoint& p, const AreaLight& ligh
     for (size_t i = 0; i < list.size(); ++i) formFactor += vis::formFactor(p.x, p.n, list[i]);
     for (const vis::Polygon3& fragment : fragments)
         formFactor += vis::formFactor(p.x, p.n, fragment);
-    Vec3 out = mul(m.kd, light.ke) * formFactor;
+    Vec3 out = mul(p.kd, light.ke) * formFactor;
     if (!glossy) return out;
     // Glossy: stratified area samples inside the visible fragments only (no shadow rays).
     TriangleSampler& sampler = scratch.fragments;
@@ -376,7 +376,7 @@ Vec3 DirectLighting::sampledAreaLight(const AreaLight& light, const SurfacePoint
             // x sees only its face's open front half-space.
             if (!(cosX > 0) || !(cosY > 0)) continue;
             if (bvh_.occluded(p.x, y, p.face, light.face)) continue;
-            sum += brdf(m, p.n, p.wo, wi) * (cosX * cosY / r2);
+            sum += brdf(m, p.kd, p.n, p.wo, wi) * (cosX * cosY / r2);
         }
     }
     return mul(sum, light.ke) * (light.sampler.area() / samples);
@@ -398,7 +398,7 @@ Vec3 DirectLighting::pointLights(const SurfacePoint& p) const {
         const double cosX = dot(p.n, wi);
         if (!(cosX > 0)) continue;
         if (bvh_.occluded(p.x, light.position, p.face, EmbreeScene::kNoFace)) continue;
-        out += mul(brdf(*p.material, p.n, p.wo, wi), light.intensity) * (cosX / r2);
+        out += mul(brdf(*p.material, p.kd, p.n, p.wo, wi), light.intensity) * (cosX / r2);
     }
     return out;
 }

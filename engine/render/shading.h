@@ -11,8 +11,9 @@
 //   dA.
 // The estimators:
 //   exact:   the visible fragments of L from x (FPQuery on the pair's history tree). The diffuse
-//            part is kd ke F, F the form factor of the fragments: closed form, no samples (exact up
-//            to floating-point rounding). The glossy part is estimated with stratified
+//            part is kd(x) ke F, F the form factor of the fragments, kd(x) the albedo at x (a
+//            texture's value there): closed form, no samples (exact up to floating-point
+//            rounding). The glossy part is estimated with stratified
 //            area-uniform samples inside the fragments only: no shadow rays, since every point
 //            of a fragment is visible (unbiased, noisy only where the lobe varies over them).
 //   sampled: stratified area-uniform samples over the whole light, each with one Embree shadow
@@ -45,8 +46,9 @@ inline Vec3 mul(const Vec3& a, const Vec3& b) { return {a.x * b.x, a.y * b.y, a.
 // The Phong lobe's scalar factor (ns + 2) / (2 pi) max(0, r . wi)^ns (times ks gives f_s). n, wo,
 // wi unit; wo and wi point away from the surface.
 double phongLobe(double ns, const Vec3& n, const Vec3& wo, const Vec3& wi);
-// The whole BRDF f(wi, wo) per channel.
-Vec3 brdf(const Material& m, const Vec3& n, const Vec3& wo, const Vec3& wi);
+// The whole BRDF f(wi, wo) per channel, with diffuse albedo kd (the material's at the point:
+// SurfacePoint::kd).
+Vec3 brdf(const Material& m, const Vec3& kd, const Vec3& n, const Vec3& wo, const Vec3& wi);
 
 // samples = a * b with a the largest divisor of samples not above its square root: the grid
 // of stratified samples (EmbreeScene::sampledFraction uses the same rule).
@@ -92,6 +94,9 @@ struct SurfacePoint {
     // (the projected hit), where the exact queries decide the contact rule (shadingPoint).
     Vec3 x, input, n, wo;
     const Material* material = nullptr;
+    // The diffuse albedo at x (Scene::kdAt: material->kd, times its texture there), what every
+    // estimator's diffuse term uses.
+    Vec3 kd;
     vis::AnsweredPoint answered() const { return {x, input}; }
 };
 

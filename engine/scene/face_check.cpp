@@ -106,6 +106,7 @@ class FaceRepairs {
         scene_.mesh.faces = std::move(faces_);
         if (!scene_.faceMaterial.empty()) scene_.faceMaterial = std::move(material_);
         if (!scene_.faceSourceLine.empty()) scene_.faceSourceLine = std::move(line_);
+        if (!scene_.faceUv.empty()) scene_.faceUv = std::move(uv_);
     }
 
     // One warning per kind of repair made, of the nf faces checked.
@@ -144,7 +145,17 @@ class FaceRepairs {
         FaceCheckScratch scratch;
         return *checkFace(scene_.mesh, f, scratch);
     }
+    // Face f kept whole (its texture coordinates with it), or a triangle of it (`uvs`: the
+    // coordinates of its corners, empty when f has none).
     void keep(size_t f, std::vector<uint32_t> face) {
+        if (f < scene_.faceUv.size()) uv_.push_back(std::move(scene_.faceUv[f]));
+        keepAttributes(f, std::move(face));
+    }
+    void keep(size_t f, std::vector<uint32_t> face, std::vector<Uv> uvs) {
+        if (f < scene_.faceUv.size()) uv_.push_back(std::move(uvs));
+        keepAttributes(f, std::move(face));
+    }
+    void keepAttributes(size_t f, std::vector<uint32_t> face) {
         faces_.push_back(std::move(face));
         if (f < scene_.faceMaterial.size()) material_.push_back(scene_.faceMaterial[f]);
         if (f < scene_.faceSourceLine.size()) line_.push_back(scene_.faceSourceLine[f]);
@@ -178,7 +189,10 @@ class FaceRepairs {
                                      "precision)";
                 continue;
             }
-            keep(f, {ids[t[0]], ids[t[1]], ids[t[2]]});
+            std::vector<Uv> uvs;
+            if (f < scene_.faceUv.size() && scene_.faceUv[f].size() == ids.size())
+                uvs = {scene_.faceUv[f][t[0]], scene_.faceUv[f][t[1]], scene_.faceUv[f][t[2]]};
+            keep(f, {ids[t[0]], ids[t[1]], ids[t[2]]}, std::move(uvs));
         }
     }
 
@@ -188,6 +202,7 @@ class FaceRepairs {
     // The repaired faces, with their materials and lines where the scene has them.
     std::vector<std::vector<uint32_t>> faces_;
     std::vector<int32_t> material_, line_;
+    std::vector<std::vector<Uv>> uv_;
     PolygonTriangulation triangulation_;
     std::vector<vis::Vec3> points_;
     RepairCount dropped_, splitNonPlanar_, splitNonConvex_;

@@ -1,5 +1,9 @@
 #include "engine/scene/scene.h"
 
+#include <optional>
+
+#include "engine/scene/face_uv.h"
+
 namespace penumbra {
 
 const Material& Scene::material(uint32_t face) const {
@@ -20,6 +24,15 @@ std::vector<std::string> Scene::loadNotices() const {
     if (defaultLight) out.push_back(defaultLight->announcement(sourcePath));
     out.insert(out.end(), warnings.begin(), warnings.end());
     return out;
+}
+
+Vec3 Scene::kdAt(uint32_t face, const Vec3& x) const {
+    const Material& m = material(face);
+    if (!m.kdMap.present() || static_cast<size_t>(m.kdMap.image) >= textures.size()) return m.kd;
+    const std::optional<Uv> uv = faceUvAt(*this, face, x);
+    if (!uv) return m.kd;
+    const Vec3 t = sampleTexture(textures[static_cast<size_t>(m.kdMap.image)], m.kdMap, *uv);
+    return {m.kd.x * t.x, m.kd.y * t.y, m.kd.z * t.z};
 }
 
 void Scene::collectLights() {

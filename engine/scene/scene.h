@@ -11,6 +11,7 @@
 
 #include "engine/scene/camera.h"
 #include "engine/scene/default_light.h"
+#include "engine/scene/texture.h"
 #include "visibility/polygon_mesh.h"
 
 namespace penumbra {
@@ -20,12 +21,14 @@ using vis::Vec3;
 // A material as the renderer sees it: Lambertian diffuse plus an optional normalised Phong lobe.
 // OBJ/MTL maps directly (Kd, Ks, Ns, Ke); glTF's metallic-roughness is converted by its loader
 // (kd = base (1 - metallic), ks = mix(0.04, base, metallic), ns = 2 / roughness^4 - 2).
+// kdMap, when present, multiplies kd at each point by the texture's colour there (Scene::kdAt).
 struct Material {
     std::string name;
-    Vec3 kd{0.8, 0.8, 0.8};  // diffuse albedo
+    Vec3 kd{0.8, 0.8, 0.8};  // diffuse albedo (the factor, with a kdMap)
     Vec3 ks{0, 0, 0};        // specular albedo of the Phong lobe
     Vec3 ke{0, 0, 0};        // emitted radiance; nonzero makes the face an area light
     double ns = 0;           // Phong exponent
+    TextureRef kdMap;        // glTF baseColorTexture, MTL map_Kd (last: aggregate initialisers)
     bool isEmissive() const { return ke.x > 0 || ke.y > 0 || ke.z > 0; }
     // A purely diffuse material is shaded analytically from the exact fragments; a glossy one
     // (nonzero ks) needs samples inside them.
@@ -44,6 +47,11 @@ struct Scene {
     std::vector<int32_t> faceMaterial;    // per face, index into materials or -1 (default)
     std::vector<int32_t> faceSourceLine;  // per face, the 1-based line it came from (0 if none)
     std::vector<Material> materials;
+    std::vector<TextureImage> textures;  // the images of the materials' maps (TextureRef::image)
+    // Texture coordinates per face corner (texture.h's convention), in the face's vertex order:
+    // empty when the scene has none, else one entry per face, itself empty (the face has none) or
+    // one Uv per vertex of the face.
+    std::vector<std::vector<Uv>> faceUv;
     std::vector<uint32_t> lights;         // face indices of emissive faces, in file order
     std::vector<PointLight> pointLights;  // from scene files; no visibility precompute
     std::optional<Camera> camera;         // from scene files (glTF, JSON); else the viewer fits one
@@ -62,6 +70,9 @@ struct Scene {
     // What the commands print on stderr after loading, one line each: the default light's
     // announcement, then the warnings.
     std::vector<std::string> loadNotices() const;
+    // The diffuse albedo at x, a point of face `face`: the material's kd, times its kdMap at x's
+    // texture coordinates (faceUvAt, face_uv.h) when it has one and the face has coordinates.
+    Vec3 kdAt(uint32_t face, const Vec3& x) const;
     // Rebuilds `lights` from the face materials (file order).
     void collectLights();
 };

@@ -418,6 +418,40 @@ void validateSceneStructure(const Scene& scene) {
                                      std::to_string(scene.materials.size()) + " materials)");
         }
     }
+    for (size_t m = 0; m < scene.materials.size(); ++m) {
+        const int32_t image = scene.materials[m].kdMap.image;
+        if (image < -1 || (image >= 0 && static_cast<size_t>(image) >= scene.textures.size()))
+            throw makeSceneError(file, 0,
+                                 "material " + std::to_string(m) + ": texture index " +
+                                     std::to_string(image) + " out of range (scene has " +
+                                     std::to_string(scene.textures.size()) + " textures)");
+    }
+    for (size_t t = 0; t < scene.textures.size(); ++t) {
+        const TextureImage& image = scene.textures[t];
+        if (image.width < 1 || image.height < 1 ||
+            image.srgb.size() != 3 * static_cast<size_t>(image.width) * image.height)
+            throw makeSceneError(file, 0,
+                                 "texture " + std::to_string(t) + " (" + image.source +
+                                     "): its texels do not match its size");
+    }
+    if (!scene.faceUv.empty() && scene.faceUv.size() != nf) {
+        throw makeSceneError(file, 0,
+                             "faceUv has " + std::to_string(scene.faceUv.size()) + " entries for " +
+                                 std::to_string(nf) + " faces");
+    }
+    for (uint32_t f = 0; f < scene.faceUv.size(); ++f) {
+        const std::vector<Uv>& uvs = scene.faceUv[f];
+        const int64_t line = f < scene.faceSourceLine.size() ? scene.faceSourceLine[f] : 0;
+        if (!uvs.empty() && uvs.size() != mesh.faces[f].size())
+            throw makeSceneError(file, line,
+                                 "face " + std::to_string(f) + ": " + std::to_string(uvs.size()) +
+                                     " texture coordinates for " +
+                                     std::to_string(mesh.faces[f].size()) + " vertices");
+        for (const Uv& uv : uvs)
+            if (!std::isfinite(uv.u) || !std::isfinite(uv.v))
+                throw makeSceneError(
+                    file, line, "face " + std::to_string(f) + ": non-finite texture coordinate");
+    }
     for (uint32_t light : scene.lights) {
         if (light >= nf) {
             throw makeSceneError(file, 0,

@@ -9,17 +9,19 @@
 //     line before anything else is read;
 //   - numbers: [+-]digits[.digits][(e|E)[+-]digits] (digits on at least one side of the point)
 //     whose value is a finite double (strtod, no range error);
-//   - OBJ: `v` with 3 to 7 numbers (x y z [w [r g b]]); `f` with at least 3 references v, v/vt,
-//     v//vn or v/vt/vn of nonzero integers (vt and vn checked for form only: penumbra reads
-//     positions, not texture coordinates or normals), a negative v counting back from the
-//     vertices defined before the line, a positive one checked against the whole file once it is
-//     read (the first such face's line is reported, after every other error of the text);
+//   - OBJ: `v` with 3 to 7 numbers (x y z [w [r g b]]); `vt` with 1 to 3 numbers (u [v [w]]);
+//     `f` with at least 3 references v, v/vt, v//vn or v/vt/vn of nonzero integers (vn checked
+//     for form only: penumbra reads no normals), a negative v or vt counting back from the
+//     vertices or texture coordinates defined before the line, a positive one checked against the
+//     whole file once it is read (the first such face's line is reported, after every other error
+//     of the text);
 //     `usemtl NAME`; `mtllib NAME` reads the one library text given (at the first mtllib, named
-//     NAME); the statements of the spec that carry nothing a polygon renderer reads (texture
-//     coordinates, normals, grouping, display attributes) are skipped; any other is refused;
+//     NAME); the statements of the spec that carry nothing a polygon renderer reads (normals,
+//     grouping, display attributes) are skipped; any other is refused;
 //   - MTL: keys in any case; `newmtl NAME` (a name defined twice is refused; one without a name
 //     is skipped with its statements); Kd, Ks, Ke with 1 or 3 non-negative numbers and Ns with
-//     one, refused before any newmtl; other keys skipped;
+//     one, refused before any newmtl; map_Kd refused before any newmtl, else never (an image
+//     that cannot be used is a warning); other keys skipped;
 //   - a usemtl naming no material gives the faces a default, non-emissive material; a face is an
 //     area light when its material has a positive Ke;
 //   - refused at line 0 (the file as a whole): a text without faces, then one with a coordinate
@@ -205,9 +207,10 @@ inline std::optional<int64_t> readMtl(std::string_view text,
         }
         const bool colour = equalsIgnoreCase(t[0], "kd") || equalsIgnoreCase(t[0], "ks") ||
                             equalsIgnoreCase(t[0], "ke");
-        if (!colour && !equalsIgnoreCase(t[0], "ns")) continue;
+        const bool map = equalsIgnoreCase(t[0], "map_kd");
+        if (!colour && !map && !equalsIgnoreCase(t[0], "ns")) continue;
         if (state == kNone) return line.number;
-        if (state == kUnnamed) continue;  // skipped with its material
+        if (state == kUnnamed || map) continue;  // skipped with its material; a map never refuses
         if (colour && t.size() != 2 && t.size() != 4) return line.number;
         if (!colour && t.size() != 2) return line.number;
         bool positive = false;
@@ -235,15 +238,16 @@ inline ObjReading readObjReference(std::string_view obj, std::string_view mtl,
         return r;
     };
     if (const auto line = binaryByteLine(obj)) return refuse(objName, *line);
-    static const char* kSkipped[] = {"vt",         "vn",        "vp",       "o",      "g",
-                                     "s",          "l",         "p",        "mg",     "lod",
-                                     "bevel",      "c_interp",  "d_interp", "usemap", "maplib",
-                                     "shadow_obj", "trace_obj", "csh"};
+    static const char* kSkipped[] = {
+        "vn",    "vp",       "o",        "g",      "s",      "l",          "p",         "mg", "lod",
+        "bevel", "c_interp", "d_interp", "usemap", "maplib", "shadow_obj", "trace_obj", "csh"};
     std::map<std::string, Material> materials;
     bool libraryRead = false;
     std::string useMtl;  // empty: none yet
     std::vector<std::string> faceMaterial;
     std::vector<int64_t> faceLine;
+    int64_t texCoords = 0;           // vt lines so far
+    std::vector<int64_t> faceMaxVt;  // per face its largest positive vt index (0: none)
     for (const Line& line : logicalLines(obj)) {
         const std::vector<std::string> t = tokens(line.text);
         if (t.empty()) continue;
@@ -257,9 +261,15 @@ inline ObjReading readObjReference(std::string_view obj, std::string_view mtl,
                 if (i <= 3) c[i - 1] = *v;
             }
             r.vertices.push_back({c[0], c[1], c[2]});
+        } else if (keyword == "vt") {
+            if (t.size() < 2 || t.size() > 4) return refuse(objName, line.number);
+            for (size_t i = 1; i < t.size(); ++i)
+                if (!number(t[i])) return refuse(objName, line.number);
+            ++texCoords;
         } else if (keyword == "f") {
             if (t.size() < 4) return refuse(objName, line.number);
             std::vector<uint32_t> face;
+            int64_t maxVt = 0;
             for (size_t i = 1; i < t.size(); ++i) {
                 std::vector<std::string> parts(1);
                 for (char ch : t[i]) {
@@ -275,6 +285,9 @@ inline ObjReading readObjReference(std::string_view obj, std::string_view mtl,
                     if (parts[k].empty()) continue;
                     const std::optional<int64_t> other = integer(parts[k]);
                     if (!other || *other == 0) return refuse(objName, line.number);
+                    if (k == 1 && (*other < -texCoords || *other > (int64_t{1} << 30)))
+                        return refuse(objName, line.number);
+                    if (k == 1) maxVt = std::max(maxVt, *other);
                 }
                 const std::optional<int64_t> v = integer(parts[0]);
                 const auto defined = static_cast<int64_t>(r.vertices.size());
@@ -283,6 +296,7 @@ inline ObjReading readObjReference(std::string_view obj, std::string_view mtl,
                 face.push_back(static_cast<uint32_t>(*v < 0 ? defined + *v : *v - 1));
             }
             r.faces.push_back(std::move(face));
+            faceMaxVt.push_back(maxVt);
             faceMaterial.push_back(useMtl);
             faceLine.push_back(line.number);
         } else if (keyword == "usemtl") {
@@ -300,9 +314,11 @@ inline ObjReading readObjReference(std::string_view obj, std::string_view mtl,
             return refuse(objName, line.number);
         }
     }
-    for (size_t f = 0; f < r.faces.size(); ++f)
+    for (size_t f = 0; f < r.faces.size(); ++f) {
         for (uint32_t v : r.faces[f])
             if (v >= r.vertices.size()) return refuse(objName, faceLine[f]);
+        if (faceMaxVt[f] > texCoords) return refuse(objName, faceLine[f]);
+    }
     if (r.faces.empty()) return refuse(objName, 0);
     for (const vis::Vec3& p : r.vertices)
         if (std::fabs(p.x) > 0x1p59 || std::fabs(p.y) > 0x1p59 || std::fabs(p.z) > 0x1p59)

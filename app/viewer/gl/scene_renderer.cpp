@@ -32,38 +32,109 @@ SceneRenderer::SceneRenderer(const std::array<float, 3>& background)
       meshProgram_("mesh.vert", "mesh.frag"),
       overlayProgram_("overlay.vert", "overlay.frag"),
       imageProgram_("image.vert", "image.frag"),
-      mesh_({3, 3, 3, 1}),
+      mesh_({3, 3, 3, 1, 2}),
       fragments_({3, 4}),
       lines_({3, 4}),
       linesOnTop_({3, 4}),
       imageQuads_({2, 2}) {}
 
+SceneRenderer::~SceneRenderer() { deleteTextures(); }
+
+void SceneRenderer::deleteTextures() {
+    if (!textures_.empty())
+        glDeleteTextures(static_cast<GLsizei>(textures_.size()), textures_.data());
+    textures_.clear();
+}
+
+namespace scene_renderer_detail {
+
+GLint glWrap(TextureWrap wrap) {
+    switch (wrap) {
+        case TextureWrap::ClampToEdge:
+            return GL_CLAMP_TO_EDGE;
+        case TextureWrap::MirroredRepeat:
+            return GL_MIRRORED_REPEAT;
+        case TextureWrap::Repeat:
+            break;
+    }
+    return GL_REPEAT;
+}
+
+// The material's image as a texture with its wrap and filter (texels sRGB: sampled as linear).
+GLuint uploadTexture(const TextureImage& image, const TextureRef& ref) {
+    GLuint texture = 0;
+    glGenTextures(1, &texture);
+    glBindTexture(GL_TEXTURE_2D, texture);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // rows of 3 bytes a texel
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_SRGB8, image.width, image.height, 0, GL_RGB, GL_UNSIGNED_BYTE,
+                 image.srgb.data());
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    const GLint filter = ref.filter == TextureFilter::Nearest ? GL_NEAREST : GL_LINEAR;
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, glWrap(ref.wrapU));
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, glWrap(ref.wrapV));
+    glBindTexture(GL_TEXTURE_2D, 0);
+    return texture;
+}
+
+}  // namespace scene_renderer_detail
+
 void SceneRenderer::setScene(const Scene& scene) {
-    std::vector<float> data;
+    deleteTextures();
+    batches_.clear();
     const vis::PolygonMesh& mesh = scene.mesh;
+    // The faces by what they are drawn with: no texture (slot 0), or material m's (slot m + 1)
+    // when it has a map and the face has texture coordinates.
+    std::vector<std::vector<uint32_t>> slots(scene.materials.size() + 1);
     for (uint32_t f = 0; f < scene.faceCount(); ++f) {
-        const auto face = mesh.face(f);
-        if (face.size() < 3) continue;
-        const Material& m = scene.material(f);
-        const Vec3 n = normalize(mesh.faceAreaNormal(f));
-        Vec3 colour = m.kd;
-        float emissive = 0;
-        if (m.isEmissive()) {
-            // The light's colour, normalised so that its brightest channel is 1.
-            const double top = std::max({m.ke.x, m.ke.y, m.ke.z});
-            colour = m.ke / top;
-            emissive = 1;
+        if (mesh.face(f).size() < 3) continue;
+        const int32_t m = f < scene.faceMaterial.size() ? scene.faceMaterial[f] : -1;
+        const bool textured = m >= 0 && scene.materials[static_cast<size_t>(m)].kdMap.present() &&
+                              !scene.materials[static_cast<size_t>(m)].isEmissive() &&
+                              f < scene.faceUv.size() && !scene.faceUv[f].empty();
+        slots[textured ? static_cast<size_t>(m) + 1 : 0].push_back(f);
+    }
+    std::vector<float> data;
+    for (size_t slot = 0; slot < slots.size(); ++slot) {
+        if (slots[slot].empty()) continue;
+        MeshBatch batch;
+        batch.first = data.size() / static_cast<size_t>(mesh_.stride());
+        const TextureRef* map = slot > 0 ? &scene.materials[slot - 1].kdMap : nullptr;
+        if (map != nullptr) {
+            batch.texture = scene_renderer_detail::uploadTexture(
+                scene.textures[static_cast<size_t>(map->image)], *map);
+            textures_.push_back(batch.texture);
         }
-        for (size_t j = 1; j + 1 < face.size(); ++j) {
-            for (const uint32_t v : {face[0], face[j], face[j + 1]}) {
-                const Vec3 p = mesh.vertices[v];
-                data.insert(data.end(), {static_cast<float>(p.x), static_cast<float>(p.y),
-                                         static_cast<float>(p.z), static_cast<float>(n.x),
-                                         static_cast<float>(n.y), static_cast<float>(n.z),
-                                         static_cast<float>(colour.x), static_cast<float>(colour.y),
-                                         static_cast<float>(colour.z), emissive});
+        for (const uint32_t f : slots[slot]) {
+            const auto face = mesh.face(f);
+            const Material& m = scene.material(f);
+            const Vec3 n = normalize(mesh.faceAreaNormal(f));
+            Vec3 colour = m.kd;
+            float emissive = 0;
+            if (m.isEmissive()) {
+                // The light's colour, normalised so that its brightest channel is 1.
+                const double top = std::max({m.ke.x, m.ke.y, m.ke.z});
+                colour = m.ke / top;
+                emissive = 1;
+            }
+            for (size_t j = 1; j + 1 < face.size(); ++j) {
+                for (const size_t k : {size_t{0}, j, j + 1}) {
+                    const Vec3 p = mesh.vertices[face[k]];
+                    Uv uv{0, 0};
+                    if (map != nullptr) uv = map->transform.apply(scene.faceUv[f][k]);
+                    data.insert(
+                        data.end(),
+                        {static_cast<float>(p.x), static_cast<float>(p.y), static_cast<float>(p.z),
+                         static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z),
+                         static_cast<float>(colour.x), static_cast<float>(colour.y),
+                         static_cast<float>(colour.z), emissive, static_cast<float>(uv.u),
+                         static_cast<float>(uv.v)});
+                }
             }
         }
+        batch.count = data.size() / static_cast<size_t>(mesh_.stride()) - batch.first;
+        batches_.push_back(batch);
     }
     mesh_.upload(data);
     clearOverlay();
@@ -120,7 +191,13 @@ void SceneRenderer::draw(const Camera& camera, double nearDistance, double farDi
     meshProgram_.setVec3("uEye", static_cast<float>(camera.eye.x), static_cast<float>(camera.eye.y),
                          static_cast<float>(camera.eye.z));
     if (image != nullptr) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);  // depth only
-    mesh_.draw(GL_TRIANGLES);
+    glActiveTexture(GL_TEXTURE0);
+    for (const MeshBatch& batch : batches_) {
+        meshProgram_.setFloat("uTextured", batch.texture != 0 && image == nullptr ? 1.0f : 0.0f);
+        glBindTexture(GL_TEXTURE_2D, batch.texture);
+        mesh_.draw(GL_TRIANGLES, batch.first, batch.count);
+    }
+    glBindTexture(GL_TEXTURE_2D, 0);
     if (image != nullptr) {
         glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
         drawImage(*image);

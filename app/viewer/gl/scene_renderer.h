@@ -1,4 +1,5 @@
-// SceneRenderer: draws the scene mesh (flat shading, area lights emissive) and the debug overlays
+// SceneRenderer: draws the scene mesh (flat shading, area lights emissive, base-colour textures on
+// the faces that have coordinates for them) and the debug overlays
 // into a rectangle of the current framebuffer, through the GL function table
 // (app/viewer/gl/gl_api.h). Create, use and destroy it with one GL context's table current.
 // GL code only: the viewer hands it a camera, vertex arrays and colours, never its own state.
@@ -39,7 +40,15 @@ class SceneRenderer {
   public:
     // background: the colour behind the scene (linear RGB in [0, 1], as glClearColor takes it).
     explicit SceneRenderer(const std::array<float, 3>& background);
-    void setScene(const Scene& scene);  // and no overlays
+    ~SceneRenderer();  // deletes the scene's textures
+    SceneRenderer(const SceneRenderer&) = delete;
+    SceneRenderer& operator=(const SceneRenderer&) = delete;
+    // The scene's faces (and no overlays), each textured material's faces in a draw of their own
+    // with its image as a GL texture (sRGB texels, its wrap and filter; no mipmaps), the texture
+    // coordinates transformed on upload (UvTransform is affine, so the GPU's interpolation of the
+    // transformed corners is the transform of the interpolated coordinates: the fan of
+    // engine/scene/face_uv.h, as the renderer reads it).
+    void setScene(const Scene& scene);
     // The overlays, x y z r g b a per vertex: triangles depth-tested and pulled forward onto the
     // light's plane, lines depth-tested, lines drawn over everything (OverlayGeometry's three
     // arrays).
@@ -57,8 +66,17 @@ class SceneRenderer {
   private:
     void drawImage(const ViewImage& image) const;
 
+    // A range of mesh_'s vertices drawn with one texture (0: none).
+    struct MeshBatch {
+        size_t first = 0, count = 0;
+        GLuint texture = 0;
+    };
+    void deleteTextures();
+
     std::array<float, 3> background_;
     ShaderProgram meshProgram_, overlayProgram_, imageProgram_;
+    std::vector<MeshBatch> batches_;
+    std::vector<GLuint> textures_;  // owned
     VertexBuffer mesh_, fragments_, lines_, linesOnTop_;
     mutable VertexBuffer imageQuads_;
 };

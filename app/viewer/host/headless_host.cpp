@@ -5,11 +5,14 @@
 #include <cfloat>
 #include <chrono>
 #include <iostream>
+#include <optional>
+#include <stdexcept>
 
 #include "app/viewer/host/host_error.h"
 #include "app/viewer/host/imgui_session.h"
 #include "app/viewer/png_output.h"
 #include "engine/io/finite_output.h"
+#include "engine/io/image_io.h"
 
 namespace penumbra::viewer {
 
@@ -71,8 +74,21 @@ void runHeadless(const HeadlessOptions& o) {
     const std::vector<uint8_t> pixels = context->readRgba();
     if (!o.out.empty()) writeRgbaPng(o.out, o.width, o.height, pixels);
     const PreviewImage& preview = viewer.preview().image();
-    if (!o.previewOut.empty() && preview.width > 0)
-        writeRgbaPng(o.previewOut, preview.width, preview.height, preview.rgba);
+    if (!o.previewOut.empty() && preview.width > 0) {
+        const std::optional<ImageFormat> format = imageFormatOf(o.previewOut);
+        if (format == ImageFormat::Png) {
+            writeRgbaPng(o.previewOut, preview.width, preview.height, preview.rgba);
+        } else if (format) {
+            const std::optional<Film> radiance = radianceFilm(preview);
+            if (!radiance)
+                throw std::runtime_error("cannot write '" + o.previewOut.string() +
+                                         "': the preview has no linear image yet");
+            writeImage(*radiance, o.previewOut.string(), *format);
+        } else {
+            throw std::runtime_error("cannot write '" + o.previewOut.string() +
+                                     "': the preview image must be " + kImageExtensions);
+        }
+    }
     if (!o.stateOut.empty()) {
         nlohmann::json state = viewer.stateJson();
         state["backend"] = gl::toString(o.backend);

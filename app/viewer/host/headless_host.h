@@ -22,8 +22,10 @@ struct HeadlessOptions {
     std::optional<std::array<double, 2>> hover;  // the mouse over this pixel for the last frames
     std::filesystem::path out;                   // the screenshot (PNG)
     std::filesystem::path stateOut;              // optional: the UI state (JSON)
-    std::filesystem::path previewOut;            // optional: the preview image alone (PNG)
-    std::filesystem::path saveView;  // optional: Preview::save to this stem (.png .pfm .json)
+    // Optional: the preview image alone, by the extension: .png as shown, .pfm or .exr its linear
+    // radiance (radianceFilm, preview_runner.h).
+    std::filesystem::path previewOut;
+    std::filesystem::path saveView;  // optional: Preview::save to this stem (.png .pfm .exr .json)
     // Start the precompute of every pair and draw frames until it ends, recording the frame
     // times (state JSON "precomputeFrames").
     bool precompute = false;

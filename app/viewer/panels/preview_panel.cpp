@@ -128,13 +128,15 @@ PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& 
             ImGui::Text("sampled vs exact: %.2f%% RMS", 100 * image.relativeRmsError);
         if (s.mode == PreviewMode::Answers && !image.answers.empty()) drawAnswerLegend(image);
         if (!image.error.empty()) ImGui::TextWrapped("error: %s", image.error.c_str());
-        // Keep what you see: STEM.png, STEM.pfm and STEM.json (the scene with this camera).
+        // Keep what you see: STEM.png, STEM.pfm, STEM.exr and STEM.json (the scene with this
+        // camera).
         ImGui::SetNextItemWidth(std::max(60.0f, ImGui::GetContentRegionAvail().x - 110));
         ImGui::InputText("##stem", saveStem.data(), saveStem.size());
         ImGui::SameLine();
         if (ImGui::Button("Save view") && saveStem[0] != 0) save = true;
         if (ImGui::IsItemHovered())
-            ImGui::SetTooltip("writes STEM.png, STEM.pfm (linear) and STEM.json (this camera)");
+            ImGui::SetTooltip(
+                "writes STEM.png, STEM.pfm and STEM.exr (linear) and STEM.json (this camera)");
         if (image.width > 0) {
             // The whole image in the space left, aspect kept.
             const ImVec2 avail = ImGui::GetContentRegionAvail();

@@ -14,6 +14,7 @@
 #include "engine/render/answers.h"
 #include "tests/app/viewer/viewer_test_support.h"
 #include "tests/support/closed_forms.h"
+#include "tests/support/read_exr.h"
 #include "tests/support/read_pfm.h"
 #include "tests/support/run_penumbra.h"
 
@@ -90,6 +91,28 @@ TEST_F(RenderCommand, WritesPngAndPfmAndExplainsItself) {
     std::string sig(8, '\0');
     png.read(sig.data(), 8);
     EXPECT_EQ(sig, std::string("\x89PNG\r\n\x1a\n", 8));
+}
+
+// --out FILE.exr: OpenEXR, read back by the library's own reader, 32-bit float RGB holding the
+// very floats of the PFM written by the same render.
+TEST_F(RenderCommand, WritesOpenExrWithThePfmsValues) {
+    const ProcessResult r = run(base(), {"--out", path("a.exr"), "--out", path("a.pfm")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("wrote " + path("a.exr")), std::string::npos) << output(r);
+    const penumbra::test::ExrImage exr = penumbra::test::readExr(path("a.exr"));
+    EXPECT_EQ(exr.width, 16);
+    EXPECT_EQ(exr.height, 12);
+    EXPECT_EQ(exr.channelTypes, (std::vector<std::string>{"float", "float", "float"}));
+    int w = 0, h = 0;
+    const std::vector<float> pfm = penumbra::test::readPfm(path("a.pfm"), w, h);
+    ASSERT_EQ(exr.rgb.size(), pfm.size());
+    size_t differ = 0, lit = 0;
+    for (size_t i = 0; i < pfm.size(); ++i) {
+        differ += exr.rgb[i] != pfm[i];
+        lit += pfm[i] > 0;
+    }
+    EXPECT_EQ(differ, 0u);
+    EXPECT_GT(lit, 0u);
 }
 
 // --out-answers writes how each pixel was answered (engine/render/answers.h) and prints the
@@ -275,7 +298,11 @@ TEST_F(RenderCommand, BadInputGetsAClearErrorAndExitCode) {
     EXPECT_NE(output(r).find("--size"), std::string::npos) << output(r);
     r = run(base(), {"--out", path("a.jpg")});
     EXPECT_EQ(r.exitCode, 2);
-    EXPECT_NE(output(r).find(".png or .pfm"), std::string::npos) << output(r);
+    EXPECT_NE(output(r).find(".png, .pfm or .exr"), std::string::npos) << output(r);
+    // A file that cannot be written: an input error naming it.
+    r = run(base(), {"--out", path("missing/x.exr")});
+    EXPECT_EQ(r.exitCode, 1);
+    EXPECT_NE(output(r).find("x.exr"), std::string::npos) << output(r);
     r = run(base(), {"--out", path("a.png"), "--out-answers", path("answers.jpg")});
     EXPECT_EQ(r.exitCode, 2);
     EXPECT_NE(output(r).find("--out-answers"), std::string::npos) << output(r);

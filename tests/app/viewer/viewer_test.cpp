@@ -17,12 +17,14 @@
 #include <set>
 #include <vector>
 
+#include "engine/io/image_io.h"
 #include "engine/io/obj_io.h"
 #include "engine/io/scene_loader.h"
 #include "engine/precompute/point_inspection.h"
 #include "engine/raytrace/embree_scene.h"
 #include "tests/app/viewer/viewer_test_support.h"
 #include "tests/support/exact_reference.h"
+#include "tests/support/read_exr.h"
 #include "tests/support/read_pfm.h"
 
 namespace penumbra {
@@ -357,6 +359,92 @@ TEST(ViewerScreenshot, PickingAPixelInspectsTheSurfaceAnIndependentRayHits) {
     EXPECT_NEAR(p[2].get<double>(), 120, 5);
 }
 
+// The raster view draws a base-colour texture on the faces that have one: a quad [0, 2]^2 seen from
+// straight above, textured with a checker (OBJ map_Kd) of 4x4 texels, 2x2 of each colour: red,
+// green / blue, grey from the image's top, OBJ's v up so the top row lies at large y. Over the
+// middle half of each quadrant (between the centres of its own texels, where bilinear filtering
+// mixes in no other colour), wherever the view's overlays leave it visible, the pixels have that
+// colour (times Kd and the headlight's shade, near 1 seen head on): the dominant channel where
+// the texel has one, three similar dark ones for grey.
+TEST(ViewerScreenshot, RasterViewShowsBaseColourTextures) {
+    const fs::path dir = test::scratchDir("viewer_texture");
+    const uint8_t colours[4][3] = {{255, 0, 0}, {0, 255, 0}, {0, 0, 255}, {128, 128, 128}};
+    std::vector<uint8_t> texels;
+    for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x)
+            texels.insert(texels.end(), colours[(y / 2) * 2 + x / 2],
+                          colours[(y / 2) * 2 + x / 2] + 3);
+    std::ofstream(dir / "checker.png", std::ios::binary) << encodePng(4, 4, 3, texels.data());
+    std::ofstream(dir / "quad.mtl") << "newmtl checker\nKd 0.9 0.9 0.9\nmap_Kd checker.png\n";
+    std::ofstream(dir / "quad.obj") << "mtllib quad.mtl\nv 0 0 0\nv 2 0 0\nv 2 2 0\nv 0 2 0\n"
+                                       "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl checker\n"
+                                       "f 1/1 2/2 3/3 4/4\n";
+    Camera c;
+    c.eye = {1, 1, 2.5};
+    c.target = {1, 1, 0};
+    c.up = {0, 1, 0};
+    c.fovYDegrees = 60;
+    const test::ProcessResult r = test::runPenumbraGl(
+        {"screenshot", (dir / "quad.obj").string(), "--camera", "1,1,2.5,1,1,0,60", "--size",
+         "1280x800", "--no-preview", "--out", (dir / "shot.png").string(), "--state-out",
+         (dir / "state.json").string()});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const test::Image image = test::readPng(dir / "shot.png");
+    const json state = test::readJson(dir / "state.json");
+    const json& v = state["panelRects"]["3D view"];
+    const int vx = v[0], vy = v[1], vw = v[2], vh = v[3];
+    std::vector<std::array<double, 4>> overlays;
+    for (const char* name : {"Help", "Status"}) {
+        const json& o = state["panelRects"][name];
+        overlays.push_back({o[0], o[1], o[2], o[3]});
+    }
+    auto covered = [&](int x, int y) {
+        for (const auto& o : overlays)
+            if (x >= o[0] - 2 && y >= o[1] - 2 && x <= o[0] + o[2] + 2 && y <= o[1] + o[3] + 2)
+                return true;
+        return false;
+    };
+    struct Quadrant {
+        double x0, y0;  // its lower corner
+        int dominant;   // channel, or -1 for grey
+        const char* name;
+    };
+    for (const Quadrant& q : {Quadrant{0, 1, 0, "red"}, Quadrant{1, 1, 1, "green"},
+                              Quadrant{0, 0, 2, "blue"}, Quadrant{1, 0, -1, "grey"}}) {
+        SCOPED_TRACE(q.name);
+        int seen = 0;
+        for (int i = 0; i <= 8; ++i) {
+            for (int j = 0; j <= 8; ++j) {
+                const Vec3 p{q.x0 + 0.27 + 0.46 * i / 8, q.y0 + 0.27 + 0.46 * j / 8, 0};
+                double px = 0, py = 0;
+                ASSERT_TRUE(c.project(p, vw, vh, px, py));
+                const int x = vx + static_cast<int>(px), y = vy + static_cast<int>(py);
+                if (covered(x, y)) continue;
+                ++seen;
+                const unsigned char* rgb = image.at(x, y);
+                const std::string at = std::to_string(x) + "," + std::to_string(y) + ": " +
+                                       std::to_string(rgb[0]) + " " + std::to_string(rgb[1]) + " " +
+                                       std::to_string(rgb[2]);
+                if (q.dominant >= 0) {
+                    EXPECT_GT(rgb[q.dominant], 150) << at;
+                    for (int k = 0; k < 3; ++k) {
+                        if (k != q.dominant) {
+                            EXPECT_LT(rgb[k], 40) << at;
+                        }
+                    }
+                } else {
+                    // 0.9 x 0.216 (sRGB 128, linear) x the shade: about 48 of 255 each.
+                    for (int k = 0; k < 3; ++k) {
+                        EXPECT_GT(rgb[k], 30) << at;
+                        EXPECT_LT(rgb[k], 70) << at;
+                    }
+                }
+            }
+        }
+        EXPECT_GT(seen, 8);
+    }
+}
+
 // The sampled preview (N shadow rays per light) is an unbiased estimate of the exact one and both
 // share the primary-ray jitter (RenderSettings::seed), so their relative RMS difference falls as
 // passes accumulate (about 1/sqrt(passes): 1/4 after 16) and with more light samples.
@@ -559,9 +647,10 @@ TEST(ViewerScreenshot, PixelInspectorReportsTheRenderedPixelAndTheExactFraction)
 }
 
 // Keep what you see (--save-view, the Preview panel's button): the rendered view saved as PNG,
-// linear PFM and a JSON scene with the view's camera, in another directory than the scene; that
-// scene reopened by `penumbra render` at the view's size gives the same radiance, pixel for
-// pixel, and by `penumbra screenshot` the same camera. Also from a mesh file (no JSON scene).
+// linear PFM and OpenEXR and a JSON scene with the view's camera, in another directory than the
+// scene; that scene reopened by `penumbra render` at the view's size gives the same radiance,
+// pixel for pixel, and by `penumbra screenshot` the same camera. Also from a mesh file (no JSON
+// scene). --preview-out FILE.exr writes the same radiance.
 TEST(ViewerScreenshot, SavedViewReopensAsTheSameView) {
     const fs::path dir = test::scratchDir("viewer_save_view");
     const std::string camera = "300,250,-700,270,280,0,42";
@@ -572,11 +661,12 @@ TEST(ViewerScreenshot, SavedViewReopensAsTheSameView) {
         const test::ProcessResult r = test::runPenumbraGl(
             {"screenshot", scene.string(), "--view", "rendered", "--camera", camera, "--size",
              "640x400", "--passes", "1", "--save-view", stem.string(), "--out",
-             (dir / "shot.png").string(), "--state-out", (dir / "state.json").string()});
+             (dir / "shot.png").string(), "--state-out", (dir / "state.json").string(),
+             "--preview-out", (dir / "preview.exr").string()});
         ASSERT_EQ(r.exitCode, 0) << r.err;
         const json state = test::readJson(dir / "state.json");
         const int vw = state["panelRects"]["3D view"][2], vh = state["panelRects"]["3D view"][3];
-        for (const char* ext : {".png", ".pfm", ".json"})
+        for (const char* ext : {".png", ".pfm", ".exr", ".json"})
             EXPECT_TRUE(fs::exists(fs::path(stem.string() + ext))) << ext;
         const test::Image png = test::readPng(stem.string() + ".png");
         EXPECT_EQ(png.width, vw);
@@ -600,6 +690,13 @@ TEST(ViewerScreenshot, SavedViewReopensAsTheSameView) {
         }
         EXPECT_EQ(differ, 0u);
         EXPECT_GT(lit, saved.size() / 2);
+        // The OpenEXR files hold the PFM's floats.
+        for (const fs::path& exrPath : {fs::path(stem.string() + ".exr"), dir / "preview.exr"}) {
+            const test::ExrImage exr = test::readExr(exrPath.string());
+            EXPECT_EQ(exr.width, w1);
+            EXPECT_EQ(exr.height, h1);
+            EXPECT_EQ(exr.rgb, saved) << exrPath;
+        }
         // And the viewer opens it with the saved camera.
         const test::ProcessResult rs = test::runPenumbraGl(
             {"screenshot", stem.string() + ".json", "--size", "400x300", "--no-preview", "--out",
@@ -832,6 +929,7 @@ TEST(ViewerScreenshot, BadArgumentsAreRefusedWithTheReason) {
         {{"--backend", "vulkan"}, 2, "osmesa or egl"},
         {{"--pixel", "5000,5"}, 2, "outside"},
         {{"--point", "1,2,3"}, 1, "lies on no face"},
+        {{"--preview-out", (dir / "p.jpg").string()}, 2, ".png, .pfm or .exr"},
     };
     for (const Case& c : cases) {
         std::vector<std::string> args = {"screenshot", cornell().string(), "--out", out};
