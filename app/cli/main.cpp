@@ -10,6 +10,7 @@
 
 #include "app/cli/commands.h"
 #include "engine/scene/scene_error.h"
+#include "engine/scene/worker_threads.h"
 
 namespace {
 
@@ -54,6 +55,8 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+    // Ended last: every worker thread has ended before the exit handlers run (worker_threads.h).
+    const penumbra::WorkerThreadsJoinedAtExit workerThreads;
     try {
         return run(argc, argv);
     } catch (const penumbra::cli::CommandError& e) {
