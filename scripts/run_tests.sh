@@ -1,10 +1,12 @@
 #!/usr/bin/env bash
 # CI entry point: installs the dependencies, then builds and tests three times, then fuzzes:
 #   build/       RelWithDebInfo
-#   build-sanitize/  clang, RelWithDebInfo with -DPENUMBRA_SANITIZE=ON (ASan + UBSan, and the
-#                instrumentation for libFuzzer), PENUMBRA_TEST_SCALE=0.25; it also builds the
-#                libFuzzer harnesses of tests/fuzz/. The reference's own tests (ExactReference.*:
-#                CGAL against closed forms and Monte Carlo, test code only) run in the release
+#   build-sanitize/  clang, RelWithDebInfo with -DPENUMBRA_SANITIZE=ON (ASan + UBSan, and in
+#                the engine the instrumentation for libFuzzer), PENUMBRA_TEST_SCALE=0.25; it also
+#                builds the libFuzzer harnesses of tests/fuzz/. Its tests run as 20 GoogleTest
+#                shards, not one process each (run_shards). The CGAL reference is compiled
+#                without the sanitizers (the oracle, not the product), and its own tests
+#                (ExactReference.*: against closed forms and Monte Carlo) run in the release
 #                suite alone. ASan keeps 15 frames of each allocation's and free's stack (instead
 #                of 30): a report still shows where the memory came from, and the exact-core
 #                tests, which allocate in their inner loops, run about a fifth faster.
@@ -33,8 +35,8 @@ problems=()
 
 # run_suite NAME BUILD_DIR TEST_SCALE [extra cmake args...]
 # Optional, set in front of the call: SUITE_TARGET (build only this target), SUITE_TESTS (a
-# ctest -R regular expression: run only the tests it matches) and SUITE_SKIP (a ctest -E one:
-# leave out the tests it matches).
+# ctest -R regular expression: run only the tests it matches), SUITE_SKIP (a ctest -E one:
+# leave out the tests it matches), or SUITE_SHARDS and SUITE_GTEST_FILTER (run_shards below).
 run_suite() {
   local name=$1 dir=$2 scale=$3
   shift 3
@@ -56,6 +58,10 @@ run_suite() {
     return
   fi
   echo "=== ${name}: test (PENUMBRA_TEST_SCALE=${scale})"
+  if [[ -n "${SUITE_SHARDS:-}" ]]; then
+    run_shards "${name}" "${dir}" "${scale}"
+    return
+  fi
   local log
   log=$(mktemp)
   local select=()
@@ -83,6 +89,71 @@ run_suite() {
   fi
 }
 
+# run_shards NAME BUILD_DIR TEST_SCALE: instead of ctest's one process per test, each test
+# executable of BUILD_DIR runs as SUITE_SHARDS GoogleTest shards (GTEST_TOTAL_SHARDS: every
+# SUITE_SHARDS-th test, in order), two at a time, with SUITE_GTEST_FILTER. Under AddressSanitizer
+# a test process takes some 0.2 s of CPU to start and to check for leaks at exit, which over 450
+# tests was a minute of a 15-minute CI run. A shard prints its tests' failures and its summary;
+# one that ends without a summary (a sanitizer report, a crash, a leak at exit, the timeout) counts
+# as one failure and prints its whole log, the report and the test that was running included.
+run_shards() {
+  local name=$1 dir=$2 scale=$3
+  local logs
+  logs=$(mktemp -d)
+  local jobs=() exe n i
+  for exe in penumbra_tests penumbra_concurrency_tests; do
+    n=${SUITE_SHARDS}
+    [[ ${exe} == penumbra_concurrency_tests ]] && n=1  # 13 tests, a few seconds
+    for ((i = 0; i < n; i++)); do jobs+=("${exe} ${n} ${i}"); done
+  done
+  local running=0 job filter=()
+  [[ -n "${SUITE_GTEST_FILTER:-}" ]] && filter=("--gtest_filter=${SUITE_GTEST_FILTER}")
+  for job in "${jobs[@]}"; do
+    read -r exe n i <<<"${job}"
+    (cd "${dir}" && GTEST_TOTAL_SHARDS=${n} GTEST_SHARD_INDEX=${i} PENUMBRA_TEST_SCALE="${scale}" \
+      timeout 1500 "tests/${exe}" "${filter[@]}" >"${logs}/${exe}.${i}.log" 2>&1
+    echo $? >"${logs}/${exe}.${i}.rc") &
+    running=$((running + 1))
+    if ((running >= 2)); then
+      wait -n
+      running=$((running - 1))
+    fi
+  done
+  wait
+  local passed=0 failed=0 log rc p f s
+  for job in "${jobs[@]}"; do
+    read -r exe n i <<<"${job}"
+    log="${logs}/${exe}.${i}.log"
+    rc=$(cat "${logs}/${exe}.${i}.rc")
+    # "[  PASSED  ] 12 tests.", "[  SKIPPED ] 1 test, listed below:", "[  FAILED  ] 2 tests, listed below:"
+    p=$(grep -Eo '^\[  PASSED  \] [0-9]+' "${log}" | grep -Eo '[0-9]+$' || true)
+    s=$(grep -Eo '^\[  SKIPPED \] [0-9]+ tests?,' "${log}" | grep -Eo '[0-9]+' || true)
+    f=$(grep -Eo '^\[  FAILED  \] [0-9]+ tests?,' "${log}" | grep -Eo '[0-9]+' || true)
+    if [[ -z "${p}" ]]; then
+      echo "=== ${name}: ${exe} shard ${i} of ${n} ended without a summary (exit ${rc}):"
+      cat "${log}"
+      failed=$((failed + 1))
+      continue
+    fi
+    passed=$((passed + p + ${s:-0}))
+    failed=$((failed + ${f:-0}))
+    if [[ "${rc}" != 0 ]]; then
+      grep -v -E '^\[ +(RUN|OK) +\]' "${log}"
+      # Every test passed but the process failed (a leak found at exit): one failure.
+      [[ -z "${f}" ]] && failed=$((failed + 1))
+    fi
+    echo "${exe} shard ${i} of ${n}: $(grep -E '^\[==========\] .* ran\.' "${log}"), exit ${rc}"
+  done
+  rm -rf "${logs}"
+  if ((passed + failed == 0)); then
+    problems+=("${name}: no test ran")
+  fi
+  total_passed=$((total_passed + passed))
+  total_failed=$((total_failed + failed))
+  echo "=== ${name}: ${passed} passed, ${failed} failed"
+  ((failed == 0)) || problems+=("${name}: ${failed} failed")
+}
+
 run_suite release build 1
 # Assignments in front of a function call are exported to what the function runs (ctest).
 # Built with clang: the same instrumented build also holds the fuzz harnesses (fuzz step below).
@@ -95,14 +166,14 @@ asan_options="${ASAN_OPTIONS:-malloc_context_size=15}"
 # same panels and modes run under ASan in ViewerScreenshot and ViewerFrames), and two bench
 # command tests of which rows and sizes the bench picks (35 s; the whole quick bench still runs
 # under ASan in BenchCommand.AQuickRunSays...).
-asan_skip='^(ExactReference\.|ViewerPanelText\.EveryStateSaysWhatTheViewShows$'
-asan_skip+='|BenchCommand\.(SkipsTheScalingRowsWhoseMeshesAreMissing'
-asan_skip+='|MeasuresEveryPointExactOnASmallerImageAboveTheAllPairsSize)$)'
+asan_skip='-ExactReference.*:ViewerPanelText.EveryStateSaysWhatTheViewShows'
+asan_skip+=':BenchCommand.SkipsTheScalingRowsWhoseMeshesAreMissing'
+asan_skip+=':BenchCommand.MeasuresEveryPointExactOnASmallerImageAboveTheAllPairsSize'
 # The viewer test that draws in process (tests/app/viewer/panels/panel_text_test.cpp) opens OSMesa
 # in the test binary itself: its LeakSanitizer ignores what the GL libraries keep at exit, as the
 # child processes' does (tests/app/viewer/lsan_gl.supp).
 CXX=clang++ CC=clang UBSAN_OPTIONS="${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}" \
-  ASAN_OPTIONS="${asan_options}" SUITE_SKIP="${asan_skip}" \
+  ASAN_OPTIONS="${asan_options}" SUITE_GTEST_FILTER="${asan_skip}" SUITE_SHARDS=20 \
   LSAN_OPTIONS="${LSAN_OPTIONS:-suppressions=${PWD}/tests/app/viewer/lsan_gl.supp}" \
   SUITE_TARGET="penumbra_tests penumbra_concurrency_tests ${fuzz_targets}" \
   run_suite sanitize build-sanitize 0.25 -DPENUMBRA_SANITIZE=ON
