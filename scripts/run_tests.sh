@@ -16,7 +16,9 @@
 #                (a renderer test and a query test: 24 s of CPU -> 17 s, system time 6.5 -> 1.8).
 #   build-tsan/  RelWithDebInfo with -DPENUMBRA_TSAN=ON (ThreadSanitizer): only
 #                penumbra_concurrency_tests is built (the scheduler's and the store's tests, less
-#                the one that needs the CGAL reference and runs no threads) and only they run
+#                the one that needs the CGAL reference and runs no threads) with what it links,
+#                penumbra_engine_core (no scene formats, images, renderer or studies), and only
+#                they run
 #   fuzz:        every harness of tests/fuzz/ (from build-sanitize/) for PENUMBRA_FUZZ_SECONDS
 #                (4) each, one per core at a time (scripts/fuzz.sh). 4 s is some 9000 inputs
 #                per harness on 2 cores, a smoke test on top of the seeds and regression inputs
