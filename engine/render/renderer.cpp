@@ -7,6 +7,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -20,8 +21,8 @@
 #include "engine/render/cpu_time.h"
 #include "engine/render/shading.h"
 #include "engine/render/shading_point.h"
-#include "engine/scene/light_checks.h"
 #include "engine/render/tile_schedule.h"
+#include "engine/scene/light_checks.h"
 #include "engine/scene/random.h"
 #include "visibility/face_plane.h"
 
@@ -137,6 +138,8 @@ struct PassInputs {
     const std::unordered_set<uint64_t>* overLimitBefore = nullptr;
     // Exact: this pass's answer per (pixel, light) cell (ExactScratch::answers), or null.
     uint8_t* answers = nullptr;
+    // Exact: what each cell's evaluation saw of its light (ExactScratch::seen), or null.
+    uint8_t* seen = nullptr;
 };
 
 // One thread's share of a pass: per tile, traces the primary rays, then shades the hits into the
@@ -151,6 +154,7 @@ class TileShader {
         scratch.query.setWorkLimit(in.settings.exactWorkLimit);
         scratch.overLimitBefore = in.overLimitBefore;
         scratch.answers = in.answers;
+        scratch.seen = in.seen;
         vis::FromPointQuery::ChainOptions chain;
         chain.minOccluders = in.settings.chainMinOccluders;
         scratch.query.setChainOptions(chain);
@@ -387,18 +391,25 @@ bool shadeTiles(TileShader& shader, TileSchedule& schedule, const RenderSettings
     return true;
 }
 
+// A pass's byte per (pixel, light) cell added to the film's counts per pixel (none when `cells`
+// is empty: not recorded).
+template <size_t N>
+void addCells(std::vector<std::array<uint32_t, N>>& counts, const std::vector<uint8_t>& cells,
+              size_t pixels, size_t lights) {
+    if (cells.empty()) return;
+    if (counts.size() != pixels) counts.assign(pixels, {});
+    for (size_t cell = 0; cell < cells.size(); ++cell)
+        if (cells[cell] != ExactScratch::kNoAnswer) ++counts[cell / lights][cells[cell]];
+}
+
 // A whole pass added to the film (reset first on the film's first pass): its image, and the
-// answers of its (pixel, light) cells when recorded (answers not empty).
+// answers of its (pixel, light) cells and what they saw of their lights when recorded.
 void addPass(Film& film, int pass, int w, int h, const std::vector<Vec3>& image,
-             const std::vector<uint8_t>& answers, size_t lights) {
+             const std::vector<uint8_t>& answers, const std::vector<uint8_t>& seen, size_t lights) {
     if (pass == 0) film.reset(w, h);
     for (size_t i = 0; i < image.size(); ++i) film.sum[i] += image[i];
-    if (!answers.empty()) {
-        if (film.answers.size() != image.size()) film.answers.assign(image.size(), {});
-        for (size_t cell = 0; cell < answers.size(); ++cell)
-            if (answers[cell] != ExactScratch::kNoAnswer)
-                ++film.answers[cell / lights][answers[cell]];
-    }
+    addCells(film.answers, answers, image.size(), lights);
+    addCells(film.seen, seen, image.size(), lights);
     ++film.passes;
 }
 
@@ -422,6 +433,7 @@ void Film::reset(int w, int h) {
     passes = 0;
     sum.assign(static_cast<size_t>(w) * static_cast<size_t>(h), Vec3{});
     answers.clear();
+    seen.clear();
 }
 
 Vec3 Film::mean(int x, int y) const {
@@ -609,6 +621,9 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     const bool answering =
         settings.method == DirectMethod::Exact && settings.recordAnswers && lights > 0;
     passAnswers_.assign(answering ? image.size() * lights : 0, ExactScratch::kNoAnswer);
+    const bool seeing =
+        settings.method == DirectMethod::Exact && settings.recordVisibleFraction && lights > 0;
+    passSeen_.assign(seeing ? image.size() * lights : 0, ExactScratch::kNoAnswer);
     std::atomic<bool> cancelled{false};
     PassFindings found;
     // The cells of the film's earlier passes, for this film, work limit and store only: with
@@ -635,7 +650,8 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                                                                    : settings.lightSamples,
                         settings.method == DirectMethod::Exact,
                         &overLimitCells_,
-                        answering ? passAnswers_.data() : nullptr};
+                        answering ? passAnswers_.data() : nullptr,
+                        seeing ? passSeen_.data() : nullptr};
 
     // Each worker takes tiles from the schedule until none is left (tile_schedule.h).
     schedule_.start(w, h);
@@ -653,7 +669,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     schedule_.finish();
 
     overLimitCells_.insert(found.overLimitNow.begin(), found.overLimitNow.end());
-    addPass(film, pass, w, h, image, passAnswers_, lights);
+    addPass(film, pass, w, h, image, passAnswers_, passSeen_, lights);
     recordUse(found.usedKeys, found.facesSeen, settings, found.evaluations, found.directKeys);
     // Refined between passes: the film of this pass is complete; the next one finds the trees.
     const auto r0 = Clock::now();

@@ -34,6 +34,7 @@
 #include "engine/render/answers.h"
 #include "engine/render/effects_summary.h"
 #include "engine/render/tile_schedule.h"
+#include "engine/render/visible_fraction.h"
 #include "engine/scene/camera.h"
 #include "engine/scene/scene.h"
 #include "visibility/fp_query/from_point_query.h"
@@ -95,6 +96,10 @@ struct RenderSettings {
     // Exact: keep per pixel how its evaluations were answered (Film::answers, answers.h): a byte
     // per (pixel, light) per pass and six counts per pixel in the film, so off unless asked for.
     bool recordAnswers = false;
+    // Exact: keep per pixel how many of its evaluations saw none, part or all of their light
+    // (Film::seen, visible_fraction.h): the penumbra pixels of the image. A byte per (pixel,
+    // light) per pass and three counts per pixel, and a form factor more per queried evaluation.
+    bool recordVisibleFraction = false;
 };
 
 // Linear radiance, accumulated over passes. A pass adds one jittered sample per pixel; the jitter
@@ -106,6 +111,9 @@ struct Film {
     // Exact method with RenderSettings::recordAnswers: per pixel, how many of its evaluations (all
     // passes, all area lights) took each answer (answers.h); else empty.
     std::vector<AnswerCounts> answers;
+    // Exact method with RenderSettings::recordVisibleFraction: per pixel, how many of its
+    // evaluations (all passes, all area lights) saw none, part or all of their light; else empty.
+    std::vector<SeenCounts> seen;
     void reset(int w, int h);
     Vec3 mean(int x, int y) const;  // sum / passes (0 when no pass)
 };
@@ -177,6 +185,7 @@ class ProgressiveRenderer {
     std::vector<Vec3> faceNormal_;      // unit, per face
     std::vector<Vec3> faceOrigin_;      // first vertex, per face
     std::vector<uint8_t> passAnswers_;  // renderPass's, kept for its capacity
+    std::vector<uint8_t> passSeen_;     // (the same for what each evaluation saw)
 
     // What the images used (effects()); guarded by mutex_.
     mutable std::mutex mutex_;

@@ -177,6 +177,12 @@ Vec3 DirectLighting::exactAreaLight(const SurfacePoint& p, size_t k, int glossyS
     const vis::PairKind kind = record->tree.kind;
     if (kind == vis::PairKind::BackFacing || kind == vis::PairKind::FullyHidden) {
         scratch.note(cell, Answer::NoLight);
+        // A fully hidden pair's points see none of the light (where it rises above their
+        // horizon); a back-facing one's see no light to be hidden.
+        if (kind == vis::PairKind::FullyHidden && scratch.seen != nullptr &&
+            e.light.plane.side(p.x) == vis::Sign::Positive &&
+            clippedLight(k, p.face, scratch).size() >= 3)
+            scratch.noteSeen(cell, LightSeen::None);
         return {};
     }
     return kind == vis::PairKind::FullyVisible ? fullyVisibleAnswer(e) : treeWalkAnswer(e);
@@ -246,6 +252,31 @@ void DirectLighting::exactDone(Evaluation& e, Answer path, size_t fragments) con
     scratch.evaluations.costs.chainFragments += fragments;
 }
 
+const vis::Polygon3& DirectLighting::clippedLight(size_t k, uint32_t face,
+                                                  ExactScratch& scratch) const {
+    if (scratch.clippedFace[k] != face) {
+        const vis::FacePlane receiver = vis::facePlane(scene_.mesh, face);
+        const vis::OrientedPlane horizon{receiver.a, receiver.b, receiver.c};
+        scratch.clippedLight[k] = vis::clipConvexPositive(lights_[k].polygon, horizon);
+        scratch.clippedByHorizon[k] = vis::anyVertexBehind(lights_[k].polygon, horizon);
+        scratch.clippedFace[k] = face;
+    }
+    return scratch.clippedLight[k];
+}
+
+void DirectLighting::noteSeen(Evaluation& e, const vis::FragmentList& list) const {
+    ExactScratch& scratch = e.scratch;
+    if (scratch.seen == nullptr) return;
+    // The pair's first signs left no light (exactDone's "no light"): no fraction to count.
+    if (scratch.query.work() == 0 && list.empty()) return;
+    const vis::Polygon3& light = clippedLight(e.k, e.p.face, scratch);
+    const double unoccluded = light.size() < 3 ? 0 : vis::formFactor(e.p.x, e.p.n, light);
+    if (!(unoccluded > 0)) return;  // nothing of the light above x's horizon
+    double visible = 0;
+    for (size_t i = 0; i < list.size(); ++i) visible += vis::formFactor(e.p.x, e.p.n, list[i]);
+    scratch.noteSeen(e.cell, lightSeen(!list.empty(), visible, unoccluded));
+}
+
 Vec3 DirectLighting::directAnswer(Evaluation& e) const {
     ExactScratch& scratch = e.scratch;
     // The faces in the pyramid from x, clipped from x.
@@ -262,6 +293,7 @@ Vec3 DirectLighting::directAnswer(Evaluation& e) const {
     countWork(scratch, 1);
     if (scratch.query.limitReached()) return overLimit(e, true);
     const Vec3 v = shadeFragments(e.p, e.light, list, {}, e.glossySamples, e.rng, scratch);
+    noteSeen(e, list);
     exactDone(e, Answer::Direct, list.size());
     return v;
 }
@@ -274,19 +306,13 @@ Vec3 DirectLighting::fullyVisibleAnswer(Evaluation& e) const {
         scratch.note(e.cell, Answer::NoLight);
         return {};
     }
-    if (scratch.clippedFace[k] != e.p.face) {
-        const vis::FacePlane receiver = vis::facePlane(scene_.mesh, e.p.face);
-        const vis::OrientedPlane horizon{receiver.a, receiver.b, receiver.c};
-        scratch.clippedLight[k] = vis::clipConvexPositive(e.light.polygon, horizon);
-        scratch.clippedByHorizon[k] = vis::anyVertexBehind(e.light.polygon, horizon);
-        scratch.clippedFace[k] = e.p.face;
-    }
-    if (scratch.clippedLight[k].size() < 3) {
+    if (clippedLight(k, e.p.face, scratch).size() < 3) {
         scratch.note(e.cell, Answer::NoLight);
         return {};
     }
     scratch.note(e.cell,
                  scratch.clippedByHorizon[k] ? Answer::HorizonClipped : Answer::FullyVisible);
+    scratch.noteSeen(e.cell, LightSeen::Whole);
     static const vis::FragmentList kNone;  // immutable: shared by every thread
     return shadeFragments(e.p, e.light, kNone,
                           std::span<const vis::Polygon3>(&scratch.clippedLight[k], 1),
@@ -307,6 +333,7 @@ Vec3 DirectLighting::treeWalkAnswer(Evaluation& e) const {
         scratch.query.run(scene_.mesh, e.record->tree, e.p.answered(), nullptr, region);
     countWork(scratch, 0);
     if (scratch.query.limitReached()) return overLimit(e, true);
+    noteSeen(e, list);
     if (list.empty()) {
         exactDone(e, Answer::TreeWalk, 0);
         return {};

@@ -31,6 +31,7 @@
 #include "engine/precompute/visibility_store.h"
 #include "engine/render/answers.h"
 #include "engine/render/effects_summary.h"
+#include "engine/render/visible_fraction.h"
 #include "engine/scene/random.h"
 #include "engine/scene/scene.h"
 #include "visibility/answered_point.h"
@@ -189,6 +190,12 @@ struct ExactScratch {
     void note(uint64_t cell, Answer a) {
         if (answers != nullptr) answers[cell] = static_cast<uint8_t>(a);
     }
+    // This pass's LightSeen per cell (visible_fraction.h), indexed as `answers` (kNoAnswer where
+    // none: not counted); null = not recorded.
+    uint8_t* seen = nullptr;
+    void noteSeen(uint64_t cell, LightSeen s) {
+        if (seen != nullptr) seen[cell] = static_cast<uint8_t>(s);
+    }
     std::vector<uint64_t> overLimitNow;
     // The points sampled over the work limit (tried or skipped) that a tree's walk answers,
     // with the tree's key: where the renderer refines (RenderSettings::refineLevels).
@@ -239,6 +246,11 @@ class DirectLighting {
     bool knownOverLimit(size_t k, uint64_t cell, ExactScratch& scratch) const;
     Vec3 overLimit(Evaluation& e, bool tried) const;
     void exactDone(Evaluation& e, Answer path, size_t fragments) const;
+    // The light clipped to the receiver's front half-space (cached per light for the last
+    // receiver face in scratch), with whether the receiver's plane cut it.
+    const vis::Polygon3& clippedLight(size_t k, uint32_t face, ExactScratch& scratch) const;
+    // What an exact answer's fragments saw of the light (ExactScratch::seen), when recorded.
+    void noteSeen(Evaluation& e, const vis::FragmentList& list) const;
     Vec3 directAnswer(Evaluation& e) const;
     Vec3 fullyVisibleAnswer(Evaluation& e) const;
     Vec3 treeWalkAnswer(Evaluation& e) const;

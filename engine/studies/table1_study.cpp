@@ -267,6 +267,13 @@ Table1Row runTable1Study(const std::string& path, const Scene& scene, const Tabl
                                sampled.wall / e->renderWall, sampled.cpu / e->renderCpu};
     }
     row.allPairs = measureAllPairs(scene, bvh, o, log);
+    EqualErrorOptions eq;
+    eq.width = o.width;
+    eq.height = o.height;
+    eq.spp = o.spp;
+    eq.maxRays = o.equalErrorMaxRays;
+    eq.limit = o.limit;
+    row.equalError = runEqualErrorStudy(scene, bvh, camera, eq, log);
     return row;
 }
 

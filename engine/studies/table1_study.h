@@ -18,6 +18,7 @@
 
 #include "engine/render/answers.h"
 #include "engine/scene/scene.h"
+#include "engine/studies/equal_error_study.h"
 #include "engine/studies/precompute_run.h"
 #include "engine/studies/study_harness.h"
 #include "visibility/fp_query/work_budget.h"
@@ -169,6 +170,9 @@ struct Table1Row {
     ExactRun exact;
     std::optional<Speedups> speedup;      // when the exact render ran
     std::optional<AllPairsRun> allPairs;  // small scenes, not in a quick run
+    // Table 1's image with every point exact (precompute and render) and sampling at equal error
+    // (equal_error_study.h); absent in the runs written before it.
+    std::optional<EqualErrorRun> equalError;
 };
 
 struct Table1Options {
@@ -179,6 +183,9 @@ struct Table1Options {
     // The smaller image (1 spp) of the per-point cost with every point exact, for the scenes
     // whose Table 1 image is too costly to render so.
     int exactCostWidth = 128, exactCostHeight = 128;
+    // The equal-error study's largest ray count per light (EqualErrorOptions::maxRays); its
+    // target is EqualErrorOptions's, its limit per render the one above.
+    int equalErrorMaxRays = 4096;
     // Where the answers image goes (answers_<scene stem>.png) and the visibility files are
     // written to be measured (then removed).
     std::filesystem::path outDir;

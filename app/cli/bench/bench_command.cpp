@@ -5,7 +5,9 @@
 // from it read back (bench_report.h):
 //   table1     the paper's Table 1: 128-ray sampled rendering against the exact renderer (its
 //              precompute of the trees the image needs, and all pairs for small scenes), the
-//              visibility file's size, the speed-up; wall and CPU times (the machine is shared).
+//              visibility file's size, the speed-up; the image with every point exact and
+//              sampling at equal error over its penumbra (equal_error_study.h); wall and CPU
+//              times (the machine is shared).
 //   accuracy   error against time: sampled with 1..1024 rays against the exact image, the exact
 //              image against a converged reference, the equal-error time.
 //   predicates FPQuery with filtered, always-exact and naive double predicates on the hard cases.
@@ -67,6 +69,8 @@ struct BenchOptions {
     // is too costly to render without the work limit (the large ones, and those above
     // kAllPairsMaxFaces faces): one sample per pixel.
     std::string exactCostSize = "128x128";
+    // The equal-error study's largest shadow-ray count per light (Table 1).
+    int equalErrorMaxRays = 4096;
 };
 
 // A study's progress line, on stdout as it comes.
@@ -122,6 +126,7 @@ Table1Options table1Options(const BenchOptions& o, const fs::path& dir, bool lar
     t.exactCostWidth = cw;
     t.exactCostHeight = ch;
     t.outDir = dir;
+    t.equalErrorMaxRays = o.equalErrorMaxRays;
     return t;
 }
 
@@ -355,6 +360,10 @@ void registerBenchCommand(CLI::App& app) {
     sub->add_option("--exact-cost-size", o->exactCostSize,
                     "Image size (WxH, 1 spp) of the per-point cost with every point exact for "
                     "the scenes whose Table 1 image is too costly to render so");
+    sub->add_option("--equal-error-max-rays", o->equalErrorMaxRays,
+                    "Largest shadow-ray count per light the equal-error search of Table 1 tries "
+                    "(n x n grids)")
+        ->check(CLI::PositiveNumber);
     sub->add_flag("--skip-large", o->skipLarge, "Skip the scenes above 300k triangles");
     sub->add_flag("--no-plots", o->noPlots, "Do not run scripts/plot_bench.py");
     sub->add_flag("--report-only", o->reportOnly,
@@ -373,6 +382,7 @@ void registerBenchCommand(CLI::App& app) {
             if (sub->count("--reference-rays") == 0) opt.referenceRays = 256;
             if (sub->count("--points") == 0) opt.points = 200;
             if (sub->count("--limit") == 0) opt.limit = 20;
+            if (sub->count("--equal-error-max-rays") == 0) opt.equalErrorMaxRays = 256;
         }
         std::string cmd = "penumbra bench";
         for (const std::string& s : o->scenes) cmd += " " + s;
@@ -381,7 +391,8 @@ void registerBenchCommand(CLI::App& app) {
                " --accuracy-size " + opt.accuracySize + " --accuracy-spp " +
                std::to_string(opt.accuracySpp) + " --max-rays " + std::to_string(opt.maxRays) +
                " --reference-rays " + std::to_string(opt.referenceRays) + " --exact-cost-size " +
-               opt.exactCostSize;
+               opt.exactCostSize + " --equal-error-max-rays " +
+               std::to_string(opt.equalErrorMaxRays);
         if (opt.quick) cmd += " --quick";
         if (opt.skipLarge) cmd += " --skip-large";
         if (opt.sceneOptions.strict) cmd += " --strict";

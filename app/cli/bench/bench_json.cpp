@@ -347,6 +347,47 @@ struct Schema<ShadowEdges> {
 };
 
 template <>
+struct Schema<EqualErrorSample> {
+    using S = EqualErrorSample;
+    static auto fields() {
+        return std::tuple{field("rays", &S::rays), field("wall", &S::wall), field("cpu", &S::cpu),
+                          field("relativeRmse", &S::relativeRmse)};
+    }
+};
+
+template <>
+struct Schema<EqualErrorFound> {
+    using S = EqualErrorFound;
+    static auto fields() {
+        return std::tuple{field("rays", &S::rays),
+                          field("wall", &S::wall),
+                          field("cpu", &S::cpu),
+                          field("relativeRmse", &S::relativeRmse),
+                          field("speedupWall", &S::speedupWall),
+                          field("speedupCpu", &S::speedupCpu)};
+    }
+};
+
+template <>
+struct Schema<EqualErrorRun> {
+    using S = EqualErrorRun;
+    static auto fields() {
+        return std::tuple{field("target", &S::target),
+                          field("maxRays", &S::maxRays),
+                          field("exactComplete", &S::exactComplete),
+                          field("exactWall", &S::exactWall),
+                          field("exactCpu", &S::exactCpu),
+                          field("exactPrecomputeWall", &S::exactPrecomputeWall),
+                          field("pixels", &S::pixels),
+                          field("penumbraPixels", &S::penumbraPixels),
+                          field("penumbraMeanRadiance", &S::penumbraMeanRadiance),
+                          field("searched", &S::searched),
+                          optional("found", &S::found),
+                          field("why", &S::why)};
+    }
+};
+
+template <>
 struct Schema<Table1Row> {
     using S = Table1Row;
     static auto fields() {
@@ -360,7 +401,8 @@ struct Schema<Table1Row> {
                           field("sampled128", &S::sampled128),
                           field("exact", &S::exact),
                           inlinedIf("speedupWall", &S::speedup),
-                          optional("allPairs", &S::allPairs)};
+                          optional("allPairs", &S::allPairs),
+                          optional("equalError", &S::equalError)};
     }
 };
 

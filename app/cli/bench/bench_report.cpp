@@ -45,6 +45,15 @@ double sampledPercent(const ExactRender& exact) {
            std::max(1.0, static_cast<double>(exact.evaluations));
 }
 
+// Why a Table 1 row has no equal-error figure, or "" when it has one.
+std::string equalErrorMissing(const Table1Row& row) {
+    if (!row.equalError) return "not measured: this bench.json predates the equal-error study";
+    return row.equalError->found ? std::string() : row.equalError->why;
+}
+
+// The percentage the equal-error study aims at, "0.5%".
+std::string targetPercent(double target) { return fmt("%.2g%%", 100 * target); }
+
 // A boundary-chain count of a render's evaluations per chain evaluation, or "-" where the chain
 // answered none.
 std::string chainPer(const EvaluationTimes& cost, uint64_t count) {
@@ -120,6 +129,22 @@ void writeTable1Conclusion(std::ostream& r, const std::vector<Table1Row>& rows, 
         r << "- no exact render (precompute over the " << num(limit, "%.0f") << " s limit): ";
         for (size_t i = 0; i < none.size(); ++i)
             r << (i == 0 ? "" : ", ") << sceneName(none[i]->scene);
+        r << ".\n";
+    }
+    std::vector<std::string> equal;
+    double target = 0;
+    for (const Table1Row& row : rows)
+        if (row.equalError && row.equalError->found) {
+            equal.push_back(sceneName(row.scene) + " " +
+                            speedup(row.equalError->found->speedupWall) + " (" +
+                            std::to_string(row.equalError->found->rays) + " rays)");
+            target = row.equalError->target;
+        }
+    if (!equal.empty()) {
+        r << "- at equal error (" << targetPercent(target)
+          << " relative RMSE over the penumbra pixels; every point exact, precompute included, "
+             "against stratified sampling): ";
+        for (size_t i = 0; i < equal.size(); ++i) r << (i == 0 ? "" : ", ") << equal[i];
         r << ".\n";
     }
     if (sampled.empty()) {
@@ -257,9 +282,23 @@ void writeTable1Row(std::ostream& r, const Table1Row& row) {
         const AllPairsRun& a = *row.allPairs;
         r << num(a.precompute.seconds) << " / " << num(a.precompute.cpu)
           << (a.precompute.complete ? "" : " (over the limit)") << " | "
-          << num(static_cast<double>(a.fileBytes) / 1024.0, "%.1f") << " KB |\n";
+          << num(static_cast<double>(a.fileBytes) / 1024.0, "%.1f") << " KB | ";
     } else {
-        r << (row.faces > kAllPairsMaxFaces ? "skipped | - |\n" : "- | - |\n");
+        r << (row.faces > kAllPairsMaxFaces ? "skipped | - | " : "- | - | ");
+    }
+    // The image with every point exact (its own precompute) and sampling at equal error.
+    if (!row.equalError)
+        r << "- | ";
+    else if (row.equalError->exactComplete)
+        r << num(row.equalError->exactWall) << " / " << num(row.equalError->exactCpu) << " | ";
+    else
+        r << "over " << num(row.equalError->exactWall, "%.0f") << " | ";
+    if (row.equalError && row.equalError->found) {
+        const EqualErrorFound& f = *row.equalError->found;
+        r << f.rays << " rays, " << num(f.wall) << " / " << num(f.cpu) << " | "
+          << speedup(f.speedupWall) << " |\n";
+    } else {
+        r << "- (" << equalErrorMissing(row) << ") | - |\n";
     }
 }
 
@@ -532,6 +571,63 @@ void writeShadowEdges(std::ostream& r, const std::vector<Table1Row>& rows) {
     r << "\n";
 }
 
+// Of Table 1's scenes: the image with every point exact, and the shadow rays at which sampling
+// comes within the target error over its penumbra, with the search's points.
+void writeEqualError(std::ostream& r, const std::vector<Table1Row>& rows) {
+    const auto has = [](const Table1Row& row) { return row.equalError.has_value(); };
+    r << "### At equal error\n\n";
+    if (std::none_of(rows.begin(), rows.end(), has)) {
+        r << "Not measured: this bench.json predates the equal-error study.\n\n";
+        return;
+    }
+    r << "What accuracy costs: per scene, Table 1's image rendered with every point exact (no "
+         "work limit; its trees built first, timed with it), and the shadow rays per light at "
+         "which stratified sampling of the same image comes within the target of it. The "
+         "reference is that exact image; both use the same primary samples, so they differ only "
+         "in how the lights are integrated. The error: the RMSE over the *penumbra pixels* (those "
+         "whose visible fraction lies strictly between 0 and 1 in the exact render: some "
+         "evaluation saw part of its light, or some none and some all of it) and their RGB "
+         "channels of linear radiance, over the exact image's mean radiance there. The ray counts "
+         "are square stratified grids n x n; n doubles from 1 until the error is within the "
+         "target, then is bisected, every render with the same light seed (reproducible). "
+         "Speed-up: the sampled render's wall time over the exact one's.\n\n"
+      << "| scene | image | penumbra pixels | their mean radiance | every point exact: wall / "
+         "CPU s (precompute) | target | rays per light | sampled wall / CPU s | its error | "
+         "exact's speed-up (CPU) | searched: rays (error) |\n"
+         "|---|---|---|---|---|---|---|---|---|---|---|\n";
+    for (const Table1Row& row : rows) {
+        const std::string name = sceneName(row.scene);
+        if (!row.equalError) {
+            r << "| " << name << " | - | - | - | - | - | - (" << equalErrorMissing(row)
+              << ") | - | - | - | - |\n";
+            continue;
+        }
+        const EqualErrorRun& q = *row.equalError;
+        r << "| " << name << " | " << row.width << "x" << row.height << ", " << row.spp
+          << " spp | ";
+        if (q.exactComplete)
+            r << q.penumbraPixels << " of " << q.pixels << " | "
+              << num(q.penumbraMeanRadiance, "%.4g") << " | " << num(q.exactWall) << " / "
+              << num(q.exactCpu) << " (" << num(q.exactPrecomputeWall) << ") | ";
+        else
+            r << "- | - | over " << num(q.exactWall, "%.0f") << " | ";
+        r << targetPercent(q.target) << " | ";
+        if (q.found) {
+            const EqualErrorFound& f = *q.found;
+            r << f.rays << " | " << num(f.wall) << " / " << num(f.cpu) << " | "
+              << fmt("%.3f%%", 100 * f.relativeRmse) << " | " << speedup(f.speedupWall) << " ("
+              << speedup(f.speedupCpu) << ") | ";
+        } else {
+            r << "- (" << q.why << ") | - | - | - | ";
+        }
+        for (size_t i = 0; i < q.searched.size(); ++i)
+            r << (i == 0 ? "" : ", ") << q.searched[i].rays << " ("
+              << fmt("%.3f%%", 100 * q.searched[i].relativeRmse) << ")";
+        r << (q.searched.empty() ? "- |\n" : " |\n");
+    }
+    r << "\n";
+}
+
 void writeTable1(std::ostream& r, const std::vector<Table1Row>& rows,
                  const std::vector<SkippedScene>& skipped, bool plots) {
     r << "## Table 1: exact against 128 shadow rays\n\n"
@@ -550,12 +646,15 @@ void writeTable1(std::ostream& r, const std::vector<Table1Row>& rows,
       << " triangles. Times in seconds, wall / CPU (with every point exact, CPU over wall near the "
          "core count says the cores stayed busy). Speed-up: the sampled wall time over the "
          "exact precompute and render's, above 1x where exact is faster; in parentheses the "
-         "render alone.\n\n"
+         "render alone. The last three columns: the image rendered again with every point exact, "
+         "its own trees built first (a fresh store), and stratified sampling at equal error over "
+         "the penumbra (*At equal error* below).\n\n"
       << "| scene | triangles | image | sampled, 128 rays | exact: precompute | exact: render | "
          "speed-up (render only) | trees (partial) | pairs without a tree | over the work limit "
          "| render with every point exact | visibility file, the image's trees | all pairs: "
-         "precompute | all pairs: file |\n"
-         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+         "precompute | all pairs: file | every point exact: precompute + render | sampled at "
+         "equal error: rays per light, wall / CPU | exact's speed-up at equal error |\n"
+         "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
     for (const Table1Row& row : rows) writeTable1Row(r, row);
     r << "\n";
     if (plots) r << "![Table 1](table1.png)\n\n";
@@ -567,6 +666,7 @@ void writeTable1(std::ostream& r, const std::vector<Table1Row>& rows,
     writeCost(r, rows);
     writeCostEveryPointExact(r, rows);
     writeShadowEdges(r, rows);
+    writeEqualError(r, rows);
 }
 
 // ---- The other studies ---------------------------------------------------------------------

@@ -50,6 +50,19 @@ std::vector<Table1Row> sampleTable1() {
     full.exact.render = e;
     full.speedup = Speedups{3, 4, 5, 6};
     full.allPairs = AllPairsRun{{0.5, 1.0, 10, 10, true, 4, 40, 400, {}}, 4096};
+    EqualErrorRun equal;
+    equal.target = 0.005;
+    equal.maxRays = 4096;
+    equal.exactComplete = true;
+    equal.exactWall = 0.5;
+    equal.exactCpu = 0.75;
+    equal.exactPrecomputeWall = 0.125;
+    equal.pixels = 4096;
+    equal.penumbraPixels = 300;
+    equal.penumbraMeanRadiance = 0.25;
+    equal.searched = {{1, 0.0625, 0.125, 0.5}, {4, 0.25, 0.5, 0.004}};
+    equal.found = EqualErrorFound{4, 0.25, 0.5, 0.004, 0.5, 0.6666};
+    full.equalError = equal;
     Table1Row cut;
     cut.scene = "assets/scenes/dragon.json";
     cut.faces = 871414;
@@ -138,6 +151,12 @@ TEST(BenchJson, ReadsBackWhatItWrites) {
     EXPECT_FALSE(back.table1[1].exact.render.has_value());
     EXPECT_FALSE(back.table1[1].speedup.has_value());
     EXPECT_FALSE(back.table1[1].allPairs.has_value());
+    ASSERT_TRUE(back.table1[0].equalError.has_value());
+    ASSERT_EQ(back.table1[0].equalError->searched.size(), 2u);
+    EXPECT_EQ(back.table1[0].equalError->searched[1].rays, 4);
+    ASSERT_TRUE(back.table1[0].equalError->found.has_value());
+    EXPECT_EQ(back.table1[0].equalError->found->speedupWall, 0.5);
+    EXPECT_FALSE(back.table1[1].equalError.has_value());  // a run written before the study
     EXPECT_TRUE(std::isnan(back.accuracy.study.equalErrorSeconds));
     EXPECT_EQ(back.predicates.cases[0].wrong[2], 3u);
     EXPECT_EQ(back.predicates.cases[0].otherCount[0], 4u);
@@ -184,6 +203,27 @@ TEST(BenchJson, AFileFromBeforeTheHorizonClippedAnswerStillReads) {
               "bench.json: table1[0].exact.answers.counts: missing \"fully visible\"");
 }
 
+// A bench.json from before the equal-error study still reads, the study absent; the report says
+// in its place that it was not measured and why. Inside the study's object every key is required.
+TEST(BenchJson, AFileFromBeforeTheEqualErrorStudyStillReads) {
+    json j = benchJson(sample());
+    j["table1"][0].erase("equalError");
+    const BenchResults back = readBenchJson(j);
+    EXPECT_FALSE(back.table1[0].equalError.has_value());
+    const std::string report = benchReport(back, false, "--no-plots");
+    EXPECT_NE(report.find("| 4.0 KB | - | - (not measured: this bench.json predates the "
+                          "equal-error study) | - |"),
+              std::string::npos)
+        << report;
+    EXPECT_NE(report.find("### At equal error\n\nNot measured: this bench.json predates the "
+                          "equal-error study.\n"),
+              std::string::npos)
+        << report;
+    j = benchJson(sample());
+    j["table1"][0]["equalError"].erase("penumbraPixels");
+    EXPECT_EQ(readError(j), "bench.json: table1[0].equalError: missing \"penumbraPixels\"");
+}
+
 TEST(BenchJson, AMissingKeyOrAWrongTypeNamesItsPlace) {
     json j = benchJson(sample());
     j["table1"][1]["exact"].erase("trees");
@@ -218,6 +258,29 @@ TEST(BenchReport, WritesTheRowsFromTheStructs) {
               std::string::npos)
         << report;
     EXPECT_NE(report.find("| table.json | 3181 | 2316 | 25.0-50.0% | 0.125 |"), std::string::npos)
+        << report;
+    // Table 1's last columns: every point exact (0.5 s wall, 0.75 CPU), the sampled render at
+    // equal error (4 rays, 0.25 / 0.5) and the speed-up 0.25 / 0.5; the dragon has none.
+    EXPECT_NE(report.find("| 4.0 KB | 0.50 / 0.75 | 4 rays, 0.25 / 0.50 | 0.50x |\n"),
+              std::string::npos)
+        << report;
+    EXPECT_NE(report.find("| 0.0 KB | skipped | - | - | - (not measured: this bench.json "
+                          "predates the equal-error study) | - |\n"),
+              std::string::npos)
+        << report;
+    EXPECT_NE(report.find("| table.json | 64x64, 2 spp | 300 of 4096 | 0.25 | 0.50 / 0.75 (0.12) "
+                          "| 0.5% | 4 | 0.25 / 0.50 | 0.400% | 0.50x (0.67x) | 1 (50.000%), 4 "
+                          "(0.400%) |"),
+              std::string::npos)
+        << report;
+    EXPECT_NE(report.find("| dragon.json | - | - | - | - | - | - (not measured: this bench.json "
+                          "predates the equal-error study) | - | - | - | - |"),
+              std::string::npos)
+        << report;
+    EXPECT_NE(report.find("- at equal error (0.5% relative RMSE over the penumbra pixels; every "
+                          "point exact, precompute included, against stratified sampling): "
+                          "table.json 0.50x (4 rays)."),
+              std::string::npos)
         << report;
     // The accuracy study without an equal-error estimate leaves its sentence out.
     EXPECT_EQ(report.find("**Equal error:**"), std::string::npos) << report;

@@ -128,6 +128,19 @@ inline std::vector<std::string> conclusionAgainstTables(const std::string& repor
                 expectEqual(std::string((*m)[1]) + " over the work limit",
                             std::string((*m)[2]) + "%",
                             table1.cell((*m)[1], "over the work limit"));
+        // Sampling at equal error: each scene's speed-up and ray count against Table 1's.
+        if (line.rfind("- at equal error (", 0) == 0) {
+            const std::regex equalFigure(R"(([\w.-]+\.(?:json|obj)) (\d+\.\d+x) \((\d+) rays\))");
+            for (std::sregex_iterator m(line.begin(), line.end(), equalFigure), e; m != e; ++m) {
+                const std::string scene = (*m)[1];
+                expectEqual(scene + " speed-up at equal error", (*m)[2],
+                            table1.cell(scene, "exact's speed-up at equal error"));
+                const std::string sampledCell =
+                    table1.cell(scene, "sampled at equal error: rays per light, wall / CPU");
+                expectEqual(scene + " rays at equal error", (*m)[3],
+                            sampledCell.substr(0, sampledCell.find(' ')));
+            }
+        }
         if (line.rfind("- every evaluation exact", 0) == 0)
             for (const std::vector<std::string>& row : table1.rows) {
                 const std::string cell = table1.cell(row[0], "over the work limit");
