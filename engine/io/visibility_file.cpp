@@ -34,7 +34,7 @@ constexpr size_t kTrailerBytes = 8;
 // Fixed part of a tree record: 5 u32 + u8 + u8 + u16 + 4 u32.
 constexpr size_t kRecordFixedBytes = 5 * 4 + 1 + 1 + 2 + 5 * 4;
 constexpr size_t kNodeBytes = 16;
-constexpr size_t kStatsBytes = 3 * 4 + 8 * 8 + 8;
+constexpr size_t kStatsBytes = 3 * 4 + 8 * 8;
 constexpr size_t kMaxReasonBytes = 1024;
 
 std::string hex(uint64_t v) {
@@ -124,8 +124,6 @@ std::vector<unsigned char> serialize(const VisibilityStore& store, bool withStat
             for (uint64_t v : {s.classifications, s.lpSolves, s.uncertain, s.exactCertificates,
                                s.prunedSplits, s.realLineTests, s.realLineWitness, s.mergedLeaves})
                 w.u64(v);
-            requireFinite(s.seconds, "the build time of a tree written to a visibility file");
-            w.f64(s.seconds);
         }
     }
     w.patchU64(payloadSizeAt, w.bytes().size() - kHeaderBytes);
@@ -309,16 +307,14 @@ Header parseHeader(std::span<const unsigned char> bytes, const VisibilityStore& 
     return {treeCount, end};
 }
 
-void readStats(ByteReader& p, vis::BuildStats& s, const std::string& where) {
+void readStats(ByteReader& p, vis::BuildStats& s) {
     s.occludersInShaft = p.u32();
     s.occludersInserted = p.u32();
     s.occludersDeferred = p.u32();
     for (uint64_t* v : {&s.classifications, &s.lpSolves, &s.uncertain, &s.exactCertificates,
                         &s.prunedSplits, &s.realLineTests, &s.realLineWitness, &s.mergedLeaves})
         *v = p.u64();
-    s.seconds = p.f64();
-    if (!std::isfinite(s.seconds) || s.seconds < 0)
-        throw Corrupt(where + ": build time is not a finite non-negative number");
+    s.seconds = 0;  // not in the file (visibility_file.h)
 }
 
 // One tree record, its fields checked on their own; validateTree checks it against the scene.
@@ -368,7 +364,7 @@ ParsedTree parseTree(ByteReader& p, const std::string& where) {
     for (uint32_t& f : t.nodeOccluder) f = p.u32();
     t.deferred.resize(deferred);
     for (vis::DeferredOccluder& d : t.deferred) d.face = p.u32();
-    if (hasStats) readStats(p, pt.record.stats, where);
+    if (hasStats) readStats(p, pt.record.stats);
     return pt;
 }
 

@@ -1,8 +1,8 @@
 // The visibility file (.pvis): the history trees of a VisibilityStore on disk, so that a scene's
 // precompute is paid once.
 //
-// Format, version 3 (version 1 had no deferred occluders, version 2 stored constructed vertices
-// where nodes now name exact chords), every integer little-endian, doubles as their IEEE-754 bit
+// Format, version 4 (version 1 had no deferred occluders, version 2 stored constructed vertices
+// where nodes now name exact chords, version 3 also each tree's build time), every integer little-endian, doubles as their IEEE-754 bit
 // patterns:
 //   header (48 bytes)  magic "PENUMVIS", u32 version, u32 header size (48), u64 scene hash
 //                      (engine/precompute/scene_hash.h), u64 tree count, u64 payload size,
@@ -16,7 +16,10 @@
 //                        (4 x u32 each: v0, v1, children; history_tree.h), occluders (u32 face
 //                        each: HistoryTree::occluders), node occluders (u32 each), deferred
 //                        occluders (u32 face each), and with has-stats the
-//                        BuildStats (3 x u32, 8 x u64, f64)
+//                        BuildStats' counts (3 x u32, 8 x u64)
+// No time is stored: a visibility file depends only on the scene and the settings, so that any
+// number of threads (or processes) writes the same bytes for them. Build times go to stderr
+// (precompute's summary) and the bench; a tree read from a file has BuildStats::seconds 0.
 //   trailer (8 bytes)  u64 checksum (engine/scene/hash64.h) of header and payload
 //
 // Writing is atomic: a temporary file in the same directory, fsync, rename over the target (then
@@ -42,7 +45,7 @@
 
 namespace penumbra {
 
-inline constexpr uint32_t kVisibilityFileVersion = 3;
+inline constexpr uint32_t kVisibilityFileVersion = 4;
 inline constexpr uint32_t kMaxTreeDepth = 20000;
 
 enum class VisibilityFileStatus {

@@ -84,6 +84,30 @@ TEST_F(PrecomputeCommand, WritesEveryPairThenLoadsWithoutRecomputing) {
     EXPECT_EQ(fs::last_write_time(file()), written);  // not rewritten
 }
 
+// A visibility file depends only on the scene and the settings: one thread or several, complete
+// trees or partial ones (a low --max-lp-solves defers occluders), the same bytes. Before version 4
+// each tree's build time was in the file and two runs differed in thousands of bytes.
+TEST_F(PrecomputeCommand, TheSameSceneAndSettingsWriteTheSameBytesWhateverTheThreads) {
+    for (const char* budget : {"0", "40"}) {
+        std::vector<std::string> bytes;
+        for (const char* threads : {"1", "2", "2"}) {
+            fs::remove(file());
+            const ProcessResult r = runPenumbra({"precompute", scene(), "-o", file(), "--threads",
+                                                 threads, "--max-lp-solves", budget});
+            ASSERT_EQ(r.exitCode, 0) << r.err;
+            bytes.push_back(readText(file()));
+        }
+        ASSERT_GT(bytes[0].size(), 48u);
+        EXPECT_EQ(bytes[0], bytes[1]) << "--max-lp-solves " << budget;
+        EXPECT_EQ(bytes[1], bytes[2]) << "--max-lp-solves " << budget;
+        if (std::string(budget) != "0") {  // the budget made partial trees
+            const ProcessResult r =
+                runPenumbra({"precompute", scene(), "-o", file(), "--max-lp-solves", budget});
+            EXPECT_NE(r.out.find("partial"), std::string::npos) << r.out;
+        }
+    }
+}
+
 TEST_F(PrecomputeCommand, CorruptOrStaleFileIsRecomputed) {
     ASSERT_EQ(runPenumbra({"precompute", scene(), "-o", file()}).exitCode, 0);
     std::string bytes = readText(file());

@@ -125,7 +125,7 @@ TEST_F(VisibilityFileTest, RoundTripKeepsEveryFieldAndEveryQuery) {
         EXPECT_EQ(r->stats.classifications, original.stats.classifications);
         EXPECT_EQ(r->stats.lpSolves, original.stats.lpSolves);
         EXPECT_EQ(r->stats.occludersInShaft, original.stats.occludersInShaft);
-        EXPECT_EQ(r->stats.seconds, original.stats.seconds);
+        EXPECT_EQ(r->stats.seconds, 0.0);  // no time in the file (visibility_file.h)
         withChords += std::any_of(r->tree.nodes.begin(), r->tree.nodes.end(),
                                   [](const vis::HistoryNode& n) { return vis::isClipEdge(n.v0); });
     });
