@@ -232,20 +232,6 @@ void exactCosts(const EvaluationCosts& costs, Lines& out) {
                 "the light into, and the convex pieces of the visible region: the cells are "
                 "the chain's work, the fragments the shading's)");
     }
-    if (costs.lightEdgeEvaluations > 0) {
-        const double n = static_cast<double>(costs.lightEdgeEvaluations);
-        char per[200];
-        std::snprintf(per, sizeof per,
-                      "%.1f light silhouette edges examined, %.1f of nonzero weight, %.1f of "
-                      "them in the cone (K)",
-                      static_cast<double>(costs.lightEdgesExamined) / n,
-                      static_cast<double>(costs.lightEdgesWeighted) / n,
-                      static_cast<double>(costs.lightEdgesInCone) / n);
-        out.add("  of them from the light's silhouette edges: " +
-                std::to_string(costs.lightEdgeEvaluations) + " - per evaluation " + per +
-                " (no face activated; the work follows the edges examined, not the faces in "
-                "the cone)");
-    }
 }
 
 // The receivers' materials by how they were shaded.

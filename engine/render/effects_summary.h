@@ -36,12 +36,6 @@ struct EvaluationCosts {
     // (each is cut, then labelled); the fragments are what shading pays for.
     uint64_t chainEvaluations = 0, chainOccluderEdges = 0, chainBoundaryEdges = 0, chainCells = 0,
              chainFragments = 0;
-    // Of them, those the light-edge path answered (vis::FromPointQuery::usedLightEdges): the S_L
-    // edges its hierarchy found near x's cone (each one's weight taken), those of nonzero weight,
-    // and those of them that meet the cone over L (K: the silhouette and border edges that can
-    // bound this point's shadow), summed.
-    uint64_t lightEdgeEvaluations = 0, lightEdgesExamined = 0, lightEdgesWeighted = 0,
-             lightEdgesInCone = 0;
     // Where the exact method's evaluations that needed a query spent their time, estimated from
     // the timed ones (their sums times kTimedEvery), in CPU seconds: the exact answers, the
     // queries that stopped at the work limit, and the sampled points' shadow rays.
@@ -62,10 +56,6 @@ struct EvaluationCosts {
         chainBoundaryEdges += o.chainBoundaryEdges;
         chainCells += o.chainCells;
         chainFragments += o.chainFragments;
-        lightEdgeEvaluations += o.lightEdgeEvaluations;
-        lightEdgesExamined += o.lightEdgesExamined;
-        lightEdgesWeighted += o.lightEdgesWeighted;
-        lightEdgesInCone += o.lightEdgesInCone;
         return *this;
     }
 };

@@ -11,7 +11,6 @@
 #include "visibility/face_plane.h"
 #include "visibility/form_factor.h"
 #include "visibility/fp_query/from_point_query.h"
-#include "visibility/mesh_edges.h"
 #include "visibility/polygon_clip.h"
 
 namespace penumbra {
@@ -84,9 +83,6 @@ bool groupsWillAnswer(const VisibilityStore::ShaftCount& shaft, size_t minFaces)
 
 DirectLighting::DirectLighting(const Scene& scene, const EmbreeScene& bvh, VisibilityStore* store)
     : scene_(scene), bvh_(bvh), store_(store) {
-    // The edge table once per mesh, S_L and its hierarchies once per light (exact renders only).
-    const vis::MeshEdges edges =
-        store != nullptr && !scene.lights.empty() ? vis::MeshEdges(scene.mesh) : vis::MeshEdges();
     for (uint32_t face : scene.lights) {
         AreaLight light;
         light.face = face;
@@ -96,7 +92,6 @@ DirectLighting::DirectLighting(const Scene& scene, const EmbreeScene& bvh, Visib
         light.plane = vis::facePlane(scene.mesh, face);
         for (uint32_t v : scene.mesh.faces[face]) light.polygon.push_back(scene.mesh.vertices[v]);
         light.sampler.addPolygon(light.polygon);
-        if (store != nullptr) light.edges = vis::LightEdgeIndex(scene.mesh, edges, face);
         lights_.push_back(std::move(light));
     }
 }
@@ -242,17 +237,7 @@ void DirectLighting::exactDone(Evaluation& e, Answer path, size_t fragments) con
     if (e.timed) scratch.evaluations.costs.exactNs.addSince(e.evalStart);
     const vis::FromPointQuery::ChainCounts& chain = scratch.query.chainCounts();
     const bool noLight = scratch.query.work() == 0 && fragments == 0;
-    const bool lightEdges = scratch.query.usedLightEdges();
-    scratch.note(e.cell, lightEdges         ? Answer::LightEdges
-                         : chain.cells != 0 ? Answer::Chain
-                         : noLight          ? Answer::NoLight
-                                            : path);
-    if (lightEdges) {
-        ++scratch.evaluations.costs.lightEdgeEvaluations;
-        scratch.evaluations.costs.lightEdgesExamined += chain.lightEdgesExamined;
-        scratch.evaluations.costs.lightEdgesWeighted += chain.boundaryEdges;
-        scratch.evaluations.costs.lightEdgesInCone += chain.chainInCone;
-    }
+    scratch.note(e.cell, chain.cells != 0 ? Answer::Chain : noLight ? Answer::NoLight : path);
     if (chain.cells == 0) return;
     ++scratch.evaluations.costs.chainEvaluations;
     scratch.evaluations.costs.chainOccluderEdges += chain.occluderEdges;
@@ -266,7 +251,7 @@ Vec3 DirectLighting::directAnswer(Evaluation& e) const {
     // The faces in the pyramid from x, clipped from x.
     const vis::FragmentList& list =
         scratch.query.runDirect(scene_.mesh, e.p.face, e.light.face, e.p.answered(),
-                                bvh_.faceBoxes(), &bvh_.faceClusters(), &e.light.edges);
+                                bvh_.faceBoxes(), &bvh_.faceClusters());
     if (e.record == nullptr) {
         const vis::FromPointQuery& q = scratch.query;
         scratch.evaluations.directGrouped += q.clustersUsed() > 0;

@@ -84,9 +84,6 @@ struct AreaLight {
     vis::FacePlane plane;       // exact plane test (as FPQuery does it)
     std::vector<Vec3> polygon;  // its vertices
     TriangleSampler sampler;
-    // S_L and its hierarchies, for the direct path's light-edge finder (built with an exact
-    // renderer's lights only: vis::LightEdgeIndex).
-    vis::LightEdgeIndex edges;
 };
 
 // A shading point: x on face `face` (on its plane), unit front normal n, unit direction wo

@@ -852,8 +852,7 @@ TEST(Renderer, AnswerMapSaysHowEachPixelWasAnsweredAndItIsTrue) {
         EXPECT_EQ(of(Answer::Sampled), 0u);
         // The queries the summary counted: those answers, and the points that a query's first
         // signs left without light (no light).
-        const uint64_t byQueries =
-            of(Answer::TreeWalk) + of(Answer::Direct) + of(Answer::Chain) + of(Answer::LightEdges);
+        const uint64_t byQueries = of(Answer::TreeWalk) + of(Answer::Direct) + of(Answer::Chain);
         EXPECT_LE(byQueries, e.exactEvaluations);
         EXPECT_LE(e.exactEvaluations, byQueries + of(Answer::NoLight));
         if (!trees) {
@@ -867,7 +866,7 @@ TEST(Renderer, AnswerMapSaysHowEachPixelWasAnsweredAndItIsTrue) {
         } else {
             EXPECT_EQ(of(Answer::FullyVisible) + of(Answer::HorizonClipped) + of(Answer::TreeWalk),
                       0u);
-            EXPECT_GT(of(Answer::Direct) + of(Answer::LightEdges), 0u);
+            EXPECT_GT(of(Answer::Direct), 0u);
         }
         // Over a limit of one plane test: the queried answers are sampled (a trivial query may
         // still fit), the others stay.
@@ -878,10 +877,9 @@ TEST(Renderer, AnswerMapSaysHowEachPixelWasAnsweredAndItIsTrue) {
         EXPECT_EQ(after[static_cast<size_t>(Answer::Sampled)],
                   rig.renderer.effects().sampledEvaluations);
         EXPECT_GT(after[static_cast<size_t>(Answer::Sampled)],
-                  (of(Answer::TreeWalk) + of(Answer::Direct) + of(Answer::LightEdges)) / 4);
+                  (of(Answer::TreeWalk) + of(Answer::Direct)) / 4);
         auto queried = [&](const AnswerCounts& c) {
-            return count(c, Answer::TreeWalk) + count(c, Answer::Direct) + count(c, Answer::Chain) +
-                   count(c, Answer::LightEdges);
+            return count(c, Answer::TreeWalk) + count(c, Answer::Direct) + count(c, Answer::Chain);
         };  // (a query that reaches the limit makes some plane test: none was a NoLight)
         for (size_t i = 0; i < film.sum.size(); ++i) {
             const AnswerCounts& c = limited.answers[i];
