@@ -25,6 +25,8 @@
 #include "visibility/form_factor.h"
 #include "visibility/fp_query/from_point_query.h"
 #include "visibility/history_tree_builder.h"
+#include "visibility/light_edge_index.h"
+#include "visibility/mesh_edges.h"
 #include "visibility/pair_occluders.h"
 #include "visibility/visible_outline.h"
 
@@ -344,7 +346,14 @@ struct Checked {
     // Points that left out faces of a closed surface seen from behind (closed_surfaces.h), and
     // points that such a surface hid whole.
     int solid = 0, hiddenBySolid = 0;
+    // Points the light-edge path answered (edge_path.h), with the chain forced, and their cells.
+    int lightEdges = 0, lightEdgeCells = 0;
 };
+
+// S_L and its hierarchies for light face 1 (light_edge_index.h).
+vis::LightEdgeIndex lightEdgesOf(const vis::PolygonMesh& m, uint32_t light = 1) {
+    return vis::LightEdgeIndex(m, vis::MeshEdges(m), light);
+}
 
 // Floor points under and around the mesh: the direct query and a partial tree's per-point
 // clipping, with the chain forced and with Algorithm 1 only, against the exact reference.
@@ -358,6 +367,7 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
     vis::prepareSilhouettes(s.mesh, partial, {}, 100);
     const vis::BoxTree faces = test::faceBoxTree(s.mesh);
     const vis::FaceClusters groups(s.mesh, faces);
+    const vis::LightEdgeIndex lightEdges = lightEdgesOf(s.mesh);
     vis::FromPointQuery chain, oneByOne, defaults;
     // The chain, its labels by crossings, and closed surfaces as solids, always.
     chain.setChainOptions({1, 0, 0, 0});
@@ -398,6 +408,18 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
         used.hiddenBySolid += chain.hiddenBySolid();
         compare("direct, face groups, default options",
                 measure(s.mesh, x, defaults.runDirect(s.mesh, 0, 1, x, faces, &groups)));
+        // The light-edge path (the chain from S_L's edges near the cone, edge_path.h), its
+        // crossings forced, then with the defaults (groups given: the path comes first).
+        const vis::FragmentList& edged =
+            chain.runDirect(s.mesh, 0, 1, x, faces, nullptr, &lightEdges);
+        compare("direct, light edges", measure(s.mesh, x, edged));
+        compare("direct, light edges, the outline of its fragments",
+                measureOutline(s.mesh, x, edged));
+        used.lightEdges += chain.usedLightEdges();
+        used.lightEdgeCells += chain.usedLightEdges() ? chain.chainCounts().cells : 0;
+        compare(
+            "direct, light edges, default options",
+            measure(s.mesh, x, defaults.runDirect(s.mesh, 0, 1, x, faces, &groups, &lightEdges)));
         // (Algorithm 1 only: the groups are not taken.)
         oneByOne.runDirect(s.mesh, 0, 1, x, faces, &groups);
         EXPECT_EQ(oneByOne.clustersUsed(), 0u);
@@ -426,6 +448,9 @@ TEST(BoundaryChainQuery, ClosedSphereMatchesTheExactReference) {
     EXPECT_EQ(used.silhouettes, test::scaled(60));
     // Most cells follow from the one before them (the first of each run is counted on its line).
     EXPECT_GT(used.crossingLabels, used.cells / 2);
+    // No face near L's plane: every point takes the light-edge path.
+    EXPECT_EQ(used.lightEdges, test::scaled(60));
+    EXPECT_GT(used.lightEdgeCells, test::scaled(60));
 }
 
 // Three closed spheres that overlap as seen from the floor: where their shadows overlap a line
@@ -442,6 +467,7 @@ TEST(BoundaryChainQuery, CellsDecidedWholeUnderOverlappingSpheresMatchTheExactRe
     EXPECT_GT(used.hiddenWhole, 0);
     // Decided whole, a cell is not cut further: fewer cells than the leaves would be.
     EXPECT_LT(used.hiddenWhole + used.seenWhole, used.cells);
+    EXPECT_EQ(used.lightEdges, test::scaled(60));
 }
 
 // Closed surfaces taken as solids (closed_surfaces.h): a floor point leaves out the faces of a
@@ -470,6 +496,7 @@ TEST(BoundaryChainQuery, ClosedSurfacesTakenAsSolidsMatchTheExactReference) {
     const Checked c = checkScene(m.finish(), "solids", static_cast<int>(points.size()), 0, points);
     EXPECT_GT(c.solid, static_cast<int>(points.size()) / 8);
     EXPECT_GT(c.hiddenBySolid, 4);
+    EXPECT_EQ(c.lightEdges, static_cast<int>(points.size()));
 }
 
 // Where a closed mesh's winding is not constant over the cone, the mesh is no solid: a hole in
@@ -506,6 +533,7 @@ struct SphereUnderSphere {
     uint32_t first = 0;
     vis::BoxTree faces;
     vis::FaceClusters groups;
+    vis::LightEdgeIndex lightEdges;
     SphereUnderSphere() {
         MeshScene m(0);
         first = static_cast<uint32_t>(m.faceCount());
@@ -514,6 +542,7 @@ struct SphereUnderSphere {
         s = m.finish();
         faces = test::faceBoxTree(s.mesh);
         groups = vis::FaceClusters(s.mesh, faces);
+        lightEdges = lightEdgesOf(s.mesh);
     }
 };
 
@@ -531,7 +560,7 @@ TEST(BoundaryChainQuery, PointsOnAClosedMeshUnderAnotherMatchTheExactReference) 
     solidsAlways.solidMinFaces = 0;
     query.setChainOptions(solidsAlways);
     std::mt19937_64 rng(41);
-    int checked = 0, solid = 0, penumbra = 0, reported = 0;
+    int checked = 0, solid = 0, penumbra = 0, reported = 0, lightEdges = 0;
     for (uint32_t f = first; f < first + 16 * 10 && checked < test::scaled(120); ++f) {
         if (vis::normalize(s.mesh.faceAreaNormal(f)).z < 0.3) continue;  // facing the light
         const Vec3 x = test::randomPointOn(s.mesh, f, rng);
@@ -541,10 +570,17 @@ TEST(BoundaryChainQuery, PointsOnAClosedMeshUnderAnotherMatchTheExactReference) 
         matchesOnFace(s.mesh, f, x, query.runDirect(s.mesh, f, 1, x, faces, &groups), ref,
                       "direct, face groups", reported);
         solid += query.solidGroupsLeftOut() + query.solidFacesLeftOut() > 0;
+        // Self-shadowing through the light-edge path: x on a face of the mesh whose edges are
+        // in S_L (its own face left out of every weight, the contact rule at its neighbours).
+        matchesOnFace(s.mesh, f, x,
+                      query.runDirect(s.mesh, f, 1, x, faces, &groups, &scene.lightEdges), ref,
+                      "direct, light edges", reported);
+        lightEdges += query.usedLightEdges();
     }
     EXPECT_GE(checked, test::scaled(120) / 2);
     EXPECT_GT(penumbra, checked / 8);
     EXPECT_GT(solid, 0);
+    EXPECT_GT(lightEdges, checked / 4);  // (not those a rounding behind their face's plane)
 }
 
 // Receiver points on the edges of a closed mesh: x rounded from a point of an edge its face
@@ -572,7 +608,7 @@ TEST(BoundaryChainQuery, PointsOnTheEdgesOfAClosedMeshMatchTheExactReference) {
         const auto& ids = s.mesh.faces[f];
         for (size_t i = 0; i < ids.size(); ++i) edgeFace[{ids[i], ids[(i + 1) % ids.size()]}] = f;
     }
-    int checked = 0, penumbra = 0, behind = 0, reported = 0;
+    int checked = 0, penumbra = 0, behind = 0, reported = 0, lightEdges = 0;
     for (uint32_t f = first; f < last && checked < test::scaled(64); ++f) {
         if (vis::normalize(s.mesh.faceAreaNormal(f)).z < 0.3) continue;  // facing the light
         const auto& ids = s.mesh.faces[f];
@@ -598,12 +634,18 @@ TEST(BoundaryChainQuery, PointsOnTheEdgesOfAClosedMeshMatchTheExactReference) {
                               "edge point, direct, face groups and solids", reported);
                 matchesOnFace(s.mesh, g, x, defaults.runDirect(s.mesh, g, 1, x, faces, &groups),
                               ref, "edge point, direct, default options", reported);
+                matchesOnFace(s.mesh, g, x,
+                              chain.runDirect(s.mesh, g, 1, x, faces, nullptr, &scene.lightEdges),
+                              ref, "edge point, direct, light edges", reported);
+                lightEdges += chain.usedLightEdges();
             }
         }
     }
     EXPECT_GE(checked, test::scaled(64) / 2);
     EXPECT_GT(penumbra, checked / 8);
     EXPECT_GT(behind, checked / 8);  // x behind its face's plane by a rounding was exercised
+    // (A point strictly behind its face's plane takes the face-by-face path.)
+    EXPECT_GT(lightEdges, checked / 4);
 }
 
 TEST(BoundaryChainQuery, OpenInconsistentAndNonManifoldMeshesMatchTheExactReference) {
@@ -614,6 +656,7 @@ TEST(BoundaryChainQuery, OpenInconsistentAndNonManifoldMeshesMatchTheExactRefere
         EXPECT_GT(c.chain, 0);
         EXPECT_GT(c.crossingLabels, c.cells / 2);
         EXPECT_EQ(c.silhouettes, test::scaled(40));
+        EXPECT_EQ(c.lightEdges, test::scaled(40));  // (open edges are always in S_L)
     }
     {
         MeshScene m(0);
@@ -622,6 +665,7 @@ TEST(BoundaryChainQuery, OpenInconsistentAndNonManifoldMeshesMatchTheExactRefere
         EXPECT_GT(c.chain, 0);
         EXPECT_GT(c.crossingLabels, c.cells / 2);
         EXPECT_EQ(c.silhouettes, test::scaled(40));
+        EXPECT_EQ(c.lightEdges, test::scaled(40));  // (open edges are always in S_L)
     }
     {
         // A box with a fin on its top edge: that edge has three faces.
@@ -641,6 +685,7 @@ TEST(BoundaryChainQuery, OpenInconsistentAndNonManifoldMeshesMatchTheExactRefere
         EXPECT_GT(c.chain, 0);
         EXPECT_GT(c.crossingLabels, c.cells / 2);
         EXPECT_EQ(c.silhouettes, test::scaled(40));
+        EXPECT_EQ(c.lightEdges, test::scaled(40));  // (open edges are always in S_L)
     }
 }
 
@@ -656,6 +701,7 @@ TEST(BoundaryChainQuery, MeshesStandingOnTheReceiverMatchTheExactReference) {
         EXPECT_GT(c.chain, 0);
         EXPECT_GT(c.crossingLabels, c.cells / 3);
         EXPECT_EQ(c.silhouettes, test::scaled(40));
+        EXPECT_EQ(c.lightEdges, test::scaled(40));
     }
 }
 
@@ -672,6 +718,7 @@ TEST(BoundaryChainQuery, LightCutByTheReceiverPlaneMatchesTheExactReference) {
     // (each from a point strictly in front of the floor).
     EXPECT_GT(c.crossingLabels, c.cells / 2);
     EXPECT_EQ(c.silhouettes, test::scaled(60));
+    EXPECT_EQ(c.lightEdges, test::scaled(60));
 }
 
 // Points on the faces of a bowl, many of whose planes cut the light: x is a rounded point of its
@@ -685,10 +732,11 @@ TEST(BoundaryChainQuery, PointsOnBowlFacesWhosePlanesCutTheLightMatchTheExactRef
     const Scene s = m.finish();
     const vis::BoxTree faces = test::faceBoxTree(s.mesh);
     const vis::FaceClusters groups(s.mesh, faces);
+    const vis::LightEdgeIndex lightEdges = lightEdgesOf(s.mesh);
     vis::FromPointQuery chain, defaults;
     chain.setChainOptions({1, 0, 0});
     std::mt19937_64 rng(11);
-    int checked = 0, cut = 0, cells = 0, reported = 0;
+    int checked = 0, cut = 0, cells = 0, reported = 0, edgePath = 0;
     for (uint32_t f = 2; f < s.faceCount() && checked < test::scaled(240); ++f) {
         const vis::FacePlane plane = vis::facePlane(s.mesh, f);
         bool front = false, behind = false;  // the light's corners against the face's plane
@@ -709,11 +757,16 @@ TEST(BoundaryChainQuery, PointsOnBowlFacesWhosePlanesCutTheLightMatchTheExactRef
             cells += chain.chainCounts().cells;
             compare("chain, face groups", chain.runDirect(s.mesh, f, 1, x, faces, &groups));
             compare("defaults, face groups", defaults.runDirect(s.mesh, f, 1, x, faces, &groups));
+            compare("light edges", chain.runDirect(s.mesh, f, 1, x, faces, nullptr, &lightEdges));
+            edgePath += chain.usedLightEdges();
         }
     }
     EXPECT_GE(checked, test::scaled(240) / 2);
     EXPECT_GT(cut, checked / 8);  // faces whose plane cuts the light
     EXPECT_GT(cells, checked);
+    // The floor, cut by the upright light's plane, meets every point's cone (its chord on that
+    // plane bounds shadows, no input edge does): the light-edge path is never taken here.
+    EXPECT_EQ(edgePath, 0);
 }
 
 // The chords where the floor's plane cuts the occluders, seen from floor points a rounding off
@@ -730,7 +783,7 @@ TEST(BoundaryChainQuery, RoundedFloorPointsUnderMeshesSunkIntoTheFloorMatchTheEx
     std::mt19937_64 rng(23);
     std::uniform_real_distribution<double> u(-1, 1);
     int reported = 0, front = 0, behind = 0;
-    int frontCells = 0, frontCrossings = 0, behindCrossings = 0;
+    int frontCells = 0, frontCrossings = 0, behindCrossings = 0, edgePath = 0;
     for (int i = 0; i < test::scaled(6); ++i) {
         MeshScene m(0, true);  // the light x = 1.5, z in [-0.5, 1.5]: cut by the floor's plane
         m.sphere({0.8 + 0.1 * u(rng), 0.05, 0.1}, 0.3, 14, 9);
@@ -749,6 +802,7 @@ TEST(BoundaryChainQuery, RoundedFloorPointsUnderMeshesSunkIntoTheFloorMatchTheEx
         for (Vec3& v : s.mesh.vertices) v = transform(v);
         const vis::BoxTree faces = test::faceBoxTree(s.mesh);
         const vis::FaceClusters groups(s.mesh, faces);
+        const vis::LightEdgeIndex lightEdges = lightEdgesOf(s.mesh);
         vis::FromPointQuery chain, defaults;
         chain.setChainOptions({1, 0, 0});
         const vis::PlaneOrient floor = vis::facePlane(s.mesh, 0).orient();
@@ -799,6 +853,10 @@ TEST(BoundaryChainQuery, RoundedFloorPointsUnderMeshesSunkIntoTheFloorMatchTheEx
                               "chain, face groups, " + where, reported);
                 matchesOnFace(s.mesh, 0, x, defaults.runDirect(s.mesh, 0, 1, x, faces, &groups),
                               ref, "defaults, face groups, " + where, reported);
+                matchesOnFace(s.mesh, 0, x,
+                              chain.runDirect(s.mesh, 0, 1, x, faces, nullptr, &lightEdges), ref,
+                              "light edges, " + where, reported);
+                edgePath += chain.usedLightEdges();
             }
         }
     }
@@ -807,6 +865,9 @@ TEST(BoundaryChainQuery, RoundedFloorPointsUnderMeshesSunkIntoTheFloorMatchTheEx
     // behind, some are (the crossings give up only across a chord's plane).
     EXPECT_GT(frontCrossings, frontCells / 2);
     EXPECT_GT(behindCrossings, 0);
+    // The points on or in front of the floor (and none strictly behind it).
+    EXPECT_GT(edgePath, 0);
+    EXPECT_LE(edgePath, front);
 }
 
 // A mesh that crosses the light's plane and the floor's plane (clipped: chords on both).
@@ -815,7 +876,11 @@ TEST(BoundaryChainQuery, MeshCrossingBothPlanesMatchesTheExactReference) {
         MeshScene m(0);
         m.box({-0.35, -0.25, -0.2}, {0.3, 0.2, 2.3}, 3);
         // Two thirds of its faces cross a plane: too few edges cancel for the silhouettes.
-        EXPECT_EQ(checkScene(m.finish(), "crossing box", test::scaled(40), 6).silhouettes, 0);
+        const Checked c = checkScene(m.finish(), "crossing box", test::scaled(40), 6);
+        EXPECT_EQ(c.silhouettes, 0);
+        // Its faces cut by L's plane lie in every point's cone (their chords there bound the
+        // shadow, no input edge does): the light-edge path is never taken.
+        EXPECT_EQ(c.lightEdges, 0);
     }
     {
         // With a sphere beside it the silhouettes pay: the box's faces that cross a plane are
@@ -842,6 +907,9 @@ TEST(BoundaryChainQuery, GroupsBeyondAndThroughTheLightAndFloorPlanesMatchTheExa
     m.ceiling(2.5);
     const Checked c = checkScene(m.finish(), "plates", test::scaled(60), 9);
     EXPECT_GT(c.grouped, test::scaled(60) / 8);
+    // The wall's rows meet L's plane z = 2 at a row of vertices: none of its faces is cut by
+    // it (those above are behind L, whole), so every point takes the light-edge path.
+    EXPECT_EQ(c.lightEdges, test::scaled(60));
 }
 
 // Contact lines everywhere: boxes on a dyadic grid (a stack sharing a face, one touching
@@ -862,6 +930,7 @@ TEST(BoundaryChainQuery, ContactLinesOnADyadicGridMatchTheExactReference) {
         checkScene(m.finish(), "dyadic boxes", static_cast<int>(grid.size()), 0, grid);
     EXPECT_GT(c.chain, static_cast<int>(grid.size()) / 4);
     EXPECT_GT(c.crossingLabels, c.cells / 3);
+    EXPECT_EQ(c.lightEdges, static_cast<int>(grid.size()));
 }
 
 // The face groups at contact lines: flat plates of many faces on the dyadic grid of the floor
@@ -884,6 +953,7 @@ TEST(BoundaryChainQuery, GroupsAtContactLinesOnADyadicGridMatchTheExactReference
         checkScene(m.finish(), "dyadic plates", static_cast<int>(grid.size()), 0, grid);
     EXPECT_GT(c.grouped, static_cast<int>(grid.size()) / 2);
     EXPECT_GT(c.chain, static_cast<int>(grid.size()) / 2);
+    EXPECT_EQ(c.lightEdges, static_cast<int>(grid.size()));
 }
 
 // A closed box and sphere standing on a triangle of the floor, the whole scene rotated and
@@ -896,7 +966,7 @@ TEST(BoundaryChainQuery, GroupsAtContactLinesOnADyadicGridMatchTheExactReference
 TEST(BoundaryChainQuery, TransformedMeshesThroughTheSilhouettesAndTheGroups) {
     std::mt19937_64 rng(21);
     std::uniform_real_distribution<double> u(-1, 1);
-    int silhouettes = 0, points = 0, penumbra = 0, grouped = 0;
+    int silhouettes = 0, points = 0, penumbra = 0, grouped = 0, edgePath = 0;
     // Points a rounding above the floor next to the box's bottom (a hair off the floor's plane)
     // are answered from the pair's occluders (FromPointQuery::nearContact), not the silhouettes.
     int contact = 0;
@@ -940,6 +1010,7 @@ TEST(BoundaryChainQuery, TransformedMeshesThroughTheSilhouettesAndTheGroups) {
         // in front of B), the others may be.
         const vis::BoxTree faces = test::faceBoxTree(s.mesh);
         const vis::FaceClusters groups(s.mesh, faces);
+        const vis::LightEdgeIndex lightEdges = lightEdgesOf(s.mesh);
         std::vector<Vec3> floor;
         for (uint32_t v : s.mesh.faces[0]) floor.push_back(s.mesh.vertices[v]);
         for (int k = 0; k < 6; ++k) {
@@ -967,8 +1038,15 @@ TEST(BoundaryChainQuery, TransformedMeshesThroughTheSilhouettesAndTheGroups) {
             EXPECT_NEAR(direct.fraction, ref.fraction, 1e-9) << "groups, " << vis::toString(x);
             EXPECT_NEAR(direct.formFactor, ref.formFactor, 1e-9 * std::max(ref.formFactor, 1e-6))
                 << "groups, " << vis::toString(x);
+            const Measured edged =
+                measure(s.mesh, x, query.runDirect(s.mesh, 0, 1, x, faces, nullptr, &lightEdges));
+            edgePath += query.usedLightEdges();
+            EXPECT_NEAR(edged.fraction, ref.fraction, 1e-9) << "light edges, " << vis::toString(x);
+            EXPECT_NEAR(edged.formFactor, ref.formFactor, 1e-9 * std::max(ref.formFactor, 1e-6))
+                << "light edges, " << vis::toString(x);
         }
     }
+    EXPECT_GT(edgePath, 0);
     EXPECT_GT(grouped, 0);
     EXPECT_EQ(silhouettes + contact, points);
     EXPECT_LT(contact, points / 8);

@@ -6,12 +6,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
 
 #include "tests/support/test_scale.h"
 #include "visibility/face_plane.h"
+#include "visibility/light_edge_index.h"
 #include "visibility/mesh_edges.h"
 
 namespace penumbra::vis {
@@ -183,6 +185,62 @@ TEST(LightSilhouetteEdges, NoEdgeLeftOutIsASilhouetteFromAnyPointOfTheLight) {
     // Both outcomes occur (a set that kept everything would pass the loop above).
     EXPECT_GT(left, 0u);
     EXPECT_GT(kept, 0u);
+}
+
+}  // namespace
+}  // namespace penumbra::vis
+
+namespace penumbra::vis {
+namespace {
+
+// The per-light index (light_edge_index.h) over the same cube: S_L's edges with their uses and
+// boxes, and each face's side of L's plane, hand-derived.
+TEST(LightEdgeIndex, KeepsSLWithItsUsesAndSortsTheFacesByLightsPlane) {
+    {
+        // L at z = 3 facing down (its front is z < 3): the cube is wholly in front, L's own face
+        // lies in its plane (no vertex strictly in front: Behind, as the clip leaves nothing).
+        const PolygonMesh m = cubeUnderLight(3, 0.1);
+        const MeshEdges edges(m);
+        const LightEdgeIndex index(m, edges, 6);
+        EXPECT_EQ(index.size(), 8u);  // the top rim and the light's border, as S_L
+        EXPECT_DOUBLE_EQ(index.share(), 0.5);
+        EXPECT_EQ(index.open(), 4u);
+        for (uint32_t i = 0; i < index.size(); ++i) {
+            const MeshEdges::Edge& e = index.edge(i);
+            const bool top = e.lo >= 4 && e.hi < 8, light = e.lo >= 8;
+            EXPECT_TRUE(top || light) << e.lo << "-" << e.hi;
+            EXPECT_EQ(index.uses(i).size(), top ? 2u : 1u);
+        }
+        for (uint32_t f = 0; f < 6; ++f) EXPECT_EQ(index.side(f), LightEdgeIndex::Side::Front);
+        EXPECT_EQ(index.side(6), LightEdgeIndex::Side::Behind);
+        EXPECT_EQ(index.acrossCount(), 0u);
+        EXPECT_TRUE(index.acrossFaces().empty());
+        // Every edge's box is found by a query around it, none by one far away.
+        std::vector<uint32_t> found;
+        const std::vector<PlaneOrient> aboveTop = {
+            PlaneOrient({0, 0, 0.99}, {1, 0, 0.99}, {0, 1, 0.99})};
+        index.edgeBoxes().notOutside(aboveTop, found);
+        EXPECT_EQ(found.size(), 8u);  // all lie at z >= 1
+        found.clear();
+        const std::vector<PlaneOrient> below = {PlaneOrient({0, 0, 0.5}, {0, 1, 0.5}, {1, 0, 0.5})};
+        index.edgeBoxes().notOutside(below, found);
+        EXPECT_EQ(found.size(), 0u);  // none reaches below z = 0.5
+    }
+    {
+        // L at z = 0.5, through the cube: the four sides cross its plane (Across), the top lies
+        // behind it, the bottom in front.
+        const PolygonMesh m = cubeUnderLight(0.5, 0.1);
+        const LightEdgeIndex index(m, MeshEdges(m), 6);
+        EXPECT_EQ(index.side(0), LightEdgeIndex::Side::Front);   // z = 0
+        EXPECT_EQ(index.side(1), LightEdgeIndex::Side::Behind);  // z = 1
+        for (uint32_t f = 2; f < 6; ++f) EXPECT_EQ(index.side(f), LightEdgeIndex::Side::Across);
+        EXPECT_EQ(index.acrossCount(), 4u);
+        std::vector<uint32_t> found;
+        const std::vector<PlaneOrient> none;
+        index.acrossFaces().notOutside(none, found);
+        std::sort(found.begin(), found.end());
+        EXPECT_EQ(found, (std::vector<uint32_t>{2, 3, 4, 5}));
+    }
 }
 
 }  // namespace

@@ -8,7 +8,7 @@
 namespace penumbra::vis {
 
 bool ChainBuild::use() {
-    if (q_.silhouettes.active() || q_.clusters.active()) {
+    if (q_.silhouettes.active() || q_.clusters.active() || q_.edges.active()) {
         if (!built_) build();
         return true;
     }
@@ -105,9 +105,37 @@ void ChainBuild::planesForRemaining() {
     }
 }
 
+void ChainBuild::buildFromLightEdges() {
+    // The light-edge path's chain (edge_path.h): its edges of nonzero weight, each with its plane
+    // through x, input segments whole; no chord (no face is clipped on this path).
+    refs_.clear();
+    weights_.clear();
+    for (const EdgePath::Remaining& e : q_.edges.remaining()) {
+        refs_.push_back(q_.active.addEdgePlane(e.lo, e.hi));
+        weights_.push_back(e.weight);
+    }
+    counts_.lightEdgesExamined = q_.edges.examined();
+    counts_.occluderEdges = q_.edges.examined();
+    counts_.boundaryEdges = static_cast<uint32_t>(refs_.size());
+    pays_ = true;
+    chain_.clear();
+    chords_ = false;
+    chordsOnBLeftOut_ = false;
+    keepEdgesInCone();
+    counts_.chainInCone = static_cast<uint32_t>(chain_.size());
+    // c' changes only across these edges, by their weights (no face is cut by L's plane near the
+    // cone): cells may be labelled by crossings.
+    crossings_ = chain_.size() >= q_.run.chainOptions.crossingsMinEdges;
+    q_.cells.prepare(chain_.size(), crossings_);
+}
+
 void ChainBuild::build() {
     q_.run.budget.enter(WorkStage::BuildChain);
     built_ = true;
+    if (q_.edges.active()) {
+        buildFromLightEdges();
+        return;
+    }
     builder_.clear();
     uint32_t surfaceUses = 0;
     if (!addUses(surfaceUses)) return;
@@ -126,6 +154,7 @@ void ChainBuild::build() {
     chordsOnBLeftOut_ = false;
     if (!pays_) return;
     keepEdgesInCone();
+    counts_.chainInCone = static_cast<uint32_t>(chain_.size());
     // Cells may be labelled by crossings when c(y) changes only across the chain's edges: no
     // occluder cut by L's plane (c would also change where y passes through such an occluder,
     // near its chord in L's plane). An occluder cut by B's plane has its chord on B's plane; seen
@@ -175,7 +204,9 @@ void ChainBuild::keepEdgesInCone() {
             e.segment = true;
             e.a = r.mesh().vertices[v0];
             e.b = r.mesh().vertices[v1];
-            e.behindB = frontB.sign(e.a) == Sign::Negative || frontB.sign(e.b) == Sign::Negative;
+            // (On the light-edge path faces are not clipped: an edge bounds its faces whole.)
+            e.behindB = !q_.edges.active() &&
+                        (frontB.sign(e.a) == Sign::Negative || frontB.sign(e.b) == Sign::Negative);
             // The ref's plane is through x, v0, v1; the weight is the edge's from its lower id.
             e.jump = v0 < v1 ? weights_[k] : -weights_[k];
         }

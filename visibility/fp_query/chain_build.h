@@ -60,6 +60,8 @@ class ChainBuild {
 
   private:
     void build();
+    // build() on the light-edge path (edge_path.h).
+    void buildFromLightEdges();
     // The uses of the active occluders' edges, the silhouette path's kept edges in the cone and
     // the used face groups' boundaries, into builder_ (uses returns the silhouette uses summed
     // outside it); false when the work limit stopped it.

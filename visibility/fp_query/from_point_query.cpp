@@ -20,6 +20,7 @@ void QueryParts::startRun() {
     silhouettes.reset();
     clusters.reset();
     solids.reset();
+    edges.reset();
 }
 
 bool QueryParts::startPair(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
@@ -102,7 +103,8 @@ FromPointQuery& FromPointQuery::operator=(FromPointQuery&&) noexcept = default;
 
 const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t receiver,
                                               uint32_t light, const AnsweredPoint& point,
-                                              const BoxTree& faces, const FaceClusters* clusters) {
+                                              const BoxTree& faces, const FaceClusters* clusters,
+                                              const LightEdgeIndex* lightEdges) {
     QueryParts& q = *q_;
     QueryRun& r = q.run;
     q.startRun();
@@ -112,6 +114,15 @@ const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t 
     if (!q.startPair(mesh, receiver, light, point.at)) return r.fragments;
     r.x = point.at;
     r.preparePyramid();
+    // The light-edge path where it is given and taken (edge_path.h): the chain from S_L's edges
+    // near the cone, no face activated.
+    if (lightEdges != nullptr && r.chainOptions.minOccluders != 0 &&
+        q.edges.prepare(faces, *lightEdges)) {
+        if (r.budget.reached()) return r.fragments;
+        q.deferredPrepared = true;
+        q.reachVisible(r.pair.lightClipped(), 0);
+        return r.fragments;
+    }
     // The candidates in the order the hierarchy's walk finds them (a function of the mesh alone:
     // the answer is deterministic). Insertion order as the builder's (pair_occluders.h) would be
     // costlier to find than it saves; sorting them into face order cost the bunny's penumbra
@@ -183,6 +194,7 @@ uint32_t FromPointQuery::deferredClips() const { return q_->clip.clips(); }
 void FromPointQuery::setChainOptions(const ChainOptions& o) { q_->run.chainOptions = o; }
 const ChainCounts& FromPointQuery::chainCounts() const { return q_->chain.counts(); }
 bool FromPointQuery::usedSilhouettes() const { return q_->silhouettes.active(); }
+bool FromPointQuery::usedLightEdges() const { return q_->edges.active(); }
 uint32_t FromPointQuery::clustersUsed() const {
     return static_cast<uint32_t>(q_->clusters.used().size());
 }

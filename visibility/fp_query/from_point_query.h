@@ -31,6 +31,7 @@
 #include "visibility/fp_query/fragment_list.h"
 #include "visibility/fp_query/work_budget.h"
 #include "visibility/history_tree.h"
+#include "visibility/light_edge_index.h"
 #include "visibility/region_decisions.h"
 
 namespace penumbra::vis {
@@ -73,6 +74,10 @@ struct ChainCounts {
     // Cells decided whole before the chain's edges left in them were cut
     // (ChainCells::decideWhole), hidden or seen.
     uint32_t hiddenWhole = 0, seenWhole = 0;
+    // On the light-edge path: the S_L edges the hierarchy found near the cone (each one's weight
+    // taken), against boundaryEdges (those of nonzero weight) and the chain's edges in the cone
+    // (chainInCone, also on the other paths).
+    uint32_t lightEdgesExamined = 0, chainInCone = 0;
 };
 
 struct QueryParts;
@@ -129,13 +134,21 @@ class FromPointQuery {
     // its open edges in the pyramid, nothing of it reaching L's plane or through x) has its faces
     // and groups seen from behind left out, or blocks the whole light where x lies inside it (the
     // same answer; solidGroupsLeftOut, hiddenBySolid).
+    // `lightEdges`, when given, must have been built for this mesh and `light`
+    // (light_edge_index.h; else it is not used): the boundary chain is then built from L's
+    // silhouette edges near x's cone and each cell's line tested against the faces through
+    // `faces` (fp_query/edge_path.h), without activating the faces in the pyramid; where that
+    // path cannot be taken (a face cut by L's plane near the cone) the faces are (the same
+    // answer; usedLightEdges()).
     const FragmentList& runDirect(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
                                   const AnsweredPoint& x, const BoxTree& faces,
-                                  const FaceClusters* clusters = nullptr);
+                                  const FaceClusters* clusters = nullptr,
+                                  const LightEdgeIndex* lightEdges = nullptr);
     const FragmentList& runDirect(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
                                   const Vec3& x, const BoxTree& faces,
-                                  const FaceClusters* clusters = nullptr) {
-        return runDirect(mesh, receiver, light, answeredAsGiven(x), faces, clusters);
+                                  const FaceClusters* clusters = nullptr,
+                                  const LightEdgeIndex* lightEdges = nullptr) {
+        return runDirect(mesh, receiver, light, answeredAsGiven(x), faces, clusters, lightEdges);
     }
     uint32_t nodesVisited() const;
     // The last run() answered by the contact rule from the pair's occluders, not by the walk.
@@ -164,6 +177,8 @@ class FromPointQuery {
     // The last run took a partial tree's silhouettes (deferred_silhouettes.h) for its deferred
     // occluders.
     bool usedSilhouettes() const;
+    // The last direct run took the light-edge path (fp_query/edge_path.h).
+    bool usedLightEdges() const;
     // The face groups the last direct run took whole (face_clusters.h).
     uint32_t clustersUsed() const;
     // Of them, those decided by every face's exact side (exactFacing), not the cone test.

@@ -10,6 +10,7 @@ std::optional<int> LineTests::countLine(const Vec3& y) {
     // Every occluder the line crosses, through its interior (a line that touches one's boundary
     // is where c jumps: no count).
     if (q_.silhouettes.active()) return q_.silhouettes.countLine(y);
+    if (q_.edges.active()) return q_.edges.countLine(y);
     QueryRun& r = q_.run;
     HitCount c;
     auto add = [&](LineHit h) { return c.add(h, r.budget); };
@@ -37,6 +38,7 @@ std::optional<int> LineTests::countLine(const Vec3& y) {
 
 bool LineTests::lineBlocked(const Vec3& y) {
     if (q_.silhouettes.active()) return q_.silhouettes.lineBlocked(y);
+    if (q_.edges.active()) return q_.edges.lineBlocked(y);
     // The line through y against the occluders (closed), the last one that hid a cell first.
     QueryRun& r = q_.run;
     ActiveOccluders& active = q_.active;

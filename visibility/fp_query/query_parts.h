@@ -13,6 +13,7 @@
 #include "visibility/fp_query/chain_cells.h"
 #include "visibility/fp_query/cluster_path.h"
 #include "visibility/fp_query/contact_rule.h"
+#include "visibility/fp_query/edge_path.h"
 #include "visibility/fp_query/line_tests.h"
 #include "visibility/fp_query/occluder_clip.h"
 #include "visibility/fp_query/query_run.h"
@@ -34,7 +35,8 @@ struct QueryParts {
           lines(*this),
           silhouettes(*this),
           clusters(*this),
-          solids(*this) {}
+          solids(*this),
+          edges(*this) {}
     QueryParts(const QueryParts&) = delete;
     QueryParts& operator=(const QueryParts&) = delete;
 
@@ -49,6 +51,7 @@ struct QueryParts {
     SilhouettePath silhouettes;
     ClusterPath clusters;
     SolidFilter solids;
+    EdgePath edges;
     // The last run was answered by the contact rule from the pair's occluders.
     bool contactAnswer = false;
     // The per-point occluders are ready for this run (a partial tree prepares them at its first

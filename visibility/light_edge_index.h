@@ -1,0 +1,79 @@
+// LightEdgeIndex: what the per-point edge finder (fp_query/edge_path.h) needs of one area light L,
+// built once per light: S_L's edges (light_silhouette_edges.h) with their faces, a box hierarchy
+// over those edges, each face's side of L's plane, and a box hierarchy over the faces that L's
+// plane cuts.
+//
+// Exact: S_L and the faces' sides are exact orient3d signs of input points; the hierarchies'
+// boxes are unions of input coordinates (no rounding) and are only ever used to cull
+// conservatively (BoxTree: a box is skipped only when certainly outside a plane).
+//
+// Why each part:
+//   - S_L holds every edge that can bound a shadow of L (light_silhouette_edges.h), so a point
+//     needs only those of its edges that may meet its cone over L: the edge hierarchy finds them
+//     in O(log |S_L| + found), whatever the number of faces in that cone.
+//   - A face with no vertex strictly in front of L's plane (Behind) is cut away whole by the
+//     query's clip to L's front (clipped_occluder.h): it blocks nothing and its edges' uses are
+//     left out of every weight. A face with vertices strictly on both sides (Across) is cut by
+//     L's plane: its clipped part has a chord on that plane, which no input edge describes, so a
+//     point whose cone over L may meet such a face takes the face-by-face path (edge_path.h).
+//   - Every other face (Front: no vertex strictly behind, one strictly in front) is kept whole
+//     by that clip.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "visibility/box_tree.h"
+#include "visibility/mesh_edges.h"
+#include "visibility/polygon_mesh.h"
+
+namespace penumbra::vis {
+
+class LightEdgeIndex {
+  public:
+    // A face's vertices against L's plane (exact signs): none strictly behind and one strictly
+    // in front (Front), none strictly in front (Behind, also a face of fewer than 3 vertices),
+    // or some strictly on each side (Across).
+    enum class Side : uint8_t { Front, Behind, Across };
+
+    LightEdgeIndex() = default;
+    // `edges` must be mesh's edge table (MeshEdges(mesh)); the index copies what it keeps.
+    LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, uint32_t lightFace);
+
+    uint32_t light() const { return light_; }
+    // The mesh it was built for: its face and vertex counts (a query checks them).
+    size_t faceCount() const { return sides_.size(); }
+    size_t vertexCount() const { return vertexCount_; }
+    // S_L's edges (mesh vertex ids, lo < hi), each with its uses (face and direction).
+    size_t size() const { return edges_.size(); }
+    const MeshEdges::Edge& edge(uint32_t i) const { return edges_[i]; }
+    std::span<const MeshEdges::Use> uses(uint32_t i) const {
+        return {uses_.data() + begin_[i], uses_.data() + begin_[i + 1]};
+    }
+    // S_L's share of the mesh's edges, and how many of them are open (border, non-manifold,
+    // inconsistently oriented).
+    double share() const { return share_; }
+    size_t open() const { return open_; }
+    // A hierarchy over S_L's edges' boxes (items: indices in edge()).
+    const BoxTree& edgeBoxes() const { return edgeBoxes_; }
+    Side side(uint32_t face) const { return sides_[face]; }
+    // A hierarchy over the Across faces' boxes (items: face ids); empty when there are none.
+    const BoxTree& acrossFaces() const { return acrossFaces_; }
+    size_t acrossCount() const { return acrossCount_; }
+
+  private:
+    uint32_t light_ = 0;
+    size_t vertexCount_ = 0;
+    std::vector<MeshEdges::Edge> edges_;
+    std::vector<MeshEdges::Use> uses_;
+    std::vector<uint32_t> begin_;
+    double share_ = 0;
+    size_t open_ = 0, acrossCount_ = 0;
+    BoxTree edgeBoxes_;
+    std::vector<Side> sides_;
+    BoxTree acrossFaces_;
+};
+
+}  // namespace penumbra::vis
