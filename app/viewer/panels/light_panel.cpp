@@ -94,13 +94,14 @@ std::optional<LightPanel::Move> LightPanel::draw(const Viewport& view, const Loa
                     ImGui::TextUnformatted("no tree was built before the move: none to rebuild");
                 else if (status.rebuild &&
                          status.rebuild->state == PrecomputeProgress::State::Running)
-                    ImGui::Text("%zu stale trees dropped; rebuilt %zu of %zu pairs",
-                                status.invalidated, status.rebuild->done, status.rebuild->total);
+                    ImGui::Text(
+                        "%zu stale trees dropped; rebuilt %zu of their receivers' %zu trees",
+                        status.invalidated, status.rebuild->done, status.rebuild->total);
                 else if (status.rebuild && status.rebuild->state == PrecomputeProgress::State::Idle)
-                    ImGui::Text("%zu stale trees dropped; all %zu pairs rebuilt",
+                    ImGui::Text("%zu stale trees dropped; their receivers' %zu trees rebuilt",
                                 status.invalidated, status.rebuild->total);
                 else if (status.rebuild)
-                    ImGui::Text("%zu stale trees dropped; rebuild %s at %zu of %zu pairs",
+                    ImGui::Text("%zu stale trees dropped; rebuild %s at %zu of %zu trees",
                                 status.invalidated, toString(status.rebuild->state),
                                 status.rebuild->done, status.rebuild->total);
                 ImGui::TextUnformatted(status.treeLess
