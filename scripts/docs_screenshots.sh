@@ -2,7 +2,8 @@
 # Regenerates docs/screenshots/: the viewer's complete UI, rendered headless (penumbra screenshot,
 # OSMesa), on assets/stairs.obj and assets/grids.obj with a penumbra point inspected and the
 # side-by-side preview, plus one PNG per panel cropped with the panel rectangles the state JSON
-# reports; and the Cornell box's "Accuracy vs time" panel (--accuracy). Needs a build
+# reports; the Cornell box's "Accuracy vs time" panel (--accuracy) and its lamp moved
+# (--move-light). Needs a build
 # (build/app/penumbra) and ImageMagick.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -34,4 +35,10 @@ shoot grids assets/grids.obj 0.3,0.3,0
 "$exe" screenshot assets/scenes/cornell_box.json --accuracy --preview-mode side --light-samples 8 \
   --size 1280x800 --out "$tmp/cornell.png" --state-out "$tmp/cornell.json"
 crop_panels cornell "Accuracy vs time"
+# The Cornell box's lamp moved down, to the left and stretched, its shadows following; the Move
+# light window open (the whole UI).
+"$exe" screenshot assets/scenes/cornell_box.json --camera 278,273,-700,278,273,0,45 \
+  --move-light 0 --translate -60,-150,40 --scale 1.5,1,0.5 --rotate 0,0,15 --point 420,0,120 \
+  --light-samples 8 --passes 8 --size 1600x900 --out "$tmp/moved_light.png" --state-out "$tmp/moved_light.json"
+convert "$tmp/moved_light.png" -strip -define png:compression-level=9 "$dir/moved_light.png"
 ls -la "$dir"

@@ -1,10 +1,12 @@
 // `penumbra screenshot SCENE [--point X,Y,Z | --pixel X,Y] [--camera ...] [--size WxH]
 //  --out FILE.png [--state-out FILE.json] [--preview-out FILE.png|.pfm|.exr] [--backend osmesa|egl]
-//  [--precompute] [--accuracy] ...`
+//  [--precompute] [--accuracy] [--move-light N [--translate X,Y,Z] [--rotate AX,AY,AZ]
+//  [--scale S|SX,SY,SZ]] ...`
 //
 // Renders the complete viewer UI offscreen (app/viewer/host/headless_host.h): the same Viewer code
 // as the window, with the inspected point's fragments, path and tree panels open.
 #include <CLI/CLI.hpp>
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -12,13 +14,15 @@
 #include "app/cli/commands.h"
 #include "app/viewer/host/headless_host.h"
 #include "engine/io/image_io.h"
+#include "engine/scene/light_move.h"
 
 namespace penumbra::cli {
 namespace {
 
 struct ScreenshotOptions {
     std::string scene, point, pixel, hover, camera, size = "1280x800", out, stateOut, previewOut,
-                                                    saveView;
+                                                    saveView, translate, rotate, scale;
+    int64_t moveLight = -1;
     std::string backend = "osmesa", previewMode = "exact", view = "rendered";
     int lightSamples = 16, passes = 8;
     double uiScale = 1;
@@ -51,6 +55,34 @@ void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
         h.pixel = std::array<double, 2>{v[0], v[1]};
     }
     if (sub.count("--camera") > 0) h.camera = parseCamera("--camera", o.camera);
+    const bool moveParts =
+        sub.count("--translate") > 0 || sub.count("--rotate") > 0 || sub.count("--scale") > 0;
+    if (moveParts && sub.count("--move-light") == 0)
+        throw usageError(
+            "screenshot: --translate, --rotate and --scale move a light: give "
+            "--move-light N");
+    if (sub.count("--move-light") > 0) {
+        if (o.moveLight < 0)
+            throw usageError("--move-light: expected a light number (0, 1, ...), got " +
+                             std::to_string(o.moveLight));
+        LightMove move;
+        if (sub.count("--translate") > 0) {
+            const auto v = parseNumberList("--translate", o.translate, 3);
+            move.translate = {v[0], v[1], v[2]};
+        }
+        if (sub.count("--rotate") > 0) {
+            const auto v = parseNumberList("--rotate", o.rotate, 3);
+            move.rotateDegrees = {v[0], v[1], v[2]};
+        }
+        if (sub.count("--scale") > 0) {
+            const bool one = o.scale.find(',') == std::string::npos;
+            const auto v = parseNumberList("--scale", o.scale, one ? 1 : 3);
+            move.scale = one ? Vec3{v[0], v[0], v[0]} : Vec3{v[0], v[1], v[2]};
+        }
+        if (const auto problem = lightMoveProblem(move))
+            throw usageError("--move-light " + std::to_string(o.moveLight) + ": " + *problem);
+        h.moveLight = std::pair{static_cast<uint32_t>(o.moveLight), move};
+    }
     if (sub.count("--hover") > 0) {
         const auto v = parseNumberList("--hover", o.hover, 2);
         h.hover = std::array<double, 2>{v[0], v[1]};
@@ -107,9 +139,10 @@ void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
         viewer::runHeadless(h);
     } catch (const viewer::HostInputError& e) {  // (a std::runtime_error: caught first)
         using Input = viewer::HostInputError::Input;
-        const char* option = e.input == Input::Point   ? "--point: "
-                             : e.input == Input::Pixel ? "--pixel: "
-                                                       : "";
+        const char* option = e.input == Input::Point       ? "--point: "
+                             : e.input == Input::Pixel     ? "--pixel: "
+                             : e.input == Input::MoveLight ? "--move-light: "
+                                                           : "";
         throw inputError(option + std::string(e.what()));
     } catch (const std::runtime_error& e) {
         throw inputError(std::string("screenshot: ") + e.what());
@@ -137,6 +170,19 @@ void registerScreenshotCommand(CLI::App& app) {
     sub->add_option("--camera", o->camera, "Camera: eye, target, vertical field of view")
         ->type_name("EX,EY,EZ,TX,TY,TZ[,FOV]");
     sub->add_option("--size", o->size, "Image size (default 1280x800)")->type_name("WxH");
+    sub->add_option("--move-light", o->moveLight,
+                    "Move area light N (0 = the first) as the Move light window does, before "
+                    "anything else; its trees are rebuilt before the screenshot")
+        ->type_name("N");
+    sub->add_option("--translate", o->translate, "With --move-light: translate it by this")
+        ->type_name("X,Y,Z");
+    sub->add_option(
+           "--rotate", o->rotate,
+           "With --move-light: rotate it about its centre, degrees about x, then y, then z")
+        ->type_name("AX,AY,AZ");
+    sub->add_option("--scale", o->scale,
+                    "With --move-light: scale it about its centre along the axes (each > 0)")
+        ->type_name("S|SX,SY,SZ");
     sub->add_option("--out", o->out, "The screenshot (PNG)")->required()->type_name("FILE.png");
     sub->add_option("--state-out", o->stateOut, "The UI state as JSON")->type_name("FILE.json");
     sub->add_option("--preview-out", o->previewOut,

@@ -6,11 +6,13 @@
 
 #include <filesystem>
 #include <memory>
+#include <vector>
 
 #include "engine/io/load_options.h"
 #include "engine/precompute/visibility_store.h"
 #include "engine/raytrace/embree_scene.h"
 #include "engine/render/exact_options.h"
+#include "engine/scene/light_move.h"
 #include "engine/scene/scene.h"
 
 namespace penumbra::viewer {
@@ -21,6 +23,20 @@ struct LoadedScene {
     vis::Bounds3 bounds;
     std::unique_ptr<EmbreeScene> bvh;
     std::unique_ptr<VisibilityStore> store;
+    // The lights the viewer moved (engine/scene/light_move.h): each version of the scene is a new
+    // LoadedScene (its own BVH and an empty store: every tree of the version before is stale), made
+    // from the scene as the file gave it (`asOpened`: null until the first move, then shared by
+    // every version) with one move per light from there (identity: not moved), so that dragging a
+    // light never accumulates rounding. `version`: 0 as opened, one more per move.
+    std::shared_ptr<const Scene> asOpened;
+    std::vector<LightMove> lightMoves;
+    uint64_t version = 0;
+
+    // The move of light `light` (identity when it was not moved).
+    LightMove lightMove(uint32_t light) const;
+    // The moved lights at their vertices, for a saved view ("moved_lights"), the default light
+    // left out (its corners are saved moved).
+    std::vector<PlacedLight> movedLights() const;
 };
 
 // Loads the file (engine/io/scene_loader.h: errors as SceneError; repairs as warnings in
@@ -29,5 +45,12 @@ struct LoadedScene {
 // budget).
 std::shared_ptr<LoadedScene> loadScene(const std::filesystem::path& path, const ExactOptions& exact,
                                        const LoadOptions& load = LoadOptions::forCommands());
+
+// The next version of `from` with its lights moved by `moves` (one per light, or fewer: the rest
+// not moved), each from where the file put it: the scene, its BVH and an empty store (the build
+// budget of `exact`), numbered `version`. Throws SceneError for a move the contract refuses
+// (light_move.h). Costs a scene copy and a BVH build: run it off the UI thread.
+std::shared_ptr<LoadedScene> withLightMoves(const LoadedScene& from, std::vector<LightMove> moves,
+                                            const ExactOptions& exact, uint64_t version);
 
 }  // namespace penumbra::viewer

@@ -7,6 +7,7 @@
 #include <tbb/task_group.h>
 
 #include <memory>
+#include <vector>
 
 #include "engine/precompute/precompute_scheduler.h"
 #include "engine/precompute/visibility_store.h"
@@ -17,12 +18,15 @@ class PrecomputeJob {
   public:
     // Every (receiver patch, light) pair of `store` (the store must outlive the job).
     void start(VisibilityStore& store);
+    // These pairs of `store` only (a light moved: the pairs whose trees it had before).
+    void start(VisibilityStore& store, std::vector<PairKey> keys);
     void cancel();
     bool running() const;
     bool started() const { return scheduler_ != nullptr; }
     PrecomputeProgress progress() const;
-    // Cancels and lets a task of `tasks` destroy the scheduler (the job is then not started).
-    void dispose(tbb::task_group& tasks);
+    // Cancels and lets a task of `tasks` destroy the scheduler (the job is then not started);
+    // `keepAlive` (the store's owner) is released after it, so that the store outlives its builds.
+    void dispose(tbb::task_group& tasks, std::shared_ptr<const void> keepAlive = nullptr);
 
   private:
     std::shared_ptr<PrecomputeScheduler> scheduler_;

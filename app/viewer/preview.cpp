@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <optional>
 #include <system_error>
 #include <vector>
@@ -31,6 +32,7 @@ void Preview::clear() {
     image_ = PreviewImage{};
     running_ = false;
     effects_ = EffectsSummary{};
+    treeLess_ = false;
 }
 
 void Preview::poll(const std::shared_ptr<LoadedScene>& scene, const Camera& camera,
@@ -39,6 +41,7 @@ void Preview::poll(const std::shared_ptr<LoadedScene>& scene, const Camera& came
     if (now.update) upload(*now.update);
     running_ = now.running;
     effects_ = std::move(now.effects);
+    sceneVersion_ = scene ? scene->version : 0;
     if (options_.preview && scene && dirty_) {
         // The full preview once the camera has rested for 200 ms; meanwhile, in the rendered
         // view, a coarse single pass at most every 100 ms, so that the view follows the camera
@@ -74,6 +77,7 @@ void Preview::restart(const std::shared_ptr<LoadedScene>& scene, const Camera& c
     if (!scene) return;
     PreviewSettings s = options_.previewSettings;
     s.exact = options_.exact;
+    if (treeLess_) s.exact.minTreeSamples = std::numeric_limits<uint64_t>::max();
     const Layout l = layout.width > 0 ? layout : computeLayout(1280, 800, options_.layout);
     // The rendered view: one preview pixel per view pixel, so that the view shows what
     // `penumbra render` gives for this camera at the view's size.
@@ -114,6 +118,8 @@ bool Preview::splitShown(const Camera& camera, const Viewport& view) const {
 std::string Preview::viewNote(const Camera& camera, const Viewport& view) const {
     if (options_.view != ViewMode::Rendered) return "";
     if (showsImage(camera, view)) {
+        if (image_.sceneVersion != sceneVersion_)
+            return "3D view: the image is of the light before it moved; the new one is rendering";
         if (image_.imageWidth == view.width && image_.height == view.height) return "";
         return "3D view: a coarser image (" + std::to_string(image_.imageWidth) + "x" +
                std::to_string(image_.height) + ") until the full render's first pass";
@@ -228,6 +234,13 @@ bool Preview::save(const std::filesystem::path& stem, const LoadedScene* scene,
         message = "save view: no rendered image yet";
         return false;
     }
+    if (image.sceneVersion != scene->version) {
+        message =
+            "save view: the image is of the light before it moved; save once the new one "
+            "is rendered";
+        return false;
+    }
+    const std::vector<PlacedLight> moved = scene->movedLights();
     const std::optional<Film> radiance = radianceFilm(image);
     auto withExtension = [&](const char* ext) {
         std::filesystem::path p = stem;
@@ -242,10 +255,11 @@ bool Preview::save(const std::filesystem::path& stem, const LoadedScene* scene,
             writePfm(*radiance, withExtension(".pfm").string());
             writeExr(*radiance, withExtension(".exr").string());
         }
-        writeTextFile(withExtension(".json"),
-                      jsonSceneWithCamera(
-                          scene->path, camera, withExtension(".json"),
-                          scene->scene.defaultLight ? &*scene->scene.defaultLight : nullptr));
+        writeTextFile(
+            withExtension(".json"),
+            jsonSceneWithCamera(scene->path, camera, withExtension(".json"),
+                                scene->scene.defaultLight ? &*scene->scene.defaultLight : nullptr,
+                                moved));
     } catch (const std::exception& e) {
         message = std::string("save view: ") + e.what();
         return false;

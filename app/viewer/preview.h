@@ -55,6 +55,15 @@ class Preview {
     // Another scene: the old one's image and effects say nothing of it (the running job is
     // cancelled).
     void clear();
+    // A light moved (a new version of the scene): as a camera move, coarse passes while it goes on
+    // and the full render once it rests.
+    void lightMoved() { viewChanging(); }
+    // Tree-less: the exact passes evaluate every pair without a tree the store does not hold yet
+    // (RenderSettings::minTreeSamples at its maximum: prepare builds none, the direct query answers
+    // the rest; the same exact answer), so that after a light move the preview does not wait for
+    // the trees the background rebuilds. The viewer turns it on while they are rebuilt.
+    void setTreeLess(bool treeLess) { treeLess_ = treeLess; }
+    bool treeLess() const { return treeLess_; }
 
     // Once per frame: restarts when due (above), and takes the runner's newest image into the
     // texture. `layout`: the frame's (the previous frame's when called before the new layout).
@@ -118,6 +127,8 @@ class Preview {
     EffectsSummary effects_;
     GLuint texture_ = 0;
     bool dirty_ = false;
+    bool treeLess_ = false;
+    uint64_t sceneVersion_ = 0;  // the scene's version at the last poll
     std::chrono::steady_clock::time_point lastCameraChange_, lastCoarseRestart_;
     // The last restart: whether it was a coarse pass, and for which camera and view.
     bool lastCoarse_ = false;

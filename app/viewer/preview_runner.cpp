@@ -199,6 +199,7 @@ void PreviewRunner::run(const std::shared_ptr<Job>& job) {
     image.width = s.mode == PreviewMode::SideBySide ? 2 * s.width : s.width;
     image.height = s.height;
     image.camera = job->camera;
+    image.sceneVersion = job->scene->version;
     image.mode = s.mode;
     image.passesPlanned = s.passes;
     image.coarse = s.coarse;

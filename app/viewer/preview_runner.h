@@ -62,6 +62,7 @@ struct PreviewImage {
     // The exact image's answers (Film::answers), per pixel; empty when it is not rendered.
     std::vector<AnswerCounts> answers;
     Camera camera;                          // the camera it was rendered from
+    uint64_t sceneVersion = 0;              // and the scene's version (LoadedScene::version)
     PreviewMode mode = PreviewMode::Exact;  // and the mode
 };
 

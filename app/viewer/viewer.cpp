@@ -58,8 +58,14 @@ bool Viewer::openScene(const std::filesystem::path& path) {
     // An accuracy study belongs to the scene it measured: a running one is dropped (its task
     // keeps the old scene alive until it stops), a finished one is no longer shown.
     accuracy_.drop();
-    // The old scheduler's destructor waits for its builds: a task does that.
-    precompute_.dispose(tasks_);
+    // The old scheduler's destructor waits for its builds: a task does that (keeping the old
+    // scene, whose store they use, until then).
+    precompute_.dispose(tasks_, scene_);
+    // Light moves of the old scene say nothing of this one.
+    lightJob_.drop();
+    rebuildPairs_.clear();
+    lightRebuild_ = false;
+    lightStatus_ = {};
     scene_ = std::move(loaded);
     renderer_.setScene(scene_->scene);
     orbit_.set(defaultCamera(scene_->scene, *scene_->bvh));
@@ -144,8 +150,83 @@ void Viewer::updateOverlay() {
     }
 }
 
+bool Viewer::moveLight(uint32_t light, const LightMove& move) {
+    if (!scene_) return false;
+    const size_t lights = scene_->scene.lights.size();
+    if (light >= lights) {
+        status_ = "move light: no light " + std::to_string(light) + " (the scene has " +
+                  std::to_string(lights) + ")";
+        return false;
+    }
+    if (const std::optional<std::string> problem = lightMoveProblem(move)) {
+        lightStatus_.refused = *problem;
+        status_ = "move light " + std::to_string(light) + ": refused: " + *problem;
+        return false;
+    }
+    std::vector<LightMove> moves = scene_->lightMoves;
+    moves.resize(lights);
+    moves[light] = move;
+    lightStatus_.refused.clear();
+    lightJob_.request(scene_, std::move(moves), options_.exact, tasks_);
+    return true;
+}
+
+void Viewer::lightMoveArrived(std::shared_ptr<LoadedScene> moved) {
+    // Every tree of the scene before is stale: the moved face is an occluder of every pair whose
+    // shaft it crosses, before or after the move (not only of its own pairs), and the receivers'
+    // patches follow the scene's bounds, which the light may have changed. So all of them go with
+    // the old store (nothing of it is used again), and their (receiver, light) pairs, with those
+    // of an earlier move not rebuilt yet, are rebuilt in the moved scene in the background.
+    size_t dropped = 0;
+    scene_->store->forEach([&](const PairKey& key, const PairRecord&) {
+        rebuildPairs_.insert({key.receiver, key.lightFace});
+        ++dropped;
+    });
+    uint32_t which = 0;  // the light whose move changed (for the status line)
+    for (uint32_t i = 0; i < moved->lightMoves.size(); ++i)
+        if (moved->lightMove(i) != scene_->lightMove(i)) which = i;
+    std::optional<std::pair<Vec3, uint32_t>> point;
+    if (const std::optional<PointInspection>& p = selection_.inspection())
+        if (std::find(moved->scene.lights.begin(), moved->scene.lights.end(), p->face) ==
+            moved->scene.lights.end())
+            point = {p->point, p->face};  // (a point on a light that moved is no longer on it)
+    clearSelection();
+    precompute_.dispose(tasks_, scene_);
+    accuracy_.drop();  // its study measured the scene before
+    scene_ = std::move(moved);
+    renderer_.setScene(scene_->scene);
+    std::vector<PairKey> keys;
+    for (const auto& [receiver, lightFace] : rebuildPairs_) {
+        const auto patches = static_cast<uint32_t>(scene_->store->layout().patchCount(receiver));
+        for (uint32_t patch = 0; patch < patches; ++patch)
+            keys.push_back({receiver, patch, lightFace});
+    }
+    lightStatus_.invalidated += dropped;
+    lightRebuild_ = !keys.empty();
+    if (lightRebuild_) precompute_.start(*scene_->store, std::move(keys));
+    precomputeWatched_ = false;
+    preview_.lightMoved();
+    preview_.setTreeLess(lightRebuild_);  // (nothing to rebuild: the preview builds as it needs)
+    if (point) selectPoint(point->first, point->second);
+    status_ = "light " + std::to_string(which) + " moved: the preview" +
+              (point ? " and the point answer" : "") + " from the tree-less query; " +
+              std::to_string(dropped) + " trees of the position before dropped" +
+              (lightRebuild_ ? ", " + std::to_string(rebuildPairs_.size()) +
+                                   " (receiver, light) pairs rebuilding in the background"
+                             : "");
+}
+
 void Viewer::pollBackground() {
     std::string message;
+    // A moved scene first: what follows polls it.
+    if (std::optional<LightMoveJob::Result> moved = lightJob_.take()) {
+        if (moved->scene) {
+            lightMoveArrived(std::move(moved->scene));
+        } else {
+            lightStatus_.refused = moved->error;
+            status_ = "move light: refused: " + moved->error;
+        }
+    }
     if (selection_.poll(message) != Selection::Event::None) {
         status_ = message;
         updateOverlay();
@@ -157,6 +238,16 @@ void Viewer::pollBackground() {
     // The status line said the precompute was running: once it ends, how it ended.
     const bool running =
         precomputeNow_ && precomputeNow_->state == PrecomputeProgress::State::Running;
+    // The trees of a moved light: once rebuilt, the preview may use them again as it builds.
+    if (lightRebuild_ && !running) {
+        lightRebuild_ = false;
+        preview_.setTreeLess(false);
+        if (precomputeNow_ && precomputeNow_->state == PrecomputeProgress::State::Idle)
+            rebuildPairs_.clear();
+        if (precomputeNow_)
+            status_ = "trees of the moved light's pairs: " +
+                      PrecomputePanel::progressLine(*precomputeNow_);
+    }
     if (precomputeWatched_ && !running) {
         precomputeWatched_ = false;
         if (precomputeNow_)
@@ -167,13 +258,23 @@ void Viewer::pollBackground() {
 void Viewer::startPrecompute() {
     if (!scene_) return;
     precompute_.start(*scene_->store);
+    lightRebuild_ = false;  // (the light's pairs are among every pair)
+    preview_.setTreeLess(false);
+    rebuildPairs_.clear();
     status_ = "precomputing every (receiver patch, light) pair in the background";
     precomputeWatched_ = true;
 }
 
 void Viewer::openAccuracyStudy() { accuracy_.open(scene_, orbit_.camera(), tasks_); }
 
+void Viewer::waitForLightMove() {
+    tasks_.wait();
+    pollBackground();
+}
+
 void Viewer::waitForBackground() {
+    tasks_.wait();
+    pollBackground();  // a light move built meanwhile replaces the scene first
     preview_.restartPending(scene_, orbit_.camera(), layout_);
     tasks_.wait();
     preview_.runner().wait();
@@ -193,6 +294,7 @@ void Viewer::handleInput(int width, int height) {
         if (ImGui::IsKeyPressed('F')) fitCamera();
         if (ImGui::IsKeyPressed('H')) helpPanel_.toggle();
         if (ImGui::IsKeyPressed('T')) showTree_ = !showTree_;
+        if (ImGui::IsKeyPressed('M')) lightPanel_.toggle();
         if (ImGui::IsKeyPressed('A')) accuracy_.toggle();
         if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) clearSelection();
         if (ImGui::IsKeyPressed('L') && selection_.selectedLight()) {
@@ -308,6 +410,16 @@ void Viewer::drawPanels() {
     record("Path", l.path);
     // The overlays of the 3D view, recorded too (the tests check that they stay inside it).
     if (helpPanel_.visible()) record("Help", helpPanel_.draw(l.view));
+    if (lightPanel_.visible()) {
+        lightStatus_.building = lightJob_.busy();
+        lightStatus_.rebuild = lightStatus_.invalidated > 0 ? precomputeNow_ : std::nullopt;
+        lightStatus_.treeLess = preview_.treeLess();
+        PanelRect rect;
+        const std::optional<LightPanel::Move> move =
+            lightPanel_.draw(l.view, scene_.get(), lightStatus_, rect);
+        record("Move light", rect);
+        if (move) moveLight(move->light, move->move);
+    }
     if (accuracy_.shown()) {
         if (accuracy_.draw(l.view, scene_, orbit_.camera(), tasks_)) {
             const std::array<float, 4>& r = accuracy_.plot().windowRect();
@@ -322,6 +434,7 @@ void Viewer::drawPanels() {
     panelText_.end();
     // Actions that replace what the panels drew from, after every panel is drawn.
     if (scene.fit) fitCamera();
+    if (scene.moveLight) lightPanel_.show();
     if (scene.open) openScene(*scene.open);
     if (openAfterFrame_) {
         const std::filesystem::path path = *openAfterFrame_;

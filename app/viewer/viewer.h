@@ -21,14 +21,18 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <string>
+#include <utility>
 
 #include "app/viewer/gl/scene_renderer.h"
 #include "app/viewer/layout.h"
+#include "app/viewer/light_move_job.h"
 #include "app/viewer/loaded_scene.h"
 #include "app/viewer/orbit_camera.h"
 #include "app/viewer/panels/accuracy_windows.h"
 #include "app/viewer/panels/help_panel.h"
+#include "app/viewer/panels/light_panel.h"
 #include "app/viewer/panels/panel_text.h"
 #include "app/viewer/panels/scene_panel.h"
 #include "app/viewer/panels/tree_graph_panel.h"
@@ -70,6 +74,20 @@ class Viewer {
     void startPrecompute();
     bool precomputeRunning() const { return precompute_.running(); }
 
+    // Moves area light `light` by `move` from where the file put it (engine/scene/light_move.h;
+    // the Move light window, M, does this as its fields are dragged). The moved scene (a copy, its
+    // BVH) is built in the background and replaces the current one at a later frame's poll: the
+    // preview restarts on it tree-less (Preview::setTreeLess), an inspected point is inspected
+    // again there (its tree-less answer at once), and the trees of the scene before, all stale, are
+    // dropped with its store while their pairs are rebuilt in the background (the precompute job).
+    // False with the reason in the status for a light that does not exist or a refused move (a
+    // scale factor of 0 or below); a move the contract refuses once built says so at that poll.
+    bool moveLight(uint32_t light, const LightMove& move);
+    // A light move is being built, or the trees of the last one are being rebuilt.
+    bool lightMoveBuilding() const { return lightJob_.busy(); }
+    bool lightTreesRebuilding() const { return lightRebuild_; }
+    void showLightWindow() { lightPanel_.show(); }
+
     // The "Accuracy vs time" study of the current view (engine/studies/accuracy_study.h), in the
     // background: opens its windows and starts it (the A key opens them, their button starts it).
     void openAccuracyStudy();
@@ -86,6 +104,9 @@ class Viewer {
     // The preview, its image and the rendered view (Preview::save keeps what you see).
     const Preview& preview() const { return preview_; }
 
+    // Headless only (blocks): until a requested light move has arrived (moveLight) and replaced
+    // the scene.
+    void waitForLightMove();
     // Headless only (blocks): until the pending inspection has arrived and the preview finished.
     void waitForBackground();
 
@@ -98,6 +119,8 @@ class Viewer {
     // The overlay and the tree browser follow the selection's inspection and light.
     void updateOverlay();
     void drawPanels();
+    // A moved version of the scene arrived (LightMoveJob): it replaces the current one (above).
+    void lightMoveArrived(std::shared_ptr<LoadedScene> moved);
 
     ViewerOptions options_;
     SceneRenderer renderer_;
@@ -119,9 +142,17 @@ class Viewer {
     bool precomputeWatched_ = false;
     std::optional<PrecomputeProgress> precomputeNow_;  // this frame's reading (none: not started)
 
+    // Light moves: the job that builds the moved scenes, the pairs whose trees were dropped by
+    // moves (rebuilt in the background while lightRebuild_), and what the Move light window says.
+    LightMoveJob lightJob_;
+    std::set<std::pair<uint32_t, uint32_t>> rebuildPairs_;  // (receiver face, light face)
+    bool lightRebuild_ = false;
+    LightMoveStatus lightStatus_;
+
     // The panels that keep state of their own.
     ScenePanel scenePanel_;
     HelpPanel helpPanel_;
+    LightPanel lightPanel_;
     ui::TreeGraphPanel treePanel_;
     bool showTree_ = true;
     AccuracyWindows accuracy_;

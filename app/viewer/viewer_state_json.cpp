@@ -108,6 +108,34 @@ nlohmann::json Viewer::stateJson() const {
     } else {
         s["defaultLight"] = nullptr;
     }
+    // The area lights as the scene has them now, with the viewer's moves (engine/scene/
+    // light_move.h) and what a move left: the scene's version, the trees in its store, the trees
+    // the moves dropped and whether their pairs are still being rebuilt.
+    json lights = json::array();
+    if (scene_)
+        for (uint32_t i = 0; i < scene_->scene.lights.size(); ++i) {
+            const uint32_t face = scene_->scene.lights[i];
+            json vertices = json::array();
+            for (uint32_t v : scene_->scene.mesh.faces[face])
+                vertices.push_back(vec(scene_->scene.mesh.vertices[v]));
+            const LightMove m = scene_->lightMove(i);
+            lights.push_back({{"light", i},
+                              {"face", face},
+                              {"vertices", vertices},
+                              {"moved", !m.isIdentity()},
+                              {"translate", vec(m.translate)},
+                              {"rotateDegrees", vec(m.rotateDegrees)},
+                              {"scale", vec(m.scale)}});
+        }
+    s["lights"] = lights;
+    s["lightMoves"] = {{"sceneVersion", scene_ ? scene_->version : 0},
+                       {"treesInStore", scene_ ? scene_->store->treeCount() : 0},
+                       {"treesDropped", lightStatus_.invalidated},
+                       {"building", lightJob_.busy()},
+                       {"rebuilding", lightRebuild_},
+                       {"previewTreeLess", preview_.treeLess()},
+                       {"refused", lightStatus_.refused},
+                       {"windowShown", lightPanel_.visible()}};
     s["size"] = {layout_.width, layout_.height};
     s["viewport"] = {{"x", layout_.view.x},
                      {"y", layout_.view.y},
@@ -168,6 +196,7 @@ nlohmann::json Viewer::stateJson() const {
                     {"imageMode", toString(image.mode)},
                     {"running", preview_.running()},
                     {"coarse", image.coarse},
+                    {"sceneVersion", image.sceneVersion},
                     {"simulates", preview_.effects().method},
                     {"passes", image.passes},
                     {"width", image.width},

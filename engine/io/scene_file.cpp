@@ -15,6 +15,7 @@
 #include "engine/io/text_input.h"
 #include "engine/scene/affine3.h"
 #include "engine/scene/face_check.h"
+#include "engine/scene/light_move.h"
 #include "engine/scene/scene_validation.h"
 
 namespace penumbra {
@@ -31,9 +32,9 @@ class SceneFileReader {
     Scene read(std::string_view text) {
         const Json root = parse(text);
         if (!root.is_object()) fail("(root)", "expected a JSON object");
-        allowKeys(
-            root, "(root)",
-            {"meshes", "polygons", "area_lights", "point_lights", "camera", "strict", "comment"});
+        allowKeys(root, "(root)",
+                  {"meshes", "polygons", "area_lights", "point_lights", "moved_lights", "camera",
+                   "strict", "comment"});
         scene_.sourcePath = file_;
         if (root.contains("strict")) strict_ = boolean(root["strict"], "strict");
 
@@ -59,6 +60,7 @@ class SceneFileReader {
         if (!scene_.faceUv.empty()) scene_.faceUv.resize(scene_.mesh.faces.size());
         validateSceneStructure(scene_);
         scene_.collectLights();
+        if (root.contains("moved_lights")) moveLights(array(root["moved_lights"], "moved_lights"));
         return std::move(scene_);
     }
 
@@ -158,6 +160,30 @@ class SceneFileReader {
             if (!m.isEmissive()) fail(path + ".emission", "must be nonzero");
             if (l.contains("kd")) m.kd = color(l["kd"], path + ".kd");
             addPolygon(l, path, m);
+        }
+    }
+
+    // "moved_lights": lights (numbered as the scene numbers them, file order) placed at new
+    // vertices, as the viewer saves a moved light (engine/scene/light_move.h: checked, never
+    // repaired).
+    void moveLights(const Json& moved) {
+        for (size_t i = 0; i < moved.size(); ++i) {
+            const std::string path = "moved_lights[" + std::to_string(i) + "]";
+            const Json& m = object(moved[i], path);
+            allowKeys(m, path, {"light", "vertices", "comment"});
+            if (!m.contains("light")) fail(path, "missing \"light\"");
+            if (!m["light"].is_number_unsigned())
+                fail(path + ".light", "expected a light number (0, 1, ...)");
+            const uint64_t light = m["light"].get<uint64_t>();
+            if (light >= scene_.lights.size())
+                fail(path + ".light", "no light " + std::to_string(light) + " (the scene has " +
+                                          std::to_string(scene_.lights.size()) + ")");
+            if (!m.contains("vertices")) fail(path, "missing \"vertices\"");
+            const Json& vs = array(m["vertices"], path + ".vertices");
+            std::vector<Vec3> vertices;
+            for (size_t k = 0; k < vs.size(); ++k)
+                vertices.push_back(vec3(vs[k], path + ".vertices[" + std::to_string(k) + "]"));
+            placeLight(scene_, static_cast<uint32_t>(light), vertices, path);
         }
     }
 
@@ -580,7 +606,8 @@ Scene loadJsonSceneFromString(std::string_view json, const fs::path& baseDirecto
 
 std::string jsonSceneWithCamera(const std::filesystem::path& source, const Camera& camera,
                                 const std::filesystem::path& target,
-                                const DefaultLight* defaultLight) {
+                                const DefaultLight* defaultLight,
+                                std::span<const PlacedLight> movedLights) {
     namespace fs = std::filesystem;
     const fs::path targetDir = fs::absolute(target).parent_path();
     // A path as the new file names it: relative to its directory (absolute when there is no
@@ -620,6 +647,25 @@ std::string jsonSceneWithCamera(const std::filesystem::path& source, const Camer
              {"vertices", vertices},
              {"emission", defaultLight->emission},
              {"kd", 0}});
+    }
+    if (!movedLights.empty()) {
+        nlohmann::ordered_json kept = nlohmann::ordered_json::array();
+        if (root.contains("moved_lights") && root["moved_lights"].is_array())
+            for (const auto& entry : root["moved_lights"]) {
+                bool replaced = false;
+                for (const PlacedLight& m : movedLights)
+                    replaced = replaced || (entry.is_object() && entry.contains("light") &&
+                                            entry["light"] == m.light);
+                if (!replaced) kept.push_back(entry);
+            }
+        for (const PlacedLight& m : movedLights) {
+            nlohmann::ordered_json vertices = nlohmann::ordered_json::array();
+            for (const Vec3& v : m.vertices) vertices.push_back({v.x, v.y, v.z});
+            kept.push_back({{"comment", "moved in the viewer"},
+                            {"light", m.light},
+                            {"vertices", std::move(vertices)}});
+        }
+        root["moved_lights"] = std::move(kept);
     }
     root["camera"] = {{"eye", {camera.eye.x, camera.eye.y, camera.eye.z}},
                       {"target", {camera.target.x, camera.target.y, camera.target.z}},

@@ -23,6 +23,7 @@
 //   "polygons": [{"vertices": [[x, y, z], ...], "material": M}],   // optional: plain faces
 //   "area_lights": [{"vertices": [[x, y, z], ...], "emission": E, "kd": C}],   // optional
 //   "point_lights": [{"position": [x, y, z], "intensity": E}],        // optional
+//   "moved_lights": [{"light": i, "vertices": [[x, y, z], ...]}],      // optional
 //   "camera": {"eye": [x, y, z], "target": [x, y, z], "up": [0, 1, 0], "fov_y": 45}  // optional
 // }
 // T is an object {"scale": s | [sx, sy, sz], "rotate": {"axis": [x, y, z], "degrees": d},
@@ -41,6 +42,10 @@
 // box's lamp, stay lights). The camera is "camera", else the first mesh's camera (transformed),
 // else none. Point lights are those of the file plus the meshes' (transformed). Materials are the
 // meshes' (names made unique with a suffix "_2", "_3", ...) followed by the file's own.
+// "moved_lights" places light i (the scene's numbering: its emissive faces in the order above) at
+// the given vertices, one per vertex of its face in its order, after everything else is read: how
+// the viewer saves a light it moved (engine/scene/light_move.h). The face must stay exactly planar
+// and strictly convex (never repaired); a light whose face shares vertices gets its own.
 // Repairs (engine/io/load_options.h, docs/formats.md): a mesh file loads in repair mode, its
 // repairs reported as warnings ("scene.json: meshes[0]: <the mesh file's warning>"), unless the
 // caller asks for strict mode (the command line's --strict: every mesh strict, whatever the file
@@ -54,10 +59,12 @@
 #pragma once
 
 #include <filesystem>
+#include <span>
 #include <string>
 #include <string_view>
 
 #include "engine/io/load_options.h"
+#include "engine/scene/light_move.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_error.h"
 
@@ -78,10 +85,13 @@ Scene loadJsonSceneFromString(std::string_view json, const std::filesystem::path
 // {"meshes": [{"file": ...}], "camera": ...}. Loading it gives the same scene and that camera
 // (the viewer's "save view"). A scene that got the default light (`defaultLight`, from
 // Scene::defaultLight) keeps it as an explicit area light, the last (as it was): loading the file
-// gives the same lit scene with or without --no-default-light. Throws SceneError when a JSON
-// source cannot be read or parsed.
+// gives the same lit scene with or without --no-default-light. Lights the viewer moved
+// (`movedLights`) are written as "moved_lights" entries, replacing the source's entry for the same
+// light (the default light is moved through its corners: leave it out). Throws SceneError when a
+// JSON source cannot be read or parsed.
 std::string jsonSceneWithCamera(const std::filesystem::path& source, const Camera& camera,
                                 const std::filesystem::path& target,
-                                const DefaultLight* defaultLight = nullptr);
+                                const DefaultLight* defaultLight = nullptr,
+                                std::span<const PlacedLight> movedLights = {});
 
 }  // namespace penumbra

@@ -34,6 +34,15 @@ void runHeadless(const HeadlessOptions& o) {
     if (o.camera) viewer.setCamera(*o.camera);
     const double dt = 1.0 / 60;
     viewer.frame(o.width, o.height, dt);  // lays out the panels, builds the font atlas
+    if (o.moveLight) {
+        if (!viewer.moveLight(o.moveLight->first, o.moveLight->second))
+            throw HostInputError(HostInputError::Input::MoveLight, viewer.status());
+        viewer.waitForLightMove();
+        if (viewer.scene()->version == 0)  // refused once built (the contract): the status says why
+            throw HostInputError(HostInputError::Input::MoveLight, viewer.status());
+        while (viewer.lightTreesRebuilding()) viewer.frame(o.width, o.height, dt);
+        viewer.showLightWindow();
+    }
     if (o.point && !viewer.selectPoint(*o.point))
         throw HostInputError(HostInputError::Input::Point, viewer.status());
     if (o.pixel && !viewer.pickPixel((*o.pixel)[0], (*o.pixel)[1], o.width, o.height))

@@ -5,6 +5,7 @@
 #include <array>
 #include <filesystem>
 #include <optional>
+#include <utility>
 
 #include "app/viewer/gl/offscreen_context.h"
 #include "app/viewer/host/host_error.h"
@@ -20,8 +21,11 @@ struct HeadlessOptions {
     std::optional<std::array<double, 2>> pixel;  // or the point under this pixel
     std::optional<Camera> camera;                // else the scene's, else fitted
     std::optional<std::array<double, 2>> hover;  // the mouse over this pixel for the last frames
-    std::filesystem::path out;                   // the screenshot (PNG)
-    std::filesystem::path stateOut;              // optional: the UI state (JSON)
+    // Move this area light (Viewer::moveLight) before anything else is done, then draw frames until
+    // its trees are rebuilt; the Move light window is shown.
+    std::optional<std::pair<uint32_t, LightMove>> moveLight;
+    std::filesystem::path out;       // the screenshot (PNG)
+    std::filesystem::path stateOut;  // optional: the UI state (JSON)
     // Optional: the preview image alone, by the extension: .png as shown, .pfm or .exr its linear
     // radiance (radianceFilm, preview_runner.h).
     std::filesystem::path previewOut;

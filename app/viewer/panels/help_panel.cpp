@@ -27,7 +27,7 @@ PanelRect HelpPanel::draw(const Viewport& vp) {
         ImGui::PushTextWrapPos(static_cast<float>(vp.width) - 32);
         ImGui::TextUnformatted(
             "left drag: orbit     right/middle drag: pan     wheel: zoom\n"
-            "click: inspect point   L: next light   Esc: clear\n"
+            "click: inspect point   L: next light   Esc: clear   M: move a light\n"
             "F: fit scene   T: tree panel   H: this help   drag the view's side edges: "
             "resize the columns\n"
             "1-5: preview exact / sampled / side by side / difference / answers   R: restart\n"

@@ -57,6 +57,7 @@ ScenePanel::Actions ScenePanel::draw(const PanelRect& rect, const LoadedScene* s
         }
         if (ImGui::Button("Fit (F)")) actions.fit = true;
         ImGui::SameLine();
+        if (ImGui::Button("Move light (M)")) actions.moveLight = true;
         ImGui::TextUnformatted("open (or drag and drop a file):");
         if (ImGui::BeginListBox("##scenes", ImVec2(-1, -1))) {
             for (const auto& file : files_) {

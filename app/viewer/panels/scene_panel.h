@@ -23,6 +23,7 @@ class ScenePanel {
     struct Actions {
         std::optional<std::filesystem::path> open;  // a file picked in the list
         bool fit = false;                           // "Fit (F)"
+        bool moveLight = false;                     // "Move light (M)": its window, shown
     };
     Actions draw(const PanelRect& rect, const LoadedScene* scene);
 

@@ -709,6 +709,128 @@ TEST(ViewerScreenshot, SavedViewReopensAsTheSameView) {
     }
 }
 
+// Moving a light (`screenshot --move-light`, what the Move light window does): the rendered view
+// is the image `penumbra render` gives of the Cornell box whose OBJ file has the lamp's coordinates
+// moved by hand, the state lists those coordinates, the trees of the position before are dropped
+// and rebuilt, and the saved view reopens with the light moved (and renders the same image).
+TEST(ViewerScreenshot, MovedLightIsTheSceneWithTheLightMovedByHand) {
+    const fs::path dir = test::scratchDir("viewer_move_light");
+    const std::string scene =
+        (test::sourceDir() / "assets" / "scenes" / "cornell_box.json").string();
+    const std::string camera = "278,273,-800,278,273,0,39.3";
+    const fs::path stem = dir / "saved";
+    // Translate (-60, -150, 40), scale (1.5, 1, 0.5) about the lamp's centre (278, 548, 279.5):
+    // x 278 -+ 1.5 * 65 - 60, y 548 - 150, z 279.5 -+ 0.5 * 52.5 + 40.
+    const test::ProcessResult r =
+        test::runPenumbraGl({"screenshot",    scene,
+                             "--view",        "rendered",
+                             "--camera",      camera,
+                             "--size",        "640x400",
+                             "--passes",      "1",
+                             "--move-light",  "0",
+                             "--translate",   "-60,-150,40",
+                             "--scale",       "1.5,1,0.5",
+                             "--out",         (dir / "moved.png").string(),
+                             "--state-out",   (dir / "moved.json").string(),
+                             "--preview-out", (dir / "moved.pfm").string(),
+                             "--save-view",   stem.string()});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const json state = test::readJson(dir / "moved.json");
+    const json hand = {{315.5, 398.0, 293.25},
+                       {315.5, 398.0, 345.75},
+                       {120.5, 398.0, 345.75},
+                       {120.5, 398.0, 293.25}};
+    ASSERT_EQ(state["lights"].size(), 1u);
+    EXPECT_EQ(state["lights"][0]["vertices"], hand);
+    EXPECT_TRUE(state["lights"][0]["moved"].get<bool>());
+    const json& moves = state["lightMoves"];
+    EXPECT_GE(moves["sceneVersion"].get<uint64_t>(), 1u);
+    EXPECT_EQ(state["preview"]["sceneVersion"], moves["sceneVersion"]);  // the moved scene's image
+    EXPECT_FALSE(moves["rebuilding"].get<bool>());
+    EXPECT_FALSE(moves["building"].get<bool>());
+    EXPECT_TRUE(moves["windowShown"].get<bool>());
+    EXPECT_TRUE(state["panelRects"].contains("Move light"));
+    // The render of the moved scene built its own trees; none came from the store before.
+    EXPECT_GT(moves["treesInStore"].get<uint64_t>(), 0u);
+
+    // The reference: the OBJ with the lamp's four vertex lines written by hand.
+    std::ifstream in(test::sourceDir() / "assets" / "cornell_box.obj");
+    std::string obj((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::array<std::pair<std::string, std::string>, 4> lamp = {
+        std::pair{"v 343 548 227\n", "v 315.5 398 293.25\n"},
+        {"v 343 548 332\n", "v 315.5 398 345.75\n"},
+        {"v 213 548 332\n", "v 120.5 398 345.75\n"},
+        {"v 213 548 227\n", "v 120.5 398 293.25\n"}};
+    for (const auto& [from, to] : lamp) {
+        const size_t at = obj.find(from);
+        ASSERT_NE(at, std::string::npos) << from;
+        obj.replace(at, from.size(), to);
+    }
+    std::ofstream(dir / "by_hand.obj") << obj;
+    fs::copy_file(test::sourceDir() / "assets" / "cornell_box.mtl", dir / "cornell_box.mtl",
+                  fs::copy_options::overwrite_existing);
+    const int vw = state["panelRects"]["3D view"][2], vh = state["panelRects"]["3D view"][3];
+    const std::string size = std::to_string(vw) + "x" + std::to_string(vh);
+    auto render = [&](const fs::path& file, const std::string& name) {
+        const test::ProcessResult rr = test::runPenumbra(
+            {"render", file.string(), "--camera", camera, "--up", "0,1,0", "--size", size, "--spp",
+             "1", "--method", "exact", "--out", (dir / name).string()});
+        EXPECT_EQ(rr.exitCode, 0) << rr.err;
+        int w = 0, h = 0;
+        std::vector<float> image = test::readPfm((dir / name).string(), w, h);
+        EXPECT_EQ(w, vw);
+        EXPECT_EQ(h, vh);
+        return image;
+    };
+    const std::vector<float> byHand = render(dir / "by_hand.obj", "by_hand.pfm");
+    const std::vector<float> unmoved =
+        render(test::sourceDir() / "assets" / "cornell_box.obj", "unmoved.pfm");
+    int w = 0, h = 0;
+    const std::vector<float> shown = test::readPfm((dir / "moved.pfm").string(), w, h);
+    ASSERT_EQ(shown.size(), byHand.size());
+    // Counts of values that differ beyond 1e-4 relative (the same exact answer, whichever path
+    // answered each point).
+    auto differing = [](const std::vector<float>& a, const std::vector<float>& b) {
+        size_t n = 0;
+        for (size_t i = 0; i < a.size(); ++i)
+            n += std::abs(a[i] - b[i]) > 1e-4f * std::max(1.0f, std::abs(b[i]));
+        return n;
+    };
+    EXPECT_EQ(differing(shown, byHand), 0u);
+    EXPECT_GT(differing(unmoved, byHand), byHand.size() / 10);  // the move shows
+
+    // The saved view: its scene has the light moved, and renders the same image.
+    const test::ProcessResult rs = test::runPenumbraGl(
+        {"screenshot", stem.string() + ".json", "--size", "400x300", "--no-preview", "--out",
+         (dir / "again.png").string(), "--state-out", (dir / "again.json").string()});
+    ASSERT_EQ(rs.exitCode, 0) << rs.err;
+    const json again = test::readJson(dir / "again.json");
+    EXPECT_EQ(again["lights"][0]["vertices"], hand);
+    EXPECT_FALSE(again["lights"][0]["moved"].get<bool>());  // where its file puts it now
+    EXPECT_EQ(differing(render(stem.string() + ".json", "saved_render.pfm"), byHand), 0u);
+
+    // Refusals name the option and the reason.
+    const test::ProcessResult zero =
+        test::runPenumbraGl({"screenshot", scene, "--no-preview", "--move-light", "0", "--scale",
+                             "1,0,1", "--out", (dir / "zero.png").string()});
+    EXPECT_NE(zero.exitCode, 0);
+    EXPECT_NE(zero.err.find("--move-light 0: scale: every factor must be positive"),
+              std::string::npos)
+        << zero.err;
+    const test::ProcessResult missing =
+        test::runPenumbraGl({"screenshot", scene, "--no-preview", "--move-light", "3",
+                             "--translate", "0,1,0", "--out", (dir / "missing.png").string()});
+    EXPECT_NE(missing.exitCode, 0);
+    EXPECT_NE(missing.err.find("--move-light: move light: no light 3 (the scene has 1)"),
+              std::string::npos)
+        << missing.err;
+    const test::ProcessResult alone =
+        test::runPenumbraGl({"screenshot", scene, "--no-preview", "--translate", "0,1,0", "--out",
+                             (dir / "alone.png").string()});
+    EXPECT_NE(alone.exitCode, 0);
+    EXPECT_NE(alone.err.find("give --move-light N"), std::string::npos) << alone.err;
+}
+
 // A scene without lights opens with the default light (engine/scene/default_light.h): the status
 // line and stderr say so, the state records it, and a saved view keeps it as an area light of its
 // own: the saved scene renders to the same image with the default light turned off.
