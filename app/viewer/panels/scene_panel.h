@@ -24,7 +24,7 @@ class ScenePanel {
         std::optional<std::filesystem::path> open;  // a file picked in the list
         bool fit = false;                           // "Fit (F)"
     };
-    Actions draw(const PanelRect& rect, const LoadedScene* scene);
+    Actions draw(const LoadedScene* scene);
 
   private:
     std::filesystem::path assets_;
