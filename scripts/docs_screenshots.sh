@@ -2,7 +2,8 @@
 # Regenerates docs/screenshots/: the viewer's complete UI, rendered headless (penumbra screenshot,
 # OSMesa), on assets/stairs.obj and assets/grids.obj with a penumbra point inspected and the
 # side-by-side preview, plus one PNG per panel cropped with the panel rectangles the state JSON
-# reports; and the Cornell box's "Accuracy vs time" panel (--accuracy). Needs a build
+# reports; the Cornell box's "Accuracy vs time" panel (--accuracy); the table scene's panels
+# arranged and its History tree enlarged. Needs a build
 # (build/app/penumbra) and ImageMagick.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -34,4 +35,19 @@ shoot grids assets/grids.obj 0.3,0.3,0
 "$exe" screenshot assets/scenes/cornell_box.json --accuracy --preview-mode side --light-samples 8 \
   --size 1280x800 --out "$tmp/cornell.png" --state-out "$tmp/cornell.json"
 crop_panels cornell "Accuracy vs time"
+# The panels as a user arranges them (app/viewer/panel_arrangement.h) on the table scene with the
+# README's point: Scene and Precompute collapsed, the History tree taller, the right column
+# resized; and the History tree enlarged to most of the window (as E does).
+table=(assets/scenes/table.json --point 0.511269,-0.152198,0.75 --light-samples 8 --passes 8
+  --size 1280x800)
+echo '{"helpSeen": true}' >"$tmp/help_seen.json"  # as on a second run: Help closed
+"$exe" screenshot "${table[@]}" --settings "$tmp/help_seen.json" --collapse Scene \
+  --collapse Precompute --panel "Precompute=0,40,320,150" \
+  --panel "History tree=0,62,320,440" --panel "Preview=0,502,320,298" \
+  --panel "Point=853,19,427,190" --panel "Light plane=853,209,427,330" \
+  --panel "Path=853,539,427,261" --out "$tmp/table_arranged.png"
+"$exe" screenshot "${table[@]}" --enlarge "History tree" --out "$tmp/table_tree_enlarged.png"
+for shot in table_arranged table_tree_enlarged; do
+  convert "$tmp/$shot.png" -strip -define png:compression-level=9 "$dir/$shot.png"
+done
 ls -la "$dir"
