@@ -3,7 +3,7 @@
 # OSMesa), on assets/stairs.obj and assets/grids.obj with a penumbra point inspected and the
 # side-by-side preview, plus one PNG per panel cropped with the panel rectangles the state JSON
 # reports; the Cornell box's "Accuracy vs time" panel (--accuracy) and its lamp moved
-# (--move-light). Needs a build
+# (--move-light); the table scene's panels arranged and its History tree enlarged. Needs a build
 # (build/app/penumbra) and ImageMagick.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -41,4 +41,19 @@ crop_panels cornell "Accuracy vs time"
   --move-light 0 --translate -60,-150,40 --scale 1.5,1,0.5 --rotate 0,0,15 --point 420,0,120 \
   --light-samples 8 --passes 8 --size 1600x900 --out "$tmp/moved_light.png" --state-out "$tmp/moved_light.json"
 convert "$tmp/moved_light.png" -strip -define png:compression-level=9 "$dir/moved_light.png"
+# The panels as a user arranges them (app/viewer/panel_arrangement.h) on the table scene with the
+# README's point: Scene and Precompute collapsed, the History tree taller, the right column
+# resized; and the History tree enlarged to most of the window (as E does).
+table=(assets/scenes/table.json --point 0.511269,-0.152198,0.75 --light-samples 8 --passes 8
+  --size 1280x800)
+echo '{"helpSeen": true}' >"$tmp/help_seen.json"  # as on a second run: Help closed
+"$exe" screenshot "${table[@]}" --settings "$tmp/help_seen.json" --collapse Scene \
+  --collapse Precompute --panel "Precompute=0,40,320,150" \
+  --panel "History tree=0,62,320,440" --panel "Preview=0,502,320,298" \
+  --panel "Point=853,19,427,190" --panel "Light plane=853,209,427,330" \
+  --panel "Path=853,539,427,261" --out "$tmp/table_arranged.png"
+"$exe" screenshot "${table[@]}" --enlarge "History tree" --out "$tmp/table_tree_enlarged.png"
+for shot in table_arranged table_tree_enlarged; do
+  convert "$tmp/$shot.png" -strip -define png:compression-level=9 "$dir/$shot.png"
+done
 ls -la "$dir"

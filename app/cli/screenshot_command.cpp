@@ -9,10 +9,12 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "app/cli/arguments.h"
 #include "app/cli/commands.h"
 #include "app/viewer/host/headless_host.h"
+#include "app/viewer/panel_arrangement.h"
 #include "engine/io/image_io.h"
 #include "engine/scene/light_move.h"
 
@@ -21,8 +23,11 @@ namespace {
 
 struct ScreenshotOptions {
     std::string scene, point, pixel, hover, camera, size = "1280x800", out, stateOut, previewOut,
-                                                    saveView, translate, rotate, scale;
+                                                    saveView, translate, rotate, scale, settings,
+                                                    enlarge;
     int64_t moveLight = -1;
+    std::vector<std::string> panels, collapse;
+    bool resetLayout = false;
     std::string backend = "osmesa", previewMode = "exact", view = "rendered";
     int lightSamples = 16, passes = 8;
     double uiScale = 1;
@@ -30,6 +35,17 @@ struct ScreenshotOptions {
     SceneOptions sceneOptions;
     ExactOptions exact;
 };
+
+// A panel's name as the Panels menu and the state JSON say it (panel_arrangement.h).
+std::string panelName(const char* flag, const std::string& name) {
+    std::string names;
+    for (const viewer::PanelName& p : viewer::arrangeablePanels()) {
+        if (name == p.name) return name;
+        names += std::string(names.empty() ? "" : ", ") + "'" + p.name + "'";
+    }
+    throw usageError(std::string(flag) + ": no panel named '" + name + "' (the panels: " + names +
+                     ")");
+}
 
 viewer::PreviewMode parsePreviewMode(const std::string& s) {
     if (s == "exact") return viewer::PreviewMode::Exact;
@@ -135,6 +151,22 @@ void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
     h.saveView = o.saveView;
     h.precompute = o.precompute;
     h.accuracy = o.accuracy;
+    if (sub.count("--settings") > 0) h.viewer.settingsFile = o.settings;
+    h.resetLayout = o.resetLayout;
+    for (const std::string& p : o.panels) {
+        const size_t eq = p.rfind('=');
+        if (eq == std::string::npos)
+            throw usageError("--panel: expected NAME=X,Y,WIDTH,HEIGHT, got '" + p + "'");
+        const std::string name = panelName("--panel", p.substr(0, eq));
+        const auto v = parseNumberList("--panel", p.substr(eq + 1), 4);
+        if (!(v[2] > 0 && v[3] > 0))
+            throw usageError("--panel: " + name + "'s width and height must be > 0");
+        h.arrange.emplace_back(
+            name, viewer::PanelRect{static_cast<float>(v[0]), static_cast<float>(v[1]),
+                                    static_cast<float>(v[2]), static_cast<float>(v[3])});
+    }
+    for (const std::string& c : o.collapse) h.collapse.push_back(panelName("--collapse", c));
+    if (sub.count("--enlarge") > 0) h.enlarge = panelName("--enlarge", o.enlarge);
     try {
         viewer::runHeadless(h);
     } catch (const viewer::HostInputError& e) {  // (a std::runtime_error: caught first)
@@ -210,6 +242,20 @@ void registerScreenshotCommand(CLI::App& app) {
         ->type_name("N");
     sub->add_option("--passes", o->passes, "Preview passes (default 8)")->type_name("N");
     sub->add_flag("--no-preview", o->noPreview, "Do not run the progressive preview");
+    sub->add_option("--settings", o->settings,
+                    "Read the viewer's settings (the panels' layout, the columns, whether Help was "
+                    "seen) from this file if it exists, and write them back at the end, as the "
+                    "window does when it closes (default: none read or written)")
+        ->type_name("FILE.json");
+    sub->add_flag("--reset-layout", o->resetLayout,
+                  "Reset the layout (as Ctrl+L does), before --panel, --collapse, --enlarge");
+    sub->add_option("--panel", o->panels,
+                    "Move and size a panel as a mouse drag would (repeatable); names: Scene, "
+                    "Precompute, 'History tree', Preview, Point, 'Light plane', Path, Help")
+        ->type_name("NAME=X,Y,W,H");
+    sub->add_option("--collapse", o->collapse, "Collapse a panel (repeatable)")->type_name("NAME");
+    sub->add_option("--enlarge", o->enlarge, "Enlarge a panel to most of the window (as E does)")
+        ->type_name("NAME");
     addExactOptions(*sub, o->exact, ExactOptionSet::Render);
     sub->add_flag("--precompute", o->precompute,
                   "Precompute every pair in the background while drawing frames; the state "

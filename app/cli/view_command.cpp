@@ -13,13 +13,14 @@
 #include "app/cli/commands.h"
 #include "app/viewer/host/headless_host.h"
 #include "app/viewer/host/window_host.h"
+#include "app/viewer/viewer_settings.h"
 
 namespace penumbra::cli {
 namespace {
 
 struct ViewOptions {
     std::string scene = "assets/cornell_box.obj";
-    std::string camera, size = "1280x800", stateOut, outDir = "out", view = "rendered";
+    std::string camera, size = "1280x800", stateOut, outDir = "out", view = "rendered", settings;
     double quitAfter = 0;
     bool noPreview = false;
     bool precompute = false;
@@ -54,6 +55,8 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
         w.viewer.view = view;
         w.viewer.previewSettings.mode = mode;
         w.precompute = o.precompute;
+        w.viewer.settingsFile = sub.count("--settings") > 0 ? std::filesystem::path(o.settings)
+                                                            : viewer::defaultSettingsPath();
         try {
             viewer::runWindow(w);
         } catch (const std::runtime_error& e) {
@@ -125,6 +128,11 @@ void registerViewCommand(CLI::App& app) {
                     "default), sampled, side (exact | sampled), diff, answers (how the exact "
                     "render answered each pixel); or raster (flat colours) (V toggles)")
         ->type_name("MODE");
+    sub->add_option("--settings", o->settings,
+                    "The viewer's settings file: the panels' layout, the columns, whether Help was "
+                    "seen (default $XDG_CONFIG_HOME/penumbra/viewer.json, else "
+                    "~/.config/penumbra/viewer.json)")
+        ->type_name("FILE.json");
     sub->add_option("--quit-after", o->quitAfter, "Close the window after this many seconds")
         ->type_name("SECONDS");
     sub->add_flag("--no-preview", o->noPreview, "Do not run the progressive preview");

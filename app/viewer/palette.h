@@ -2,6 +2,7 @@
 // screenshots: fragment i of a light is drawn in fragmentColour(i) everywhere.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -31,5 +32,14 @@ inline constexpr Rgb kPathEdgeColour{255, 160, 0};  // occluder edges met on the
 inline constexpr Rgb kPieceEdgeColour{90, 90, 90};  // the fragments' own edges
 inline constexpr Rgb kOutlineColour{0, 0, 0};       // the visible region's boundary
 inline constexpr Rgb kBackground{38, 41, 48};       // behind the scene
+
+// The difference heat map's colours: black -> red -> yellow -> white as t goes 0 -> 1 (the
+// preview's image and its colour scale).
+inline Rgb heatColour(double t) {
+    t = std::clamp(t, 0.0, 1.0) * 3;
+    return {static_cast<uint8_t>(255 * std::min(t, 1.0)),
+            static_cast<uint8_t>(255 * std::clamp(t - 1, 0.0, 1.0)),
+            static_cast<uint8_t>(255 * std::clamp(t - 2, 0.0, 1.0))};
+}
 
 }  // namespace penumbra::viewer

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "app/viewer/palette.h"
 #include "engine/io/image_io.h"
 #include "engine/render/renderer.h"
 
@@ -55,14 +56,6 @@ void putRadiance(std::vector<float>& out, const Film& film) {
             out[i++] = static_cast<float>(c.y);
             out[i++] = static_cast<float>(c.z);
         }
-}
-
-// Black -> red -> yellow -> white as t goes 0 -> 1.
-void heat(double t, uint8_t& r, uint8_t& g, uint8_t& b) {
-    t = std::clamp(t, 0.0, 1.0) * 3;
-    r = static_cast<uint8_t>(255 * std::min(t, 1.0));
-    g = static_cast<uint8_t>(255 * std::clamp(t - 1, 0.0, 1.0));
-    b = static_cast<uint8_t>(255 * std::clamp(t - 2, 0.0, 1.0));
 }
 
 // RMS of the luminance difference relative to the exact image's mean luminance.
@@ -265,15 +258,14 @@ void PreviewRunner::run(const std::shared_ptr<Job>& job) {
                     for (int y = 0; y < s.height; ++y)
                         for (int x = 0; x < s.width; ++x) meanExact += luminance(exact.mean(x, y));
                     meanExact /= std::max(1, s.width * s.height);
-                    const double scale = meanExact > 0 ? 1 / (0.25 * meanExact) : 1.0;
+                    image.differenceWhite = meanExact > 0 ? 0.25 * meanExact : 1.0;
+                    image.meanExactLuminance = meanExact;
                     for (int y = 0; y < s.height; ++y)
                         for (int x = 0; x < s.width; ++x) {
-                            uint8_t r, g, b;
-                            heat(std::fabs(luminance(sampled.mean(x, y)) -
-                                           luminance(exact.mean(x, y))) *
-                                     scale,
-                                 r, g, b);
-                            putPixel(image, x, y, r, g, b);
+                            const Rgb c = heatColour(std::fabs(luminance(sampled.mean(x, y)) -
+                                                               luminance(exact.mean(x, y))) /
+                                                     image.differenceWhite);
+                            putPixel(image, x, y, c.r, c.g, c.b);
                         }
                     break;
                 }

@@ -44,12 +44,15 @@ struct PreviewSettings {
 };
 
 struct PreviewImage {
-    int width = 0, height = 0;         // SideBySide: twice the settings' width
-    std::vector<uint8_t> rgba;         // top row first
-    int passes = 0;                    // passes accumulated in the image
-    int passesPlanned = 0;             // of its render (PreviewSettings::passes)
-    bool coarse = false;               // a coarse pass (PreviewSettings::coarse)
-    double relativeRmsError = -1;      // sampled vs exact (when both are rendered), else -1
+    int width = 0, height = 0;     // SideBySide: twice the settings' width
+    std::vector<uint8_t> rgba;     // top row first
+    int passes = 0;                // passes accumulated in the image
+    int passesPlanned = 0;         // of its render (PreviewSettings::passes)
+    bool coarse = false;           // a coarse pass (PreviewSettings::coarse)
+    double relativeRmsError = -1;  // sampled vs exact (when both are rendered), else -1
+    // Difference mode: the |sampled - exact| luminance drawn white (the heat scale's top, a
+    // quarter of the exact image's mean luminance) and that mean; 0 in the other modes.
+    double differenceWhite = 0, meanExactLuminance = 0;
     std::vector<double> errorHistory;  // relativeRmsError after each pass
     double seconds = 0;                // since the job started
     bool finished = false;

@@ -2,19 +2,23 @@
 
 #include <imgui.h>
 #include <imgui_impl_opengl3.h>
+#include <imgui_internal.h>  // the window under the mouse (E enlarges it)
 
 #include <algorithm>
 #include <chrono>
 
 #include "app/viewer/overlay_geometry.h"
 #include "app/viewer/palette.h"
+#include "app/viewer/panels/colour_scale.h"
 #include "app/viewer/panels/light_plane_panel.h"
 #include "app/viewer/panels/panel.h"
+#include "app/viewer/panels/panel_fit.h"
 #include "app/viewer/panels/path_panel.h"
 #include "app/viewer/panels/point_panel.h"
 #include "app/viewer/panels/precompute_panel.h"
 #include "app/viewer/panels/preview_panel.h"
 #include "app/viewer/picking.h"
+#include "app/viewer/viewer_settings.h"
 #include "engine/precompute/point_query.h"
 #include "engine/render/default_camera.h"
 
@@ -29,6 +33,23 @@ Viewer::Viewer(ViewerOptions options)
     if (options_.layout.scale != 1 && ImGui::GetCurrentContext() != nullptr) {
         ImGui::GetStyle().ScaleAllSizes(options_.layout.scale);
         ImGui::GetIO().FontGlobalScale = options_.layout.scale;
+    }
+    // Panels move by their title bars only: a drag inside one (the tree's canvas, a plot) is the
+    // panel's own.
+    if (ImGui::GetCurrentContext() != nullptr)
+        ImGui::GetIO().ConfigWindowsMoveFromTitleBarOnly = true;
+    if (!options_.settingsFile.empty()) {
+        SettingsRead read = readViewerSettings(options_.settingsFile);
+        settingsWarning_ = read.warning;
+        settingsReadable_ = read.warning.empty();
+        if (settingsReadable_) {
+            arrangement_ = std::move(read.settings.panels);
+            options_.layout.leftWidth = read.settings.leftWidth;
+            options_.layout.rightWidth = read.settings.rightWidth;
+            // Help opens on the first run only.
+            if (read.settings.helpSeen) helpPanel_.hide();
+        }
+        status_ = settingsWarning_;
     }
     const std::string stem = "out/saved_view";
     std::copy(stem.begin(), stem.end(), saveStem_.begin());
@@ -72,6 +93,10 @@ bool Viewer::openScene(const std::filesystem::path& path) {
     preview_.cameraJumped();
     status_ = "opened " + path.string() + ": " + std::to_string(scene_->scene.faceCount()) +
               " faces, " + std::to_string(scene_->scene.lights.size()) + " area lights";
+    if (!settingsWarning_.empty() && !settingsWarned_) {
+        status_ += "; warning: " + settingsWarning_;
+        settingsWarned_ = true;
+    }
     if (const auto& light = scene_->scene.defaultLight)
         status_ += "; " + light->announcement(path.filename().string());
     const std::vector<std::string>& warnings = scene_->scene.warnings;
@@ -255,6 +280,69 @@ void Viewer::pollBackground() {
     }
 }
 
+void Viewer::resetLayout() {
+    arrangement_.reset();
+    options_.layout.leftWidth = options_.layout.rightWidth = 0;
+    showTree_ = true;
+    status_ = "layout reset: every panel in its default place";
+}
+
+std::string Viewer::saveSettings() const {
+    if (options_.settingsFile.empty() || !settingsReadable_) return {};
+    ViewerSettings s;
+    s.panels = arrangement_;
+    s.leftWidth = options_.layout.leftWidth;
+    s.rightWidth = options_.layout.rightWidth;
+    s.helpSeen = true;
+    try {
+        writeViewerSettings(options_.settingsFile, s);
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    return {};
+}
+
+void Viewer::enlargeHovered() {
+    const ImGuiContext& g = *ImGui::GetCurrentContext();
+    std::string name;
+    if (g.HoveredWindow != nullptr) {
+        const char* title = g.HoveredWindow->RootWindow->Name;
+        for (const PanelName& p : arrangeablePanels())
+            if (std::string_view(title) == p.title) name = p.name;
+    }
+    if (name.empty())
+        name = arrangement_.enlarged().empty() ? "History tree" : arrangement_.enlarged();
+    if (name == "History tree") showTree_ = true;
+    arrangement_.toggleEnlarged(name);
+}
+
+int Viewer::drawMenuBar() {
+    int height = 0;
+    if (!ImGui::BeginMainMenuBar()) return height;
+    height = static_cast<int>(ImGui::GetWindowHeight());
+    if (ImGui::BeginMenu("Panels")) {
+        for (const PanelName& p : arrangeablePanels()) {
+            const std::string item = std::string("Enlarge ") + p.name;
+            if (ImGui::MenuItem(item.c_str(),
+                                p.name == std::string_view("History tree") ? "E" : nullptr,
+                                arrangement_.enlarged() == p.name)) {
+                if (p.name == std::string_view("History tree")) showTree_ = true;
+                if (p.name == std::string_view("Help") && !helpPanel_.visible())
+                    helpPanel_.toggle();
+                arrangement_.toggleEnlarged(p.name);
+            }
+        }
+        ImGui::Separator();
+        if (ImGui::MenuItem("History tree", "T", showTree_)) showTree_ = !showTree_;
+        if (ImGui::MenuItem("Help", "H", helpPanel_.visible())) helpPanel_.toggle();
+        ImGui::Separator();
+        if (ImGui::MenuItem("Reset layout", "Ctrl+L")) resetLayout();
+        ImGui::EndMenu();
+    }
+    ImGui::EndMainMenuBar();
+    return height;
+}
+
 void Viewer::startPrecompute() {
     if (!scene_) return;
     precompute_.start(*scene_->store);
@@ -297,7 +385,9 @@ void Viewer::handleInput(int width, int height) {
         if (ImGui::IsKeyPressed('M')) lightPanel_.toggle();
         if (ImGui::IsKeyPressed('A')) accuracy_.toggle();
         if (ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Escape))) clearSelection();
-        if (ImGui::IsKeyPressed('L') && selection_.selectedLight()) {
+        if (ImGui::IsKeyPressed('L') && io.KeyCtrl) resetLayout();
+        if (ImGui::IsKeyPressed('E') && !io.KeyCtrl) enlargeHovered();
+        if (ImGui::IsKeyPressed('L') && !io.KeyCtrl && selection_.selectedLight()) {
             selection_.nextLight();
             updateOverlay();
         }
@@ -324,6 +414,7 @@ void Viewer::handleInput(int width, int height) {
 
 void Viewer::frame(int width, int height, double deltaSeconds) {
     const auto start = std::chrono::steady_clock::now();
+    options_.layout.tree = showTree_;
     layout_ = computeLayout(width, height, options_.layout);
     ImGuiIO& io = ImGui::GetIO();
     io.DisplaySize = ImVec2(static_cast<float>(width), static_cast<float>(height));
@@ -332,7 +423,12 @@ void Viewer::frame(int width, int height, double deltaSeconds) {
 
     ImGui_ImplOpenGL3_NewFrame();
     ImGui::NewFrame();
+    // The menu bar first: the panels and the view lie below it.
+    options_.layout.top = drawMenuBar();
+    layout_ = computeLayout(width, height, options_.layout);
     handleInput(width, height);
+    options_.layout.tree = showTree_;
+    layout_ = computeLayout(width, height, options_.layout);
     drawPanels();
     ImGui::Render();
 
@@ -360,56 +456,74 @@ void Viewer::drawPanels() {
     const Layout& l = layout_;
     panelRects_.clear();
     panelText_.begin();
+    // Each panel: placed by the arrangement, drawn, what the user did to it read back, and its
+    // window's rectangle and text recorded.
+    const auto panel = [&](const char* name, const auto& draw) {
+        arrangement_.place(name, l);
+        draw();
+        const char* title = name;
+        for (const PanelName& p : arrangeablePanels())
+            if (std::string_view(name) == p.name) title = p.title;
+        arrangement_.observe(name, title);
+        const PanelRect r = arrangement_.shown(name);
+        panelRects_[name] = {r.x, r.y, r.width, r.height};
+        panelText_.take(name);
+    };
     const auto record = [&](const char* name, const PanelRect& r) {
         panelRects_[name] = {r.x, r.y, r.width, r.height};
         panelText_.take(name);
     };
-    const ScenePanel::Actions scene = scenePanel_.draw(l.scene, scene_.get());
-    record("Scene", l.scene);
-    switch (PrecomputePanel::draw(l.precompute, precomputeNow_, preview_.effects(),
-                                  scene_ ? &scene_->scene : nullptr)) {
-        case PrecomputePanel::Action::Start:
-            startPrecompute();
-            break;
-        case PrecomputePanel::Action::Cancel:
-            precompute_.cancel();
-            break;
-        case PrecomputePanel::Action::None:
-            break;
-    }
-    record("Precompute", l.precompute);
-    if (showTree_) {
-        placeNextWindow(l.tree);
-        treePanel_.draw("History tree");
-        record("History tree", l.tree);
-    }
-    switch (PreviewPanel::draw(l.preview, options_.previewSettings, options_.view, options_.exact,
-                               saveStem_, preview_.image(), preview_.running(), preview_.texture(),
-                               preview_.viewNote(orbit_.camera(), layout_.view))) {
-        case PreviewPanel::Action::Reopen:
-            // The store's trees follow the build budget: a new store, the scene reopened.
-            if (scene_) openAfterFrame_ = scene_->path;
-            break;
-        case PreviewPanel::Action::Restart:
-            preview_.markDirty();
-            break;
-        case PreviewPanel::Action::SaveView:
-            preview_.save(saveStem_.data(), scene_.get(), orbit_.camera(), status_);
-            break;
-        case PreviewPanel::Action::None:
-            break;
-    }
-    // The split line over the view (under the windows), with the names of its two sides.
+    ScenePanel::Actions scene;
+    panel("Scene", [&] { scene = scenePanel_.draw(scene_.get()); });
+    panel("Precompute", [&] {
+        switch (PrecomputePanel::draw(precomputeNow_, preview_.effects(),
+                                      scene_ ? &scene_->scene : nullptr)) {
+            case PrecomputePanel::Action::Start:
+                startPrecompute();
+                break;
+            case PrecomputePanel::Action::Cancel:
+                precompute_.cancel();
+                break;
+            case PrecomputePanel::Action::None:
+                break;
+        }
+    });
+    if (showTree_) panel("History tree", [&] { treePanel_.draw("History tree"); });
+    panel("Preview", [&] {
+        switch (PreviewPanel::draw(options_.previewSettings, options_.view, options_.exact,
+                                   saveStem_, preview_.image(), preview_.running(),
+                                   preview_.texture(),
+                                   preview_.viewNote(orbit_.camera(), layout_.view))) {
+            case PreviewPanel::Action::Reopen:
+                // The store's trees follow the build budget: a new store, the scene reopened.
+                if (scene_) openAfterFrame_ = scene_->path;
+                break;
+            case PreviewPanel::Action::Restart:
+                preview_.markDirty();
+                break;
+            case PreviewPanel::Action::SaveView:
+                preview_.save(saveStem_.data(), scene_.get(), orbit_.camera(), status_);
+                break;
+            case PreviewPanel::Action::None:
+                break;
+        }
+    });
+    panel("Point", [&] {
+        if (PointPanel::draw(selection_)) updateOverlay();
+    });
+    panel("Light plane",
+          [&] { LightPlanePanel::draw(selection_, scene_ ? &scene_->scene.mesh : nullptr); });
+    panel("Path", [&] { PathPanel::draw(selection_); });
+    if (helpPanel_.visible()) panel("Help", [&] { helpPanel_.draw(); });
+    // The overlays of the 3D view, recorded too (the tests check that they stay inside it). The
+    // split line and the colour scale are drawn under the panels (the background draw list, a
+    // window without focus).
     preview_.drawSplitLine(orbit_.camera(), l.view);
-    record("Preview", l.preview);
-    if (PointPanel::draw(l.point, selection_)) updateOverlay();
-    record("Point", l.point);
-    LightPlanePanel::draw(l.lightPlane, selection_, scene_ ? &scene_->scene.mesh : nullptr);
-    record("Light plane", l.lightPlane);
-    PathPanel::draw(l.path, selection_);
-    record("Path", l.path);
-    // The overlays of the 3D view, recorded too (the tests check that they stay inside it).
-    if (helpPanel_.visible()) record("Help", helpPanel_.draw(l.view));
+    if (options_.view == ViewMode::Rendered && preview_.showsImage(orbit_.camera(), l.view)) {
+        const PanelRect r =
+            ColourScaleOverlay::draw(l.view, options_.previewSettings.mode, preview_.image());
+        if (r.width > 0) record("Colour scale", r);
+    }
     if (lightPanel_.visible()) {
         lightStatus_.building = lightJob_.busy();
         lightStatus_.rebuild = lightStatus_.invalidated > 0 ? precomputeNow_ : std::nullopt;
@@ -432,6 +546,7 @@ void Viewer::drawPanels() {
                                 mouse_.draggingSplit());
     if (preview_.hover() != nullptr) panelText_.take("Pixel inspector");
     panelText_.end();
+    panelOverflow_ = measureHorizontalOverflow();
     // Actions that replace what the panels drew from, after every panel is drawn.
     if (scene.fit) fitCamera();
     if (scene.moveLight) lightPanel_.show();

@@ -30,6 +30,7 @@
 #include "app/viewer/light_move_job.h"
 #include "app/viewer/loaded_scene.h"
 #include "app/viewer/orbit_camera.h"
+#include "app/viewer/panel_arrangement.h"
 #include "app/viewer/panels/accuracy_windows.h"
 #include "app/viewer/panels/help_panel.h"
 #include "app/viewer/panels/light_panel.h"
@@ -97,6 +98,16 @@ class Viewer {
     // ImGui's draw data. The framebuffer must be bound and of this size.
     void frame(int width, int height, double deltaSeconds);
 
+    // The panels' arrangement (panel_arrangement.h): the user's moves, resizes, collapses and
+    // enlargements; "reset layout" (Ctrl+L, the Panels menu) puts every panel and column back.
+    PanelArrangement& arrangement() { return arrangement_; }
+    void resetLayout();
+    // The settings file (ViewerOptions::settingsFile): why it could not be read at the start
+    // ("" when it was read, or is missing: a first run), and saving it (the arrangement, the
+    // columns, Help seen; not over a file that could not be read). Returns "" or why not.
+    const std::string& settingsWarning() const { return settingsWarning_; }
+    std::string saveSettings() const;
+
     bool quitRequested() const { return quit_; }
     const std::string& status() const { return status_; }
     const FrameStats& frameStats() const { return frameStats_; }
@@ -118,9 +129,14 @@ class Viewer {
     void pollBackground();
     // The overlay and the tree browser follow the selection's inspection and light.
     void updateOverlay();
+    // The menu bar (Panels: enlarge, show, reset layout); returns its height.
+    int drawMenuBar();
     void drawPanels();
     // A moved version of the scene arrived (LightMoveJob): it replaces the current one (above).
     void lightMoveArrived(std::shared_ptr<LoadedScene> moved);
+    // Enlarges the panel under the mouse, else restores the enlarged one, else enlarges the
+    // history tree (the E key).
+    void enlargeHovered();
 
     ViewerOptions options_;
     SceneRenderer renderer_;
@@ -157,8 +173,15 @@ class Viewer {
     bool showTree_ = true;
     AccuracyWindows accuracy_;
 
+    PanelArrangement arrangement_;
+    std::string settingsWarning_;
+    bool settingsReadable_ = true;
+    bool settingsWarned_ = false;  // the status line said it once  // not a file that could not be
+                                   // read: saveSettings() may write
+
     FrameStats frameStats_;
     std::map<std::string, std::array<float, 4>> panelRects_;  // x, y, width, height
+    std::map<std::string, float> panelOverflow_;              // panels/panel_fit.h
     PanelText panelText_;    // what each panel said in the last frame
     tbb::task_group tasks_;  // inspections, and disposal of old schedulers; waited on in ~Viewer
 };

@@ -29,6 +29,9 @@ struct ViewerOptions {
     // The content scale (the window host sets GLFW's; screenshot --ui-scale) and the columns'
     // widths (dragged at the 3D view's edges).
     LayoutSettings layout;
+    // The viewer's settings file (viewer_settings.h: the panels' arrangement, the columns, whether
+    // Help was seen): read when the viewer starts, written by saveSettings(). Empty: none.
+    std::filesystem::path settingsFile;
 };
 
 }  // namespace penumbra::viewer

@@ -153,6 +153,13 @@ nlohmann::json Viewer::stateJson() const {
     for (const auto& [name, r] : panelRects_) rects[name] = {r[0], r[1], r[2], r[3]};
     rects["3D view"] = {layout_.view.x, layout_.view.y, layout_.view.width, layout_.view.height};
     s["panelRects"] = rects;
+    // The user's arrangement (panel_arrangement.h) and the columns' widths, as the settings file
+    // keeps them; how far each window's widest item reaches past its edge (panels/panel_fit.h).
+    s["layout"] = arrangement_.toJson();
+    s["layout"]["columns"] = {options_.layout.leftWidth, options_.layout.rightWidth};
+    s["layout"]["menuBarHeight"] = options_.layout.top;
+    s["panelOverflow"] = panelOverflow_;
+    s["settings"] = {{"file", options_.settingsFile.string()}, {"warning", settingsWarning_}};
     // What each panel said in the last frame (PanelText: Dear ImGui's log of it).
     s["panelText"] = panelText_.texts();
     s["inspectionPending"] = selection_.pending();

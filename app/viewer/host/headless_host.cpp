@@ -26,6 +26,13 @@ void runHeadless(const HeadlessOptions& o) {
     ImGui::GetIO().MousePos = ImVec2(-FLT_MAX, -FLT_MAX);
 
     Viewer viewer(o.viewer);
+    if (!viewer.settingsWarning().empty())
+        std::cerr << "penumbra: warning: " << viewer.settingsWarning() << '\n';
+    if (o.resetLayout) viewer.resetLayout();
+    for (const auto& [name, rect] : o.arrange) viewer.arrangement().arrange(name, rect);
+    for (const std::string& name : o.collapse) viewer.arrangement().setCollapsed(name, true);
+    if (!o.enlarge.empty() && viewer.arrangement().enlarged() != o.enlarge)
+        viewer.arrangement().toggleEnlarged(o.enlarge);
     if (!viewer.openScene(o.scene))
         throw HostInputError(HostInputError::Input::Scene, viewer.status());
     if (o.printWarnings)
@@ -80,6 +87,7 @@ void runHeadless(const HeadlessOptions& o) {
         if (!viewer.preview().save(o.saveView, viewer.scene(), viewer.camera(), message))
             throw std::runtime_error(message);
     }
+    if (const std::string why = viewer.saveSettings(); !why.empty()) throw std::runtime_error(why);
     const std::vector<uint8_t> pixels = context->readRgba();
     if (!o.out.empty()) writeRgbaPng(o.out, o.width, o.height, pixels);
     const PreviewImage& preview = viewer.preview().image();

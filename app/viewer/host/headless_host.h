@@ -5,7 +5,9 @@
 #include <array>
 #include <filesystem>
 #include <optional>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "app/viewer/gl/offscreen_context.h"
 #include "app/viewer/host/host_error.h"
@@ -39,6 +41,14 @@ struct HeadlessOptions {
     // Print the scene's loader warnings to stderr ("penumbra: warning: ..."), as the commands that
     // load a scene do (screenshot; view has printed them already).
     bool printWarnings = false;
+    // The panels arranged as the user would (after the settings file, if any, is read): the
+    // layout reset first, then panels moved and sized (x, y, width, height), collapsed, one
+    // enlarged (names: panel_arrangement.h). The settings file (viewer.settingsFile) is written
+    // at the end, as the window does when it closes.
+    bool resetLayout = false;
+    std::vector<std::pair<std::string, PanelRect>> arrange;
+    std::vector<std::string> collapse;
+    std::string enlarge;
     ViewerOptions viewer;
 };
 

@@ -62,6 +62,10 @@ std::unique_ptr<GLFWwindow, WindowDeleter> createWindow(int width, int height,
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    // On a HiDPI monitor the window grows with the content scale (X11 and Windows; Wayland and
+    // macOS scale the framebuffer themselves): --size is in screen units, and the panels laid out
+    // for 1280x800 at scale 1 keep their proportions at 1.5 and 2.
+    glfwWindowHint(GLFW_SCALE_TO_MONITOR, GLFW_TRUE);
     return std::unique_ptr<GLFWwindow, WindowDeleter>(
         glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr));
 }
@@ -110,6 +114,8 @@ void runWindow(const WindowOptions& o) {
         glfwGetWindowContentScale(window.get(), &xScale, &yScale);
         if (xScale > 0) options.layout.scale = xScale;
         Viewer viewer(options);
+        if (!viewer.settingsWarning().empty())
+            std::fprintf(stderr, "penumbra: warning: %s\n", viewer.settingsWarning().c_str());
         if (!o.scene.empty()) viewer.openScene(o.scene);
         if (o.camera) viewer.setCamera(*o.camera);
         if (o.precompute) viewer.startPrecompute();
@@ -149,6 +155,9 @@ void runWindow(const WindowOptions& o) {
                 break;
             std::this_thread::sleep_until(frameStart + kFrame);
         }
+        // The layout as the user left it, for the next run.
+        if (const std::string why = viewer.saveSettings(); !why.empty())
+            std::fprintf(stderr, "penumbra: warning: the layout was not saved: %s\n", why.c_str());
         const FrameStats& f = viewer.frameStats();
         std::fprintf(stderr,
                      "penumbra view: %zu frames, UI work per frame %.1f ms mean, %.1f ms max\n",

@@ -1,5 +1,6 @@
-// The Help window (H): the keys and mouse actions, over the bottom left of the 3D view; and the
-// status line over its top left (the last action's message and the frame time).
+// The Help window (H): the keys and mouse actions, a panel placed like the others (it opens over
+// the Path panel: layout.h); and the status line over the 3D view's top left (the last action's
+// message and the frame time).
 #pragma once
 
 #include <string>
@@ -19,16 +20,17 @@ class HelpPanel {
     explicit HelpPanel(bool visible) : visible_(visible) {}
     bool visible() const { return visible_; }
     void toggle() { visible_ = !visible_; }
-    // When visible (its close button hides it). Returns the window's rectangle (empty when hidden),
-    // always inside the 3D view: its text wraps at the view's width.
-    PanelRect draw(const Viewport& view);
+    void hide() { visible_ = false; }
+    // When visible (its close button hides it), where the viewer placed it; the text wraps at the
+    // window's width.
+    void draw();
 
   private:
     bool visible_;
 };
 
 struct StatusBar {
-    // Returns the window's rectangle, inside the 3D view as the Help's.
+    // Returns the window's rectangle, inside the 3D view (its text wraps at the view's width).
     static PanelRect draw(const Viewport& view, const std::string& status,
                           const FrameStats& frames);
 };

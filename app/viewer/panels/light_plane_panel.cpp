@@ -7,20 +7,18 @@
 
 namespace penumbra::viewer {
 
-void LightPlanePanel::draw(const PanelRect& rect, const Selection& selection,
-                           const vis::PolygonMesh* mesh) {
-    placeNextWindow(rect);
-    if (ImGui::Begin("Light plane", nullptr, kDockedPanel)) {
+void LightPlanePanel::draw(const Selection& selection, const vis::PolygonMesh* mesh) {
+    if (ImGui::Begin("Light plane", nullptr, kPanelWindow)) {
         const LightInspection* li = selection.selectedLight();
         if (!li || !mesh) {
             ImGui::TextUnformatted("The selected light's visible fragments, in its plane.");
         } else {
             const auto face = mesh->face(li->result.lightFace);
-            ImGui::Text("light %u: %zu fragments, %.2f%% visible", li->result.light,
-                        li->result.fragments.size(), 100 * li->result.fraction);
+            ImGui::TextWrapped("light %u: %zu fragments, %.2f%% visible", li->result.light,
+                               li->result.fragments.size(), 100 * li->result.fraction);
             const size_t loops = li->result.outline.loops.size();
-            ImGui::Text("boundary: %zu loop%s, %zu edges", loops, loops == 1 ? "" : "s",
-                        li->result.outline.edges());
+            ImGui::TextWrapped("boundary: %zu loop%s, %zu edges", loops, loops == 1 ? "" : "s",
+                               li->result.outline.edges());
             // A frame of the light's plane: u along its first edge, v = n x u (the light seen from
             // its front, counter-clockwise stays counter-clockwise).
             const Vec3 o = mesh->vertices[face[0]];

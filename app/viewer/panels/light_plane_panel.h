@@ -9,8 +9,7 @@
 namespace penumbra::viewer {
 
 struct LightPlanePanel {
-    static void draw(const PanelRect& rect, const Selection& selection,
-                     const vis::PolygonMesh* mesh);
+    static void draw(const Selection& selection, const vis::PolygonMesh* mesh);
 };
 
 }  // namespace penumbra::viewer

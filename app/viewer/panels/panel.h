@@ -1,5 +1,4 @@
-// What the viewer's panels share: the docked panels' window flags and placement, and the
-// formatting of sizes.
+// What the viewer's panels share: the panels' window flags and the formatting of sizes.
 #pragma once
 
 #include <imgui.h>
@@ -12,16 +11,9 @@
 
 namespace penumbra::viewer {
 
-// A docked panel: placed by the layout every frame, not moved, resized or collapsed by the user.
-constexpr ImGuiWindowFlags kDockedPanel = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize |
-                                          ImGuiWindowFlags_NoCollapse |
-                                          ImGuiWindowFlags_NoSavedSettings;
-
-// The next window goes to `r` (every frame).
-inline void placeNextWindow(const PanelRect& r) {
-    ImGui::SetNextWindowPos(ImVec2(r.x, r.y), ImGuiCond_Always);
-    ImGui::SetNextWindowSize(ImVec2(r.width, r.height), ImGuiCond_Always);
-}
+// A panel's window: the user moves, resizes and collapses it; the viewer places it
+// (panel_arrangement.h) and saves where it is in its own settings file, not in imgui.ini.
+constexpr ImGuiWindowFlags kPanelWindow = ImGuiWindowFlags_NoSavedSettings;
 
 // "12.3 KiB" / "4.5 MiB".
 std::string humanBytes(size_t bytes);

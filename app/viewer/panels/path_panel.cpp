@@ -6,15 +6,14 @@
 
 namespace penumbra::viewer {
 
-void PathPanel::draw(const PanelRect& rect, const Selection& selection) {
-    placeNextWindow(rect);
-    if (ImGui::Begin("Path", nullptr, kDockedPanel)) {
+void PathPanel::draw(const Selection& selection) {
+    if (ImGui::Begin("Path", nullptr, kPanelWindow)) {
         const LightInspection* li = selection.selectedLight();
         if (!li) {
             ImGui::TextUnformatted("The history-tree path of the selected light.");
         } else if (!li->result.fromTree) {
-            ImGui::Text("light %u: building the pair's history tree; its path follows.",
-                        li->result.light);
+            ImGui::TextWrapped("light %u: building the pair's history tree; its path follows.",
+                               li->result.light);
             if (li->result.faceGroups > 0)
                 ImGui::TextWrapped(
                     "answered without the tree: %u groups of faces seen all from one side were "
@@ -31,8 +30,8 @@ void PathPanel::draw(const PanelRect& rect, const Selection& selection) {
                     li->result.solidGroupsLeftOut, li->result.solidFacesLeftOut);
         } else {
             const std::string kind(vis::describeKind(li->result.kind, li->result.horizonClipped));
-            ImGui::Text("light %u, tree %s: %zu nodes visited (L cycles lights)", li->result.light,
-                        kind.c_str(), li->steps.size());
+            ImGui::TextWrapped("light %u, tree %s: %zu nodes visited (L cycles lights)",
+                               li->result.light, kind.c_str(), li->steps.size());
             if (li->result.horizonClipped)
                 ImGui::TextWrapped(
                     "the point's horizon (its face's plane) cuts the light: %.2f%% of it is "
@@ -42,7 +41,7 @@ void PathPanel::draw(const PanelRect& rect, const Selection& selection) {
                         ? ", the part above, with nothing in the pair's shaft"
                         : "");
             if (li->result.deferredOccluders > 0)
-                ImGui::Text(
+                ImGui::TextWrapped(
                     "partial tree: %u deferred occluders, %u clipped from this point "
                     "(%u clips changed a fragment)",
                     li->result.deferredOccluders, li->result.deferredActive,
@@ -51,9 +50,11 @@ void PathPanel::draw(const PanelRect& rect, const Selection& selection) {
                 ImGui::TextWrapped(
                     "x lies in the plane of an occluder touching the receiver: answered from the "
                     "pair's occluders directly (the contact rule), no path");
-            if (ImGui::BeginTable(
-                    "path", 5,
-                    ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY)) {
+            if (ImGui::BeginTable("path", 5,
+                                  // Columns as wide as their headers and values ("edge v0 -> v1"
+                                  // and the vertex ids were cut off in five equal columns).
+                                  ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg |
+                                      ImGuiTableFlags_ScrollY | ImGuiTableFlags_SizingFixedFit)) {
                 ImGui::TableSetupScrollFreeze(0, 1);
                 ImGui::TableSetupColumn("depth");
                 ImGui::TableSetupColumn("node");

@@ -8,7 +8,7 @@
 namespace penumbra::viewer {
 
 struct PathPanel {
-    static void draw(const PanelRect& rect, const Selection& selection);
+    static void draw(const Selection& selection);
 };
 
 }  // namespace penumbra::viewer

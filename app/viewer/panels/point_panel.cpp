@@ -6,10 +6,9 @@
 
 namespace penumbra::viewer {
 
-bool PointPanel::draw(const PanelRect& rect, Selection& selection) {
+bool PointPanel::draw(Selection& selection) {
     bool changed = false;
-    placeNextWindow(rect);
-    if (ImGui::Begin("Point", nullptr, kDockedPanel)) {
+    if (ImGui::Begin("Point", nullptr, kPanelWindow)) {
         if (selection.pending() && !selection.inspection())
             ImGui::TextUnformatted("computing the point query...");
         if (selection.inspection() && selection.inspection()->treesPending)
@@ -21,11 +20,14 @@ bool PointPanel::draw(const PanelRect& rect, Selection& selection) {
         } else {
             const PointInspection& p = *selection.inspection();
             ImGui::Text("face %u  x = (%.4g, %.4g, %.4g)", p.face, p.point.x, p.point.y, p.point.z);
-            ImGui::Text("normal (%.3f, %.3f, %.3f)   * = tree built by this query", p.normal.x,
-                        p.normal.y, p.normal.z);
-            if (ImGui::BeginTable(
-                    "lights", 6,
-                    ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg | ImGuiTableFlags_ScrollY)) {
+            ImGui::Text("normal (%.3f, %.3f, %.3f)", p.normal.x, p.normal.y, p.normal.z);
+            // (A line of its own, wrapped: beside the normal it was cut off in a narrow column.)
+            ImGui::TextWrapped("time*: the history tree was built by this query");
+            if (ImGui::BeginTable("lights", 6,
+                                  // Columns as wide as their headers and values: "form factor" was
+                                  // cut off in six equal columns of the default right column.
+                                  ImGuiTableFlags_Borders | ImGuiTableFlags_RowBg |
+                                      ImGuiTableFlags_ScrollY | ImGuiTableFlags_SizingFixedFit)) {
                 ImGui::TableSetupColumn("light");
                 ImGui::TableSetupColumn("visible");
                 ImGui::TableSetupColumn("form factor");

@@ -10,7 +10,7 @@ namespace penumbra::viewer {
 
 struct PointPanel {
     // Returns true when the selected light changed.
-    static bool draw(const PanelRect& rect, Selection& selection);
+    static bool draw(Selection& selection);
 };
 
 }  // namespace penumbra::viewer

@@ -47,12 +47,10 @@ std::string PrecomputePanel::progressLine(const PrecomputeProgress& p) {
     return line;
 }
 
-PrecomputePanel::Action PrecomputePanel::draw(const PanelRect& rect,
-                                              const std::optional<PrecomputeProgress>& progress,
+PrecomputePanel::Action PrecomputePanel::draw(const std::optional<PrecomputeProgress>& progress,
                                               const EffectsSummary& effects, const Scene* scene) {
     Action action = Action::None;
-    placeNextWindow(rect);
-    if (ImGui::Begin("Precompute", nullptr, kDockedPanel)) {
+    if (ImGui::Begin("Precompute", nullptr, kPanelWindow)) {
         if (progress) {
             const PrecomputeProgress& p = *progress;
             const float fraction =
@@ -74,7 +72,7 @@ PrecomputePanel::Action PrecomputePanel::draw(const PanelRect& rect,
         // Below the precompute, the preview's: what its render simulated, said as such.
         ImGui::Separator();
         if (!effects.method.empty())
-            ImGui::Text("What the preview's %s image simulates:", effects.method.c_str());
+            ImGui::TextWrapped("What the preview's %s image simulates:", effects.method.c_str());
         ImGui::TextWrapped("%s", effectsText(effects, scene).c_str());
     }
     ImGui::End();

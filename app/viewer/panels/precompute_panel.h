@@ -19,7 +19,7 @@ struct PrecomputePanel {
     // `progress`: the precompute's, as the frame found it (none: never started); `effects`: of the
     // open scene's last render (EffectsSummary::method empty: nothing rendered yet); `scene`: the
     // open scene (nullptr: none).
-    static Action draw(const PanelRect& rect, const std::optional<PrecomputeProgress>& progress,
+    static Action draw(const std::optional<PrecomputeProgress>& progress,
                        const EffectsSummary& effects, const Scene* scene);
     // "done: 1378 of 1378 pairs, 5120 nodes, 1.2 MiB, 3.4 s" (running, cancelled, over budget,
     // failed; idle before any batch): the panel's line, and the status line's when a batch ends.

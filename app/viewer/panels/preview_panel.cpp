@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <utility>
 
+#include "app/viewer/panels/colour_scale.h"
+#include "app/viewer/panels/flow_layout.h"
 #include "app/viewer/panels/panel.h"
 
 namespace penumbra::viewer {
@@ -28,38 +30,22 @@ bool parseViewName(std::string_view name, ViewMode& view, PreviewMode& mode) {
     return false;
 }
 
-namespace {
-
-// The answers mode's legend: each answer's colour, name and share of the evaluations.
-void drawAnswerLegend(const PreviewImage& image) {
-    const std::array<double, kAnswers> shares = answerShares(totalAnswers(image.answers));
-    for (size_t i = 0; i < kAnswers; ++i) {
-        const auto a = static_cast<Answer>(i);
-        const Vec3 c = answerColour(a).rgb;
-        ImGui::ColorButton(
-            toString(a),
-            ImVec4(static_cast<float>(c.x), static_cast<float>(c.y), static_cast<float>(c.z), 1.0f),
-            ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
-        ImGui::SameLine();
-        ImGui::Text("%-15s %5.1f%%", toString(a), shares[i]);
-    }
-}
-
-}  // namespace
-
-PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& s, ViewMode& view,
-                                        ExactOptions& exact, std::array<char, 256>& saveStem,
-                                        const PreviewImage& image, bool running, uint32_t texture,
+PreviewPanel::Action PreviewPanel::draw(PreviewSettings& s, ViewMode& view, ExactOptions& exact,
+                                        std::array<char, 256>& saveStem, const PreviewImage& image,
+                                        bool running, uint32_t texture,
                                         const std::string& viewNote) {
     bool changed = false, save = false, reopen = false;
-    placeNextWindow(rect);
-    if (ImGui::Begin("Preview", nullptr, kDockedPanel)) {
+    if (ImGui::Begin("Preview", nullptr, kPanelWindow)) {
         bool rendered = view == ViewMode::Rendered;
         if (ImGui::Checkbox("in the 3D view (V)", &rendered)) {
             view = rendered ? ViewMode::Rendered : ViewMode::Raster;
             changed = true;
         }
         if (!viewNote.empty()) ImGui::TextWrapped("%s", viewNote.c_str());
+        // The widgets leave room for their labels beside them (the longest), the vertical
+        // scrollbar included: no label is cut off in a narrow panel.
+        ImGui::PushItemWidth(-ImGui::CalcTextSize("light samples").x -
+                             ImGui::GetStyle().ItemInnerSpacing.x);
         int mode = static_cast<int>(s.mode);
         const char* names[] = {"exact", "sampled", "side by side", "difference", "answers"};
         if (ImGui::Combo("mode (1-5)", &mode, names, 5)) {
@@ -68,7 +54,10 @@ PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& 
         }
         if (ImGui::SliderInt("light samples", &s.lightSamples, 1, 256)) changed = true;
         if (ImGui::SliderInt("passes (spp)", &s.passes, 1, 256)) changed = true;
+        ImGui::PopItemWidth();
         if (ImGui::TreeNode("exact options")) {
+            ImGui::PushItemWidth(-ImGui::CalcTextSize("grouped shaft from").x -
+                                 ImGui::GetStyle().ItemInnerSpacing.x);
             // The command line's --min-tree-samples, --grouped-shaft-min, --exact-work-limit,
             // --chain-min-occluders, --max-lp-solves.
             const uint64_t step = 1;
@@ -107,15 +96,16 @@ PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& 
                 ImGui::SetTooltip(
                     "linear programs one history tree may solve; a tree reaching it "
                     "is partial (the same answer; 0 = no limit)");
-            ImGui::SameLine();
+            sameLineIfFits(ImGui::CalcTextSize("apply").x + 2 * ImGui::GetStyle().FramePadding.x);
             if (ImGui::SmallButton("apply")) reopen = true;
+            ImGui::PopItemWidth();
             ImGui::TreePop();
         }
         // Of the image shown (a restart pending after a change keeps it until the new one's first
         // pass): its own passes, and whether it is a coarse pass or the render of these settings.
         if (image.coarse)
-            ImGui::Text("a coarse pass, %.2f s (the camera moved; the full render follows)",
-                        image.seconds);
+            ImGui::TextWrapped("a coarse pass, %.2f s (the camera moved; the full render follows)",
+                               image.seconds);
         else
             ImGui::Text("%d / %d passes, %.1f s%s", image.passes,
                         image.passesPlanned > 0 ? image.passesPlanned : s.passes, image.seconds,
@@ -126,11 +116,15 @@ PreviewPanel::Action PreviewPanel::draw(const PanelRect& rect, PreviewSettings& 
                                           : " (stopped)");
         if (image.relativeRmsError >= 0)
             ImGui::Text("sampled vs exact: %.2f%% RMS", 100 * image.relativeRmsError);
-        if (s.mode == PreviewMode::Answers && !image.answers.empty()) drawAnswerLegend(image);
+        if (s.mode == PreviewMode::Answers && !image.answers.empty()) drawAnswersLegend(image);
+        if (s.mode == PreviewMode::Difference && image.differenceWhite > 0)
+            drawDifferenceScale(image);
         if (!image.error.empty()) ImGui::TextWrapped("error: %s", image.error.c_str());
         // Keep what you see: STEM.png, STEM.pfm, STEM.exr and STEM.json (the scene with this
         // camera).
-        ImGui::SetNextItemWidth(std::max(60.0f, ImGui::GetContentRegionAvail().x - 110));
+        ImGui::SetNextItemWidth(std::max(
+            4 * ImGui::GetFontSize(), ImGui::GetContentRegionAvail().x - buttonWidth("Save view") -
+                                          ImGui::GetStyle().ItemSpacing.x));
         ImGui::InputText("##stem", saveStem.data(), saveStem.size());
         ImGui::SameLine();
         if (ImGui::Button("Save view") && saveStem[0] != 0) save = true;

@@ -35,10 +35,9 @@ struct PreviewPanel {
     // (edited here). `texture` holds `image`.
     // `viewNote`: what the 3D view shows when the rendered view shows no full image (Preview::
     // viewNote; "" for none).
-    static Action draw(const PanelRect& rect, PreviewSettings& settings, ViewMode& view,
-                       ExactOptions& exact, std::array<char, 256>& saveStem,
-                       const PreviewImage& image, bool running, uint32_t texture,
-                       const std::string& viewNote);
+    static Action draw(PreviewSettings& settings, ViewMode& view, ExactOptions& exact,
+                       std::array<char, 256>& saveStem, const PreviewImage& image, bool running,
+                       uint32_t texture, const std::string& viewNote);
 };
 
 }  // namespace penumbra::viewer

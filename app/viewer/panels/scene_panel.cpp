@@ -6,6 +6,7 @@
 #include <system_error>
 #include <utility>
 
+#include "app/viewer/panels/flow_layout.h"
 #include "app/viewer/panels/panel.h"
 #include "engine/io/scene_loader.h"
 
@@ -28,15 +29,15 @@ std::vector<std::filesystem::path> listSceneFiles(const std::filesystem::path& a
 ScenePanel::ScenePanel(std::filesystem::path assets)
     : assets_(std::move(assets)), files_(listSceneFiles(assets_)) {}
 
-ScenePanel::Actions ScenePanel::draw(const PanelRect& rect, const LoadedScene* scene) {
+ScenePanel::Actions ScenePanel::draw(const LoadedScene* scene) {
     Actions actions;
-    placeNextWindow(rect);
-    if (ImGui::Begin("Scene", nullptr, kDockedPanel)) {
+    if (ImGui::Begin("Scene", nullptr, kPanelWindow)) {
         if (scene) {
             ImGui::TextWrapped("%s", scene->path.string().c_str());
-            ImGui::Text("%u faces, %zu area lights, %zu trees (%s)", scene->scene.faceCount(),
-                        scene->scene.lights.size(), scene->store->treeCount(),
-                        humanBytes(scene->store->bytes()).c_str());
+            ImGui::TextWrapped("%u faces, %zu area lights, %zu trees (%s)",
+                               scene->scene.faceCount(), scene->scene.lights.size(),
+                               scene->store->treeCount(),
+                               humanBytes(scene->store->bytes()).c_str());
             // What the loader repaired (or skipped), one line per kind and file: in a scrolled
             // box of at most half the room left, so that the scene list keeps the other half.
             const std::vector<std::string>& warnings = scene->scene.warnings;
@@ -58,7 +59,9 @@ ScenePanel::Actions ScenePanel::draw(const PanelRect& rect, const LoadedScene* s
         if (ImGui::Button("Fit (F)")) actions.fit = true;
         ImGui::SameLine();
         if (ImGui::Button("Move light (M)")) actions.moveLight = true;
-        ImGui::TextUnformatted("open (or drag and drop a file):");
+        const char* open = "open (or drag and drop a file):";
+        sameLineIfFits(ImGui::CalcTextSize(open).x);
+        ImGui::TextWrapped("%s", open);
         if (ImGui::BeginListBox("##scenes", ImVec2(-1, -1))) {
             for (const auto& file : files_) {
                 const bool current = scene && scene->path == file;

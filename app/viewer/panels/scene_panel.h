@@ -25,7 +25,7 @@ class ScenePanel {
         bool fit = false;                           // "Fit (F)"
         bool moveLight = false;                     // "Move light (M)": its window, shown
     };
-    Actions draw(const PanelRect& rect, const LoadedScene* scene);
+    Actions draw(const LoadedScene* scene);
 
   private:
     std::filesystem::path assets_;

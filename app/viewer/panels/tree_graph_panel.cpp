@@ -7,6 +7,10 @@
 #include <climits>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
+#include <tuple>
+
+#include "app/viewer/panels/flow_layout.h"
 
 namespace penumbra::ui {
 namespace {
@@ -82,7 +86,19 @@ void legendSwatch(ImU32 color, const char* label, bool disc) {
     ImGui::Dummy(ImVec2(h, h));
     ImGui::SameLine();
     ImGui::TextUnformatted(label);
-    ImGui::SameLine(0, 2 * ImGui::GetStyle().ItemSpacing.x);
+}
+
+// The legend: its swatches on as few lines as the panel's width allows.
+void legend(std::initializer_list<std::tuple<ImU32, const char*, bool>> items) {
+    bool first = true;
+    for (const auto& [color, label, disc] : items) {
+        if (!first)
+            viewer::sameLineIfFits(ImGui::GetTextLineHeight() + ImGui::GetStyle().ItemSpacing.x +
+                                       ImGui::CalcTextSize(label).x,
+                                   2 * ImGui::GetStyle().ItemSpacing.x);
+        first = false;
+        legendSwatch(color, label, disc);
+    }
 }
 
 }  // namespace
@@ -246,8 +262,8 @@ void TreeGraphPanel::drawHeader() {
                         tree_->light < mesh_->faces.size();
     const std::string_view kind = vis::describeKind(
         tree_->kind, ofMesh && vis::horizonClipsLight(*mesh_, tree_->receiver, tree_->light));
-    ImGui::Text("receiver face %u, light face %u: %.*s", tree_->receiver, tree_->light,
-                int(kind.size()), kind.data());
+    ImGui::TextWrapped("receiver face %u, light face %u: %.*s", tree_->receiver, tree_->light,
+                       int(kind.size()), kind.data());
     if (!error_.empty()) {
         ImGui::PushStyleColor(ImGuiCol_Text, kColorError);
         ImGui::TextWrapped("Cannot draw this tree: %s", error_.c_str());
@@ -265,45 +281,48 @@ void TreeGraphPanel::drawHeader() {
         if (!topology_->rootLeaf) return;
     } else {
         const HistoryTreeTopology& t = *topology_;
-        ImGui::Text(
+        // Wrapped, and the buttons flowed onto as many lines as the panel's width needs: the
+        // panel may be a narrow column or enlarged to most of the window.
+        ImGui::TextWrapped(
             "nodes %zu (%u reachable)   depth %u   leaves %u visible / %u hidden   %zu bytes",
             tree_->nodes.size(), t.reachableCount(), t.maxDepth + 1, t.visibleLeaves[0],
             t.hiddenLeaves[0], tree_->bytes());
         if (highlight_.requested() > 0) {
-            ImGui::SameLine();
             if (highlight_.ignored() > 0)
-                ImGui::Text("  path: %zu nodes (%u ids ignored: out of range)",
-                            highlight_.nodes().size(), highlight_.ignored());
+                ImGui::TextWrapped("path: %zu nodes (%u ids ignored: out of range)",
+                                   highlight_.nodes().size(), highlight_.ignored());
             else
-                ImGui::Text("  path: %zu nodes", highlight_.nodes().size());
+                ImGui::TextWrapped("path: %zu nodes", highlight_.nodes().size());
         }
         if (ImGui::Button("Fit")) view_.fit();
         if (ImGui::IsItemHovered())
             ImGui::SetTooltip("Whole tree in view, x and y scaled independently");
-        ImGui::SameLine();
+        viewer::sameLineIfFits(viewer::buttonWidth("1:1"));
         if (ImGui::Button("1:1")) view_.sameScale();
-        ImGui::SameLine();
+        viewer::sameLineIfFits(viewer::buttonWidth("Expand all"));
         if (ImGui::Button("Expand all")) expandAll();
-        ImGui::SameLine();
+        const float depthWidth = 5 * ImGui::GetFontSize();
+        viewer::sameLineIfFits(viewer::buttonWidth("Collapse to depth") +
+                               ImGui::GetStyle().ItemSpacing.x + depthWidth);
         if (ImGui::Button("Collapse to depth")) collapseToDepth(uint32_t(collapseDepth_));
         ImGui::SameLine();
-        ImGui::SetNextItemWidth(90);
+        ImGui::SetNextItemWidth(depthWidth);
         ImGui::InputInt("##collapse_depth", &collapseDepth_);
         collapseDepth_ = std::clamp(collapseDepth_, 0, int(t.maxDepth));
-        ImGui::SameLine();
+        viewer::sameLineIfFits(viewer::buttonWidth("Reveal path"));
         if (ImGui::Button("Reveal path")) revealPath();
         if (ImGui::IsItemHovered())
             ImGui::SetTooltip("Expand the highlighted nodes and their ancestors");
-        ImGui::SameLine();
-        ImGui::TextDisabled("layout %.2f ms, %u items, %.3g x %.3g px/unit", layoutMs_,
-                            layout_.itemCount(), view_.zoomX(), view_.zoomY());
+        ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyle().Colors[ImGuiCol_TextDisabled]);
+        ImGui::TextWrapped("layout %.2f ms, %u items, %.3g x %.3g px/unit", layoutMs_,
+                           layout_.itemCount(), view_.zoomX(), view_.zoomY());
+        ImGui::PopStyleColor();
     }
-    legendSwatch(kColorNode, "node", false);
-    legendSwatch(kColorCollapsed, "collapsed (+hidden)", false);
-    legendSwatch(kColorVisible, "visible leaf", true);
-    legendSwatch(kColorHidden, "hidden leaf", false);
-    legendSwatch(kColorHighlight, "path", false);
-    ImGui::NewLine();
+    legend({{kColorNode, "node", false},
+            {kColorCollapsed, "collapsed (+hidden)", false},
+            {kColorVisible, "visible leaf", true},
+            {kColorHidden, "hidden leaf", false},
+            {kColorHighlight, "path", false}});
 }
 
 void TreeGraphPanel::drawCanvas() {

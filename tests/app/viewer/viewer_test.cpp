@@ -99,7 +99,8 @@ TEST(ViewerLayout, PanelsTileTheWindowAtEverySizeAndScale) {
 }
 
 // The real windows, drawn by ImGui, at a HiDPI scale and the largest size, and at the smallest
-// size: no docked panel over another or over the 3D view, the overlays (help, status) inside it.
+// size: no panel in its default place over another or over the 3D view, the status line inside
+// the view, Help over the Path panel.
 TEST(ViewerLayout, WindowsStayApartAtHiDpiScale) {
     const fs::path dir = test::scratchDir("viewer_hidpi");
     auto shoot = [&](const std::string& size, const std::string& scale) {
@@ -119,7 +120,14 @@ TEST(ViewerLayout, WindowsStayApartAtHiDpiScale) {
         std::vector<std::pair<std::string, std::array<double, 4>>> docked;
         for (const auto& [name, r] : rects.items()) {
             const std::array<double, 4> a = {r[0], r[1], r[2], r[3]};
-            if (name == "Help" || name == "Status") {
+            if (name == "Help") {
+                // Over the Path panel (empty until a click), beside the view, never over it.
+                const json& path = rects["Path"];
+                for (int k = 0; k < 4; ++k)
+                    EXPECT_NEAR(a[k], path[k].get<double>(), 1) << "Help " << k;
+                continue;
+            }
+            if (name == "Status") {
                 EXPECT_GE(a[0], view[0].get<double>()) << name;
                 EXPECT_LE(a[0] + a[2], view[0].get<double>() + view[2].get<double>()) << name;
                 EXPECT_LE(a[1] + a[3], view[1].get<double>() + view[3].get<double>()) << name;
@@ -220,6 +228,36 @@ TEST(ViewerScreenshot, LoaderWarningsReachTheSceneStatusAndStderr) {
     const test::ProcessResult s = test::runPenumbraGl(strict);
     EXPECT_EQ(s.exitCode, 1) << s.err;
     EXPECT_NE(s.err.find(scene + ":12: face 1: vertex 2 repeated"), std::string::npos) << s.err;
+}
+
+// Below a menu bar the panels and the view tile what is left of the window; with the history tree
+// hidden (T) the Preview panel takes its place and leaves no hole; the enlarged rectangle covers
+// most of the window below the menu bar.
+TEST(ViewerLayout, MenuBarAndHiddenTreeLeaveNoHole) {
+    for (const bool tree : {true, false}) {
+        SCOPED_TRACE(tree ? "tree shown" : "tree hidden");
+        viewer::LayoutSettings settings;
+        settings.top = 19;
+        settings.tree = tree;
+        const viewer::Layout l = viewer::computeLayout(1280, 800, settings);
+        EXPECT_EQ(l.view.y, 19);
+        EXPECT_EQ(l.view.height, 800 - 19);
+        std::vector<viewer::PanelRect> rects = {l.scene, l.precompute, l.preview,
+                                                l.point, l.lightPlane, l.path};
+        if (tree) rects.push_back(l.tree);
+        double area = double(l.view.width) * l.view.height;
+        for (const viewer::PanelRect& r : rects) {
+            EXPECT_GE(r.y, 19);
+            EXPECT_LE(r.y + r.height, 800 + 1e-3);
+            area += double(r.width) * r.height;
+        }
+        EXPECT_NEAR(area, 1280.0 * (800 - 19), 1);
+        if (!tree) {
+            EXPECT_FLOAT_EQ(l.preview.y, l.precompute.y + l.precompute.height);
+        }
+        EXPECT_GT(l.enlarged.width * l.enlarged.height, 0.8 * 1280 * (800 - 19));
+        EXPECT_GE(l.enlarged.y, 19);
+    }
 }
 
 TEST(ViewerLayout, ViewBetweenTheColumns) {
@@ -333,7 +371,14 @@ TEST(ViewerScreenshot, FragmentOverlayAndPathMatchAnIndependentQuery) {
 
 TEST(ViewerScreenshot, PickingAPixelInspectsTheSurfaceAnIndependentRayHits) {
     const fs::path dir = test::scratchDir("viewer_pick");
-    const viewer::Layout layout = viewer::computeLayout(640, 400);
+    // The view lies below the menu bar: its height as a screenshot of the same size draws it.
+    const test::ProcessResult probe = test::runPenumbraGl(
+        {"screenshot", cornell().string(), "--size", "640x400", "--no-preview", "--out",
+         (dir / "probe.png").string(), "--state-out", (dir / "probe.json").string()});
+    ASSERT_EQ(probe.exitCode, 0) << probe.err;
+    viewer::LayoutSettings settings;
+    settings.top = test::readJson(dir / "probe.json")["layout"]["menuBarHeight"].get<int>();
+    const viewer::Layout layout = viewer::computeLayout(640, 400, settings);
     // A floor point seen from the default-like camera: the pixel where it projects.
     Camera c;
     c.eye = {278, 273, -800};
@@ -514,9 +559,10 @@ TEST(ViewerScreenshot, RenderedViewIsTheImagePenumbraRenderWrites) {
     const test::Image exact = render("exact", "exact_render.png");
     const test::Image sampled = render("sampled", "sampled_render.png");
     ASSERT_EQ(exact.width, vw);
-    // The view's overlays (status line, help) stay inside it, and their pixels are not compared.
+    // The view's overlays (the status line; the colour scale of the answers, below) stay inside
+    // it, and their pixels are not compared. Help is beside the view, over the Path panel.
     std::vector<std::array<double, 4>> overlays;
-    for (const char* name : {"Help", "Status"}) {
+    const auto overlay = [&](const json& state, const char* name) {
         ASSERT_TRUE(state["panelRects"].contains(name)) << name;
         const json& r = state["panelRects"][name];
         const std::array<double, 4> rect = {r[0], r[1], r[2], r[3]};
@@ -525,6 +571,11 @@ TEST(ViewerScreenshot, RenderedViewIsTheImagePenumbraRenderWrites) {
         EXPECT_LE(rect[0] + rect[2], vx + vw) << name;
         EXPECT_LE(rect[1] + rect[3], vy + vh) << name;
         overlays.push_back(rect);
+    };
+    overlay(state, "Status");
+    {
+        const json& help = state["panelRects"]["Help"];
+        EXPECT_GE(help[0].get<double>(), vx + vw - 1) << "Help over the view";
     }
     auto covered = [&](int x, int y) {
         for (const auto& r : overlays)
@@ -573,6 +624,7 @@ TEST(ViewerScreenshot, RenderedViewIsTheImagePenumbraRenderWrites) {
     const test::Image answers = test::readPng(dir / "answers_render.png");
     const json answered = shoot("answers", "answers");
     EXPECT_EQ(answered["preview"]["mode"], "answers");
+    overlay(answered, "Colour scale");
     EXPECT_LT(
         meanDifference(test::readPng(dir / "answers.png"), [&](int, int) { return &answers; }),
         1e-3);

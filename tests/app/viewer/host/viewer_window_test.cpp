@@ -33,8 +33,15 @@ TEST(ViewerWindow, ClickUnderXvfbInspectsThePointAndDrawsItsFragments) {
     camera.eye = {278, 300, -500};
     camera.target = {278, 300, 280};
     camera.fovYDegrees = 60;
-    const viewer::Layout layout = viewer::computeLayout(1280, 800);
-    // In front of the boxes, under the help panel until the test presses H to hide it.
+    // The view lies below the menu bar: its height as the offscreen UI of the same size draws it.
+    const test::ProcessResult probe = test::runPenumbraGl(
+        {"screenshot", scene.string(), "--size", "1280x800", "--no-preview", "--out",
+         (dir / "probe.png").string(), "--state-out", (dir / "probe.json").string()});
+    ASSERT_EQ(probe.exitCode, 0) << probe.err;
+    viewer::LayoutSettings layoutSettings;
+    layoutSettings.top = test::readJson(dir / "probe.json")["layout"]["menuBarHeight"].get<int>();
+    const viewer::Layout layout = viewer::computeLayout(1280, 800, layoutSettings);
+    // In front of the boxes.
     const Vec3 floorPoint{400, 0, 150};
     double px = 0, py = 0;
     ASSERT_TRUE(camera.project(floorPoint, layout.view.width, layout.view.height, px, py));
@@ -52,7 +59,9 @@ TEST(ViewerWindow, ClickUnderXvfbInspectsThePointAndDrawsItsFragments) {
           << "sleep 0.1; done\n"
           << test::shellQuote(PENUMBRA_EXE) << " view " << test::shellQuote(scene.string())
           << " --camera 278,300,-500,278,300,280,60 --size 1280x800 --no-preview --quit-after 120"
-          << " --state-out " << test::shellQuote(state.string()) << " &\n"
+          // A settings file of its own (a first run: Help open), not the user's.
+          << " --settings " << test::shellQuote((dir / "viewer.json").string()) << " --state-out "
+          << test::shellQuote(state.string()) << " &\n"
           << "pid=$!\n"
           << "for i in $(seq 300); do [ -f " << test::shellQuote(state.string())
           << " ] && break; sleep 0.1; done\n"

@@ -85,6 +85,12 @@ TEST(PanelText, RecordsEachPanelsTextAndOpensNoTreeNode) {
     EXPECT_FALSE(has(text.texts().at("Second"), "one 1"));
 }
 
+// The window the next panel draws in (the viewer places panels with panel_arrangement.h).
+void placeTestPanel(const viewer::PanelRect& r) {
+    ImGui::SetNextWindowPos(ImVec2(r.x, r.y), ImGuiCond_Always);
+    ImGui::SetNextWindowSize(ImVec2(r.width, r.height), ImGuiCond_Always);
+}
+
 TEST(PanelText, PrecomputePanelBeforeAnyRenderCountsTheScenesLights) {
     devkit::HeadlessImGui imgui;
     viewer::PanelText text;
@@ -95,7 +101,8 @@ TEST(PanelText, PrecomputePanelBeforeAnyRenderCountsTheScenesLights) {
         scene.lights.assign(area, 0);
         scene.pointLights.assign(2, PointLight{});
         frame(imgui, text, [&] {
-            (void)viewer::PrecomputePanel::draw(rect, job, EffectsSummary{}, &scene);
+            placeTestPanel(rect);
+            (void)viewer::PrecomputePanel::draw(job, EffectsSummary{}, &scene);
             text.take("Precompute");
         });
         const std::string& said = text.texts().at("Precompute");
@@ -115,14 +122,16 @@ TEST(PanelText, PrecomputePanelBeforeAnyRenderCountsTheScenesLights) {
     rendered.areaLights = 3;
     rendered.materialsAnalytic = 1;
     frame(imgui, text, [&] {
-        (void)viewer::PrecomputePanel::draw(rect, job, rendered, &scene);
+        placeTestPanel(rect);
+        (void)viewer::PrecomputePanel::draw(job, rendered, &scene);
         text.take("Precompute");
     });
     EXPECT_TRUE(has(text.texts().at("Precompute"), "16 stratified shadow rays"));
     EXPECT_FALSE(has(text.texts().at("Precompute"), "nothing rendered yet"));
     // No scene: nothing to count.
     frame(imgui, text, [&] {
-        (void)viewer::PrecomputePanel::draw(rect, job, EffectsSummary{}, nullptr);
+        placeTestPanel(rect);
+        (void)viewer::PrecomputePanel::draw(job, EffectsSummary{}, nullptr);
         text.take("Precompute");
     });
     EXPECT_TRUE(has(text.texts().at("Precompute"), "no scene open"));
