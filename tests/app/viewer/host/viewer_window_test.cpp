@@ -128,9 +128,11 @@ TEST(ViewerFrames, UiThreadNeverWaitsForThePrecompute) {
     // for the precompute would draw one frame about as long as the precompute, on any machine:
     // the bounds are relative to the precompute's own length, never absolute, so nothing is
     // skipped on a fast machine (a faster one builds the trees and draws the frames faster
-    // alike). Here about 230 frames are drawn, the longest 0.4 s.
+    // alike). Here about 230 frames are drawn, the longest 0.4 s. Half the precompute, not a
+    // quarter: on a machine loaded by other builds the precompute once took 1.67 s and one frame
+    // stalled 0.42 s, while a waiting UI thread would show a frame of about the whole 1.67 s.
     EXPECT_GE(frames, 10u) << "max frame " << maxFrame << " s of " << precompute << " s";
-    EXPECT_LT(maxFrame, 0.25 * precompute) << "max frame " << maxFrame << " s of " << precompute;
+    EXPECT_LT(maxFrame, 0.5 * precompute) << "max frame " << maxFrame << " s of " << precompute;
     EXPECT_EQ(s["precompute"]["done"], s["precompute"]["total"]);
     EXPECT_GT(s["precompute"]["nodes"].get<size_t>(), 0u);
 }
