@@ -2,8 +2,8 @@
 // precompute is paid once.
 //
 // Format, version 4 (version 1 had no deferred occluders, version 2 stored constructed vertices
-// where nodes now name exact chords, version 3 also each tree's build time), every integer little-endian, doubles as their IEEE-754 bit
-// patterns:
+// where nodes now name exact chords, version 3 also each tree's build time), every integer
+// little-endian, doubles as their IEEE-754 bit patterns:
 //   header (48 bytes)  magic "PENUMVIS", u32 version, u32 header size (48), u64 scene hash
 //                      (engine/precompute/scene_hash.h), u64 tree count, u64 payload size,
 //                      u64 flags (0)
