@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
-# Builds the libFuzzer harnesses (tests/fuzz/: one per scene format, one for the visibility file)
-# with clang, AddressSanitizer and UndefinedBehaviorSanitizer in build-fuzz/, and runs each for
-# SECONDS (default 60; CI uses PENUMBRA_FUZZ_SECONDS). The corpus of each harness starts from its
-# seeds (tests/fuzz/seeds/FORMAT/, the committed assets, a generated visibility file) and grows in
-# build-fuzz/corpus/ from run to run. A crash, a sanitizer report, an input slower than 10 s or one
-# using more than 2 GB is a finding: its input is left in build-fuzz/findings/ and the script
-# exits 1. Turn each finding into a regression input under tests/fuzz/regressions/FORMAT/ (the
-# FuzzRegressions test loads every file there) once it is fixed.
+# Builds the libFuzzer harnesses (tests/fuzz/: one per scene format, each a link to one executable,
+# and one for the visibility file) with clang, AddressSanitizer and UndefinedBehaviorSanitizer in
+# build-fuzz/, and runs each for SECONDS (default 60; CI uses PENUMBRA_FUZZ_SECONDS). The corpus of
+# each harness starts from its seeds (tests/fuzz/seeds/FORMAT/, the committed assets, a generated
+# visibility file) and grows in build-fuzz/corpus/ from run to run. A crash, a sanitizer report, an
+# input slower than 10 s or one using more than 2 GB is a finding: its input is left in
+# build-fuzz/findings/ and the script exits 1. Turn each finding into a regression input under
+# tests/fuzz/regressions/FORMAT/ (the FuzzRegressions test loads every file there) once it is fixed.
 # PENUMBRA_FUZZ_TIMEOUT is the seconds one input may take before it counts as a finding (default
 # 10; the inputs take milliseconds: a longer campaign on a machine shared at low priority raises it
 # so that being descheduled is not reported as a hang).
@@ -31,8 +31,7 @@ if [[ -z "${PENUMBRA_FUZZ_BUILD:-}" ]]; then
     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -g1 -DNDEBUG" -DPENUMBRA_FUZZ=ON -DPENUMBRA_TESTS=OFF \
     >/dev/null || { echo "fuzz: configure failed" >&2; exit 1; }
 fi
-cmake --build "${dir}" --target fuzz_scene_obj fuzz_scene_ply fuzz_scene_off fuzz_scene_stl \
-  fuzz_scene_gltf fuzz_scene_glb fuzz_scene_json fuzz_visibility_file penumbra_fuzz_seed ||
+cmake --build "${dir}" --target fuzz_scene fuzz_visibility_file penumbra_fuzz_seed ||
   { echo "fuzz: build failed" >&2; exit 1; }
 
 harnesses=("$@")

@@ -169,8 +169,7 @@ SUITE_SHARDS=20 run_suite release build 0.5
 # Assignments in front of a function call are exported to what the function runs (ctest).
 # Built with clang: the same instrumented build also holds the fuzz harnesses (fuzz step below).
 # Only what the tests and the fuzzing run (the tools are compiled by the release build).
-fuzz_targets="fuzz_scene_obj fuzz_scene_ply fuzz_scene_off fuzz_scene_stl fuzz_scene_gltf"
-fuzz_targets+=" fuzz_scene_glb fuzz_scene_json fuzz_visibility_file penumbra_fuzz_seed"
+fuzz_targets="fuzz_scene fuzz_visibility_file penumbra_fuzz_seed"
 asan_options="${ASAN_OPTIONS:-malloc_context_size=15:quarantine_size_mb=32}"
 # Run in the release suite only (each still runs there, at full scale): the reference's
 # self-tests (test code), the viewer walked through 640 frames of its states (74 s under ASan; the

@@ -1,7 +1,9 @@
-// libFuzzer harness for one scene format (PENUMBRA_FUZZ_EXTENSION: ".obj", ".ply", ".off",
-// ".stl", ".gltf", ".glb" or ".json"). Every input is written to a file of that extension (the
-// loaders, OpenMesh and tinygltf included, read files) and loaded, in repair mode (the default)
-// and in strict mode (engine/io/load_options.h). The contract it checks:
+// libFuzzer harness for the scene formats, one executable under one name per format:
+// fuzz_scene_obj, _ply, _off, _stl, _gltf, _glb and _json are links to it (tests/fuzz/
+// CMakeLists.txt), and the name it runs under picks the format (compiled once, not seven times).
+// Every input is written to a file of that extension (the loaders, OpenMesh and tinygltf
+// included, read files) and loaded, in repair mode (the default) and in strict mode
+// (engine/io/load_options.h). The contract it checks:
 //   - a load succeeds or throws SceneError naming the file; any other exception, a crash, a
 //     sanitizer report, a hang (libFuzzer's -timeout) or a flood of memory is a finding;
 //   - a scene that loads is inside the coordinate contract and its first pair's exact answer is
@@ -14,22 +16,18 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <string_view>
 
 #include "engine/io/scene_loader.h"
 #include "tests/support/answer_check.h"
-
-#ifndef PENUMBRA_FUZZ_EXTENSION
-#error "PENUMBRA_FUZZ_EXTENSION must name the scene format"
-#endif
 
 namespace {
 
 using namespace penumbra;
 
-const std::filesystem::path& inputPath() {
-    static const std::filesystem::path p =
-        std::filesystem::temp_directory_path() /
-        ("penumbra_fuzz_" + std::to_string(::getpid()) + PENUMBRA_FUZZ_EXTENSION);
+// The input file, named once by LLVMFuzzerInitialize from the harness's name.
+std::filesystem::path& inputPath() {
+    static std::filesystem::path p;
     return p;
 }
 
@@ -43,6 +41,26 @@ void checkAnswer(const Scene& scene) {
 }
 
 }  // namespace
+
+// The format is the name's suffix after "fuzz_scene_": fuzz_scene_obj reads OBJ files.
+extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
+    constexpr std::string_view prefix = "fuzz_scene_";
+    const std::string name = *argc > 0 ? std::filesystem::path((*argv)[0]).filename().string() : "";
+    constexpr std::string_view formats[] = {"obj", "ply", "off", "stl", "gltf", "glb", "json"};
+    for (const std::string_view format : formats) {
+        if (name == std::string(prefix) + std::string(format)) {
+            inputPath() =
+                std::filesystem::temp_directory_path() /
+                ("penumbra_fuzz_" + std::to_string(::getpid()) + "." + std::string(format));
+            return 0;
+        }
+    }
+    std::fprintf(stderr,
+                 "fuzz_scene: run it as fuzz_scene_FORMAT (obj, ply, off, stl, gltf, glb or json), "
+                 "not as '%s'\n",
+                 name.c_str());
+    std::exit(2);
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     {
