@@ -125,9 +125,8 @@ class Coordinator {
     }
     void receiveTrees(int rank, const Bytes& bytes) {
         const auto start = Clock::now();
-        const size_t before = store_.treeCount();
-        decodeTreeRecords(bytes, store_, name(rank));
-        const size_t added = store_.treeCount() - before;
+        // (Not the store's count before and after: rank 0's own builds land meanwhile.)
+        const size_t added = decodeTreeRecords(bytes, store_, name(rank));
         result_.treesReceived += added;
         result_.treesByRank[rank] += added;
         result_.bytesReceived += bytes.size();
@@ -319,7 +318,6 @@ ClusterPrecomputeResult Coordinator::run(
             const PrecomputeProgress lp = local->progress();
             if (lp.state == State::Failed) fail("rank 0: " + lp.error);
             if (allBuilt(store_, localBatch_)) {
-                result_.treesByRank[0] += localBatch_.size();
                 localBatch_.clear();
                 if (state_ == State::Running && !queue_.empty()) {
                     localBatch_ = nextBatch();
@@ -356,9 +354,8 @@ ClusterPrecomputeResult Coordinator::run(
     if (stoppedBySignal) checkpoint();
     stopEveryone(local ? &*local : nullptr,
                  stoppedBySignal ? options_.stopLimit : options_.silenceLimit);
-    // Rank 0's own trees of a batch cut short count too.
-    for (const PairKey& k : localBatch_)
-        if (store_.find(k)) ++result_.treesByRank[0];
+    // Rank 0 built what neither the file nor the workers gave.
+    result_.treesByRank[0] = store_.treeCount() - loaded_ - result_.treesReceived;
     result_.progress = progress();
     result_.progress.secondsLeft = 0;
     result_.coordinatorSeconds = seconds(coordinatorTime_);
