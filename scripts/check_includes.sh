@@ -10,7 +10,7 @@
 #   visibility/                    the exact core
 #   visibility/fp_query/           the from-point query's strategies, over the core
 #   engine/scene/ < engine/raytrace/ < engine/precompute/ < engine/render/ < engine/io/ <
-#   engine/studies/                (engine/CMakeLists.txt says what each holds)
+#   engine/studies/ < engine/cluster/  (engine/CMakeLists.txt says what each holds)
 #   app/viewer/viewport.h          a rectangle of the framebuffer: no GL, no ImGui, so that the
 #                                  GL renderer, the layout and the panels all name it
 #   app/viewer/gl/                 GL only: contexts, shaders, buffers, the scene renderer
@@ -31,6 +31,7 @@ engine/precompute/ 12
 engine/render/ 13
 engine/io/ 14
 engine/studies/ 15
+engine/cluster/ 16
 app/viewer/viewport.h 20
 app/viewer/gl/ 21
 app/viewer/ 22

@@ -35,6 +35,8 @@ PACKAGES=(
   imagemagick
   clang
   libclang-rt-14-dev
+  libopenmpi-dev
+  openmpi-bin
 )
 
 is_installed() {

@@ -7,6 +7,7 @@
 // code (ExitCode). Commands write their results to stdout only.
 #pragma once
 
+#include <exception>
 #include <filesystem>
 #include <optional>
 #include <stdexcept>
@@ -42,6 +43,13 @@ inline CommandError usageError(const std::string& message) {
 inline CommandError inputError(const std::string& message) {
     return CommandError(kExitInputError, message);
 }
+
+// "penumbra: error: MESSAGE" on stderr; returns `code`.
+int fail(int code, const std::string& message);
+// What main() does with an exception a command threw: its message on stderr (fail) and its exit
+// code (CommandError's; SceneError, bad_alloc and any other: an input error). The cluster's ranks
+// say it before MPI_Finalize (app/cli/precompute_command.cpp).
+int reportError(const std::exception_ptr& error);
 
 // Loads a scene file with engine/io/scene_loader.h, choosing the reader by extension
 // (case-insensitive): .obj (with its MTL libraries), .ply, .off, .stl, .gltf, .glb, .json, with

@@ -16,11 +16,6 @@ namespace {
 
 constexpr const char* kVersion = "penumbra 0.1.0";
 
-int fail(int code, const std::string& message) {
-    std::cerr << "penumbra: error: " << message << '\n';
-    return code;
-}
-
 int run(int argc, char** argv) {
     CLI::App app{
         "penumbra: exact soft shadows from polygonal area lights (history trees of line space, "
@@ -39,6 +34,7 @@ int run(int argc, char** argv) {
     } catch (const CLI::Success& e) {  // --help, --version
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
+        using penumbra::cli::fail;
         // An unknown subcommand is left over as an extra argument; name it rather than report
         // the missing subcommand.
         const std::vector<std::string> extras = app.remaining();
@@ -59,15 +55,7 @@ int main(int argc, char** argv) {
     const penumbra::WorkerThreadsJoinedAtExit workerThreads;
     try {
         return run(argc, argv);
-    } catch (const penumbra::cli::CommandError& e) {
-        return fail(e.exitCode, e.what());
-    } catch (const penumbra::SceneError& e) {
-        return fail(penumbra::cli::kExitInputError, e.what());
-    } catch (const std::bad_alloc&) {
-        return fail(penumbra::cli::kExitInputError, "out of memory");
-    } catch (const std::exception& e) {
-        return fail(penumbra::cli::kExitInputError, std::string("internal error: ") + e.what());
     } catch (...) {
-        return fail(penumbra::cli::kExitInputError, "internal error: unknown exception");
+        return penumbra::cli::reportError(std::current_exception());
     }
 }

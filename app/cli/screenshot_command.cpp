@@ -24,7 +24,7 @@ namespace {
 struct ScreenshotOptions {
     std::string scene, point, pixel, hover, camera, size = "1280x800", out, stateOut, previewOut,
                                                     saveView, translate, rotate, scale, settings,
-                                                    enlarge;
+                                                    enlarge, visibility;
     int64_t moveLight = -1;
     std::vector<std::string> panels, collapse;
     bool resetLayout = false;
@@ -139,6 +139,7 @@ void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
     h.viewer.previewSettings.passes = o.passes;
     h.viewer.preview = !o.noPreview;
     h.viewer.exact = o.exact;
+    h.viewer.visibilityFile = o.visibility;
     h.viewer.load = o.sceneOptions.load();
     h.printWarnings = true;
     h.viewer.showHelp = true;
@@ -257,6 +258,10 @@ void registerScreenshotCommand(CLI::App& app) {
     sub->add_option("--enlarge", o->enlarge, "Enlarge a panel to most of the window (as E does)")
         ->type_name("NAME");
     addExactOptions(*sub, o->exact, ExactOptionSet::Render);
+    sub->add_option("--visibility", o->visibility,
+                    "Visibility file (.pvis): its trees are used when it is current for the scene "
+                    "(else reported and rebuilt); --precompute writes it back")
+        ->type_name("FILE.pvis");
     sub->add_flag("--precompute", o->precompute,
                   "Precompute every pair in the background while drawing frames; the state "
                   "JSON records the frame times");

@@ -20,7 +20,8 @@ namespace {
 
 struct ViewOptions {
     std::string scene = "assets/cornell_box.obj";
-    std::string camera, size = "1280x800", stateOut, outDir = "out", view = "rendered", settings;
+    std::string camera, size = "1280x800", stateOut, outDir = "out", view = "rendered", settings,
+                        visibility;
     double quitAfter = 0;
     bool noPreview = false;
     bool precompute = false;
@@ -51,6 +52,7 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
         w.quitAfterSeconds = o.quitAfter;
         w.viewer.preview = !o.noPreview;
         w.viewer.exact = o.exact;
+        w.viewer.visibilityFile = o.visibility;
         w.viewer.load = o.sceneOptions.load();
         w.viewer.view = view;
         w.viewer.previewSettings.mode = mode;
@@ -76,6 +78,7 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
     h.camera = camera;
     h.viewer.preview = !o.noPreview;
     h.viewer.exact = o.exact;
+    h.viewer.visibilityFile = o.visibility;
     h.viewer.load = o.sceneOptions.load();
     h.viewer.view = view;
     h.viewer.previewSettings.mode = mode;
@@ -137,6 +140,11 @@ void registerViewCommand(CLI::App& app) {
         ->type_name("SECONDS");
     sub->add_flag("--no-preview", o->noPreview, "Do not run the progressive preview");
     addExactOptions(*sub, o->exact, ExactOptionSet::Render);
+    sub->add_option("--visibility", o->visibility,
+                    "Visibility file (.pvis, as precompute writes it): its trees are used when it "
+                    "is current for the scene (else reported and rebuilt); the precompute and "
+                    "the Precompute panel's Save write it back")
+        ->type_name("FILE.pvis");
     sub->add_flag("--precompute", o->precompute,
                   "Start precomputing every pair in the background when the scene opens");
     addSceneOptions(*sub, o->sceneOptions);

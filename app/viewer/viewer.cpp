@@ -28,6 +28,7 @@ Viewer::Viewer(ViewerOptions options)
     : options_(std::move(options)),
       renderer_({kBackground.r / 255.0f, kBackground.g / 255.0f, kBackground.b / 255.0f}),
       preview_(options_),
+      visibility_(options_.visibilityFile, {}),
       scenePanel_(options_.assetsDirectory),
       helpPanel_(options_.showHelp) {
     if (options_.layout.scale != 1 && ImGui::GetCurrentContext() != nullptr) {
@@ -99,6 +100,10 @@ bool Viewer::openScene(const std::filesystem::path& path) {
     }
     if (const auto& light = scene_->scene.defaultLight)
         status_ += "; " + light->announcement(path.filename().string());
+    if (visibility_.follows(path))
+        status_ += "; " + visibility_.load(*scene_->store);
+    else if (visibility_.state() == "detached")
+        status_ += "; " + visibility_.status();
     const std::vector<std::string>& warnings = scene_->scene.warnings;
     if (!warnings.empty())
         status_ += "; " + std::to_string(warnings.size()) +
@@ -277,6 +282,9 @@ void Viewer::pollBackground() {
         precomputeWatched_ = false;
         if (precomputeNow_)
             status_ = "precompute " + PrecomputePanel::progressLine(*precomputeNow_);
+        // What the precompute built (all of it, or up to a cancel) goes to the file.
+        if (precomputeNow_ && precomputeNow_->done > 0 && visibility_.attached())
+            status_ += "; " + saveVisibility();
     }
 }
 
@@ -351,6 +359,19 @@ void Viewer::startPrecompute() {
     rebuildPairs_.clear();
     status_ = "precomputing every (receiver patch, light) pair in the background";
     precomputeWatched_ = true;
+}
+
+std::string Viewer::loadVisibility() {
+    if (!scene_ || !visibility_.attached()) return "no visibility file (--visibility FILE.pvis)";
+    if (scene_->version != 0) return "the lights were moved: the file holds the scene as opened";
+    return visibility_.load(*scene_->store);
+}
+
+std::string Viewer::saveVisibility() {
+    if (!scene_ || !visibility_.attached()) return "no visibility file (--visibility FILE.pvis)";
+    if (scene_->version != 0)
+        return "not written: the lights were moved, the file holds the scene as opened";
+    return visibility_.save(*scene_->store);
 }
 
 void Viewer::openAccuracyStudy() { accuracy_.open(scene_, orbit_.camera(), tasks_); }
@@ -477,9 +498,15 @@ void Viewer::drawPanels() {
     panel("Scene", [&] { scene = scenePanel_.draw(scene_.get()); });
     panel("Precompute", [&] {
         switch (PrecomputePanel::draw(precomputeNow_, preview_.effects(),
-                                      scene_ ? &scene_->scene : nullptr)) {
+                                      scene_ ? &scene_->scene : nullptr, visibility_)) {
             case PrecomputePanel::Action::Start:
                 startPrecompute();
+                break;
+            case PrecomputePanel::Action::LoadFile:
+                status_ = loadVisibility();
+                break;
+            case PrecomputePanel::Action::SaveFile:
+                status_ = saveVisibility();
                 break;
             case PrecomputePanel::Action::Cancel:
                 precompute_.cancel();

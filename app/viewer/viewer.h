@@ -42,6 +42,7 @@
 #include "app/viewer/selection.h"
 #include "app/viewer/view_mouse.h"
 #include "app/viewer/viewer_options.h"
+#include "app/viewer/visibility_link.h"
 #include "engine/precompute/point_inspection.h"
 
 namespace penumbra::viewer {
@@ -74,6 +75,12 @@ class Viewer {
     // background.
     void startPrecompute();
     bool precomputeRunning() const { return precompute_.running(); }
+    // The visibility file (--visibility, visibility_link.h): read its trees into the scene's
+    // store again, or write the store's trees to it (atomically; a finished precompute does).
+    // Each returns what it did, for the status line. The scene as opened only (not moved).
+    std::string loadVisibility();
+    std::string saveVisibility();
+    const VisibilityLink& visibility() const { return visibility_; }
 
     // Moves area light `light` by `move` from where the file put it (engine/scene/light_move.h;
     // the Move light window, M, does this as its fields are dragged). The moved scene (a copy, its
@@ -154,6 +161,7 @@ class Viewer {
     ViewMouse mouse_;
 
     PrecomputeJob precompute_;
+    VisibilityLink visibility_;  // the visibility file of the scene (--visibility)
     // The status line tells of a running precompute: it says how it ended at the next poll after.
     bool precomputeWatched_ = false;
     std::optional<PrecomputeProgress> precomputeNow_;  // this frame's reading (none: not started)

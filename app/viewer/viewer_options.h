@@ -32,6 +32,9 @@ struct ViewerOptions {
     // The viewer's settings file (viewer_settings.h: the panels' arrangement, the columns, whether
     // Help was seen): read when the viewer starts, written by saveSettings(). Empty: none.
     std::filesystem::path settingsFile;
+    // The visibility file of the first scene opened (--visibility; visibility_link.h): its trees
+    // are read when the scene opens and the precompute writes them back. Empty: none.
+    std::filesystem::path visibilityFile;
 };
 
 }  // namespace penumbra::viewer

@@ -218,6 +218,13 @@ nlohmann::json Viewer::stateJson() const {
                    {"meanSeconds",
                     frameStats_.frames > 0 ? frameStats_.sumSeconds / frameStats_.frames : 0.0}};
     s["accuracy"] = accuracyJson(accuracy_.plot(), accuracy_.shown(), accuracy_.running());
+    if (visibility_.attached() || !visibility_.state().empty())
+        s["visibility"] = {{"file", visibility_.file().string()},
+                           {"state", visibility_.state()},
+                           {"status", visibility_.status()},
+                           {"treesLoaded", visibility_.treesLoaded()},
+                           {"treesWritten", visibility_.treesWritten()},
+                           {"treesInStore", scene_ ? scene_->store->treeCount() : 0}};
     if (precomputeNow_) {
         const PrecomputeProgress& p = *precomputeNow_;
         s["precompute"] = {

@@ -72,6 +72,44 @@ class ByteWriter {
     std::vector<unsigned char> bytes_;
 };
 
+// One tree record of the payload (the header's format comment): the one encoding of a tree, in the
+// file and in the trees sent between processes (encodeTreeRecords).
+void writeRecord(ByteWriter& w, const PairKey& key, const PairRecord& record, bool withStats) {
+    const vis::HistoryTree& t = record.tree;
+    w.u32(key.receiver);
+    w.u32(key.patch);
+    w.u32(key.lightFace);
+    w.u32(t.receiver);
+    w.u32(t.light);
+    w.u8(static_cast<uint8_t>(t.kind));
+    w.u8(withStats ? 1 : 0);
+    w.u16(static_cast<uint16_t>(std::min(t.why.size(), kMaxReasonBytes)));
+    w.u32(t.meshVertexCount);
+    w.u32(static_cast<uint32_t>(t.nodes.size()));
+    w.u32(static_cast<uint32_t>(t.occluders.size()));
+    w.u32(static_cast<uint32_t>(t.nodeOccluder.size()));
+    w.u32(static_cast<uint32_t>(t.deferred.size()));
+    w.text(t.why.substr(0, kMaxReasonBytes));
+    for (const vis::HistoryNode& n : t.nodes) {
+        w.u32(n.v0);
+        w.u32(n.v1);
+        w.u32(n.child[0]);
+        w.u32(n.child[1]);
+    }
+    for (uint32_t f : t.occluders) w.u32(f);
+    for (uint32_t f : t.nodeOccluder) w.u32(f);
+    for (const vis::DeferredOccluder& d : t.deferred) w.u32(d.face);
+    if (withStats) {
+        const vis::BuildStats& s = record.stats;
+        w.u32(s.occludersInShaft);
+        w.u32(s.occludersInserted);
+        w.u32(s.occludersDeferred);
+        for (uint64_t v : {s.classifications, s.lpSolves, s.uncertain, s.exactCertificates,
+                           s.prunedSplits, s.realLineTests, s.realLineWitness, s.mergedLeaves})
+            w.u64(v);
+    }
+}
+
 std::vector<unsigned char> serialize(const VisibilityStore& store, bool withStats) {
     std::vector<std::pair<PairKey, const PairRecord*>> trees;
     // The refined sub-patches' trees are the render's cache (PatchLayout::refine): only the
@@ -91,41 +129,7 @@ std::vector<unsigned char> serialize(const VisibilityStore& store, bool withStat
     const size_t payloadSizeAt = w.bytes().size();
     w.u64(0);  // payload size, patched below
     w.u64(0);  // flags
-    for (const auto& [key, record] : trees) {
-        const vis::HistoryTree& t = record->tree;
-        w.u32(key.receiver);
-        w.u32(key.patch);
-        w.u32(key.lightFace);
-        w.u32(t.receiver);
-        w.u32(t.light);
-        w.u8(static_cast<uint8_t>(t.kind));
-        w.u8(withStats ? 1 : 0);
-        w.u16(static_cast<uint16_t>(std::min(t.why.size(), kMaxReasonBytes)));
-        w.u32(t.meshVertexCount);
-        w.u32(static_cast<uint32_t>(t.nodes.size()));
-        w.u32(static_cast<uint32_t>(t.occluders.size()));
-        w.u32(static_cast<uint32_t>(t.nodeOccluder.size()));
-        w.u32(static_cast<uint32_t>(t.deferred.size()));
-        w.text(t.why.substr(0, kMaxReasonBytes));
-        for (const vis::HistoryNode& n : t.nodes) {
-            w.u32(n.v0);
-            w.u32(n.v1);
-            w.u32(n.child[0]);
-            w.u32(n.child[1]);
-        }
-        for (uint32_t f : t.occluders) w.u32(f);
-        for (uint32_t f : t.nodeOccluder) w.u32(f);
-        for (const vis::DeferredOccluder& d : t.deferred) w.u32(d.face);
-        if (withStats) {
-            const vis::BuildStats& s = record->stats;
-            w.u32(s.occludersInShaft);
-            w.u32(s.occludersInserted);
-            w.u32(s.occludersDeferred);
-            for (uint64_t v : {s.classifications, s.lpSolves, s.uncertain, s.exactCertificates,
-                               s.prunedSplits, s.realLineTests, s.realLineWitness, s.mergedLeaves})
-                w.u64(v);
-        }
-    }
+    for (const auto& [key, record] : trees) writeRecord(w, key, *record, withStats);
     w.patchU64(payloadSizeAt, w.bytes().size() - kHeaderBytes);
     Hash64 h;
     h.addBytes(w.bytes());
@@ -368,13 +372,13 @@ ParsedTree parseTree(ByteReader& p, const std::string& where) {
     return pt;
 }
 
-std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const VisibilityStore& store) {
-    const Header header = parseHeader(bytes, store);
-    ByteReader p(bytes.first(header.end), kHeaderBytes);
+// `count` tree records from p, each parsed, validated against the store's scene and prepared for
+// queries; no key twice.
+std::vector<ParsedTree> parseRecords(ByteReader& p, uint64_t count, const VisibilityStore& store) {
     std::vector<ParsedTree> out;
-    out.reserve(static_cast<size_t>(header.treeCount));
+    out.reserve(static_cast<size_t>(count));
     std::set<PairKey> seen;
-    for (uint64_t i = 0; i < header.treeCount; ++i) {
+    for (uint64_t i = 0; i < count; ++i) {
         const std::string where =
             "tree " + std::to_string(i) + " (byte " + std::to_string(p.offset()) + ")";
         ParsedTree pt = parseTree(p, where);
@@ -387,6 +391,12 @@ std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const Visibi
     if (p.left() != 0)
         throw Corrupt(std::to_string(p.left()) + " bytes left over after the last tree");
     return out;
+}
+
+std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const VisibilityStore& store) {
+    const Header header = parseHeader(bytes, store);
+    ByteReader p(bytes.first(header.end), kHeaderBytes);
+    return parseRecords(p, header.treeCount, store);
 }
 
 }  // namespace
@@ -439,6 +449,37 @@ size_t readVisibilityFile(const fs::path& path, VisibilityStore& store) {
         throw VisibilityFileError(VisibilityFileStatus::Corrupt, name + ": " + e.what());
     } catch (const VisibilityFileError& e) {
         throw VisibilityFileError(e.status, name + ": " + e.what());
+    }
+    for (ParsedTree& t : trees) store.insert(t.key, std::move(t.record));
+    return trees.size();
+}
+
+std::vector<unsigned char> encodeTreeRecords(const VisibilityStore& store,
+                                             std::span<const PairKey> keys) {
+    ByteWriter w;
+    w.u64(0);  // the count, patched below
+    uint64_t count = 0;
+    for (const PairKey& key : keys)
+        if (const PairRecord* record = store.find(key)) {
+            writeRecord(w, key, *record, true);
+            ++count;
+        }
+    w.patchU64(0, count);
+    return std::move(w.bytes());
+}
+
+size_t decodeTreeRecords(std::span<const unsigned char> bytes, VisibilityStore& store,
+                         const std::string& source) {
+    std::vector<ParsedTree> trees;
+    try {
+        ByteReader p(bytes, 0);
+        const uint64_t count = p.u64();
+        if (count > p.left() / kRecordFixedBytes)
+            throw Corrupt("tree count " + std::to_string(count) + " does not fit in " +
+                          std::to_string(p.left()) + " bytes");
+        trees = parseRecords(p, count, store);
+    } catch (const Corrupt& e) {
+        throw VisibilityFileError(VisibilityFileStatus::Corrupt, source + ": " + e.what());
     }
     for (ParsedTree& t : trees) store.insert(t.key, std::move(t.record));
     return trees.size();

@@ -38,8 +38,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <span>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "engine/precompute/visibility_store.h"
 
@@ -80,5 +82,18 @@ size_t writeVisibilityFile(const std::filesystem::path& path, const VisibilitySt
 // store (keys already present keep their tree). Returns the number of trees in the file. Throws
 // VisibilityFileError (Missing, Unreadable, Corrupt or Stale); the store is unchanged then.
 size_t readVisibilityFile(const std::filesystem::path& path, VisibilityStore& store);
+
+// Trees in transit between processes (the cluster's precompute, engine/cluster/): the published
+// trees of `keys` (those the store holds, in the order given) as a u64 count followed by their
+// records in the file's own record format, with their build stats: the one encoding of a tree,
+// so that the trees a rank receives write the same bytes as the trees it builds.
+std::vector<unsigned char> encodeTreeRecords(const VisibilityStore& store,
+                                             std::span<const PairKey> keys);
+// Reads what encodeTreeRecords wrote, validates every record as readVisibilityFile does (against
+// store.scene() and its patches), and adds the trees to the store (keys already present keep
+// theirs). Returns the number of trees decoded. Throws VisibilityFileError (Corrupt, its message
+// starting with `source`, e.g. "rank 2"); the store is unchanged then.
+size_t decodeTreeRecords(std::span<const unsigned char> bytes, VisibilityStore& store,
+                         const std::string& source);
 
 }  // namespace penumbra

@@ -297,8 +297,7 @@ void PrecomputeScheduler::request(std::vector<PairKey> keys) {
     impl_->enqueue(keys, true);
 }
 
-void PrecomputeScheduler::requestAll() {
-    const VisibilityStore& store = impl_->store;
+std::vector<PairKey> everyPairKey(const VisibilityStore& store) {
     const Scene& scene = store.scene();
     std::vector<PairKey> keys;
     for (uint32_t f = 0; f < scene.faceCount(); ++f) {
@@ -307,6 +306,11 @@ void PrecomputeScheduler::requestAll() {
             for (uint32_t light : scene.lights)
                 if (light != f) keys.push_back({f, p, light});
     }
+    return keys;
+}
+
+void PrecomputeScheduler::requestAll() {
+    const std::vector<PairKey> keys = everyPairKey(impl_->store);
     std::lock_guard lock(impl_->mutex);
     impl_->enqueue(keys, false);
 }

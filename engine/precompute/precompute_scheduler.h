@@ -50,6 +50,11 @@ struct PrecomputeOptions {
     int threads = 0;               // concurrent builds; 0 = the cores (capped: see above)
 };
 
+// Every (receiver face, patch, light face) pair of the store's scene with receiver != light face,
+// for every light, in face order: what requestAll() builds (and the cluster's precompute hands
+// out, engine/cluster/). Costs O(faces x lights); computes the receivers' patches.
+std::vector<PairKey> everyPairKey(const VisibilityStore& store);
+
 class PrecomputeScheduler {
   public:
     // memoryBudgetBytes: 0 = unlimited.
@@ -60,9 +65,7 @@ class PrecomputeScheduler {
     PrecomputeScheduler& operator=(const PrecomputeScheduler&) = delete;
 
     void request(std::vector<PairKey> keys);  // in priority order, to the front; duplicates skipped
-    // Every (receiver face, patch, light face) of the scene with receiver != light face, for
-    // every light, in face order, to the back. Costs O(faces x lights) on the calling thread (the
-    // receivers' patches are computed here, once).
+    // everyPairKey(store), to the back, computed on the calling thread.
     void requestAll();
     PrecomputeProgress progress() const;
     void cancel();        // returns at once; running builds stop within a fraction of a second

@@ -25,6 +25,27 @@ std::string shellQuote(const std::string& s) {
     return q + "'";
 }
 
+bool haveMpi() {
+#ifdef PENUMBRA_MPIEXEC
+    return true;
+#else
+    return false;
+#endif
+}
+
+std::string mpirunCommand(int ranks, const std::vector<std::string>& args, int timeoutSeconds) {
+#ifdef PENUMBRA_MPIEXEC
+    std::string c = "timeout " + std::to_string(timeoutSeconds) + " " +
+                    shellQuote(PENUMBRA_MPIEXEC) + " --allow-run-as-root --oversubscribe -np " +
+                    std::to_string(ranks) + " " + shellQuote(PENUMBRA_EXE);
+    for (const std::string& a : args) c += " " + shellQuote(a);
+    return c;
+#else
+    (void)ranks, (void)args, (void)timeoutSeconds;
+    return {};
+#endif
+}
+
 ProcessResult runPenumbra(const std::vector<std::string>& args, const fs::path& workingDirectory) {
     ProcessResult r;
     // A directory of its own (mkdtemp): tests running in parallel never share the files.

@@ -23,4 +23,15 @@ std::string shellQuote(const std::string& s);
 ProcessResult runPenumbra(const std::vector<std::string>& args,
                           const std::filesystem::path& workingDirectory = {});
 
+// True when this build's penumbra has the cluster precompute (MPI: PENUMBRA_MPIEXEC names the
+// launcher).
+bool haveMpi();
+// The shell command line (no redirections) that runs `penumbra ARGS...` as `ranks` ranks of one
+// mpirun on this machine (as root too, more ranks than cores) under `timeout` (exit status 124
+// when it hangs). Empty without MPI. (The ranks end with _Exit after MPI_Finalize,
+// app/cli/precompute_command.cpp: no LeakSanitizer check runs in them, so nothing Open MPI keeps
+// at exit needs a suppression.)
+std::string mpirunCommand(int ranks, const std::vector<std::string>& args,
+                          int timeoutSeconds = 120);
+
 }  // namespace penumbra::test

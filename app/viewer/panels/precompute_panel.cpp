@@ -48,7 +48,8 @@ std::string PrecomputePanel::progressLine(const PrecomputeProgress& p) {
 }
 
 PrecomputePanel::Action PrecomputePanel::draw(const std::optional<PrecomputeProgress>& progress,
-                                              const EffectsSummary& effects, const Scene* scene) {
+                                              const EffectsSummary& effects, const Scene* scene,
+                                              const VisibilityLink& visibility) {
     Action action = Action::None;
     if (ImGui::Begin("Precompute", nullptr, kPanelWindow)) {
         if (progress) {
@@ -68,6 +69,18 @@ PrecomputePanel::Action PrecomputePanel::draw(const std::optional<PrecomputeProg
             }
         } else if (ImGui::Button("Precompute all (P)")) {
             action = Action::Start;
+        }
+        // The visibility file: where the trees come from and go.
+        if (visibility.attached()) {
+            ImGui::TextWrapped("Trees file: %s", visibility.file().string().c_str());
+            if (ImGui::Button("Load")) action = Action::LoadFile;
+            ImGui::SameLine();
+            if (ImGui::Button("Save")) action = Action::SaveFile;
+            if (!visibility.status().empty()) ImGui::TextWrapped("%s", visibility.status().c_str());
+        } else {
+            ImGui::TextWrapped("Trees file: not given (%s)",
+                               visibility.status().empty() ? "view SCENE --visibility FILE.pvis"
+                                                           : visibility.status().c_str());
         }
         // Below the precompute, the preview's: what its render simulated, said as such.
         ImGui::Separator();

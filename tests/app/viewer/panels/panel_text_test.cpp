@@ -102,7 +102,8 @@ TEST(PanelText, PrecomputePanelBeforeAnyRenderCountsTheScenesLights) {
         scene.pointLights.assign(2, PointLight{});
         frame(imgui, text, [&] {
             placeTestPanel(rect);
-            (void)viewer::PrecomputePanel::draw(job, EffectsSummary{}, &scene);
+            (void)viewer::PrecomputePanel::draw(job, EffectsSummary{}, &scene,
+                                                viewer::VisibilityLink{});
             text.take("Precompute");
         });
         const std::string& said = text.texts().at("Precompute");
@@ -123,7 +124,7 @@ TEST(PanelText, PrecomputePanelBeforeAnyRenderCountsTheScenesLights) {
     rendered.materialsAnalytic = 1;
     frame(imgui, text, [&] {
         placeTestPanel(rect);
-        (void)viewer::PrecomputePanel::draw(job, rendered, &scene);
+        (void)viewer::PrecomputePanel::draw(job, rendered, &scene, viewer::VisibilityLink{});
         text.take("Precompute");
     });
     EXPECT_TRUE(has(text.texts().at("Precompute"), "16 stratified shadow rays"));
@@ -131,7 +132,8 @@ TEST(PanelText, PrecomputePanelBeforeAnyRenderCountsTheScenesLights) {
     // No scene: nothing to count.
     frame(imgui, text, [&] {
         placeTestPanel(rect);
-        (void)viewer::PrecomputePanel::draw(job, EffectsSummary{}, nullptr);
+        (void)viewer::PrecomputePanel::draw(job, EffectsSummary{}, nullptr,
+                                            viewer::VisibilityLink{});
         text.take("Precompute");
     });
     EXPECT_TRUE(has(text.texts().at("Precompute"), "no scene open"));
