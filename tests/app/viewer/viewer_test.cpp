@@ -44,8 +44,6 @@ Camera lightCamera() {
     return c;
 }
 
-fs::path cornell() { return test::sourceDir() / "assets" / "cornell_box.obj"; }
-
 // At every window size from 1280x720 to 3840x2160, content scale 1 to 2 (HiDPI) and dragged
 // column widths (none, narrow, too wide for the window), the docked panels and the 3D view tile
 // the window: each inside it, no two overlapping, their areas summing to the window's; the view
@@ -104,12 +102,7 @@ TEST(ViewerLayout, PanelsTileTheWindowAtEverySizeAndScale) {
 TEST(ViewerLayout, WindowsStayApartAtHiDpiScale) {
     const fs::path dir = test::scratchDir("viewer_hidpi");
     auto shoot = [&](const std::string& size, const std::string& scale) {
-        const test::ProcessResult r = test::runPenumbraGl(
-            {"screenshot", cornell().string(), "--size", size, "--ui-scale", scale, "--point",
-             "278,0,280", "--no-preview", "--out", (dir / "shot.png").string(), "--state-out",
-             (dir / "state.json").string()});
-        EXPECT_EQ(r.exitCode, 0) << r.err;
-        return test::readJson(dir / "state.json");
+        return test::shootCornell(dir, {"--ui-scale", scale, "--point", "278,0,280"}, size);
     };
     for (const auto& [size, scale] :
          {std::pair<std::string, std::string>{"3840x2160", "2"}, {"1280x720", "1"}}) {
@@ -152,20 +145,8 @@ TEST(ViewerLayout, WindowsStayApartAtHiDpiScale) {
 // the flags' values otherwise.
 TEST(ViewerScreenshot, ExactOptionsInTheUiAreTheCommandLines) {
     const fs::path dir = test::scratchDir("viewer_exact_options");
-    auto shoot = [&](std::vector<std::string> extra) {
-        std::vector<std::string> args = {"screenshot",
-                                         cornell().string(),
-                                         "--size",
-                                         "640x400",
-                                         "--no-preview",
-                                         "--out",
-                                         (dir / "shot.png").string(),
-                                         "--state-out",
-                                         (dir / "state.json").string()};
-        args.insert(args.end(), extra.begin(), extra.end());
-        const test::ProcessResult r = test::runPenumbraGl(args);
-        EXPECT_EQ(r.exitCode, 0) << r.err;
-        return test::readJson(dir / "state.json")["exact"];
+    auto shoot = [&](const std::vector<std::string>& extra) {
+        return test::shootCornell(dir, extra, "640x400")["exact"];
     };
     const ExactOptions defaults;
     const json d = shoot({});
@@ -297,18 +278,16 @@ TEST(ViewerSceneList, EveryLoadableFormatInAssetsAndScenes) {
 TEST(ViewerScreenshot, FragmentOverlayAndPathMatchAnIndependentQuery) {
     const fs::path dir = test::scratchDir("viewer_screenshot");
     const Vec3 x{278, 0, 280};
-    const test::ProcessResult r = test::runPenumbraGl(
-        {"screenshot", cornell().string(), "--point", "278,0,280", "--camera", kCameraFlag,
-         "--size", "1280x800", "--no-preview", "--out", (dir / "shot.png").string(), "--state-out",
-         (dir / "state.json").string()});
+    test::ProcessResult r;
+    const json state =
+        test::shootCornell(dir, {"--point", "278,0,280", "--camera", kCameraFlag}, "1280x800", &r);
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    const json state = test::readJson(dir / "state.json");
     const test::Image image = test::readPng(dir / "shot.png");
     ASSERT_EQ(image.width, 1280);
     ASSERT_EQ(image.height, 800);
 
     // The path panel's state against an independent query.
-    const Scene scene = loadObj(cornell());
+    const Scene scene = loadObj(test::cornellObj());
     VisibilityStore store(scene);
     const uint32_t face = *findFaceContaining(scene, x).face;
     const std::vector<LightAtPoint> q = queryPoint(store, face, x, std::nullopt);
@@ -348,7 +327,7 @@ TEST(ViewerScreenshot, FragmentOverlayAndPathMatchAnIndependentQuery) {
     // state's point has from it (the viewer adds its own: the normal, the colours, the path
     // panel's rows, the times), with the same values.
     const test::ProcessResult qr =
-        test::runPenumbra({"query", cornell().string(), "--point", "278,0,280"});
+        test::runPenumbra({"query", test::cornellObj().string(), "--point", "278,0,280"});
     ASSERT_EQ(qr.exitCode, 0) << qr.err;
     const json answer = json::parse(qr.out);
     for (const auto& [key, value] : answer.items()) {
@@ -365,7 +344,7 @@ TEST(ViewerScreenshot, FragmentOverlayAndPathMatchAnIndependentQuery) {
     const int viewport[4] = {state["viewport"]["x"], state["viewport"]["y"],
                              state["viewport"]["width"], state["viewport"]["height"]};
     const int checked =
-        test::checkFragmentOverlay(image, lightCamera(), viewport, cornell(), face, x, 0);
+        test::checkFragmentOverlay(image, lightCamera(), viewport, test::cornellObj(), face, x, 0);
     EXPECT_GE(checked, 2);
 }
 
@@ -373,7 +352,7 @@ TEST(ViewerScreenshot, PickingAPixelInspectsTheSurfaceAnIndependentRayHits) {
     const fs::path dir = test::scratchDir("viewer_pick");
     // The view lies below the menu bar: its height as a screenshot of the same size draws it.
     const test::ProcessResult probe = test::runPenumbraGl(
-        {"screenshot", cornell().string(), "--size", "640x400", "--no-preview", "--out",
+        {"screenshot", test::cornellObj().string(), "--size", "640x400", "--no-preview", "--out",
          (dir / "probe.png").string(), "--state-out", (dir / "probe.json").string()});
     ASSERT_EQ(probe.exitCode, 0) << probe.err;
     viewer::LayoutSettings settings;
@@ -388,12 +367,12 @@ TEST(ViewerScreenshot, PickingAPixelInspectsTheSurfaceAnIndependentRayHits) {
     ASSERT_TRUE(c.project({400, 0, 120}, layout.view.width, layout.view.height, px, py));
     px += layout.view.x;
     py += layout.view.y;
-    const test::ProcessResult r = test::runPenumbraGl(
-        {"screenshot", cornell().string(), "--pixel", std::to_string(px) + "," + std::to_string(py),
-         "--camera", "278,273,-800,278,273,0,39", "--size", "640x400", "--no-preview", "--out",
-         (dir / "shot.png").string(), "--state-out", (dir / "state.json").string()});
+    test::ProcessResult r;
+    const json state = test::shootCornell(dir,
+                                          {"--pixel", std::to_string(px) + "," + std::to_string(py),
+                                           "--camera", "278,273,-800,278,273,0,39"},
+                                          "640x400", &r);
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    const json state = test::readJson(dir / "state.json");
     ASSERT_FALSE(state["point"].is_null());
     const json& p = state["point"]["point"];
     // The ray through the pixel centre meets the floor (face 0 of the Cornell box) near the
@@ -497,10 +476,10 @@ TEST(ViewerScreenshot, SampledPreviewConvergesToTheExactOne) {
     const fs::path dir = test::scratchDir("viewer_preview");
     auto run = [&](int lightSamples, int passes) {
         const test::ProcessResult r = test::runPenumbraGl(
-            {"screenshot", cornell().string(), "--size", "640x400", "--preview-mode", "diff",
-             "--light-samples", std::to_string(lightSamples), "--passes", std::to_string(passes),
-             "--out", (dir / "shot.png").string(), "--state-out", (dir / "state.json").string(),
-             "--preview-out", (dir / "preview.png").string()});
+            {"screenshot", test::cornellObj().string(), "--size", "640x400", "--preview-mode",
+             "diff", "--light-samples", std::to_string(lightSamples), "--passes",
+             std::to_string(passes), "--out", (dir / "shot.png").string(), "--state-out",
+             (dir / "state.json").string(), "--preview-out", (dir / "preview.png").string()});
         EXPECT_EQ(r.exitCode, 0) << r.err;
         return test::readJson(dir / "state.json");
     };
@@ -1072,7 +1051,7 @@ TEST(ViewerFallback, NoDisplayWritesTheHeadlessScreenshot) {
     const fs::path dir = test::scratchDir("viewer_fallback");
     const std::string command =
         "env -u DISPLAY -u WAYLAND_DISPLAY " + test::shellQuote(PENUMBRA_EXE) + " view " +
-        test::shellQuote(cornell().string()) + " --no-preview --out-dir " +
+        test::shellQuote(test::cornellObj().string()) + " --no-preview --out-dir " +
         test::shellQuote(dir.string()) + " >" + test::shellQuote((dir / "stdout").string()) +
         " 2>" + test::shellQuote((dir / "stderr").string());
     ASSERT_EQ(test::runShell(command), 0);
@@ -1106,7 +1085,7 @@ TEST(ViewerScreenshot, BadArgumentsAreRefusedWithTheReason) {
         {{"--preview-out", (dir / "p.jpg").string()}, 2, ".png, .pfm or .exr"},
     };
     for (const Case& c : cases) {
-        std::vector<std::string> args = {"screenshot", cornell().string(), "--out", out};
+        std::vector<std::string> args = {"screenshot", test::cornellObj().string(), "--out", out};
         args.insert(args.end(), c.args.begin(), c.args.end());
         const test::ProcessResult r = test::runPenumbraGl(args);
         EXPECT_EQ(r.exitCode, c.code) << c.args.front() << ": " << r.err;
@@ -1130,7 +1109,7 @@ TEST(ViewerScreenshot, EglBackendRendersTheSameOverlayOrSaysWhy) {
     setenv("ASAN_OPTIONS", (saved.empty() ? "detect_leaks=0" : saved + ":detect_leaks=0").c_str(),
            1);
     const test::ProcessResult r = test::runPenumbraGl(
-        {"screenshot", cornell().string(), "--point", "278,0,280", "--camera", kCameraFlag,
+        {"screenshot", test::cornellObj().string(), "--point", "278,0,280", "--camera", kCameraFlag,
          "--no-preview", "--backend", "egl", "--out", (dir / "shot.png").string(), "--state-out",
          (dir / "state.json").string()});
     if (previous != nullptr)
@@ -1146,9 +1125,9 @@ TEST(ViewerScreenshot, EglBackendRendersTheSameOverlayOrSaysWhy) {
     const test::Image image = test::readPng(dir / "shot.png");
     const int viewport[4] = {state["viewport"]["x"], state["viewport"]["y"],
                              state["viewport"]["width"], state["viewport"]["height"]};
-    EXPECT_GE(
-        test::checkFragmentOverlay(image, lightCamera(), viewport, cornell(), 0, {278, 0, 280}, 0),
-        2);
+    EXPECT_GE(test::checkFragmentOverlay(image, lightCamera(), viewport, test::cornellObj(), 0,
+                                         {278, 0, 280}, 0),
+              2);
 }
 
 }  // namespace
