@@ -90,8 +90,12 @@ std::optional<LightPanel::Move> LightPanel::draw(const Viewport& view, const Loa
                 ImGui::PopStyleColor();
             }
             if (scene->version > 0) {
+                if (status.kept > 0) ImGui::Text("%zu trees of other lights kept", status.kept);
                 if (status.invalidated == 0)
-                    ImGui::TextUnformatted("no tree was built before the move: none to rebuild");
+                    ImGui::TextUnformatted(status.kept > 0
+                                               ? "no tree went stale: none to rebuild"
+                                               : "no tree was built before the move: none to "
+                                                 "rebuild");
                 else if (status.rebuild &&
                          status.rebuild->state == PrecomputeProgress::State::Running)
                     ImGui::Text(

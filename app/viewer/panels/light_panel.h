@@ -24,6 +24,7 @@ struct LightMoveStatus {
     // The trees of the position before the move: how many were invalidated (0: none had been
     // built), and the background rebuild of those pairs in the moved scene (nullopt: none).
     size_t invalidated = 0;
+    size_t kept = 0;  // the trees the last move left true, kept (moved_light_trees.h)
     std::optional<PrecomputeProgress> rebuild;
     bool treeLess = false;  // the preview evaluates without trees (Preview::treeLess)
 };
