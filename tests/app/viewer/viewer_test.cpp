@@ -26,6 +26,8 @@
 #include "tests/support/exact_reference.h"
 #include "tests/support/read_exr.h"
 #include "tests/support/read_pfm.h"
+#include "tests/support/test_files.h"
+#include "tests/support/two_light_scene.h"
 
 namespace penumbra {
 namespace {
@@ -740,6 +742,33 @@ TEST(ViewerScreenshot, SavedViewReopensAsTheSameView) {
     }
 }
 
+// `penumbra render` of `scene` with the camera `camera` (+y up) at the size of the 3D view of a
+// screenshot's `state`, exact, one sample a pixel (as the preview's single pass): its linear image,
+// written to `out` (.pfm).
+std::vector<float> renderLikeThe3DView(const fs::path& scene, const std::string& camera,
+                                       const json& state, const fs::path& out) {
+    const int vw = state["panelRects"]["3D view"][2], vh = state["panelRects"]["3D view"][3];
+    const test::ProcessResult r =
+        test::runPenumbra({"render", scene.string(), "--camera", camera, "--up", "0,1,0", "--size",
+                           std::to_string(vw) + "x" + std::to_string(vh), "--spp", "1", "--method",
+                           "exact", "--out", out.string()});
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    int w = 0, h = 0;
+    std::vector<float> image = test::readPfm(out.string(), w, h);
+    EXPECT_EQ(w, vw);
+    EXPECT_EQ(h, vh);
+    return image;
+}
+
+// How many values of two images differ beyond 1e-4 relative (the same exact answer, whichever
+// path answered each point, gives 0).
+size_t differingValues(const std::vector<float>& a, const std::vector<float>& b) {
+    size_t n = 0;
+    for (size_t i = 0; i < a.size() && i < b.size(); ++i)
+        n += std::abs(a[i] - b[i]) > 1e-4f * std::max(1.0f, std::abs(b[i]));
+    return n + (a.size() > b.size() ? a.size() - b.size() : b.size() - a.size());
+}
+
 // Moving a light (`screenshot --move-light`, what the Move light window does): the rendered view
 // is the image `penumbra render` gives of the Cornell box whose OBJ file has the lamp's coordinates
 // moved by hand, the state lists those coordinates, the trees of the position before are dropped
@@ -800,18 +829,8 @@ TEST(ViewerScreenshot, MovedLightIsTheSceneWithTheLightMovedByHand) {
     std::ofstream(dir / "by_hand.obj") << obj;
     fs::copy_file(test::sourceDir() / "assets" / "cornell_box.mtl", dir / "cornell_box.mtl",
                   fs::copy_options::overwrite_existing);
-    const int vw = state["panelRects"]["3D view"][2], vh = state["panelRects"]["3D view"][3];
-    const std::string size = std::to_string(vw) + "x" + std::to_string(vh);
     auto render = [&](const fs::path& file, const std::string& name) {
-        const test::ProcessResult rr = test::runPenumbra(
-            {"render", file.string(), "--camera", camera, "--up", "0,1,0", "--size", size, "--spp",
-             "1", "--method", "exact", "--out", (dir / name).string()});
-        EXPECT_EQ(rr.exitCode, 0) << rr.err;
-        int w = 0, h = 0;
-        std::vector<float> image = test::readPfm((dir / name).string(), w, h);
-        EXPECT_EQ(w, vw);
-        EXPECT_EQ(h, vh);
-        return image;
+        return renderLikeThe3DView(file, camera, state, dir / name);
     };
     const std::vector<float> byHand = render(dir / "by_hand.obj", "by_hand.pfm");
     const std::vector<float> unmoved =
@@ -819,14 +838,7 @@ TEST(ViewerScreenshot, MovedLightIsTheSceneWithTheLightMovedByHand) {
     int w = 0, h = 0;
     const std::vector<float> shown = test::readPfm((dir / "moved.pfm").string(), w, h);
     ASSERT_EQ(shown.size(), byHand.size());
-    // Counts of values that differ beyond 1e-4 relative (the same exact answer, whichever path
-    // answered each point).
-    auto differing = [](const std::vector<float>& a, const std::vector<float>& b) {
-        size_t n = 0;
-        for (size_t i = 0; i < a.size(); ++i)
-            n += std::abs(a[i] - b[i]) > 1e-4f * std::max(1.0f, std::abs(b[i]));
-        return n;
-    };
+    const auto differing = differingValues;
     EXPECT_EQ(differing(shown, byHand), 0u);
     EXPECT_GT(differing(unmoved, byHand), byHand.size() / 10);  // the move shows
 
@@ -860,6 +872,87 @@ TEST(ViewerScreenshot, MovedLightIsTheSceneWithTheLightMovedByHand) {
                              (dir / "alone.png").string()});
     EXPECT_NE(alone.exitCode, 0);
     EXPECT_NE(alone.err.find("give --move-light N"), std::string::npos) << alone.err;
+}
+
+// Moving light 1 of a two-light scene after every pair was precomputed (`screenshot --precompute
+// --move-light`): light 1 stays outside every shaft of light 0 (tests/support/two_light_scene.h),
+// so light 0's trees are kept but the one whose receiver is light 1, and only the rest is rebuilt.
+// Counted by hand: with P receiver patches in all (one per light), each light has P - 1 trees;
+// light 0 keeps P - 2, light 1's P - 1 and that one go; once rebuilt the store holds 2 (P - 1)
+// again, so kept = stored / 2 - 1 and dropped = stored / 2 + 1. The image is `penumbra render` of
+// the scene whose file has light 1 moved by hand. `view` takes the same options (its no-display
+// screenshot) and keeps as many.
+TEST(ViewerScreenshot, MovingOneLightKeepsTheOtherLightsTrees) {
+    const fs::path dir = test::scratchDir("viewer_move_one_of_two");
+    const fs::path byHandDir = dir / "by_hand";
+    fs::create_directories(byHandDir);
+    const std::string scene = test::writeTwoLightScene(dir).string();
+    // x in [3, 3.5], y = 0.875, z in [-0.25, 0.25]: light 1's corners plus (0.25, -0.125, 0).
+    const fs::path byHand = test::writeTwoLightScene(byHandDir, {0.25, -0.125, 0});
+    const std::string camera = "1.5,3,4.5,1.5,0,0,50";
+    const std::vector<std::string> move = {
+        "--move-light",    "1", "--translate", "0.25,-0.125,0", "--precompute",
+        "--refine-levels", "0", "--camera",    camera,          "--size",
+        "640x400"};
+    std::vector<std::string> args = {"screenshot",    scene,
+                                     "--passes",      "1",
+                                     "--out",         (dir / "moved.png").string(),
+                                     "--state-out",   (dir / "moved.json").string(),
+                                     "--preview-out", (dir / "moved.pfm").string()};
+    args.insert(args.end(), move.begin(), move.end());
+    const test::ProcessResult r = test::runPenumbraGl(args);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const json state = test::readJson(dir / "moved.json");
+    const json& moves = state["lightMoves"];
+    EXPECT_FALSE(moves["rebuilding"].get<bool>());
+    EXPECT_EQ(moves["treesNotKeptBecause"], "");
+    const size_t stored = moves["treesInStore"], kept = moves["treesKept"],
+                 dropped = moves["treesDropped"];
+    ASSERT_EQ(stored % 2, 0u);
+    EXPECT_GT(stored, 8u);  // the floor is split into patches
+    EXPECT_EQ(kept, stored / 2 - 1);
+    EXPECT_EQ(dropped, stored / 2 + 1);
+    ASSERT_EQ(state["lights"].size(), 2u);
+    EXPECT_FALSE(state["lights"][0]["moved"].get<bool>());
+    EXPECT_TRUE(state["lights"][1]["moved"].get<bool>());
+    EXPECT_EQ(
+        state["lights"][1]["vertices"],
+        json({{3.0, 0.875, -0.25}, {3.5, 0.875, -0.25}, {3.5, 0.875, 0.25}, {3.0, 0.875, 0.25}}));
+
+    const std::vector<float> expected =
+        renderLikeThe3DView(byHand, camera, state, dir / "by_hand.pfm");
+    const std::vector<float> unmoved =
+        renderLikeThe3DView(scene, camera, state, dir / "unmoved.pfm");
+    int w = 0, h = 0;
+    const std::vector<float> shown = test::readPfm((dir / "moved.pfm").string(), w, h);
+    EXPECT_EQ(differingValues(shown, expected), 0u);
+    EXPECT_GT(differingValues(unmoved, expected), expected.size() / 100);  // the move shows
+
+    // `view` with the same options, no display: its headless screenshot keeps as many trees.
+    const fs::path viewDir = dir / "view";
+    std::string command = "env -u DISPLAY -u WAYLAND_DISPLAY " + test::shellQuote(PENUMBRA_EXE) +
+                          " view " + test::shellQuote(scene) + " --no-preview --out-dir " +
+                          test::shellQuote(viewDir.string());
+    for (const std::string& a : move) command += " " + test::shellQuote(a);
+    command += " >" + test::shellQuote((dir / "view_stdout").string()) + " 2>" +
+               test::shellQuote((dir / "view_stderr").string());
+    ASSERT_EQ(test::runShell(command), 0) << test::readFile(dir / "view_stderr");
+    const json viewState = test::readJson(viewDir / "view_state.json");
+    EXPECT_EQ(viewState["lightMoves"]["treesKept"], kept);
+    EXPECT_EQ(viewState["lights"][1]["vertices"], state["lights"][1]["vertices"]);
+    EXPECT_TRUE(viewState["lightMoves"]["windowShown"].get<bool>());
+    // And refuses what screenshot refuses, naming the option.
+    const test::ProcessResult bad = test::runPenumbra(
+        {"view", scene, "--no-preview", "--out-dir", viewDir.string(), "--translate", "1,0,0"});
+    EXPECT_NE(bad.exitCode, 0);
+    EXPECT_NE(bad.err.find("view: --translate, --rotate and --scale move a light: give "
+                           "--move-light N"),
+              std::string::npos)
+        << bad.err;
+    const test::ProcessResult missing = test::runPenumbra(
+        {"view", scene, "--no-preview", "--out-dir", viewDir.string(), "--move-light", "2"});
+    EXPECT_NE(missing.exitCode, 0);
+    EXPECT_NE(missing.err.find("--move-light: no light 2"), std::string::npos) << missing.err;
 }
 
 // A scene without lights opens with the default light (engine/scene/default_light.h): the status
