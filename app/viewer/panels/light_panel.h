@@ -51,7 +51,7 @@ class LightPanel {
     LightMove edit_;                        // what the fields show
     uint64_t shownVersion_ = ~uint64_t{0};  // the scene version edit_ was taken from
     const LoadedScene* shownScene_ = nullptr;
-    float lastWidth_ = 340;  // the window's width when last drawn (where it opens)
+    float lastWidth_ = 0;  // the window's width when last drawn (where it opens; 0: never)
 };
 
 }  // namespace penumbra::viewer
