@@ -3,8 +3,9 @@
 # OSMesa), on assets/stairs.obj and assets/grids.obj with a penumbra point inspected and the
 # side-by-side preview, plus one PNG per panel cropped with the panel rectangles the state JSON
 # reports; the Cornell box's "Accuracy vs time" panel (--accuracy) and its lamp moved
-# (--move-light); the table scene's panels arranged and its History tree enlarged. Needs a build
-# (build/app/penumbra) and ImageMagick.
+# (--move-light); the table scene's panels arranged and its History tree enlarged (README's top
+# image); the rendered view of table, stairs, grids and the bunny in the Cornell box in its modes.
+# Needs a build (build/app/penumbra), ImageMagick, and for the bunny scripts/fetch_meshes.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 exe=./build/app/penumbra
@@ -56,4 +57,39 @@ echo '{"helpSeen": true}' >"$tmp/help_seen.json"  # as on a second run: Help clo
 for shot in table_arranged table_tree_enlarged; do
   convert "$tmp/$shot.png" -strip -define png:compression-level=9 "$dir/$shot.png"
 done
+# The rendered view (the preview in the 3D view, the viewer's first screen) in its exact, side by
+# side (exact | 16 shadow rays) and difference modes on table, stairs and grids with a point
+# inspected, Help closed as on a second run; the bunny in the Cornell box close up (its difference
+# and answers views with their colour scales, a pixel hovered in the answers). Written as 8-bit palette PNGs
+# when that is lossless enough to keep each under 300 KB.
+keep() {  # name: $tmp/name.png -> $dir/name.png, small
+  convert "$tmp/$1.png" -strip -define png:compression-level=9 "$dir/$1.png"
+  if [ "$(stat -c %s "$dir/$1.png")" -gt 300000 ]; then
+    convert "$tmp/$1.png" -strip -colors 256 -define png:compression-level=9 "$dir/$1.png"
+  fi
+}
+view_shot() {  # name scene mode [options...]
+  local name=$1 scene=$2 mode=$3
+  shift 3
+  echo '{"helpSeen": true}' >"$tmp/second_run.json"  # the default layout, Help closed
+  "$exe" screenshot "$scene" --view "$mode" --passes 8 --size 1280x800 \
+    --settings "$tmp/second_run.json" "$@" --out "$tmp/$name.png"
+  keep "$name"
+}
+for mode in rendered side diff; do
+  view_shot "table_view_$mode" assets/scenes/table.json "$mode" --point 0.511269,-0.152198,0.75
+  view_shot "stairs_view_$mode" assets/stairs.obj "$mode" --point 2.8,1.0,0
+  view_shot "grids_view_$mode" assets/grids.obj "$mode" --point 0.3,0.3,0
+done
+if [ -f assets/external/bunny.obj ]; then
+  bunny=(assets/scenes/bunny_in_box.json --camera 425,230,-330,425,100,125,40)
+  for mode in rendered side diff; do
+    view_shot "bunny_in_box_view_$mode" "${bunny[0]}" "$mode" "${bunny[@]:1}"
+  done
+  # A pixel of the bunny's self-shadowed body hovered: how the exact render answered it.
+  view_shot bunny_in_box_view_answers "${bunny[0]}" answers "${bunny[@]:1}" --hover 600,440
+else
+  echo "docs_screenshots.sh: no assets/external/bunny.obj (bash scripts/fetch_meshes.sh):" \
+    "the bunny_in_box_view_* screenshots are left as they are" >&2
+fi
 ls -la "$dir"

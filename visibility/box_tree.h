@@ -75,9 +75,11 @@ class BoxTree {
         return false;
     }
 
-  private:
-    // The same with PlaneOrient::boxNegative per box.
+    // The same with PlaneOrient::boxNegative per box (any box): the test notOutside makes of each
+    // box when the planes are too many to bound.
     static bool outsideOne(std::span<const PlaneOrient> planes, const Bounds3& box);
+
+  private:
     struct Node {
         Bounds3 box;
         uint32_t right = 0;           // inner: the right child (the left one is this + 1); leaf: 0

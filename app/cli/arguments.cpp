@@ -1,6 +1,7 @@
 #include "app/cli/arguments.h"
 
 #include <CLI/CLI.hpp>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -132,6 +133,58 @@ void addExactOptions(CLI::App& sub, ExactOptions& o, ExactOptionSet set) {
                    "trees, up to this many levels (the same answer; 0 = never)")
         ->check(CLI::Range(0, PatchLayout::kMaxRefineLevels))
         ->capture_default_str();
+}
+
+void addLightMoveOptions(CLI::App& sub, LightMoveOptions& o) {
+    sub.add_option("--move-light", o.light,
+                   "Move area light N (0 = the first) as the Move light window does, about its "
+                   "centre: --scale, then --rotate, then --translate; the trees it leaves true are "
+                   "kept, the others rebuilt")
+        ->type_name("N");
+    sub.add_option("--translate", o.translate, "With --move-light: translate it by this")
+        ->type_name("X,Y,Z");
+    sub.add_option("--rotate", o.rotate,
+                   "With --move-light: rotate it about its centre, degrees about x, then y, then z")
+        ->type_name("AX,AY,AZ");
+    sub.add_option("--scale", o.scale,
+                   "With --move-light: scale it about its centre along the axes (each > 0)")
+        ->type_name("S|SX,SY,SZ");
+}
+
+std::optional<std::pair<uint32_t, LightMove>> parseLightMove(const CLI::App& sub,
+                                                             const LightMoveOptions& o,
+                                                             std::string_view command) {
+    const bool parts =
+        sub.count("--translate") > 0 || sub.count("--rotate") > 0 || sub.count("--scale") > 0;
+    if (sub.count("--move-light") == 0) {
+        if (parts)
+            throw usageError(std::string(command) +
+                             ": --translate, --rotate and --scale move a light: give "
+                             "--move-light N");
+        return std::nullopt;
+    }
+    if (o.light < 0)
+        throw usageError("--move-light: expected a light number (0, 1, ...), got " +
+                         std::to_string(o.light));
+    if (o.light > std::numeric_limits<uint32_t>::max())
+        throw usageError("--move-light: no light " + std::to_string(o.light));
+    LightMove move;
+    if (sub.count("--translate") > 0) {
+        const auto v = parseNumberList("--translate", o.translate, 3);
+        move.translate = {v[0], v[1], v[2]};
+    }
+    if (sub.count("--rotate") > 0) {
+        const auto v = parseNumberList("--rotate", o.rotate, 3);
+        move.rotateDegrees = {v[0], v[1], v[2]};
+    }
+    if (sub.count("--scale") > 0) {
+        const bool one = o.scale.find(',') == std::string::npos;
+        const auto v = parseNumberList("--scale", o.scale, one ? 1 : 3);
+        move.scale = one ? Vec3{v[0], v[0], v[0]} : Vec3{v[0], v[1], v[2]};
+    }
+    if (const auto problem = lightMoveProblem(move))
+        throw usageError("--move-light " + std::to_string(o.light) + ": " + *problem);
+    return std::pair{static_cast<uint32_t>(o.light), move};
 }
 
 }  // namespace penumbra::cli

@@ -4,13 +4,17 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <optional>
+#include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "engine/io/load_options.h"
 #include "engine/render/exact_options.h"
 #include "engine/scene/camera.h"
+#include "engine/scene/light_move.h"
 
 namespace CLI {
 class App;
@@ -56,5 +60,21 @@ struct SceneOptions {
     LoadOptions load() const;
 };
 void addSceneOptions(CLI::App& sub, SceneOptions& options);
+
+// Moving an area light as the viewer's Move light window does (engine/scene/light_move.h), the
+// same in `view` and `screenshot` (addLightMoveOptions): --move-light N, and --translate X,Y,Z,
+// --rotate AX,AY,AZ (degrees about x, then y, then z) and --scale S|SX,SY,SZ, which need it.
+struct LightMoveOptions {
+    int64_t light = -1;
+    std::string translate, rotate, scale;
+};
+void addLightMoveOptions(CLI::App& sub, LightMoveOptions& options);
+// The light and its move, or nullopt without --move-light. Throws a usage error for --translate,
+// --rotate or --scale without --move-light, a negative light number, a malformed value or a move
+// lightMoveProblem refuses (a scale factor of 0), naming the option. `command` names the
+// subcommand in the message ("screenshot", "view").
+std::optional<std::pair<uint32_t, LightMove>> parseLightMove(const CLI::App& sub,
+                                                             const LightMoveOptions& options,
+                                                             std::string_view command);
 
 }  // namespace penumbra::cli

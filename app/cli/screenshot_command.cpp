@@ -16,16 +16,14 @@
 #include "app/viewer/host/headless_host.h"
 #include "app/viewer/panel_arrangement.h"
 #include "engine/io/image_io.h"
-#include "engine/scene/light_move.h"
 
 namespace penumbra::cli {
 namespace {
 
 struct ScreenshotOptions {
     std::string scene, point, pixel, hover, camera, size = "1280x800", out, stateOut, previewOut,
-                                                    saveView, translate, rotate, scale, settings,
-                                                    enlarge, visibility;
-    int64_t moveLight = -1;
+                                                    saveView, settings, enlarge, visibility;
+    LightMoveOptions move;
     std::vector<std::string> panels, collapse;
     bool resetLayout = false;
     std::string backend = "osmesa", previewMode = "exact", view = "rendered";
@@ -71,34 +69,7 @@ void runScreenshot(const CLI::App& sub, const ScreenshotOptions& o) {
         h.pixel = std::array<double, 2>{v[0], v[1]};
     }
     if (sub.count("--camera") > 0) h.camera = parseCamera("--camera", o.camera);
-    const bool moveParts =
-        sub.count("--translate") > 0 || sub.count("--rotate") > 0 || sub.count("--scale") > 0;
-    if (moveParts && sub.count("--move-light") == 0)
-        throw usageError(
-            "screenshot: --translate, --rotate and --scale move a light: give "
-            "--move-light N");
-    if (sub.count("--move-light") > 0) {
-        if (o.moveLight < 0)
-            throw usageError("--move-light: expected a light number (0, 1, ...), got " +
-                             std::to_string(o.moveLight));
-        LightMove move;
-        if (sub.count("--translate") > 0) {
-            const auto v = parseNumberList("--translate", o.translate, 3);
-            move.translate = {v[0], v[1], v[2]};
-        }
-        if (sub.count("--rotate") > 0) {
-            const auto v = parseNumberList("--rotate", o.rotate, 3);
-            move.rotateDegrees = {v[0], v[1], v[2]};
-        }
-        if (sub.count("--scale") > 0) {
-            const bool one = o.scale.find(',') == std::string::npos;
-            const auto v = parseNumberList("--scale", o.scale, one ? 1 : 3);
-            move.scale = one ? Vec3{v[0], v[0], v[0]} : Vec3{v[0], v[1], v[2]};
-        }
-        if (const auto problem = lightMoveProblem(move))
-            throw usageError("--move-light " + std::to_string(o.moveLight) + ": " + *problem);
-        h.moveLight = std::pair{static_cast<uint32_t>(o.moveLight), move};
-    }
+    h.moveLight = parseLightMove(sub, o.move, "screenshot");
     if (sub.count("--hover") > 0) {
         const auto v = parseNumberList("--hover", o.hover, 2);
         h.hover = std::array<double, 2>{v[0], v[1]};
@@ -203,19 +174,7 @@ void registerScreenshotCommand(CLI::App& app) {
     sub->add_option("--camera", o->camera, "Camera: eye, target, vertical field of view")
         ->type_name("EX,EY,EZ,TX,TY,TZ[,FOV]");
     sub->add_option("--size", o->size, "Image size (default 1280x800)")->type_name("WxH");
-    sub->add_option("--move-light", o->moveLight,
-                    "Move area light N (0 = the first) as the Move light window does, before "
-                    "anything else; its trees are rebuilt before the screenshot")
-        ->type_name("N");
-    sub->add_option("--translate", o->translate, "With --move-light: translate it by this")
-        ->type_name("X,Y,Z");
-    sub->add_option(
-           "--rotate", o->rotate,
-           "With --move-light: rotate it about its centre, degrees about x, then y, then z")
-        ->type_name("AX,AY,AZ");
-    sub->add_option("--scale", o->scale,
-                    "With --move-light: scale it about its centre along the axes (each > 0)")
-        ->type_name("S|SX,SY,SZ");
+    addLightMoveOptions(*sub, o->move);
     sub->add_option("--out", o->out, "The screenshot (PNG)")->required()->type_name("FILE.png");
     sub->add_option("--state-out", o->stateOut, "The UI state as JSON")->type_name("FILE.json");
     sub->add_option("--preview-out", o->previewOut,
@@ -263,8 +222,9 @@ void registerScreenshotCommand(CLI::App& app) {
                     "(else reported and rebuilt); --precompute writes it back")
         ->type_name("FILE.pvis");
     sub->add_flag("--precompute", o->precompute,
-                  "Precompute every pair in the background while drawing frames; the state "
-                  "JSON records the frame times");
+                  "Precompute every pair in the background while drawing frames (with "
+                  "--move-light, before the light moves); the state JSON records the frame "
+                  "times");
     sub->add_flag("--accuracy", o->accuracy,
                   "Run the view's accuracy-vs-time study (64x64, 2 spp: exact against 1..1024 "
                   "shadow rays) in the background while drawing frames, and show its panel");

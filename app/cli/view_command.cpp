@@ -1,4 +1,5 @@
-// `penumbra view [SCENE] [--camera ...] [--size WxH] [--state-out FILE.json]`
+// `penumbra view [SCENE] [--camera ...] [--size WxH] [--state-out FILE.json]
+//  [--move-light N [--translate X,Y,Z] [--rotate AX,AY,AZ] [--scale S|SX,SY,SZ]] ...`
 //
 // The interactive viewer and visibility debugger in a window (app/viewer/host/window_host.h). With
 // no display it says so and writes what the window would have shown instead: the headless
@@ -27,6 +28,7 @@ struct ViewOptions {
     bool precompute = false;
     SceneOptions sceneOptions;
     ExactOptions exact;
+    LightMoveOptions move;
 };
 
 void runView(const CLI::App& sub, const ViewOptions& o) {
@@ -39,8 +41,12 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
     if (!viewer::parseViewName(o.view, view, mode))
         throw usageError("--view: expected " + std::string(viewer::kViewNames) + ", got '" +
                          o.view + "'");
+    const std::optional<std::pair<uint32_t, LightMove>> move = parseLightMove(sub, o.move, "view");
     // Scene problems are reported before any window opens.
-    (void)loadSceneFile(o.scene, o.sceneOptions.load());
+    const Scene scene = loadSceneFile(o.scene, o.sceneOptions.load());
+    if (move && move->first >= scene.lights.size())
+        throw usageError("--move-light: no light " + std::to_string(move->first) + " (" + o.scene +
+                         " has " + std::to_string(scene.lights.size()) + ")");
     const std::string why = viewer::windowUnavailableReason();
     if (why.empty()) {
         viewer::WindowOptions w;
@@ -57,6 +63,7 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
         w.viewer.view = view;
         w.viewer.previewSettings.mode = mode;
         w.precompute = o.precompute;
+        w.moveLight = move;
         w.viewer.settingsFile = sub.count("--settings") > 0 ? std::filesystem::path(o.settings)
                                                             : viewer::defaultSettingsPath();
         try {
@@ -82,6 +89,8 @@ void runView(const CLI::App& sub, const ViewOptions& o) {
     h.viewer.load = o.sceneOptions.load();
     h.viewer.view = view;
     h.viewer.previewSettings.mode = mode;
+    h.moveLight = move;
+    h.precompute = o.precompute;
     const std::filesystem::path dir(o.outDir);
     h.out = dir / "view.png";
     h.stateOut = o.stateOut.empty() ? dir / "view_state.json" : std::filesystem::path(o.stateOut);
@@ -146,7 +155,9 @@ void registerViewCommand(CLI::App& app) {
                     "the Precompute panel's Save write it back")
         ->type_name("FILE.pvis");
     sub->add_flag("--precompute", o->precompute,
-                  "Start precomputing every pair in the background when the scene opens");
+                  "Start precomputing every pair in the background when the scene opens (with "
+                  "--move-light, before the light moves)");
+    addLightMoveOptions(*sub, o->move);
     addSceneOptions(*sub, o->sceneOptions);
     sub->callback([sub, o] { runView(*sub, *o); });
 }

@@ -43,9 +43,13 @@ std::shared_ptr<LoadedScene> withLightMoves(const LoadedScene& from, std::vector
     moves.resize(s->scene.lights.size());
     for (uint32_t i = 0; i < moves.size(); ++i)
         if (!moves[i].isIdentity()) moveLight(s->scene, i, moves[i]);
+    std::vector<uint32_t> movedFaces;  // the lights whose move changed, before or now
+    for (uint32_t i = 0; i < moves.size(); ++i)
+        if (moves[i] != from.lightMove(i)) movedFaces.push_back(s->scene.lights[i]);
     s->lightMoves = std::move(moves);
     s->version = version;
     loaded_scene_detail::index(*s, exact);
+    s->kept = keepTreesPastLightMove(*from.store, *from.bvh, *s->store, *s->bvh, movedFaces);
     return s;
 }
 

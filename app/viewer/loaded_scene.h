@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "engine/io/load_options.h"
+#include "engine/precompute/moved_light_trees.h"
 #include "engine/precompute/visibility_store.h"
 #include "engine/raytrace/embree_scene.h"
 #include "engine/render/exact_options.h"
@@ -27,10 +28,13 @@ struct LoadedScene {
     // LoadedScene (its own BVH and an empty store: every tree of the version before is stale), made
     // from the scene as the file gave it (`asOpened`: null until the first move, then shared by
     // every version) with one move per light from there (identity: not moved), so that dragging a
-    // light never accumulates rounding. `version`: 0 as opened, one more per move.
+    // light never accumulates rounding. `version`: 0 as opened, one more per move. `kept`: the
+    // trees of the version before that this one's store took over (those the move left true:
+    // engine/precompute/moved_light_trees.h), the rest are stale.
     std::shared_ptr<const Scene> asOpened;
     std::vector<LightMove> lightMoves;
     uint64_t version = 0;
+    KeptTrees kept;
 
     // The move of light `light` (identity when it was not moved).
     LightMove lightMove(uint32_t light) const;
@@ -47,8 +51,9 @@ std::shared_ptr<LoadedScene> loadScene(const std::filesystem::path& path, const 
                                        const LoadOptions& load = LoadOptions::forCommands());
 
 // The next version of `from` with its lights moved by `moves` (one per light, or fewer: the rest
-// not moved), each from where the file put it: the scene, its BVH and an empty store (the build
-// budget of `exact`), numbered `version`. Throws SceneError for a move the contract refuses
+// not moved), each from where the file put it: the scene, its BVH and a store (the build budget of
+// `exact`) holding the trees of `from` that the lights whose move changed leave true (`kept`),
+// numbered `version`. Throws SceneError for a move the contract refuses
 // (light_move.h). Costs a scene copy and a BVH build: run it off the UI thread.
 std::shared_ptr<LoadedScene> withLightMoves(const LoadedScene& from, std::vector<LightMove> moves,
                                             const ExactOptions& exact, uint64_t version);

@@ -202,14 +202,17 @@ bool Viewer::moveLight(uint32_t light, const LightMove& move) {
 }
 
 void Viewer::lightMoveArrived(std::shared_ptr<LoadedScene> moved) {
-    // Every tree of the scene before is stale: the moved face is an occluder of every pair whose
-    // shaft it crosses, before or after the move (not only of its own pairs), and the receivers'
-    // patches follow the scene's bounds, which the light may have changed. So all of them go with
-    // the old store (nothing of it is used again), and their (receiver, light) pairs, with those
-    // of an earlier move not rebuilt yet, are rebuilt in the moved scene in the background.
+    // The moved scene's store holds the trees the move left true (moved->kept: those of other
+    // lights' pairs whose shaft the moved light crosses neither before nor after the move,
+    // engine/precompute/moved_light_trees.h). The others are stale: the moved light's own pairs,
+    // and the pairs it occludes or occluded (it is a face of the scene like any other). They go
+    // with the old store, and their (receiver, light) pairs, with those of an earlier move not
+    // rebuilt yet, are rebuilt in the moved scene in the background (a refined sub-patch's tree,
+    // a cache of the render, is built again where the render asks).
     size_t dropped = 0;
     scene_->store->forEach([&](const PairKey& key, const PairRecord&) {
-        rebuildPairs_.insert({key.receiver, key.lightFace});
+        if (moved->store->find(key) != nullptr) return;  // kept
+        if (PatchLayout::refineLevel(key) == 0) rebuildPairs_.insert({key.receiver, key.lightFace});
         ++dropped;
     });
     uint32_t which = 0;  // the light whose move changed (for the status line)
@@ -232,6 +235,7 @@ void Viewer::lightMoveArrived(std::shared_ptr<LoadedScene> moved) {
             keys.push_back({receiver, patch, lightFace});
     }
     lightStatus_.invalidated += dropped;
+    lightStatus_.kept = scene_->kept.kept;
     lightRebuild_ = !keys.empty();
     if (lightRebuild_) precompute_.start(*scene_->store, std::move(keys));
     precomputeWatched_ = false;
@@ -240,6 +244,7 @@ void Viewer::lightMoveArrived(std::shared_ptr<LoadedScene> moved) {
     if (point) selectPoint(point->first, point->second);
     status_ = "light " + std::to_string(which) + " moved: the preview" +
               (point ? " and the point answer" : "") + " from the tree-less query; " +
+              std::to_string(scene_->kept.kept) + " trees of other lights kept, " +
               std::to_string(dropped) + " trees of the position before dropped" +
               (lightRebuild_ ? ", " + std::to_string(rebuildPairs_.size()) +
                                    " (receiver, light) pairs rebuilding in the background"

@@ -131,6 +131,8 @@ nlohmann::json Viewer::stateJson() const {
     s["lightMoves"] = {{"sceneVersion", scene_ ? scene_->version : 0},
                        {"treesInStore", scene_ ? scene_->store->treeCount() : 0},
                        {"treesDropped", lightStatus_.invalidated},
+                       {"treesKept", lightStatus_.kept},
+                       {"treesNotKeptBecause", scene_ ? scene_->kept.noneBecause : ""},
                        {"building", lightJob_.busy()},
                        {"rebuilding", lightRebuild_},
                        {"previewTreeLess", preview_.treeLess()},

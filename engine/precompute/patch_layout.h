@@ -41,6 +41,9 @@ class PatchLayout {
 
     // The patches of a receiver face (computed on first use, thread-safe).
     const vis::ReceiverPatches& patches(uint32_t face) const;
+    // The largest diameter a patch may have (patchFraction of the mesh's bounds' diagonal; 0:
+    // faces are not split): two layouts with the same one split every unchanged face alike.
+    double maxPatchDiameter() const { return maxPatchDiameter_; }
     // How many patches a receiver face has (at least 1), without making them: what counting
     // every pair of a large scene needs (patches() keeps each face's patches once made).
     size_t patchCount(uint32_t face) const;

@@ -378,20 +378,37 @@ std::vector<uint32_t> EmbreeScene::shaftCandidates(uint32_t receiver, std::span<
     // The faces whose box is not certainly outside a supporting plane of the hull of the region
     // and the light (the segments between them lie in that hull): a box query of the hierarchy
     // with the hull's planes, certain skips only.
-    const std::vector<Vec3> lightPoints = facePolygon(light);
-    const std::vector<vis::PlaneOrient> hull = vis::hullPlanes(region, lightPoints);
+    const ShaftBound shaft = shaftBound(region, light);
     std::vector<uint32_t> out;
-    if (hull.empty() || region.size() < 3 || lightPoints.size() < 3) {  // degenerate: the box
-        vis::Bounds3 shaft;
-        for (const Vec3& p : region) shaft.add(p);
-        for (const Vec3& p : lightPoints) shaft.add(p);
-        shaftTree_.overlapping(shaft, out);
-    } else {
-        shaftTree_.notOutside(hull, out);
-    }
+    if (shaft.hull.empty())
+        shaftTree_.overlapping(shaft.box, out);
+    else
+        shaftTree_.notOutside(shaft.hull, out);
     std::erase_if(out, [&](uint32_t f) { return f == receiver || f == light; });
     std::sort(out.begin(), out.end());
     return out;
+}
+
+EmbreeScene::ShaftBound EmbreeScene::shaftBound(std::span<const Vec3> region,
+                                                uint32_t light) const {
+    const std::vector<Vec3> lightPoints = facePolygon(light);
+    ShaftBound shaft;
+    if (region.size() >= 3 && lightPoints.size() >= 3)
+        shaft.hull = vis::hullPlanes(region, lightPoints);
+    if (shaft.hull.empty()) {  // degenerate: the box
+        for (const Vec3& p : region) shaft.box.add(p);
+        for (const Vec3& p : lightPoints) shaft.box.add(p);
+    }
+    return shaft;
+}
+
+bool EmbreeScene::mayCutShaft(uint32_t face, std::span<const Vec3> region, uint32_t light) const {
+    checkFace(face, "face");
+    checkFace(light, "light");
+    const vis::Bounds3 box{faceBox_[face].lo, faceBox_[face].hi};
+    const ShaftBound shaft = shaftBound(region, light);
+    return shaft.hull.empty() ? box.overlaps(shaft.box)
+                              : !vis::BoxTree::outsideOne(shaft.hull, box);
 }
 
 }  // namespace penumbra

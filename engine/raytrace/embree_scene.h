@@ -122,6 +122,12 @@ class EmbreeScene {
     // the light instead of the receiver's.
     std::vector<uint32_t> shaftCandidates(uint32_t receiver, std::span<const Vec3> region,
                                           uint32_t light) const;
+    // Whether `face` may cut the shaft between `region` (a part of a receiver, or all of it) and
+    // `light`: its box is not certainly outside a supporting plane of their hull (the
+    // PlaneOrient::boxNegative test; the box overlap in the degenerate case), as shaftCandidates
+    // decides for every face. False proves that the face meets no segment from the region to the
+    // light (a moved light that no tree of another light can have seen, light_move.h).
+    bool mayCutShaft(uint32_t face, std::span<const Vec3> region, uint32_t light) const;
     // That hierarchy of face boxes (faces with triangles), for the direct per-point query
     // (vis::FromPointQuery::runDirect).
     const vis::BoxTree& faceBoxes() const { return shaftTree_; }
@@ -156,6 +162,14 @@ class EmbreeScene {
     void attachTriangles(const vis::PolygonMesh& mesh, const std::vector<uint32_t>& triIndex);
     void throwIfError(const char* where) const;
     void checkFace(uint32_t face, const char* what) const;
+    // What bounds the shaft between `region` and `light`: the supporting planes of their hull, or
+    // where that is degenerate (fewer than 3 points on a side, or no hull) none and the box of
+    // both. The faces not certainly outside it are the shaft's candidates.
+    struct ShaftBound {
+        std::vector<vis::PlaneOrient> hull;
+        vis::Bounds3 box;
+    };
+    ShaftBound shaftBound(std::span<const Vec3> region, uint32_t light) const;
     bool occludedRaw(Vec3 from, Vec3 to, uint32_t ignoreA, uint32_t ignoreB) const;
     Vec3 pointOnFace(uint32_t face, double u, double v) const;
 

@@ -41,22 +41,9 @@ void runHeadless(const HeadlessOptions& o) {
     if (o.camera) viewer.setCamera(*o.camera);
     const double dt = 1.0 / 60;
     viewer.frame(o.width, o.height, dt);  // lays out the panels, builds the font atlas
-    if (o.moveLight) {
-        if (!viewer.moveLight(o.moveLight->first, o.moveLight->second))
-            throw HostInputError(HostInputError::Input::MoveLight, viewer.status());
-        viewer.waitForLightMove();
-        if (viewer.scene()->version == 0)  // refused once built (the contract): the status says why
-            throw HostInputError(HostInputError::Input::MoveLight, viewer.status());
-        while (viewer.lightTreesRebuilding()) viewer.frame(o.width, o.height, dt);
-        viewer.showLightWindow();
-    }
-    if (o.point && !viewer.selectPoint(*o.point))
-        throw HostInputError(HostInputError::Input::Point, viewer.status());
-    if (o.pixel && !viewer.pickPixel((*o.pixel)[0], (*o.pixel)[1], o.width, o.height))
-        throw HostInputError(HostInputError::Input::Pixel, viewer.status());
-
+    // The precompute of every pair, frames drawn until it ends (their times recorded).
     nlohmann::json precomputeFrames;
-    if (o.precompute) {
+    const auto precomputeAll = [&] {
         viewer.frame(o.width, o.height, dt);
         viewer.resetFrameStats();
         const auto start = std::chrono::steady_clock::now();
@@ -69,7 +56,23 @@ void runHeadless(const HeadlessOptions& o) {
                             {"maxSeconds", stats.maxSeconds},
                             {"meanSeconds", stats.frames ? stats.sumSeconds / stats.frames : 0.0},
                             {"precomputeSeconds", seconds}};
+    };
+    if (o.moveLight) {
+        // Precomputed first, the move keeps the trees it leaves true and rebuilds the others.
+        if (o.precompute) precomputeAll();
+        if (!viewer.moveLight(o.moveLight->first, o.moveLight->second))
+            throw HostInputError(HostInputError::Input::MoveLight, viewer.status());
+        viewer.waitForLightMove();
+        if (viewer.scene()->version == 0)  // refused once built (the contract): the status says why
+            throw HostInputError(HostInputError::Input::MoveLight, viewer.status());
+        while (viewer.lightTreesRebuilding()) viewer.frame(o.width, o.height, dt);
+        viewer.showLightWindow();
     }
+    if (o.point && !viewer.selectPoint(*o.point))
+        throw HostInputError(HostInputError::Input::Point, viewer.status());
+    if (o.pixel && !viewer.pickPixel((*o.pixel)[0], (*o.pixel)[1], o.width, o.height))
+        throw HostInputError(HostInputError::Input::Pixel, viewer.status());
+    if (o.precompute && !o.moveLight) precomputeAll();
     if (o.accuracy) {
         // As in the window: the study runs on the viewer's tasks while frames are drawn.
         viewer.openAccuracyStudy();

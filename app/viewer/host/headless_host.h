@@ -23,8 +23,9 @@ struct HeadlessOptions {
     std::optional<std::array<double, 2>> pixel;  // or the point under this pixel
     std::optional<Camera> camera;                // else the scene's, else fitted
     std::optional<std::array<double, 2>> hover;  // the mouse over this pixel for the last frames
-    // Move this area light (Viewer::moveLight) before anything else is done, then draw frames until
-    // its trees are rebuilt; the Move light window is shown.
+    // Move this area light (Viewer::moveLight) before anything else is done (after the precompute
+    // when `precompute` is set: the move then keeps the trees it leaves true), then draw frames
+    // until the trees it made stale are rebuilt; the Move light window is shown.
     std::optional<std::pair<uint32_t, LightMove>> moveLight;
     std::filesystem::path out;       // the screenshot (PNG)
     std::filesystem::path stateOut;  // optional: the UI state (JSON)
@@ -33,7 +34,7 @@ struct HeadlessOptions {
     std::filesystem::path previewOut;
     std::filesystem::path saveView;  // optional: Preview::save to this stem (.png .pfm .exr .json)
     // Start the precompute of every pair and draw frames until it ends, recording the frame
-    // times (state JSON "precomputeFrames").
+    // times (state JSON "precomputeFrames"); with moveLight, of the scene before the move.
     bool precompute = false;
     // Run the "Accuracy vs time" study of the view and draw frames until it ends: the panel is
     // in the screenshot and the study in the state JSON ("accuracy").

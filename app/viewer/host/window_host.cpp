@@ -119,6 +119,9 @@ void runWindow(const WindowOptions& o) {
         if (!o.scene.empty()) viewer.openScene(o.scene);
         if (o.camera) viewer.setCamera(*o.camera);
         if (o.precompute) viewer.startPrecompute();
+        // The light move, once the precompute (if any) has ended: it then keeps the trees it
+        // leaves true (moved_light_trees.h) and rebuilds the others.
+        std::optional<std::pair<uint32_t, LightMove>> pendingMove = o.moveLight;
         const auto start = std::chrono::steady_clock::now();
         auto last = start;
         std::string lastState;
@@ -128,6 +131,11 @@ void runWindow(const WindowOptions& o) {
             glfwPollEvents();
             for (const auto& p : drops.paths) viewer.openScene(p);
             drops.paths.clear();
+            if (pendingMove && !viewer.precomputeRunning()) {
+                viewer.moveLight(pendingMove->first, pendingMove->second);  // refused: the status
+                viewer.showLightWindow();
+                pendingMove.reset();
+            }
             ImGui_ImplGlfw_NewFrame();
             int fbWidth = 0, fbHeight = 0;
             glfwGetFramebufferSize(window.get(), &fbWidth, &fbHeight);

@@ -17,6 +17,9 @@ struct WindowOptions {
     std::filesystem::path stateOut;  // optional: the UI state (JSON), rewritten when it changes
     double quitAfterSeconds = 0;     // > 0: close by itself (tests)
     bool precompute = false;         // start precomputing every pair once the scene is open
+    // Move this area light once the scene is open (after the precompute, when `precompute` is
+    // set), and show the Move light window.
+    std::optional<std::pair<uint32_t, LightMove>> moveLight;
     ViewerOptions viewer;
 };
 

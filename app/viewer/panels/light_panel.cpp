@@ -27,10 +27,14 @@ std::optional<LightPanel::Move> LightPanel::draw(const Viewport& view, const Loa
     rect = {};
     if (!visible_) return std::nullopt;
     std::optional<Move> out;
-    // At the view's top right when it opens (its width from the last time it was drawn), never
-    // left of the view; movable after.
+    // Its text wraps at this width, which bounds the window's: the fields' rows are narrower.
+    const float wrap = ImGui::GetFontSize() * 22;
+    // At the view's top right when it opens (its width from the last time it was drawn, else the
+    // wrap width and the padding: the first time, so that it covers no panel beside the view),
+    // never left of the view; movable after.
+    const float width = lastWidth_ > 0 ? lastWidth_ : wrap + 2 * ImGui::GetStyle().WindowPadding.x;
     const float right = static_cast<float>(view.x + view.width - 8);
-    const float left = std::max(static_cast<float>(view.x + 8), right - lastWidth_);
+    const float left = std::max(static_cast<float>(view.x + 8), right - width);
     ImGui::SetNextWindowPos(ImVec2(left, static_cast<float>(view.y + 8)), ImGuiCond_Appearing);
     ImGui::SetNextWindowBgAlpha(0.85f);
     if (ImGui::Begin("Move light (M)", &visible_,
@@ -72,11 +76,12 @@ std::optional<LightPanel::Move> LightPanel::draw(const Viewport& view, const Loa
                 changed = true;
             }
             if (changed) out = Move{light_, edit_};
-            ImGui::PushTextWrapPos(ImGui::GetFontSize() * 20);
-            ImGui::TextWrapped(
+            // (Every line below wraps: a long count or refusal widened the window over the
+            // panels beside the view.)
+            ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + wrap);
+            ImGui::TextUnformatted(
                 "rotation about x, then y, then z; scale along the axes; both about the light's "
                 "centre");
-            ImGui::PopTextWrapPos();
             // What is true now.
             const LightMove now = scene->lightMove(light_);
             ImGui::TextUnformatted(now.isIdentity() ? "where the file put it"
@@ -84,14 +89,16 @@ std::optional<LightPanel::Move> LightPanel::draw(const Viewport& view, const Loa
             if (status.building) ImGui::TextUnformatted("building the moved scene...");
             if (!status.refused.empty()) {
                 ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.6f, 0.4f, 1.0f));
-                ImGui::PushTextWrapPos(ImGui::GetFontSize() * 24);
-                ImGui::TextWrapped("refused: %s", status.refused.c_str());
-                ImGui::PopTextWrapPos();
+                ImGui::Text("refused: %s", status.refused.c_str());
                 ImGui::PopStyleColor();
             }
             if (scene->version > 0) {
+                if (status.kept > 0) ImGui::Text("%zu trees of other lights kept", status.kept);
                 if (status.invalidated == 0)
-                    ImGui::TextUnformatted("no tree was built before the move: none to rebuild");
+                    ImGui::TextUnformatted(status.kept > 0
+                                               ? "no tree went stale: none to rebuild"
+                                               : "no tree was built before the move: none to "
+                                                 "rebuild");
                 else if (status.rebuild &&
                          status.rebuild->state == PrecomputeProgress::State::Running)
                     ImGui::Text(
@@ -108,6 +115,7 @@ std::optional<LightPanel::Move> LightPanel::draw(const Viewport& view, const Loa
                                            ? "preview: tree-less exact query until they are rebuilt"
                                            : "preview: exact, with the rebuilt trees");
             }
+            ImGui::PopTextWrapPos();
         }
         const ImVec2 pos = ImGui::GetWindowPos(), size = ImGui::GetWindowSize();
         rect = {pos.x, pos.y, size.x, size.y};

@@ -24,6 +24,7 @@ struct LightMoveStatus {
     // The trees of the position before the move: how many were invalidated (0: none had been
     // built), and the background rebuild of those pairs in the moved scene (nullopt: none).
     size_t invalidated = 0;
+    size_t kept = 0;  // the trees the last move left true, kept (moved_light_trees.h)
     std::optional<PrecomputeProgress> rebuild;
     bool treeLess = false;  // the preview evaluates without trees (Preview::treeLess)
 };
@@ -50,7 +51,7 @@ class LightPanel {
     LightMove edit_;                        // what the fields show
     uint64_t shownVersion_ = ~uint64_t{0};  // the scene version edit_ was taken from
     const LoadedScene* shownScene_ = nullptr;
-    float lastWidth_ = 340;  // the window's width when last drawn (where it opens)
+    float lastWidth_ = 0;  // the window's width when last drawn (where it opens; 0: never)
 };
 
 }  // namespace penumbra::viewer

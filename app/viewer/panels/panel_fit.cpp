@@ -37,9 +37,17 @@ std::map<std::string, float> measureHorizontalOverflow() {
         for (int c = 0; c < t->ColumnsCount; ++c) {
             const ImGuiTableColumn& col = t->Columns[c];
             if (!col.IsEnabled) continue;
-            const float content = std::max(
-                {col.ContentMaxXFrozen, col.ContentMaxXUnfrozen, col.ContentMaxXHeadersUsed});
-            note(t->OuterWindow, content - col.ClipRect.Max.x);
+            // The cells' items: where the widest one ends, against the column's clip rectangle.
+            note(t->OuterWindow,
+                 std::max(col.ContentMaxXFrozen, col.ContentMaxXUnfrozen) - col.ClipRect.Max.x);
+            // The header (TableHeader): a label wider than its cell is drawn shortened with an
+            // ellipsis ("form fa..."), so the items' extent above never shows it cut. ImGui
+            // records where the whole label (with its sort arrow) would end,
+            // ContentMaxXHeadersIdeal (the column's WorkMinX without a header row); it shows
+            // whole up to the column's right edge and its clip rectangle.
+            if (col.ContentMaxXHeadersIdeal > col.WorkMinX)
+                note(t->OuterWindow,
+                     col.ContentMaxXHeadersIdeal - std::min(col.MaxX, col.ClipRect.Max.x));
         }
     }
     return out;

@@ -1,8 +1,10 @@
 // Whether every panel's text fits its panel: for each window drawn this frame, how many pixels its
 // widest item (a label, a value, a button) reaches past the right edge where Dear ImGui clips the
-// window, and for each table column past the column's edge. 0 where everything fits; a label cut
-// off shows as a positive overflow. Read after the panels are drawn, before ImGui::Render (the
-// windows' and tables' extents of the frame are still there).
+// window, and for each table column past the column's edge, its header's label included (ImGui
+// shortens a header too wide for its cell with an ellipsis: the overflow is how much wider the
+// whole label is). 0 where everything fits; a label cut off shows as a positive overflow. Read
+// after the panels are drawn, before ImGui::Render (the windows' and tables' extents of the frame
+// are still there).
 #pragma once
 
 #include <map>

@@ -21,35 +21,11 @@ namespace panel_arrangement_test {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-fs::path cornell() { return test::sourceDir() / "assets" / "cornell_box.obj"; }
-
 std::string readText(const fs::path& p) {
     std::ifstream in(p);
     std::ostringstream s;
     s << in.rdbuf();
     return s.str();
-}
-
-// A screenshot of the cornell box (no preview: the layout does not depend on it) with `extra`
-// options; returns the state JSON, the process's result in `result`.
-json shoot(const fs::path& dir, const std::vector<std::string>& extra,
-           test::ProcessResult* result = nullptr, const std::string& size = "1280x800") {
-    std::vector<std::string> args = {"screenshot",
-                                     cornell().string(),
-                                     "--size",
-                                     size,
-                                     "--no-preview",
-                                     "--out",
-                                     (dir / "shot.png").string(),
-                                     "--state-out",
-                                     (dir / "state.json").string()};
-    args.insert(args.end(), extra.begin(), extra.end());
-    fs::remove(dir / "state.json");
-    const test::ProcessResult r = test::runPenumbraGl(args);
-    EXPECT_EQ(r.exitCode, 0) << r.err;
-    if (result != nullptr) *result = r;
-    if (r.exitCode != 0) return json::object();
-    return test::readJson(dir / "state.json");
 }
 
 void expectRect(const json& actual, const std::array<double, 4>& expected,
@@ -129,9 +105,9 @@ TEST(ViewerLayoutFile, SavedLayoutIsRestored) {
     const fs::path dir = test::scratchDir("viewer_layout_restore");
     const fs::path settings = dir / "viewer.json";
     const std::array<double, 4> tree = {300, 60, 700, 500}, point = {880, 420, 380, 260};
-    const json first =
-        shoot(dir, {"--settings", settings.string(), "--panel", "History tree=300,60,700,500",
-                    "--panel", "Point=880,420,380,260", "--collapse", "Scene"});
+    const json first = test::shootCornell(
+        dir, {"--settings", settings.string(), "--panel", "History tree=300,60,700,500", "--panel",
+              "Point=880,420,380,260", "--collapse", "Scene"});
     ASSERT_FALSE(first.empty());
     EXPECT_EQ(first["panels"]["help"], true) << "Help opens on the first run";
     expectRect(first["panelRects"]["History tree"], tree, "first run, tree");
@@ -143,7 +119,7 @@ TEST(ViewerLayoutFile, SavedLayoutIsRestored) {
     EXPECT_EQ(file["layout"]["panels"]["Scene"]["collapsed"], true);
     EXPECT_EQ(file["helpSeen"], true);
 
-    const json second = shoot(dir, {"--settings", settings.string()});
+    const json second = test::shootCornell(dir, {"--settings", settings.string()});
     ASSERT_FALSE(second.empty());
     expectRect(second["panelRects"]["History tree"], tree, "second run, tree");
     expectRect(second["panelRects"]["Point"], point, "second run, point");
@@ -158,11 +134,11 @@ TEST(ViewerLayoutFile, SavedLayoutIsRestored) {
 TEST(ViewerLayoutFile, ResetRestoresTheDefault) {
     const fs::path dir = test::scratchDir("viewer_layout_reset");
     const fs::path settings = dir / "viewer.json";
-    const json fresh = shoot(dir, {});
-    (void)shoot(
+    const json fresh = test::shootCornell(dir, {});
+    (void)test::shootCornell(
         dir, {"--settings", settings.string(), "--panel", "History tree=300,60,700,500", "--panel",
               "Path=500,300,300,300", "--collapse", "Preview", "--enlarge", "Light plane"});
-    const json reset = shoot(dir, {"--settings", settings.string(), "--reset-layout"});
+    const json reset = test::shootCornell(dir, {"--settings", settings.string(), "--reset-layout"});
     ASSERT_FALSE(fresh.empty());
     ASSERT_FALSE(reset.empty());
     for (const std::string& name : kPanels) {
@@ -188,7 +164,7 @@ TEST(ViewerLayoutFile, ResetRestoresTheDefault) {
 // default layout, exit status 0, and the file left as it was.
 TEST(ViewerLayoutFile, CorruptFileWarnsAndFallsBackToTheDefault) {
     const fs::path dir = test::scratchDir("viewer_layout_corrupt");
-    const json fresh = shoot(dir, {});
+    const json fresh = test::shootCornell(dir, {});
     for (const std::string& text :
          {std::string("{\"layout\": {\"panels\": {\"Point\": "),
           std::string(R"({"layout": {"panels": {"Point": {"rect": [1, 2, "x", 4]}}}})"),
@@ -197,7 +173,8 @@ TEST(ViewerLayoutFile, CorruptFileWarnsAndFallsBackToTheDefault) {
         const fs::path settings = dir / "corrupt.json";
         std::ofstream(settings, std::ios::binary) << text;
         test::ProcessResult r;
-        const json state = shoot(dir, {"--settings", settings.string()}, &r);
+        const json state =
+            test::shootCornell(dir, {"--settings", settings.string()}, "1280x800", &r);
         ASSERT_FALSE(state.empty());
         EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
         EXPECT_NE(r.err.find(settings.string()), std::string::npos) << r.err;
@@ -216,7 +193,8 @@ TEST(ViewerLayoutFile, CorruptFileWarnsAndFallsBackToTheDefault) {
 // the menu bar less a margin of 4% of its smaller side), in front of the panels.
 TEST(ViewerLayoutFile, EnlargedTreeFillsMostOfTheWindow) {
     const fs::path dir = test::scratchDir("viewer_layout_enlarge");
-    const json state = shoot(dir, {"--point", "278,0,280", "--enlarge", "History tree"});
+    const json state =
+        test::shootCornell(dir, {"--point", "278,0,280", "--enlarge", "History tree"});
     ASSERT_FALSE(state.empty());
     const json& t = state["panelRects"]["History tree"];
     const double area = t[2].get<double>() * t[3].get<double>();
@@ -230,7 +208,7 @@ TEST(ViewerLayoutFile, EnlargedTreeFillsMostOfTheWindow) {
 // Help opens over the Path panel (empty before a click), never over the 3D view.
 TEST(ViewerLayoutFile, HelpOpensOverThePathPanelNotTheView) {
     const fs::path dir = test::scratchDir("viewer_layout_help");
-    const json state = shoot(dir, {});
+    const json state = test::shootCornell(dir, {});
     ASSERT_FALSE(state.empty());
     const json& help = state["panelRects"]["Help"];
     const json& path = state["panelRects"]["Path"];
@@ -251,7 +229,7 @@ TEST(ViewerLayout, NoLabelIsCutOffAtScales1To2) {
             SCOPED_TRACE(size + " scale " + scale + " view " + view);
             const fs::path shot = dir / ("shot_" + scale + "_" + view + ".png");
             const std::vector<std::string> args = {
-                "screenshot",      cornell().string(),
+                "screenshot",      test::cornellObj().string(),
                 "--size",          size,
                 "--ui-scale",      scale,
                 "--point",         "278,0,280",

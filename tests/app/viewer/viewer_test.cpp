@@ -26,6 +26,8 @@
 #include "tests/support/exact_reference.h"
 #include "tests/support/read_exr.h"
 #include "tests/support/read_pfm.h"
+#include "tests/support/test_files.h"
+#include "tests/support/two_light_scene.h"
 
 namespace penumbra {
 namespace {
@@ -43,8 +45,6 @@ Camera lightCamera() {
     c.fovYDegrees = 45;
     return c;
 }
-
-fs::path cornell() { return test::sourceDir() / "assets" / "cornell_box.obj"; }
 
 // At every window size from 1280x720 to 3840x2160, content scale 1 to 2 (HiDPI) and dragged
 // column widths (none, narrow, too wide for the window), the docked panels and the 3D view tile
@@ -104,12 +104,7 @@ TEST(ViewerLayout, PanelsTileTheWindowAtEverySizeAndScale) {
 TEST(ViewerLayout, WindowsStayApartAtHiDpiScale) {
     const fs::path dir = test::scratchDir("viewer_hidpi");
     auto shoot = [&](const std::string& size, const std::string& scale) {
-        const test::ProcessResult r = test::runPenumbraGl(
-            {"screenshot", cornell().string(), "--size", size, "--ui-scale", scale, "--point",
-             "278,0,280", "--no-preview", "--out", (dir / "shot.png").string(), "--state-out",
-             (dir / "state.json").string()});
-        EXPECT_EQ(r.exitCode, 0) << r.err;
-        return test::readJson(dir / "state.json");
+        return test::shootCornell(dir, {"--ui-scale", scale, "--point", "278,0,280"}, size);
     };
     for (const auto& [size, scale] :
          {std::pair<std::string, std::string>{"3840x2160", "2"}, {"1280x720", "1"}}) {
@@ -152,20 +147,8 @@ TEST(ViewerLayout, WindowsStayApartAtHiDpiScale) {
 // the flags' values otherwise.
 TEST(ViewerScreenshot, ExactOptionsInTheUiAreTheCommandLines) {
     const fs::path dir = test::scratchDir("viewer_exact_options");
-    auto shoot = [&](std::vector<std::string> extra) {
-        std::vector<std::string> args = {"screenshot",
-                                         cornell().string(),
-                                         "--size",
-                                         "640x400",
-                                         "--no-preview",
-                                         "--out",
-                                         (dir / "shot.png").string(),
-                                         "--state-out",
-                                         (dir / "state.json").string()};
-        args.insert(args.end(), extra.begin(), extra.end());
-        const test::ProcessResult r = test::runPenumbraGl(args);
-        EXPECT_EQ(r.exitCode, 0) << r.err;
-        return test::readJson(dir / "state.json")["exact"];
+    auto shoot = [&](const std::vector<std::string>& extra) {
+        return test::shootCornell(dir, extra, "640x400")["exact"];
     };
     const ExactOptions defaults;
     const json d = shoot({});
@@ -297,18 +280,16 @@ TEST(ViewerSceneList, EveryLoadableFormatInAssetsAndScenes) {
 TEST(ViewerScreenshot, FragmentOverlayAndPathMatchAnIndependentQuery) {
     const fs::path dir = test::scratchDir("viewer_screenshot");
     const Vec3 x{278, 0, 280};
-    const test::ProcessResult r = test::runPenumbraGl(
-        {"screenshot", cornell().string(), "--point", "278,0,280", "--camera", kCameraFlag,
-         "--size", "1280x800", "--no-preview", "--out", (dir / "shot.png").string(), "--state-out",
-         (dir / "state.json").string()});
+    test::ProcessResult r;
+    const json state =
+        test::shootCornell(dir, {"--point", "278,0,280", "--camera", kCameraFlag}, "1280x800", &r);
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    const json state = test::readJson(dir / "state.json");
     const test::Image image = test::readPng(dir / "shot.png");
     ASSERT_EQ(image.width, 1280);
     ASSERT_EQ(image.height, 800);
 
     // The path panel's state against an independent query.
-    const Scene scene = loadObj(cornell());
+    const Scene scene = loadObj(test::cornellObj());
     VisibilityStore store(scene);
     const uint32_t face = *findFaceContaining(scene, x).face;
     const std::vector<LightAtPoint> q = queryPoint(store, face, x, std::nullopt);
@@ -348,7 +329,7 @@ TEST(ViewerScreenshot, FragmentOverlayAndPathMatchAnIndependentQuery) {
     // state's point has from it (the viewer adds its own: the normal, the colours, the path
     // panel's rows, the times), with the same values.
     const test::ProcessResult qr =
-        test::runPenumbra({"query", cornell().string(), "--point", "278,0,280"});
+        test::runPenumbra({"query", test::cornellObj().string(), "--point", "278,0,280"});
     ASSERT_EQ(qr.exitCode, 0) << qr.err;
     const json answer = json::parse(qr.out);
     for (const auto& [key, value] : answer.items()) {
@@ -365,7 +346,7 @@ TEST(ViewerScreenshot, FragmentOverlayAndPathMatchAnIndependentQuery) {
     const int viewport[4] = {state["viewport"]["x"], state["viewport"]["y"],
                              state["viewport"]["width"], state["viewport"]["height"]};
     const int checked =
-        test::checkFragmentOverlay(image, lightCamera(), viewport, cornell(), face, x, 0);
+        test::checkFragmentOverlay(image, lightCamera(), viewport, test::cornellObj(), face, x, 0);
     EXPECT_GE(checked, 2);
 }
 
@@ -373,7 +354,7 @@ TEST(ViewerScreenshot, PickingAPixelInspectsTheSurfaceAnIndependentRayHits) {
     const fs::path dir = test::scratchDir("viewer_pick");
     // The view lies below the menu bar: its height as a screenshot of the same size draws it.
     const test::ProcessResult probe = test::runPenumbraGl(
-        {"screenshot", cornell().string(), "--size", "640x400", "--no-preview", "--out",
+        {"screenshot", test::cornellObj().string(), "--size", "640x400", "--no-preview", "--out",
          (dir / "probe.png").string(), "--state-out", (dir / "probe.json").string()});
     ASSERT_EQ(probe.exitCode, 0) << probe.err;
     viewer::LayoutSettings settings;
@@ -388,12 +369,12 @@ TEST(ViewerScreenshot, PickingAPixelInspectsTheSurfaceAnIndependentRayHits) {
     ASSERT_TRUE(c.project({400, 0, 120}, layout.view.width, layout.view.height, px, py));
     px += layout.view.x;
     py += layout.view.y;
-    const test::ProcessResult r = test::runPenumbraGl(
-        {"screenshot", cornell().string(), "--pixel", std::to_string(px) + "," + std::to_string(py),
-         "--camera", "278,273,-800,278,273,0,39", "--size", "640x400", "--no-preview", "--out",
-         (dir / "shot.png").string(), "--state-out", (dir / "state.json").string()});
+    test::ProcessResult r;
+    const json state = test::shootCornell(dir,
+                                          {"--pixel", std::to_string(px) + "," + std::to_string(py),
+                                           "--camera", "278,273,-800,278,273,0,39"},
+                                          "640x400", &r);
     ASSERT_EQ(r.exitCode, 0) << r.err;
-    const json state = test::readJson(dir / "state.json");
     ASSERT_FALSE(state["point"].is_null());
     const json& p = state["point"]["point"];
     // The ray through the pixel centre meets the floor (face 0 of the Cornell box) near the
@@ -497,10 +478,10 @@ TEST(ViewerScreenshot, SampledPreviewConvergesToTheExactOne) {
     const fs::path dir = test::scratchDir("viewer_preview");
     auto run = [&](int lightSamples, int passes) {
         const test::ProcessResult r = test::runPenumbraGl(
-            {"screenshot", cornell().string(), "--size", "640x400", "--preview-mode", "diff",
-             "--light-samples", std::to_string(lightSamples), "--passes", std::to_string(passes),
-             "--out", (dir / "shot.png").string(), "--state-out", (dir / "state.json").string(),
-             "--preview-out", (dir / "preview.png").string()});
+            {"screenshot", test::cornellObj().string(), "--size", "640x400", "--preview-mode",
+             "diff", "--light-samples", std::to_string(lightSamples), "--passes",
+             std::to_string(passes), "--out", (dir / "shot.png").string(), "--state-out",
+             (dir / "state.json").string(), "--preview-out", (dir / "preview.png").string()});
         EXPECT_EQ(r.exitCode, 0) << r.err;
         return test::readJson(dir / "state.json");
     };
@@ -761,6 +742,33 @@ TEST(ViewerScreenshot, SavedViewReopensAsTheSameView) {
     }
 }
 
+// `penumbra render` of `scene` with the camera `camera` (+y up) at the size of the 3D view of a
+// screenshot's `state`, exact, one sample a pixel (as the preview's single pass): its linear image,
+// written to `out` (.pfm).
+std::vector<float> renderLikeThe3DView(const fs::path& scene, const std::string& camera,
+                                       const json& state, const fs::path& out) {
+    const int vw = state["panelRects"]["3D view"][2], vh = state["panelRects"]["3D view"][3];
+    const test::ProcessResult r =
+        test::runPenumbra({"render", scene.string(), "--camera", camera, "--up", "0,1,0", "--size",
+                           std::to_string(vw) + "x" + std::to_string(vh), "--spp", "1", "--method",
+                           "exact", "--out", out.string()});
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    int w = 0, h = 0;
+    std::vector<float> image = test::readPfm(out.string(), w, h);
+    EXPECT_EQ(w, vw);
+    EXPECT_EQ(h, vh);
+    return image;
+}
+
+// How many values of two images differ beyond 1e-4 relative (the same exact answer, whichever
+// path answered each point, gives 0).
+size_t differingValues(const std::vector<float>& a, const std::vector<float>& b) {
+    size_t n = 0;
+    for (size_t i = 0; i < a.size() && i < b.size(); ++i)
+        n += std::abs(a[i] - b[i]) > 1e-4f * std::max(1.0f, std::abs(b[i]));
+    return n + (a.size() > b.size() ? a.size() - b.size() : b.size() - a.size());
+}
+
 // Moving a light (`screenshot --move-light`, what the Move light window does): the rendered view
 // is the image `penumbra render` gives of the Cornell box whose OBJ file has the lamp's coordinates
 // moved by hand, the state lists those coordinates, the trees of the position before are dropped
@@ -821,18 +829,8 @@ TEST(ViewerScreenshot, MovedLightIsTheSceneWithTheLightMovedByHand) {
     std::ofstream(dir / "by_hand.obj") << obj;
     fs::copy_file(test::sourceDir() / "assets" / "cornell_box.mtl", dir / "cornell_box.mtl",
                   fs::copy_options::overwrite_existing);
-    const int vw = state["panelRects"]["3D view"][2], vh = state["panelRects"]["3D view"][3];
-    const std::string size = std::to_string(vw) + "x" + std::to_string(vh);
     auto render = [&](const fs::path& file, const std::string& name) {
-        const test::ProcessResult rr = test::runPenumbra(
-            {"render", file.string(), "--camera", camera, "--up", "0,1,0", "--size", size, "--spp",
-             "1", "--method", "exact", "--out", (dir / name).string()});
-        EXPECT_EQ(rr.exitCode, 0) << rr.err;
-        int w = 0, h = 0;
-        std::vector<float> image = test::readPfm((dir / name).string(), w, h);
-        EXPECT_EQ(w, vw);
-        EXPECT_EQ(h, vh);
-        return image;
+        return renderLikeThe3DView(file, camera, state, dir / name);
     };
     const std::vector<float> byHand = render(dir / "by_hand.obj", "by_hand.pfm");
     const std::vector<float> unmoved =
@@ -840,14 +838,7 @@ TEST(ViewerScreenshot, MovedLightIsTheSceneWithTheLightMovedByHand) {
     int w = 0, h = 0;
     const std::vector<float> shown = test::readPfm((dir / "moved.pfm").string(), w, h);
     ASSERT_EQ(shown.size(), byHand.size());
-    // Counts of values that differ beyond 1e-4 relative (the same exact answer, whichever path
-    // answered each point).
-    auto differing = [](const std::vector<float>& a, const std::vector<float>& b) {
-        size_t n = 0;
-        for (size_t i = 0; i < a.size(); ++i)
-            n += std::abs(a[i] - b[i]) > 1e-4f * std::max(1.0f, std::abs(b[i]));
-        return n;
-    };
+    const auto differing = differingValues;
     EXPECT_EQ(differing(shown, byHand), 0u);
     EXPECT_GT(differing(unmoved, byHand), byHand.size() / 10);  // the move shows
 
@@ -881,6 +872,87 @@ TEST(ViewerScreenshot, MovedLightIsTheSceneWithTheLightMovedByHand) {
                              (dir / "alone.png").string()});
     EXPECT_NE(alone.exitCode, 0);
     EXPECT_NE(alone.err.find("give --move-light N"), std::string::npos) << alone.err;
+}
+
+// Moving light 1 of a two-light scene after every pair was precomputed (`screenshot --precompute
+// --move-light`): light 1 stays outside every shaft of light 0 (tests/support/two_light_scene.h),
+// so light 0's trees are kept but the one whose receiver is light 1, and only the rest is rebuilt.
+// Counted by hand: with P receiver patches in all (one per light), each light has P - 1 trees;
+// light 0 keeps P - 2, light 1's P - 1 and that one go; once rebuilt the store holds 2 (P - 1)
+// again, so kept = stored / 2 - 1 and dropped = stored / 2 + 1. The image is `penumbra render` of
+// the scene whose file has light 1 moved by hand. `view` takes the same options (its no-display
+// screenshot) and keeps as many.
+TEST(ViewerScreenshot, MovingOneLightKeepsTheOtherLightsTrees) {
+    const fs::path dir = test::scratchDir("viewer_move_one_of_two");
+    const fs::path byHandDir = dir / "by_hand";
+    fs::create_directories(byHandDir);
+    const std::string scene = test::writeTwoLightScene(dir).string();
+    // x in [3, 3.5], y = 0.875, z in [-0.25, 0.25]: light 1's corners plus (0.25, -0.125, 0).
+    const fs::path byHand = test::writeTwoLightScene(byHandDir, {0.25, -0.125, 0});
+    const std::string camera = "1.5,3,4.5,1.5,0,0,50";
+    const std::vector<std::string> move = {
+        "--move-light",    "1", "--translate", "0.25,-0.125,0", "--precompute",
+        "--refine-levels", "0", "--camera",    camera,          "--size",
+        "640x400"};
+    std::vector<std::string> args = {"screenshot",    scene,
+                                     "--passes",      "1",
+                                     "--out",         (dir / "moved.png").string(),
+                                     "--state-out",   (dir / "moved.json").string(),
+                                     "--preview-out", (dir / "moved.pfm").string()};
+    args.insert(args.end(), move.begin(), move.end());
+    const test::ProcessResult r = test::runPenumbraGl(args);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const json state = test::readJson(dir / "moved.json");
+    const json& moves = state["lightMoves"];
+    EXPECT_FALSE(moves["rebuilding"].get<bool>());
+    EXPECT_EQ(moves["treesNotKeptBecause"], "");
+    const size_t stored = moves["treesInStore"], kept = moves["treesKept"],
+                 dropped = moves["treesDropped"];
+    ASSERT_EQ(stored % 2, 0u);
+    EXPECT_GT(stored, 8u);  // the floor is split into patches
+    EXPECT_EQ(kept, stored / 2 - 1);
+    EXPECT_EQ(dropped, stored / 2 + 1);
+    ASSERT_EQ(state["lights"].size(), 2u);
+    EXPECT_FALSE(state["lights"][0]["moved"].get<bool>());
+    EXPECT_TRUE(state["lights"][1]["moved"].get<bool>());
+    EXPECT_EQ(
+        state["lights"][1]["vertices"],
+        json({{3.0, 0.875, -0.25}, {3.5, 0.875, -0.25}, {3.5, 0.875, 0.25}, {3.0, 0.875, 0.25}}));
+
+    const std::vector<float> expected =
+        renderLikeThe3DView(byHand, camera, state, dir / "by_hand.pfm");
+    const std::vector<float> unmoved =
+        renderLikeThe3DView(scene, camera, state, dir / "unmoved.pfm");
+    int w = 0, h = 0;
+    const std::vector<float> shown = test::readPfm((dir / "moved.pfm").string(), w, h);
+    EXPECT_EQ(differingValues(shown, expected), 0u);
+    EXPECT_GT(differingValues(unmoved, expected), expected.size() / 100);  // the move shows
+
+    // `view` with the same options, no display: its headless screenshot keeps as many trees.
+    const fs::path viewDir = dir / "view";
+    std::string command = "env -u DISPLAY -u WAYLAND_DISPLAY " + test::shellQuote(PENUMBRA_EXE) +
+                          " view " + test::shellQuote(scene) + " --no-preview --out-dir " +
+                          test::shellQuote(viewDir.string());
+    for (const std::string& a : move) command += " " + test::shellQuote(a);
+    command += " >" + test::shellQuote((dir / "view_stdout").string()) + " 2>" +
+               test::shellQuote((dir / "view_stderr").string());
+    ASSERT_EQ(test::runShell(command), 0) << test::readFile(dir / "view_stderr");
+    const json viewState = test::readJson(viewDir / "view_state.json");
+    EXPECT_EQ(viewState["lightMoves"]["treesKept"], kept);
+    EXPECT_EQ(viewState["lights"][1]["vertices"], state["lights"][1]["vertices"]);
+    EXPECT_TRUE(viewState["lightMoves"]["windowShown"].get<bool>());
+    // And refuses what screenshot refuses, naming the option.
+    const test::ProcessResult bad = test::runPenumbra(
+        {"view", scene, "--no-preview", "--out-dir", viewDir.string(), "--translate", "1,0,0"});
+    EXPECT_NE(bad.exitCode, 0);
+    EXPECT_NE(bad.err.find("view: --translate, --rotate and --scale move a light: give "
+                           "--move-light N"),
+              std::string::npos)
+        << bad.err;
+    const test::ProcessResult missing = test::runPenumbra(
+        {"view", scene, "--no-preview", "--out-dir", viewDir.string(), "--move-light", "2"});
+    EXPECT_NE(missing.exitCode, 0);
+    EXPECT_NE(missing.err.find("--move-light: no light 2"), std::string::npos) << missing.err;
 }
 
 // A scene without lights opens with the default light (engine/scene/default_light.h): the status
@@ -1072,7 +1144,7 @@ TEST(ViewerFallback, NoDisplayWritesTheHeadlessScreenshot) {
     const fs::path dir = test::scratchDir("viewer_fallback");
     const std::string command =
         "env -u DISPLAY -u WAYLAND_DISPLAY " + test::shellQuote(PENUMBRA_EXE) + " view " +
-        test::shellQuote(cornell().string()) + " --no-preview --out-dir " +
+        test::shellQuote(test::cornellObj().string()) + " --no-preview --out-dir " +
         test::shellQuote(dir.string()) + " >" + test::shellQuote((dir / "stdout").string()) +
         " 2>" + test::shellQuote((dir / "stderr").string());
     ASSERT_EQ(test::runShell(command), 0);
@@ -1106,7 +1178,7 @@ TEST(ViewerScreenshot, BadArgumentsAreRefusedWithTheReason) {
         {{"--preview-out", (dir / "p.jpg").string()}, 2, ".png, .pfm or .exr"},
     };
     for (const Case& c : cases) {
-        std::vector<std::string> args = {"screenshot", cornell().string(), "--out", out};
+        std::vector<std::string> args = {"screenshot", test::cornellObj().string(), "--out", out};
         args.insert(args.end(), c.args.begin(), c.args.end());
         const test::ProcessResult r = test::runPenumbraGl(args);
         EXPECT_EQ(r.exitCode, c.code) << c.args.front() << ": " << r.err;
@@ -1130,7 +1202,7 @@ TEST(ViewerScreenshot, EglBackendRendersTheSameOverlayOrSaysWhy) {
     setenv("ASAN_OPTIONS", (saved.empty() ? "detect_leaks=0" : saved + ":detect_leaks=0").c_str(),
            1);
     const test::ProcessResult r = test::runPenumbraGl(
-        {"screenshot", cornell().string(), "--point", "278,0,280", "--camera", kCameraFlag,
+        {"screenshot", test::cornellObj().string(), "--point", "278,0,280", "--camera", kCameraFlag,
          "--no-preview", "--backend", "egl", "--out", (dir / "shot.png").string(), "--state-out",
          (dir / "state.json").string()});
     if (previous != nullptr)
@@ -1146,9 +1218,9 @@ TEST(ViewerScreenshot, EglBackendRendersTheSameOverlayOrSaysWhy) {
     const test::Image image = test::readPng(dir / "shot.png");
     const int viewport[4] = {state["viewport"]["x"], state["viewport"]["y"],
                              state["viewport"]["width"], state["viewport"]["height"]};
-    EXPECT_GE(
-        test::checkFragmentOverlay(image, lightCamera(), viewport, cornell(), 0, {278, 0, 280}, 0),
-        2);
+    EXPECT_GE(test::checkFragmentOverlay(image, lightCamera(), viewport, test::cornellObj(), 0,
+                                         {278, 0, 280}, 0),
+              2);
 }
 
 }  // namespace

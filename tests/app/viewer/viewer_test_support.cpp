@@ -57,6 +57,28 @@ ProcessResult runPenumbraGl(const std::vector<std::string>& args) {
     return runPenumbra(args);
 }
 
+fs::path cornellObj() { return sourceDir() / "assets" / "cornell_box.obj"; }
+
+nlohmann::json shootCornell(const fs::path& dir, const std::vector<std::string>& extra,
+                            const std::string& size, ProcessResult* result) {
+    std::vector<std::string> args = {"screenshot",
+                                     cornellObj().string(),
+                                     "--size",
+                                     size,
+                                     "--no-preview",
+                                     "--out",
+                                     (dir / "shot.png").string(),
+                                     "--state-out",
+                                     (dir / "state.json").string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    fs::remove(dir / "state.json");  // never the state of a shot before
+    const ProcessResult r = runPenumbraGl(args);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    if (result != nullptr) *result = r;
+    if (r.exitCode != 0) return nlohmann::json::object();
+    return readJson(dir / "state.json");
+}
+
 bool haveProgram(const std::string& name) {
     return runShell("command -v " + shellQuote(name) + " >/dev/null 2>&1") == 0;
 }

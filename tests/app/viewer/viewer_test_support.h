@@ -33,6 +33,15 @@ ProcessResult runPenumbraGl(const std::vector<std::string>& args);
 // exit).
 int runShell(const std::string& command);
 bool haveProgram(const std::string& name);
+
+// assets/cornell_box.obj of the source tree, the scene most viewer tests shoot.
+std::filesystem::path cornellObj();
+// `penumbra screenshot` of the Cornell box at `size` without the preview (the panels and their
+// layout do not depend on it), the PNG into dir/shot.png and the state into dir/state.json, with
+// `extra` options after those; runs it (runPenumbraGl, its exit status expected 0) and returns the
+// state (an empty object when the command failed). The process's result in *result if given.
+nlohmann::json shootCornell(const std::filesystem::path& dir, const std::vector<std::string>& extra,
+                            const std::string& size = "1280x800", ProcessResult* result = nullptr);
 Image readPng(const std::filesystem::path& path);  // ADD_FAILURE and empty on error
 nlohmann::json readJson(const std::filesystem::path& path);
 
