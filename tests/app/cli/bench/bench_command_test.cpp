@@ -250,13 +250,15 @@ TEST_F(BenchCommand, MeasuresEveryPointExactOnASmallerImageAboveTheAllPairsSize)
     ASSERT_GT(e["sampledEvaluations"].get<uint64_t>(), 0u) << e.dump(1);
     EXPECT_FALSE(e.contains("everyPointExact"));  // (the small scenes' full-image render)
     // How each pixel was answered: the sampled ones are the evaluations the summary sampled; the
-    // queried ones (tree walk, direct, chain, sampled) are all that needed a query, but for the
-    // direct points that the pair's first signs left without light (no light).
+    // queried ones (tree walk, direct, chain, light-edge path, sampled) are all that needed a
+    // query, but for the direct points that the pair's first signs left without light (no
+    // light).
     const nlohmann::json& answers = e["answers"]["counts"];
     EXPECT_EQ(answers["sampled"], e["sampledEvaluations"]) << answers;
     const uint64_t queried =
         answers["tree walk"].get<uint64_t>() + answers["direct"].get<uint64_t>() +
-        answers["boundary chain"].get<uint64_t>() + answers["sampled"].get<uint64_t>();
+        answers["boundary chain"].get<uint64_t>() + answers["light-edge path"].get<uint64_t>() +
+        answers["sampled"].get<uint64_t>();
     EXPECT_LE(queried, e["evaluations"].get<uint64_t>()) << answers;
     EXPECT_LE(e["evaluations"].get<uint64_t>(), queried + answers["no light"].get<uint64_t>())
         << answers;
