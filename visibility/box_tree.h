@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -31,6 +32,11 @@ class BoxTree {
     explicit BoxTree(std::span<const Bounds3> boxes, const std::vector<bool>& include = {});
 
     bool empty() const { return nodes_.empty(); }
+    // The memory it holds (nodes, items, boxes), in bytes.
+    size_t bytes() const {
+        return nodes_.capacity() * sizeof(Node) + items_.capacity() * sizeof(uint32_t) +
+               boxes_.capacity() * sizeof(Bounds3);
+    }
 
     // Appends to `out` every item whose box meets `query` (closed), in no order.
     void overlapping(const Bounds3& query, std::vector<uint32_t>& out) const;

@@ -62,6 +62,12 @@ class LightEdgeIndex {
     // A hierarchy over the Across faces' boxes (items: face ids); empty when there are none.
     const BoxTree& acrossFaces() const { return acrossFaces_; }
     size_t acrossCount() const { return acrossCount_; }
+    // The memory it holds, in bytes (the edges, their uses, the faces' sides, both hierarchies).
+    size_t bytes() const {
+        return edges_.capacity() * sizeof(MeshEdges::Edge) +
+               uses_.capacity() * sizeof(MeshEdges::Use) + begin_.capacity() * sizeof(uint32_t) +
+               sides_.capacity() * sizeof(Side) + edgeBoxes_.bytes() + acrossFaces_.bytes();
+    }
 
   private:
     uint32_t light_ = 0;

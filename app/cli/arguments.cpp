@@ -122,6 +122,11 @@ void addExactOptions(CLI::App& sub, ExactOptions& o, ExactOptionSet set) {
                    "Exact: plane tests one point's query may make; a point that needs more is "
                    "sampled with --light-samples rays and counted (0 = every point exact)")
         ->capture_default_str();
+    sub.add_option("--light-edge-work-limit", o.lightEdgeWorkLimit,
+                   "Exact: a point over --exact-work-limit first takes the light-edge path (the "
+                   "light's silhouette edges near the point, the same answer) with this many "
+                   "plane tests of its own, and is sampled only over them (0 = sampled at once)")
+        ->capture_default_str();
     sub.add_option("--chain-min-occluders", o.chainMinOccluders,
                    "Exact: a point clipped against at least this many occluders, most of whose "
                    "edges cancel (closed, smooth meshes), is evaluated by their silhouette and "

@@ -193,6 +193,7 @@ nlohmann::json Viewer::stateJson() const {
                   {"minTreeSamples", options_.exact.minTreeSamples},
                   {"groupedShaftMin", options_.exact.groupedShaftMin},
                   {"exactWorkLimit", options_.exact.exactWorkLimit},
+                  {"lightEdgeWorkLimit", options_.exact.lightEdgeWorkLimit},
                   {"chainMinOccluders", options_.exact.chainMinOccluders},
                   {"refineLevels", options_.exact.refineLevels},
                   {"passes", options_.previewSettings.passes},

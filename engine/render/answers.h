@@ -24,13 +24,16 @@ enum class Answer : uint8_t {
                      // plane) cuts: the part of the light above it, no query
     NoLight,         // a back-facing or fully hidden pair, or x behind the light's plane (or the
                      // light behind x's): no light, and no plane test beyond those signs
-    TreeWalk,  // the pair's history tree walked from x (its deferred occluders clipped from x)
-    Direct,    // no tree: the faces in x's pyramid to the light clipped from x (with or
-               // without face groups and solids)
-    Chain,     // the boundary chain (silhouettes and borders) cut the light into cells
-    Sampled,   // over the work limit: shadow rays, not exact
+    TreeWalk,    // the pair's history tree walked from x (its deferred occluders clipped from x)
+    Direct,      // no tree: the faces in x's pyramid to the light clipped from x (with or
+                 // without face groups and solids)
+    Chain,       // the boundary chain (silhouettes and borders) cut the light into cells
+    Sampled,     // over the work limit, and the light-edge path's too: shadow rays, not exact
+    LightEdges,  // over the work limit on the paths above, answered exactly by the light-edge
+                 // path: the chain from the light's silhouette edges near x's cone
+                 // (vis::LightEdgeIndex), no face activated
 };
-inline constexpr size_t kAnswers = 7;
+inline constexpr size_t kAnswers = 8;
 
 // Per pixel: how many evaluations took each answer (indexed by Answer).
 using AnswerCounts = std::array<uint32_t, kAnswers>;
@@ -51,6 +54,8 @@ constexpr const char* toString(Answer a) {
             return "boundary chain";
         case Answer::Sampled:
             return "sampled";
+        case Answer::LightEdges:
+            return "light-edge path";
     }
     return "?";
 }
@@ -77,6 +82,8 @@ constexpr AnswerColour answerColour(Answer a) {
             return {{0.65, 0.35, 0.90}, "purple"};
         case Answer::Sampled:
             return {{0.95, 0.10, 0.10}, "red"};
+        case Answer::LightEdges:
+            return {{0.20, 0.85, 0.85}, "cyan"};
     }
     return {{0, 0, 0}, "black"};
 }

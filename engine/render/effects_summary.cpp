@@ -159,7 +159,12 @@ void sampledPoints(const EffectsSummary& e, Lines& out) {
             std::to_string(e.exactEvaluations) + " (" + share + ") point-light evaluations, " +
             std::to_string(e.sampledDirectEvaluations) +
             " of them without a tree - their exact answer needed more than " +
-            std::to_string(e.exactWorkLimit) + " plane tests: " + std::to_string(e.lightSamples) +
+            std::to_string(e.exactWorkLimit) + " plane tests" +
+            (e.lightEdgeWorkLimit != 0
+                 ? ", and the light-edge path's more than " + std::to_string(e.lightEdgeWorkLimit) +
+                       " or could not be taken"
+                 : std::string()) +
+            ": " + std::to_string(e.lightSamples) +
             " shadow rays each instead (not exact; --exact-work-limit 0 makes every point "
             "exact)");
     std::string stages;
@@ -173,6 +178,43 @@ void sampledPoints(const EffectsSummary& e, Lines& out) {
             std::to_string(e.notTriedEvaluations()) +
             " more were points of a region, or of a pixel in a later pass, whose query had "
             "reached it (not tried)");
+}
+
+// The points the default path gave up on at the work limit that the light-edge path then
+// answered, those it could not, and what its indices cost.
+void lightEdgePoints(const EffectsSummary& e, Lines& out) {
+    const uint64_t tried = e.lightEdgeEvaluations + e.lightEdgeNotTaken + e.lightEdgeOverLimit;
+    char share[32];
+    std::snprintf(share, sizeof share, "%.2f%%",
+                  e.exactEvaluations == 0 ? 0.0
+                                          : 100.0 * static_cast<double>(e.lightEdgeEvaluations) /
+                                                static_cast<double>(e.exactEvaluations));
+    out.add("light-edge path: " + std::to_string(e.lightEdgeEvaluations) + " of " +
+            std::to_string(e.exactEvaluations) + " (" + share +
+            ") point-light evaluations, over the work limit on the other paths, answered "
+            "exactly from the light's silhouette edges near the point (--light-edge-work-limit " +
+            std::to_string(e.lightEdgeWorkLimit) + " plane tests of its own); of the " +
+            std::to_string(tried) + " tried, " + std::to_string(e.lightEdgeOverLimit) +
+            " reached its limit and " + std::to_string(e.lightEdgeNotTaken) +
+            " declined it (their edges near the cone hardly cancel, or a face cut by the "
+            "light's plane meets the cone): " +
+            std::to_string(e.retriedEvaluations - e.retriedOverLimit) +
+            " of those answered exactly by the other paths again with its limit, " +
+            std::to_string(e.retriedOverLimit) + " over it too; " +
+            std::to_string(e.lightEdgeSkipped) +
+            " more were sampled without trying (their pixel's attempt had failed)");
+    const LightEdgeIndexStats& index = e.lightEdgeIndex;
+    if (index.lights == 0) return;
+    char cost[200];
+    std::snprintf(cost, sizeof cost,
+                  "%zu light%s, %.3f s to build (the mesh's edge table included), %.1f MB, S_L "
+                  "%.1f%% of the mesh's %zu edges",
+                  index.lights, index.lights == 1 ? "" : "s", index.seconds,
+                  static_cast<double>(index.bytes) / 1e6,
+                  100.0 * static_cast<double>(index.silhouetteEdges) /
+                      static_cast<double>(std::max<size_t>(index.meshEdges * index.lights, 1)),
+                  index.meshEdges);
+    out.add(std::string("  its indices (built once per light, on first use): ") + cost);
 }
 
 // The queries' plane tests by stage, walking trees and without a tree.
@@ -214,6 +256,20 @@ void exactCosts(const EvaluationCosts& costs, Lines& out) {
         out.add(std::string("  where their time went: ") + split +
                 " (the timed evaluations' sums, times 8: what the work limit's sampling costs "
                 "the exact render)");
+    }
+    if (costs.lightEdgeEvaluations > 0) {
+        const double n = static_cast<double>(costs.lightEdgeEvaluations);
+        char per[200];
+        std::snprintf(per, sizeof per,
+                      "%.1f light silhouette edges examined, %.1f of nonzero weight, %.1f of "
+                      "them in the cone (K)",
+                      static_cast<double>(costs.lightEdgesExamined) / n,
+                      static_cast<double>(costs.lightEdgesWeighted) / n,
+                      static_cast<double>(costs.lightEdgesInCone) / n);
+        out.add("  of them by the light-edge path: " + std::to_string(costs.lightEdgeEvaluations) +
+                " - per evaluation " + per +
+                " (no face activated: its work follows the edges examined, not the faces in "
+                "the cone)");
     }
     if (costs.chainEvaluations > 0) {
         char per[200];
@@ -264,6 +320,8 @@ std::string EffectsSummary::text() const {
         directPairs(*this, out);
         out.add("pairs never seen: " + std::to_string(pairsNeverSeen) +
                 " - receivers (patches) no primary ray hit: not computed");
+        if (lightEdgeEvaluations + lightEdgeNotTaken + lightEdgeOverLimit + lightEdgeSkipped > 0)
+            lightEdgePoints(*this, out);
         if (sampledEvaluations > 0) sampledPoints(*this, out);
         work(*this, out);
         exactCosts(costs, out);

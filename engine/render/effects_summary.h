@@ -36,6 +36,13 @@ struct EvaluationCosts {
     // (each is cut, then labelled); the fragments are what shading pays for.
     uint64_t chainEvaluations = 0, chainOccluderEdges = 0, chainBoundaryEdges = 0, chainCells = 0,
              chainFragments = 0;
+    // Of the exact evaluations, those the light-edge path answered (vis::FromPointQuery::
+    // runLightEdges, after the default path gave up at the work limit): the S_L edges its
+    // hierarchy found near x's cone (each one's weight taken), those of nonzero weight, and
+    // those of them that meet the cone over L (K: the silhouette and border edges that can bound
+    // this point's shadow), summed.
+    uint64_t lightEdgeEvaluations = 0, lightEdgesExamined = 0, lightEdgesWeighted = 0,
+             lightEdgesInCone = 0;
     // Where the exact method's evaluations that needed a query spent their time, estimated from
     // the timed ones (their sums times kTimedEvery), in CPU seconds: the exact answers, the
     // queries that stopped at the work limit, and the sampled points' shadow rays.
@@ -56,8 +63,22 @@ struct EvaluationCosts {
         chainBoundaryEdges += o.chainBoundaryEdges;
         chainCells += o.chainCells;
         chainFragments += o.chainFragments;
+        lightEdgeEvaluations += o.lightEdgeEvaluations;
+        lightEdgesExamined += o.lightEdgesExamined;
+        lightEdgesWeighted += o.lightEdgesWeighted;
+        lightEdgesInCone += o.lightEdgesInCone;
         return *this;
     }
+};
+
+// What the light-edge indices cost (DirectLighting::lightEdgeStats): the lights whose index was
+// built, the seconds the builds took (the mesh's edge table included), the memory they hold, and
+// S_L's edges (summed over those lights) against the mesh's edges (per light).
+struct LightEdgeIndexStats {
+    size_t lights = 0;
+    double seconds = 0;
+    size_t bytes = 0;
+    size_t silhouetteEdges = 0, meshEdges = 0;
 };
 
 // The exact method's (point, light) evaluations that needed a query (counted per renderer
@@ -74,6 +95,15 @@ struct ExactEvaluations {
     // The evaluations of partial trees answered by the direct path with face groups instead of
     // the tree (answeredByGroups, shading.h).
     uint64_t partialByGroups = 0;
+    // The evaluations the default path gave up on (over the work limit, tried or skipped) that
+    // tried the light-edge path: answered by it (exact), declined (it would not pay there, a
+    // face cut by the light's plane may meet x's cone, or x behind its receiver's plane; or it
+    // declined the pixel's earlier point), or over its own limit; and those that did not try
+    // it, their pixel's earlier attempt (or retry) having spent its limit.
+    uint64_t lightEdges = 0, lightEdgesNotTaken = 0, lightEdgesOverLimit = 0, lightEdgesSkipped = 0;
+    // Of those it declined (not taken), the ones that took the default path again with its
+    // limit, and those of them that reached that limit too (sampled).
+    uint64_t retried = 0, retriedOverLimit = 0;
     // Of the sampled ones, those whose query reached the limit, by the stage it was in
     // (vis::WorkStage); the others were not tried, their region's (or their pixel's, in an
     // earlier pass) query having reached it.
@@ -92,6 +122,12 @@ struct ExactEvaluations {
         directSolid += o.directSolid;
         directHiddenBySolid += o.directHiddenBySolid;
         partialByGroups += o.partialByGroups;
+        lightEdges += o.lightEdges;
+        lightEdgesNotTaken += o.lightEdgesNotTaken;
+        lightEdgesOverLimit += o.lightEdgesOverLimit;
+        lightEdgesSkipped += o.lightEdgesSkipped;
+        retried += o.retried;
+        retriedOverLimit += o.retriedOverLimit;
         for (size_t i = 0; i < overLimitAt.size(); ++i) overLimitAt[i] += o.overLimitAt[i];
         for (size_t p = 0; p < workAt.size(); ++p)
             for (size_t i = 0; i < vis::kWorkStages; ++i) workAt[p][i] += o.workAt[p][i];
@@ -122,6 +158,15 @@ struct EffectsSummary {
     uint64_t exactEvaluations = 0, sampledEvaluations = 0, exactWorkLimit = 0;
     // Of the sampled evaluations, those of pairs without a tree (the others walked a tree).
     uint64_t sampledDirectEvaluations = 0;
+    // The evaluations over the work limit that the light-edge path then answered exactly, those
+    // it could not take, those over its own limit (lightEdgeWorkLimit; 0 = never tried), and
+    // those sampled without trying it (ExactEvaluations); the light-edge indices it built.
+    uint64_t lightEdgeEvaluations = 0, lightEdgeNotTaken = 0, lightEdgeOverLimit = 0,
+             lightEdgeSkipped = 0, lightEdgeWorkLimit = 0;
+    // Of those it could not take or that would not pay there, the ones that took the default
+    // path again with its limit (ExactEvaluations::retried), and those over that limit too.
+    uint64_t retriedEvaluations = 0, retriedOverLimit = 0;
+    LightEdgeIndexStats lightEdgeIndex;
     // Of the sampled evaluations, those whose query reached the limit, by the stage it was in
     // (the rest were points of a region, or of a pixel in a later pass, whose query had reached
     // it: not tried).

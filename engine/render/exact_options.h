@@ -3,7 +3,8 @@
 // one set of defaults. None of them changes an exact answer: the build budget moves work from the
 // precompute to the queries (a partial tree answers the same), the tree threshold chooses between
 // a tree and the tree-less evaluation (the same answer), and the work limit is the one place
-// where a point may be sampled instead (counted and reported, 0 = never).
+// where a point may be sampled instead (counted and reported, 0 = never), after the light-edge
+// path's own limit.
 #pragma once
 
 #include <cstdint>
@@ -24,6 +25,9 @@ struct ExactOptions {
     // Plane tests one point's query may make before it is sampled
     // (RenderSettings::exactWorkLimit; 0 = every point exact).
     uint64_t exactWorkLimit = RenderSettings{}.exactWorkLimit;
+    // Plane tests of the light-edge path tried on such a point before it is sampled
+    // (RenderSettings::lightEdgeWorkLimit; 0 = sampled at once).
+    uint64_t lightEdgeWorkLimit = RenderSettings{}.lightEdgeWorkLimit;
     // Occluders from which a point's query uses their boundary chain
     // (RenderSettings::chainMinOccluders; 0 = never).
     uint32_t chainMinOccluders = RenderSettings{}.chainMinOccluders;
@@ -35,6 +39,7 @@ struct ExactOptions {
         settings.minTreeSamples = minTreeSamples;
         settings.groupedShaftMin = groupedShaftMin;
         settings.exactWorkLimit = exactWorkLimit;
+        settings.lightEdgeWorkLimit = lightEdgeWorkLimit;
         settings.chainMinOccluders = chainMinOccluders;
         settings.refineLevels = refineLevels;
     }

@@ -136,6 +136,10 @@ struct PassInputs {
     // The pixel cells whose query reached the work limit in the film's earlier passes
     // (ExactScratch::overLimitBefore).
     const std::unordered_set<uint64_t>* overLimitBefore = nullptr;
+    // Of them, those whose light-edge attempt failed too (ExactScratch::edgeFailedBefore), and
+    // those where it declined (ExactScratch::edgeDeclinedBefore).
+    const std::unordered_set<uint64_t>* edgeFailedBefore = nullptr;
+    const std::unordered_set<uint64_t>* edgeDeclinedBefore = nullptr;
     // Exact: this pass's answer per (pixel, light) cell (ExactScratch::answers), or null.
     uint8_t* answers = nullptr;
     // Exact: what each cell's evaluation saw of its light (ExactScratch::seen), or null.
@@ -153,6 +157,11 @@ class TileShader {
         std::swap(scratch.query, pooled_);
         scratch.query.setWorkLimit(in.settings.exactWorkLimit);
         scratch.overLimitBefore = in.overLimitBefore;
+        scratch.edgeFailedBefore = in.edgeFailedBefore;
+        scratch.edgeDeclinedBefore = in.edgeDeclinedBefore;
+        // (With no work limit no path gives up: nothing is left to the light-edge path.)
+        scratch.lightEdgeWorkLimit =
+            in.settings.exactWorkLimit != 0 ? in.settings.lightEdgeWorkLimit : 0;
         scratch.answers = in.answers;
         scratch.seen = in.seen;
         vis::FromPointQuery::ChainOptions chain;
@@ -348,7 +357,7 @@ struct PassFindings {
     std::vector<uint32_t> facesSeen;
     ExactEvaluations evaluations;
     std::vector<PairKey> directKeys;
-    std::vector<uint64_t> overLimitNow;
+    std::vector<uint64_t> overLimitNow, edgeFailedNow, edgeDeclinedNow;
     std::vector<OverLimitPoint> overLimitTrees;
 
     void add(const TileShader& shader) {
@@ -362,6 +371,10 @@ struct PassFindings {
                             scratch.overLimitNow.end());
         overLimitTrees.insert(overLimitTrees.end(), scratch.overLimitTrees.begin(),
                               scratch.overLimitTrees.end());
+        edgeFailedNow.insert(edgeFailedNow.end(), scratch.edgeFailedNow.begin(),
+                             scratch.edgeFailedNow.end());
+        edgeDeclinedNow.insert(edgeDeclinedNow.end(), scratch.edgeDeclinedNow.begin(),
+                               scratch.edgeDeclinedNow.end());
     }
 };
 
@@ -482,6 +495,7 @@ void ProgressiveRenderer::recordUse(const std::vector<PairKey>& keys,
     minTreeSamples_ = settings.minTreeSamples;
     directUsed_.insert(directKeys.begin(), directKeys.end());
     exactWorkLimit_ = settings.exactWorkLimit;
+    lightEdgeWorkLimit_ = settings.exactWorkLimit != 0 ? settings.lightEdgeWorkLimit : 0;
     usedKeys_.insert(keys.begin(), keys.end());
     for (uint32_t f : faces) faceSeen_[f] = 1;
     rendered_ = true;
@@ -632,9 +646,13 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     // pixel is tried again.
     const size_t trees = store_.treeCount();
     if (pass == 0 || overLimitCellsLimit_ != settings.exactWorkLimit ||
-        overLimitCellsTrees_ != trees)
+        overLimitCellsEdgeLimit_ != settings.lightEdgeWorkLimit || overLimitCellsTrees_ != trees) {
         overLimitCells_.clear();
+        edgeFailedCells_.clear();
+        edgeDeclinedCells_.clear();
+    }
     overLimitCellsLimit_ = settings.exactWorkLimit;
+    overLimitCellsEdgeLimit_ = settings.lightEdgeWorkLimit;
     overLimitCellsTrees_ = trees;
     const CameraRays rays(camera, w, h);
     const PassInputs in{scene_,
@@ -650,6 +668,8 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
                                                                    : settings.lightSamples,
                         settings.method == DirectMethod::Exact,
                         &overLimitCells_,
+                        &edgeFailedCells_,
+                        &edgeDeclinedCells_,
                         answering ? passAnswers_.data() : nullptr,
                         seeing ? passSeen_.data() : nullptr};
 
@@ -669,6 +689,8 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
     schedule_.finish();
 
     overLimitCells_.insert(found.overLimitNow.begin(), found.overLimitNow.end());
+    edgeFailedCells_.insert(found.edgeFailedNow.begin(), found.edgeFailedNow.end());
+    edgeDeclinedCells_.insert(found.edgeDeclinedNow.begin(), found.edgeDeclinedNow.end());
     addPass(film, pass, w, h, image, passAnswers_, passSeen_, lights);
     recordUse(found.usedKeys, found.facesSeen, settings, found.evaluations, found.directKeys);
     // Refined between passes: the film of this pass is complete; the next one finds the trees.
@@ -738,7 +760,11 @@ bool ProgressiveRenderer::refineWhere(const std::vector<OverLimitPoint>& points,
     // cells stay skipped (their pairs did not change), unless trees came from elsewhere too.
     const std::set<PairKey> built(keys.begin(), keys.end());
     for (const auto& [sub, cell] : cells)
-        if (built.count(sub) != 0 && store_.find(sub) != nullptr) overLimitCells_.erase(cell);
+        if (built.count(sub) != 0 && store_.find(sub) != nullptr) {
+            overLimitCells_.erase(cell);
+            edgeFailedCells_.erase(cell);
+            edgeDeclinedCells_.erase(cell);
+        }
     if (overLimitCellsTrees_ == trees0) overLimitCellsTrees_ = store_.treeCount();
     std::lock_guard lock(mutex_);
     for (const PairKey& key : keys) {
@@ -807,6 +833,14 @@ EffectsSummary ProgressiveRenderer::effects() const {
     s.overLimitAt = evaluations_.overLimitAt;
     s.workAt = evaluations_.workAt;
     s.exactWorkLimit = exactWorkLimit_;
+    s.lightEdgeWorkLimit = lightEdgeWorkLimit_;
+    s.lightEdgeEvaluations = evaluations_.lightEdges;
+    s.lightEdgeNotTaken = evaluations_.lightEdgesNotTaken;
+    s.lightEdgeOverLimit = evaluations_.lightEdgesOverLimit;
+    s.lightEdgeSkipped = evaluations_.lightEdgesSkipped;
+    s.retriedEvaluations = evaluations_.retried;
+    s.retriedOverLimit = evaluations_.retriedOverLimit;
+    s.lightEdgeIndex = lighting_->lightEdgeStats();
     s.pairsDirect = directUsed_.size();
     s.directEvaluations = evaluations_.direct;
     s.directGroupedEvaluations = evaluations_.directGrouped;

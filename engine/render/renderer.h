@@ -65,6 +65,14 @@ struct RenderSettings {
     // leaves) is shaded for that light with lightSamples shadow rays instead, and the effects
     // summary counts it. 0 = no limit: every point exact, whatever it costs.
     uint64_t exactWorkLimit = 1024;
+    // Exact, with a work limit: a point the paths above gave up on at exactWorkLimit (and the
+    // later points of its region and pixel, which skip them) takes the light-edge path
+    // (vis::FromPointQuery::runLightEdges: the boundary chain from the light's silhouette edges
+    // near the point's cone, no face activated; the same exact answer) with this many plane
+    // tests of its own before it is sampled; a pixel whose attempt reached it, or could not take
+    // the path (a face cut by the light's plane near its cone), is sampled in the later passes
+    // without trying. Easy points never pay for it. 0 = never tried (sampled at once).
+    uint64_t lightEdgeWorkLimit = 262144;
     // Exact: a point clipped against at least this many occluders (a partial tree's deferred
     // ones, or the direct path's) is evaluated by their boundary chain when most of their edges
     // cancel (vis::FromPointQuery::ChainOptions; the same answer). 0 = never.
@@ -194,7 +202,7 @@ class ProgressiveRenderer {
     bool rendered_ = false;
     DirectMethod method_ = DirectMethod::Exact;
     int lightSamples_ = 0, glossySamples_ = 0;
-    uint64_t exactWorkLimit_ = 0;
+    uint64_t exactWorkLimit_ = 0, lightEdgeWorkLimit_ = 0;
     // Exact method: (point, light) evaluations, and those over the work limit (sampled).
     ExactEvaluations evaluations_;
     uint64_t minTreeSamples_ = 0;
@@ -215,7 +223,13 @@ class ProgressiveRenderer {
     // limit (ExactScratch::overLimitBefore), the limit they were for and the store's tree count
     // then (cleared when either changes): written between passes, read by a pass's tiles.
     std::unordered_set<uint64_t> overLimitCells_;
-    uint64_t overLimitCellsLimit_ = 0;
+    // Of them, those whose light-edge attempt reached its own limit or could not be taken
+    // (ExactScratch::edgeFailedBefore): sampled without trying it. Cleared with them.
+    std::unordered_set<uint64_t> edgeFailedCells_;
+    // And those where it declined (ExactScratch::edgeDeclinedBefore): the default path with its
+    // limit at once.
+    std::unordered_set<uint64_t> edgeDeclinedCells_;
+    uint64_t overLimitCellsLimit_ = 0, overLimitCellsEdgeLimit_ = 0;
     size_t overLimitCellsTrees_ = 0;
     // The from-point query workspaces, one per worker thread, kept across passes and films
     // (QueryPool in renderer.cpp): a fresh one sizes its per-mesh tables (the face hierarchy's

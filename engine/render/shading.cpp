@@ -1,6 +1,7 @@
 #include "engine/render/shading.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -81,8 +82,22 @@ bool groupsWillAnswer(const VisibilityStore::ShaftCount& shaft, size_t minFaces)
            kGroupedShare * shaft.grouped >= shaft.faces;
 }
 
+// One light's light-edge index, built on first use (DirectLighting::lightEdges); `built` is set
+// (release) once it is, for lightEdgeStats to read it from another thread.
+struct DirectLighting::LightEdgeSlot {
+    std::once_flag once;
+    vis::LightEdgeIndex index;
+    double seconds = 0;
+    std::atomic<bool> built{false};
+};
+
+DirectLighting::~DirectLighting() = default;
+
 DirectLighting::DirectLighting(const Scene& scene, const EmbreeScene& bvh, VisibilityStore* store)
-    : scene_(scene), bvh_(bvh), store_(store) {
+    : scene_(scene),
+      bvh_(bvh),
+      store_(store),
+      lightEdges_(std::make_unique<LightEdgeSlot[]>(scene.lights.size())) {
     for (uint32_t face : scene.lights) {
         AreaLight light;
         light.face = face;
@@ -110,6 +125,10 @@ struct DirectLighting::Evaluation {
     int glossySamples, fallbackSamples;
     SplitMix64& rng;
     ExactScratch& scratch;
+    // The default path again, with the light-edge path's limit, after that path declined
+    // (DirectLighting::gaveUp): its stage when it first gave up, if it ran.
+    bool retry = false, tried = false;
+    vis::WorkStage firstStage = vis::WorkStage::Walk;
 };
 
 namespace {
@@ -170,7 +189,7 @@ Vec3 DirectLighting::exactAreaLight(const SurfacePoint& p, size_t k, int glossyS
                  fallbackSamples,
                  rng,
                  scratch};
-    if (queried && knownOverLimit(k, cell, scratch)) return overLimit(e, false);
+    if (queried && knownOverLimit(k, cell, scratch)) return gaveUp(e, false);
     // A partial tree whose deferred occluders lie mostly in face groups: its points are
     // answered without it (the same exact answer; see answeredByGroups).
     if (record == nullptr || answeredByGroups(*record)) return directAnswer(e);
@@ -218,19 +237,124 @@ bool DirectLighting::knownOverLimit(size_t k, uint64_t cell, ExactScratch& scrat
            scratch.overLimitBefore->find(cell) != scratch.overLimitBefore->end();
 }
 
-Vec3 DirectLighting::overLimit(Evaluation& e, bool tried) const {
+Vec3 DirectLighting::gaveUp(Evaluation& e, bool tried) const {
     ExactScratch& scratch = e.scratch;
-    ++scratch.evaluations.sampled;
-    scratch.note(e.cell, Answer::Sampled);
-    if (tried) ++scratch.evaluations.overLimitAt[static_cast<size_t>(scratch.query.limitStage())];
-    if (e.record == nullptr) ++scratch.evaluations.sampledDirect;
+    // What the default path's giving up decides, whatever answers the point now: the later
+    // points of its region and pixel skip that path, and a tree's walk over the limit is where
+    // the renderer refines.
+    const vis::WorkStage stage = scratch.query.limitStage();
     if (!scratch.regionCorners.empty() && e.record != nullptr)
         scratch.regionOverLimit[e.k] = scratch.regionId;
     if (tried) scratch.overLimitNow.push_back(e.cell);
-    if (e.timed && tried) scratch.evaluations.costs.attemptNs.addSince(e.evalStart);
     if (e.record != nullptr && e.record->tree.kind == vis::PairKind::Penumbra &&
         !answeredByGroups(*e.record))
         scratch.overLimitTrees.push_back({e.key, e.p.x, e.cell});
+    if (scratch.lightEdgeWorkLimit != 0) {
+        auto in = [&](const std::unordered_set<uint64_t>* cells) {
+            return cells != nullptr && cells->find(e.cell) != cells->end();
+        };
+        const bool declinedBefore = in(scratch.edgeDeclinedBefore);
+        if (in(scratch.edgeFailedBefore)) {
+            ++scratch.evaluations.lightEdgesSkipped;
+        } else if (const std::optional<Vec3> v =
+                       declinedBefore ? std::nullopt : lightEdgeAnswer(e)) {
+            return *v;
+        } else if (declinedBefore || !scratch.query.limitReached()) {
+            // (Declined here, or by the pixel's earlier attempt: counted as declined.)
+            scratch.evaluations.lightEdgesNotTaken += declinedBefore;
+            // Declined (it would not pay, or cannot be taken here): the default path again,
+            // with the light-edge path's limit; over that too, the point is sampled.
+            ++scratch.evaluations.retried;
+            vis::FromPointQuery& query = scratch.query;
+            const uint64_t limit = query.workLimit();
+            query.setWorkLimit(scratch.lightEdgeWorkLimit);
+            e.retry = true;
+            e.firstStage = stage;
+            e.tried = tried;
+            const Vec3 v = e.record == nullptr || answeredByGroups(*e.record) ? directAnswer(e)
+                                                                              : treeWalkAnswer(e);
+            query.setWorkLimit(limit);
+            return v;
+        }
+    }
+    return overLimit(e, tried, stage);
+}
+
+Vec3 DirectLighting::limitReached(Evaluation& e) const {
+    if (!e.retry) return gaveUp(e, true);
+    ++e.scratch.evaluations.retriedOverLimit;
+    e.scratch.edgeFailedNow.push_back(e.cell);
+    return overLimit(e, e.tried, e.firstStage);
+}
+
+std::optional<Vec3> DirectLighting::lightEdgeAnswer(Evaluation& e) const {
+    ExactScratch& scratch = e.scratch;
+    vis::FromPointQuery& query = scratch.query;
+    const uint64_t limit = query.workLimit();
+    query.setWorkLimit(scratch.lightEdgeWorkLimit);
+    const vis::FragmentList* list = query.runLightEdges(
+        scene_.mesh, e.p.face, e.light.face, e.p.answered(), bvh_.faceBoxes(), lightEdges(e.k));
+    query.setWorkLimit(limit);
+    countWork(scratch, 1);
+    if (list == nullptr || query.limitReached()) {
+        // (Over its limit the pixel's later points skip it; declined, they retry the default
+        // path: gaveUp.)
+        if (list == nullptr) {
+            ++scratch.evaluations.lightEdgesNotTaken;
+            scratch.edgeDeclinedNow.push_back(e.cell);
+        } else {
+            ++scratch.evaluations.lightEdgesOverLimit;
+            scratch.edgeFailedNow.push_back(e.cell);
+        }
+        return std::nullopt;
+    }
+    ++scratch.evaluations.lightEdges;
+    const Vec3 v = shadeFragments(e.p, e.light, *list, {}, e.glossySamples, e.rng, scratch);
+    noteSeen(e, *list);
+    exactDone(e, Answer::LightEdges, list->size());
+    return v;
+}
+
+const vis::LightEdgeIndex& DirectLighting::lightEdges(size_t k) const {
+    LightEdgeSlot& slot = lightEdges_[k];
+    std::call_once(slot.once, [&] {
+        std::call_once(meshEdgesOnce_, [&] {
+            const auto t0 = Clock::now();
+            meshEdges_ = vis::MeshEdges(scene_.mesh);
+            meshEdgesSeconds_ = std::chrono::duration<double>(Clock::now() - t0).count();
+        });
+        const auto t0 = Clock::now();
+        slot.index = vis::LightEdgeIndex(scene_.mesh, meshEdges_, lights_[k].face);
+        slot.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+        slot.built.store(true, std::memory_order_release);
+    });
+    return slot.index;
+}
+
+LightEdgeIndexStats DirectLighting::lightEdgeStats() const {
+    LightEdgeIndexStats out;
+    for (size_t k = 0; k < lights_.size(); ++k) {
+        const LightEdgeSlot& slot = lightEdges_[k];
+        if (!slot.built.load(std::memory_order_acquire)) continue;
+        ++out.lights;
+        out.seconds += slot.seconds;
+        out.bytes += slot.index.bytes();
+        out.silhouetteEdges += slot.index.size();
+    }
+    if (out.lights > 0) {  // (the edge table was built before the first index)
+        out.seconds += meshEdgesSeconds_;
+        out.meshEdges = meshEdges_.size();
+    }
+    return out;
+}
+
+Vec3 DirectLighting::overLimit(Evaluation& e, bool tried, vis::WorkStage stage) const {
+    ExactScratch& scratch = e.scratch;
+    ++scratch.evaluations.sampled;
+    scratch.note(e.cell, Answer::Sampled);
+    if (tried) ++scratch.evaluations.overLimitAt[static_cast<size_t>(stage)];
+    if (e.record == nullptr) ++scratch.evaluations.sampledDirect;
+    if (e.timed && tried) scratch.evaluations.costs.attemptNs.addSince(e.evalStart);
     if (!e.timed) return sampledAreaLight(e.light, e.p, e.fallbackSamples, e.rng);
     const auto raysStart = Clock::now();
     const Vec3 v = sampledAreaLight(e.light, e.p, e.fallbackSamples, e.rng);
@@ -243,7 +367,16 @@ void DirectLighting::exactDone(Evaluation& e, Answer path, size_t fragments) con
     if (e.timed) scratch.evaluations.costs.exactNs.addSince(e.evalStart);
     const vis::FromPointQuery::ChainCounts& chain = scratch.query.chainCounts();
     const bool noLight = scratch.query.work() == 0 && fragments == 0;
-    scratch.note(e.cell, chain.cells != 0 ? Answer::Chain : noLight ? Answer::NoLight : path);
+    scratch.note(e.cell, path == Answer::LightEdges ? path
+                         : chain.cells != 0         ? Answer::Chain
+                         : noLight                  ? Answer::NoLight
+                                                    : path);
+    if (path == Answer::LightEdges) {
+        ++scratch.evaluations.costs.lightEdgeEvaluations;
+        scratch.evaluations.costs.lightEdgesExamined += chain.lightEdgesExamined;
+        scratch.evaluations.costs.lightEdgesWeighted += chain.boundaryEdges;
+        scratch.evaluations.costs.lightEdgesInCone += chain.chainInCone;
+    }
     if (chain.cells == 0) return;
     ++scratch.evaluations.costs.chainEvaluations;
     scratch.evaluations.costs.chainOccluderEdges += chain.occluderEdges;
@@ -283,15 +416,18 @@ Vec3 DirectLighting::directAnswer(Evaluation& e) const {
     const vis::FragmentList& list =
         scratch.query.runDirect(scene_.mesh, e.p.face, e.light.face, e.p.answered(),
                                 bvh_.faceBoxes(), &bvh_.faceClusters());
-    if (e.record == nullptr) {
+    if (e.retry) {
+        // (Counted on the first try.)
+    } else if (e.record == nullptr) {
         const vis::FromPointQuery& q = scratch.query;
         scratch.evaluations.directGrouped += q.clustersUsed() > 0;
         scratch.evaluations.directSolid += q.solidGroupsLeftOut() + q.solidFacesLeftOut() > 0;
         scratch.evaluations.directHiddenBySolid += q.hiddenBySolid();
-    } else
+    } else {
         ++scratch.evaluations.partialByGroups;
+    }
     countWork(scratch, 1);
-    if (scratch.query.limitReached()) return overLimit(e, true);
+    if (scratch.query.limitReached()) return limitReached(e);
     const Vec3 v = shadeFragments(e.p, e.light, list, {}, e.glossySamples, e.rng, scratch);
     noteSeen(e, list);
     exactDone(e, Answer::Direct, list.size());
@@ -332,7 +468,7 @@ Vec3 DirectLighting::treeWalkAnswer(Evaluation& e) const {
     const vis::FragmentList& list =
         scratch.query.run(scene_.mesh, e.record->tree, e.p.answered(), nullptr, region);
     countWork(scratch, 0);
-    if (scratch.query.limitReached()) return overLimit(e, true);
+    if (scratch.query.limitReached()) return limitReached(e);
     noteSeen(e, list);
     if (list.empty()) {
         exactDone(e, Answer::TreeWalk, 0);

@@ -23,6 +23,8 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <unordered_set>
@@ -36,6 +38,8 @@
 #include "engine/scene/scene.h"
 #include "visibility/answered_point.h"
 #include "visibility/fp_query/from_point_query.h"
+#include "visibility/light_edge_index.h"
+#include "visibility/mesh_edges.h"
 #include "visibility/pair_occluders.h"
 
 namespace penumbra {
@@ -197,6 +201,18 @@ struct ExactScratch {
         if (seen != nullptr) seen[cell] = static_cast<uint8_t>(s);
     }
     std::vector<uint64_t> overLimitNow;
+    // The light-edge path, tried where the paths above gave up at the work limit (tried or
+    // skipped) before the point is sampled: its own work limit (0 = never tried: sampled at
+    // once), and the cells of the film's earlier passes where it reached that limit too, or
+    // could not be taken (the renderer's, read-only during a pass; null = none): their later
+    // points are sampled without trying it. This pass's such cells go to edgeFailedNow.
+    uint64_t lightEdgeWorkLimit = 0;
+    const std::unordered_set<uint64_t>* edgeFailedBefore = nullptr;
+    std::vector<uint64_t> edgeFailedNow;
+    // The same for the cells where the light-edge path declined (it would not pay there, or
+    // cannot be taken): their later points take the default path with its limit at once.
+    const std::unordered_set<uint64_t>* edgeDeclinedBefore = nullptr;
+    std::vector<uint64_t> edgeDeclinedNow;
     // The points sampled over the work limit (tried or skipped) that a tree's walk answers,
     // with the tree's key: where the renderer refines (RenderSettings::refineLevels).
     std::vector<OverLimitPoint> overLimitTrees;
@@ -215,20 +231,29 @@ class DirectLighting {
   public:
     // scene and bvh must outlive this object; store may be null (then exact() may not be called).
     DirectLighting(const Scene& scene, const EmbreeScene& bvh, VisibilityStore* store);
+    ~DirectLighting();
+    DirectLighting(const DirectLighting&) = delete;
+    DirectLighting& operator=(const DirectLighting&) = delete;
 
     const std::vector<AreaLight>& areaLights() const { return lights_; }
 
     // The reflected radiance at p from every area light, by the exact fragments. glossySamples
     // samples per light for the Phong lobe (unused for diffuse materials). A partial tree's
     // deferred occluders are clipped by the query itself. A query that reaches
-    // scratch.query's work limit (FromPointQuery::setWorkLimit) has no exact answer: that light
-    // is estimated with `fallbackSamples` stratified shadow rays, counted in
-    // scratch.evaluations.sampled (.all counts every point-light pair that needed a query); so
-    // are the later points of the same region after a tree's walk reached it
+    // scratch.query's work limit (FromPointQuery::setWorkLimit) has no exact answer there, and
+    // neither do the later points of the same region after a tree's walk reached it
     // (ExactScratch::regionOverLimit) and of the same pixel in later passes
-    // (ExactScratch::overLimitBefore).
+    // (ExactScratch::overLimitBefore): those take the light-edge path with its own limit
+    // (ExactScratch::lightEdgeWorkLimit; the same exact answer, counted in
+    // scratch.evaluations.lightEdges), or where it declines (it would not pay there, or cannot
+    // be taken) the default path again with that limit (.retried); where that limit is
+    // reached, that light is estimated with `fallbackSamples` stratified shadow rays, counted in
+    // scratch.evaluations.sampled (.all counts every point-light pair that needed a query).
     Vec3 exactAreaLights(const SurfacePoint& p, int glossySamples, int fallbackSamples,
                          SplitMix64& rng, ExactScratch& scratch) const;
+    // The light-edge index of every light built so far (built on a light's first point that
+    // the default path gave up on: lightEdges()), for the effects summary.
+    LightEdgeIndexStats lightEdgeStats() const;
     // The same with `samples` stratified shadow rays per light.
     Vec3 sampledAreaLights(const SurfacePoint& p, int samples, SplitMix64& rng) const;
     // Every point light, one shadow ray each.
@@ -244,7 +269,19 @@ class DirectLighting {
                         SplitMix64& rng, ExactScratch& scratch) const;
     const PairRecord* pairRecord(const PairKey& key, size_t k, ExactScratch& scratch) const;
     bool knownOverLimit(size_t k, uint64_t cell, ExactScratch& scratch) const;
-    Vec3 overLimit(Evaluation& e, bool tried) const;
+    // The default path gave up on the point (its query reached the work limit: tried; or its
+    // region's or pixel's had: not tried): the light-edge path, then shadow rays.
+    Vec3 gaveUp(Evaluation& e, bool tried) const;
+    // The light-edge path's answer, or nothing where it reached its limit or declined (then the
+    // default path is tried again with its limit: gaveUp).
+    std::optional<Vec3> lightEdgeAnswer(Evaluation& e) const;
+    // A query reached the work limit: the default path gives up (gaveUp), or its retry with the
+    // light-edge path's limit did too (the point is sampled).
+    Vec3 limitReached(Evaluation& e) const;
+    Vec3 overLimit(Evaluation& e, bool tried, vis::WorkStage stage) const;
+    // Light k's light-edge index, built once on first use (thread-safe: the first caller builds
+    // it, the others wait), with the mesh's edge table before the first one.
+    const vis::LightEdgeIndex& lightEdges(size_t k) const;
     void exactDone(Evaluation& e, Answer path, size_t fragments) const;
     // The light clipped to the receiver's front half-space (cached per light for the last
     // receiver face in scratch), with whether the receiver's plane cut it.
@@ -265,6 +302,13 @@ class DirectLighting {
     const EmbreeScene& bvh_;
     VisibilityStore* store_;
     std::vector<AreaLight> lights_;
+    // The light-edge indices, one slot per light (a once flag each: not movable), and the mesh's
+    // edge table they are built from (once, by the first light's build).
+    struct LightEdgeSlot;
+    std::unique_ptr<LightEdgeSlot[]> lightEdges_;
+    mutable std::once_flag meshEdgesOnce_;
+    mutable vis::MeshEdges meshEdges_;
+    mutable double meshEdgesSeconds_ = 0;
 };
 
 }  // namespace penumbra

@@ -258,6 +258,7 @@ Table1Row runTable1Study(const std::string& path, const Scene& scene, const Tabl
     s.width = o.width;
     s.height = o.height;
     s.spp = o.spp;
+    s.lightEdgeWorkLimit = o.lightEdgeWorkLimit;
     row.shadowEdges = measureShadowEdges(scene, log);
     row.sampled128 = measureSampled(scene, bvh, camera, s, log);
     row.exact = measureExact(path, scene, bvh, camera, s, o, log);

@@ -17,6 +17,7 @@
 #include <string>
 
 #include "engine/render/answers.h"
+#include "engine/render/renderer.h"
 #include "engine/scene/scene.h"
 #include "engine/studies/equal_error_study.h"
 #include "engine/studies/precompute_run.h"
@@ -186,6 +187,8 @@ struct Table1Options {
     // The equal-error study's largest ray count per light (EqualErrorOptions::maxRays); its
     // target is EqualErrorOptions's, its limit per render the one above.
     int equalErrorMaxRays = 4096;
+    // The exact render's light-edge budget (RenderSettings::lightEdgeWorkLimit).
+    uint64_t lightEdgeWorkLimit = RenderSettings{}.lightEdgeWorkLimit;
     // Where the answers image goes (answers_<scene stem>.png) and the visibility files are
     // written to be measured (then removed).
     std::filesystem::path outDir;

@@ -348,6 +348,8 @@ struct Checked {
     int solid = 0, hiddenBySolid = 0;
     // Points the light-edge path answered (edge_path.h), with the chain forced, and their cells.
     int lightEdges = 0, lightEdgeCells = 0;
+    // Points FromPointQuery::runLightEdges answered (the path alone, default options).
+    int lightEdgesAlone = 0;
 };
 
 // S_L and its hierarchies for light face 1 (light_edge_index.h).
@@ -420,6 +422,15 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
         compare(
             "direct, light edges, default options",
             measure(s.mesh, x, defaults.runDirect(s.mesh, 0, 1, x, faces, &groups, &lightEdges)));
+        // The light-edge path alone (the renderer's step after the work limit): taken only
+        // where runDirect takes it (and the edges near the cone mostly cancel), with the same
+        // answer; nothing answered where it is not.
+        const bool took = defaults.usedLightEdges();
+        const vis::FragmentList* alone =
+            defaults.runLightEdges(s.mesh, 0, 1, vis::answeredAsGiven(x), faces, lightEdges);
+        EXPECT_TRUE(!defaults.usedLightEdges() || took) << what << " at x = " << vis::toString(x);
+        if (alone != nullptr) compare("the light-edge path alone", measure(s.mesh, x, *alone));
+        used.lightEdgesAlone += alone != nullptr && defaults.usedLightEdges();
         // (Algorithm 1 only: the groups are not taken.)
         oneByOne.runDirect(s.mesh, 0, 1, x, faces, &groups);
         EXPECT_EQ(oneByOne.clustersUsed(), 0u);
@@ -450,6 +461,7 @@ TEST(BoundaryChainQuery, ClosedSphereMatchesTheExactReference) {
     EXPECT_GT(used.crossingLabels, used.cells / 2);
     // No face near L's plane: every point takes the light-edge path.
     EXPECT_EQ(used.lightEdges, test::scaled(60));
+    EXPECT_GT(used.lightEdgesAlone, 0);
     EXPECT_GT(used.lightEdgeCells, test::scaled(60));
 }
 
@@ -468,6 +480,7 @@ TEST(BoundaryChainQuery, CellsDecidedWholeUnderOverlappingSpheresMatchTheExactRe
     // Decided whole, a cell is not cut further: fewer cells than the leaves would be.
     EXPECT_LT(used.hiddenWhole + used.seenWhole, used.cells);
     EXPECT_EQ(used.lightEdges, test::scaled(60));
+    EXPECT_GT(used.lightEdgesAlone, 0);
 }
 
 // Closed surfaces taken as solids (closed_surfaces.h): a floor point leaves out the faces of a

@@ -94,6 +94,14 @@ void QueryParts::clipCandidates() {
     reachVisible(run.pair.lightClipped(), 0);
 }
 
+bool QueryParts::takeLightEdges(const BoxTree& faces, const LightEdgeIndex& index) {
+    if (run.chainOptions.minOccluders == 0 || !edges.prepare(faces, index)) return false;
+    if (run.budget.reached()) return true;
+    deferredPrepared = true;
+    reachVisible(run.pair.lightClipped(), 0);
+    return true;
+}
+
 // ---- FromPointQuery ------------------------------------------------------------------------
 
 FromPointQuery::FromPointQuery(PredicateMode mode) : q_(std::make_unique<QueryParts>(mode)) {}
@@ -116,13 +124,7 @@ const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t 
     r.preparePyramid();
     // The light-edge path where it is given and taken (edge_path.h): the chain from S_L's edges
     // near the cone, no face activated.
-    if (lightEdges != nullptr && r.chainOptions.minOccluders != 0 &&
-        q.edges.prepare(faces, *lightEdges)) {
-        if (r.budget.reached()) return r.fragments;
-        q.deferredPrepared = true;
-        q.reachVisible(r.pair.lightClipped(), 0);
-        return r.fragments;
-    }
+    if (lightEdges != nullptr && q.takeLightEdges(faces, *lightEdges)) return r.fragments;
     // The candidates in the order the hierarchy's walk finds them (a function of the mesh alone:
     // the answer is deterministic). Insertion order as the builder's (pair_occluders.h) would be
     // costlier to find than it saves; sorting them into face order cost the bunny's penumbra
@@ -134,6 +136,34 @@ const FragmentList& FromPointQuery::runDirect(const PolygonMesh& mesh, uint32_t 
     }
     q.clipCandidates();
     return r.fragments;
+}
+
+const FragmentList* FromPointQuery::runLightEdges(const PolygonMesh& mesh, uint32_t receiver,
+                                                  uint32_t light, const AnsweredPoint& point,
+                                                  const BoxTree& faces,
+                                                  const LightEdgeIndex& lightEdges) {
+    QueryParts& q = *q_;
+    QueryRun& r = q.run;
+    q.startRun();
+    if (receiver == light) return &r.fragments;
+    r.input = point.input;
+    r.moved = point.moved();
+    if (!q.startPair(mesh, receiver, light, point.at)) return &r.fragments;
+    r.x = point.at;
+    r.preparePyramid();
+    if (r.chainOptions.minOccluders == 0 || !q.edges.prepare(faces, lightEdges)) return nullptr;
+    if (r.budget.reached()) return &r.fragments;
+    // Where the edges found near the cone mostly remain (separate faces, leaves: few cancel),
+    // the chain cut by them costs more than the face-by-face paths, which drop a hidden part at
+    // once (ChainOptions::gain, as ChainBuild decides for those paths): not taken.
+    const uint32_t gain = r.chainOptions.gain;
+    if (gain != 0 && q.edges.remaining().size() * gain > q.edges.examined()) {
+        q.edges.reset();
+        return nullptr;
+    }
+    q.deferredPrepared = true;
+    q.reachVisible(r.pair.lightClipped(), 0);
+    return &r.fragments;
 }
 
 const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTree& tree,
@@ -183,6 +213,7 @@ const FragmentList& FromPointQuery::run(const PolygonMesh& mesh, const HistoryTr
 uint32_t FromPointQuery::nodesVisited() const { return q_->walk.nodesVisited(); }
 bool FromPointQuery::answeredOnContact() const { return q_->contactAnswer; }
 void FromPointQuery::setWorkLimit(uint64_t planeTests) { q_->run.budget.setLimit(planeTests); }
+uint64_t FromPointQuery::workLimit() const { return q_->run.budget.limit(); }
 uint64_t FromPointQuery::work() const { return q_->run.budget.work(); }
 bool FromPointQuery::limitReached() const { return q_->run.budget.reached(); }
 WorkStage FromPointQuery::limitStage() const { return q_->run.budget.limitStage(); }

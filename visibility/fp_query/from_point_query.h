@@ -150,6 +150,18 @@ class FromPointQuery {
                                   const LightEdgeIndex* lightEdges = nullptr) {
         return runDirect(mesh, receiver, light, answeredAsGiven(x), faces, clusters, lightEdges);
     }
+    // The light-edge path alone (fp_query/edge_path.h): the same answer as runDirect, from S_L's
+    // edges near x's cone, or null where that path cannot be taken (a face cut by L's plane may
+    // meet the cone, x behind B's plane, `lightEdges` not built for this mesh and `light`, or
+    // the boundary chain off: ChainOptions::minOccluders 0) or would not pay (more than one in
+    // ChainOptions::gain of the S_L edges found near the cone keep a nonzero weight: separate
+    // faces, whose edges hardly cancel); then nothing is answered and only the check's work is
+    // counted. Honours the work limit like runDirect (limitReached). For
+    // the renderer's points that the default path gave up on at the work limit: tried before
+    // they are sampled, so that easy points never pay for the index lookups.
+    const FragmentList* runLightEdges(const PolygonMesh& mesh, uint32_t receiver, uint32_t light,
+                                      const AnsweredPoint& x, const BoxTree& faces,
+                                      const LightEdgeIndex& lightEdges);
     uint32_t nodesVisited() const;
     // The last run() answered by the contact rule from the pair's occluders, not by the walk.
     bool answeredOnContact() const;
@@ -159,6 +171,7 @@ class FromPointQuery {
     // list and reports limitReached(); the caller must then answer the point otherwise (the
     // renderer samples it and says so). Counts, not seconds: deterministic (work_budget.h).
     void setWorkLimit(uint64_t planeTests);
+    uint64_t workLimit() const;
     uint64_t work() const;
     bool limitReached() const;
     // The stage the last run was in when it reached the work limit (when limitReached()).

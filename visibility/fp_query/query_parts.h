@@ -75,6 +75,10 @@ struct QueryParts {
     // The answer from the faces in QueryRun::candidates alone (no tree): each activated (solids
     // tried first where they pay), then L clipped.
     void clipCandidates();
+    // The light-edge path (edge_path.h), after preparePyramid: true when it was taken (the
+    // answer is in run.fragments, or the work limit was reached), false when it cannot be (the
+    // boundary chain off, or EdgePath::prepare declined: nothing answered).
+    bool takeLightEdges(const BoxTree& faces, const LightEdgeIndex& index);
 };
 
 }  // namespace penumbra::vis

@@ -47,6 +47,7 @@ constexpr const char* toString(WorkStage stage) {
 class WorkBudget {
   public:
     void setLimit(uint64_t planeTests) { limit_ = planeTests; }
+    uint64_t limit() const { return limit_; }
     // A new run: nothing spent, in the walk.
     void reset() {
         work_ = 0;

@@ -36,6 +36,7 @@
 #include "engine/io/atomic_file.h"
 #include "engine/io/finite_output.h"
 #include "engine/io/text_input.h"
+#include "engine/render/renderer.h"
 #include "engine/studies/study_harness.h"
 
 #ifndef PENUMBRA_BUILD_TYPE
@@ -71,6 +72,8 @@ struct BenchOptions {
     std::string exactCostSize = "128x128";
     // The equal-error study's largest shadow-ray count per light (Table 1).
     int equalErrorMaxRays = 4096;
+    // Table 1's exact render: the light-edge path's own limit (RenderSettings).
+    uint64_t lightEdgeWorkLimit = RenderSettings{}.lightEdgeWorkLimit;
 };
 
 // A study's progress line, on stdout as it comes.
@@ -127,6 +130,7 @@ Table1Options table1Options(const BenchOptions& o, const fs::path& dir, bool lar
     t.exactCostHeight = ch;
     t.outDir = dir;
     t.equalErrorMaxRays = o.equalErrorMaxRays;
+    t.lightEdgeWorkLimit = o.lightEdgeWorkLimit;
     return t;
 }
 
@@ -364,6 +368,10 @@ void registerBenchCommand(CLI::App& app) {
                     "Largest shadow-ray count per light the equal-error search of Table 1 tries "
                     "(n x n grids)")
         ->check(CLI::PositiveNumber);
+    sub->add_option("--light-edge-work-limit", o->lightEdgeWorkLimit,
+                    "Table 1's exact render: plane tests of the light-edge path on a point over "
+                    "the work limit before it is sampled (0 = sampled at once)")
+        ->capture_default_str();
     sub->add_flag("--skip-large", o->skipLarge, "Skip the scenes above 300k triangles");
     sub->add_flag("--no-plots", o->noPlots, "Do not run scripts/plot_bench.py");
     sub->add_flag("--report-only", o->reportOnly,
@@ -393,6 +401,8 @@ void registerBenchCommand(CLI::App& app) {
                " --reference-rays " + std::to_string(opt.referenceRays) + " --exact-cost-size " +
                opt.exactCostSize + " --equal-error-max-rays " +
                std::to_string(opt.equalErrorMaxRays);
+        if (opt.lightEdgeWorkLimit != RenderSettings{}.lightEdgeWorkLimit)
+            cmd += " --light-edge-work-limit " + std::to_string(opt.lightEdgeWorkLimit);
         if (opt.quick) cmd += " --quick";
         if (opt.skipLarge) cmd += " --skip-large";
         if (opt.sceneOptions.strict) cmd += " --strict";

@@ -744,14 +744,16 @@ void read(ObjectReader& r, S& s, const Named<S, E, N>& f) {
     counts.finish();
 }
 // A bench.json written before the horizon-clipped answer has no count for it: 0 (its "fully
-// visible" count holds both; the report of such a file says so). Every other count is required.
+// visible" count holds both; the report of such a file says so); one written before the
+// light-edge path none for that (0: its points were sampled then). Every other count is
+// required.
 template <class S>
 void read(ObjectReader& r, S& s, const AnswerCounts<S>& f) {
     ObjectReader counts(r.take(f.key), r.at(f.key));
     for (size_t i = 0; i < kAnswers; ++i) {
         const Answer a = static_cast<Answer>(i);
         const char* name = toString(a);
-        if (a == Answer::HorizonClipped && !counts.has(name)) {
+        if ((a == Answer::HorizonClipped || a == Answer::LightEdges) && !counts.has(name)) {
             (s.*f.member)[i] = 0;
             continue;
         }

@@ -224,8 +224,9 @@ void writeHeading(std::ostream& r, const BenchResults& b) {
          "is the history tree of one (receiver patch, light) pair, the exact visibility "
          "precomputed for every point of the patch, and a *partial* one left some occluders to be "
          "clipped per point (still exact); *over the work limit*: an evaluation whose exact answer "
-         "needs more than `--exact-work-limit` plane tests, shaded with 128 shadow rays instead "
-         "(not exact); times are wall / CPU seconds (CPU: all threads); *us*: microseconds.\n\n";
+         "needs more than `--exact-work-limit` plane tests, answered next by the light-edge "
+         "path (exact) or, over `--light-edge-work-limit` too, shaded with 128 shadow rays (not "
+         "exact); times are wall / CPU seconds (CPU: all threads); *us*: microseconds.\n\n";
 }
 
 // The scenes `study` skipped because files they need are missing.
@@ -639,8 +640,9 @@ void writeTable1(std::ostream& r, const std::vector<Table1Row>& rows,
          "samples fewer than `--min-tree-samples` times nor for one whose shaft holds "
          "`--grouped-shaft-min` faces or more, a quarter of them in groups of faces seen from one "
          "side (*by groups*): the points of the pairs without a tree are evaluated directly, "
-         "exact; and the work limit (`--exact-work-limit`): the evaluations over it are sampled "
-         "with 128 rays (not exact). *Every point exact*: the same render with no work limit. "
+         "exact; and the work limit (`--exact-work-limit`): the evaluations over it take the "
+         "light-edge path, and are sampled with 128 rays (not exact) only over its own limit "
+         "(`--light-edge-work-limit`). *Every point exact*: the same render with no work limit. "
          "*All pairs*: every (receiver patch, light) pair precomputed, skipped above "
       << kAllPairsMaxFaces
       << " triangles. Times in seconds, wall / CPU (with every point exact, CPU over wall near the "

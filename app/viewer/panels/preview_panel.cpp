@@ -59,7 +59,7 @@ PreviewPanel::Action PreviewPanel::draw(PreviewSettings& s, ViewMode& view, Exac
             ImGui::PushItemWidth(-ImGui::CalcTextSize("grouped shaft from").x -
                                  ImGui::GetStyle().ItemInnerSpacing.x);
             // The command line's --min-tree-samples, --grouped-shaft-min, --exact-work-limit,
-            // --chain-min-occluders, --max-lp-solves.
+            // --light-edge-work-limit, --chain-min-occluders, --max-lp-solves.
             const uint64_t step = 1;
             if (ImGui::InputScalar("min tree samples", ImGuiDataType_U64, &exact.minTreeSamples,
                                    &step))
@@ -81,8 +81,16 @@ PreviewPanel::Action PreviewPanel::draw(PreviewSettings& s, ViewMode& view, Exac
                 changed = true;
             if (ImGui::IsItemHovered())
                 ImGui::SetTooltip(
-                    "plane tests one point may make before it is sampled and counted "
+                    "plane tests one point may make before the light-edge path answers it "
                     "(0 = every point exact)");
+            if (ImGui::InputScalar("light-edge limit", ImGuiDataType_U64, &exact.lightEdgeWorkLimit,
+                                   &step))
+                changed = true;
+            if (ImGui::IsItemHovered())
+                ImGui::SetTooltip(
+                    "plane tests of the light-edge path on a point over the work limit (the "
+                    "light's silhouette edges near it, the same answer); over them too it is "
+                    "sampled and counted (0 = sampled at once)");
             if (ImGui::InputScalar("chain from", ImGuiDataType_U32, &exact.chainMinOccluders,
                                    &step32))
                 changed = true;

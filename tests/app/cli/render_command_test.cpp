@@ -116,11 +116,12 @@ TEST_F(RenderCommand, WritesOpenExrWithThePfmsValues) {
 }
 
 // --out-answers writes how each pixel was answered (engine/render/answers.h) and prints the
-// shares: without a work limit nothing is sampled; with a limit of one plane test the blocker's
-// penumbra is, and those pixels are drawn in the sampled colour.
+// shares: without a work limit nothing is sampled; with a limit of one plane test and no
+// light-edge path after it the blocker's penumbra is, and those pixels are drawn in the sampled
+// colour; with the path after it (the default) they are its, and none is sampled.
 TEST_F(RenderCommand, WritesHowEachPixelWasAnswered) {
-    const penumbra::vis::Vec3 red = penumbra::answerColour(penumbra::Answer::Sampled).rgb;
-    auto sampledPixels = [&](const std::string& file) {
+    auto pixelsOf = [&](const std::string& file, penumbra::Answer answer) {
+        const penumbra::vis::Vec3 colour = penumbra::answerColour(answer).rgb;
         const penumbra::test::Image img = penumbra::test::readPng(file);
         EXPECT_EQ(img.width, 16);
         EXPECT_EQ(img.height, 12);
@@ -128,10 +129,13 @@ TEST_F(RenderCommand, WritesHowEachPixelWasAnswered) {
         for (int y = 0; y < img.height; ++y)
             for (int x = 0; x < img.width; ++x) {
                 const unsigned char* p = img.at(x, y);
-                n += p[0] == std::lround(255 * red.x) && p[1] == std::lround(255 * red.y) &&
-                     p[2] == std::lround(255 * red.z);
+                n += p[0] == std::lround(255 * colour.x) && p[1] == std::lround(255 * colour.y) &&
+                     p[2] == std::lround(255 * colour.z);
             }
         return n;
+    };
+    auto sampledPixels = [&](const std::string& file) {
+        return pixelsOf(file, penumbra::Answer::Sampled);
     };
     ProcessResult r = run(base(), {"--exact-work-limit", "0", "--out", path("a.png"),
                                    "--out-answers", path("exact.png")});
@@ -140,11 +144,18 @@ TEST_F(RenderCommand, WritesHowEachPixelWasAnswered) {
         << output(r);
     EXPECT_NE(output(r).find("sampled (red) 0.0%"), std::string::npos) << output(r);
     EXPECT_EQ(sampledPixels(path("exact.png")), 0);
-    r = run(base(), {"--exact-work-limit", "1", "--out", path("a.png"), "--out-answers",
-                     path("limited.png")});
+    r = run(base(), {"--exact-work-limit", "1", "--light-edge-work-limit", "0", "--out",
+                     path("a.png"), "--out-answers", path("limited.png")});
     ASSERT_EQ(r.exitCode, 0) << output(r);
     EXPECT_EQ(output(r).find("sampled (red) 0.0%"), std::string::npos) << output(r);
     EXPECT_GT(sampledPixels(path("limited.png")), 0);
+    r = run(base(), {"--exact-work-limit", "1", "--out", path("a.png"), "--out-answers",
+                     path("edges.png")});
+    ASSERT_EQ(r.exitCode, 0) << output(r);
+    EXPECT_NE(output(r).find("sampled (red) 0.0%"), std::string::npos) << output(r);
+    EXPECT_EQ(output(r).find("light-edge path (cyan) 0.0%"), std::string::npos) << output(r);
+    EXPECT_EQ(sampledPixels(path("edges.png")), 0);
+    EXPECT_GT(pixelsOf(path("edges.png"), penumbra::Answer::LightEdges), 0);
 }
 
 // Two occluders standing on the floor with vertices below it by less than a rounding unit (2^-60,

@@ -157,12 +157,15 @@ TEST(ViewerScreenshot, ExactOptionsInTheUiAreTheCommandLines) {
     EXPECT_EQ(d["exactWorkLimit"], defaults.exactWorkLimit);
     EXPECT_EQ(d["minTreeSamples"], RenderSettings{}.minTreeSamples);
     EXPECT_EQ(d["exactWorkLimit"], RenderSettings{}.exactWorkLimit);
+    EXPECT_EQ(d["lightEdgeWorkLimit"], RenderSettings{}.lightEdgeWorkLimit);
     EXPECT_EQ(d["refineLevels"], RenderSettings{}.refineLevels);
     const json g = shoot({"--max-lp-solves", "77", "--min-tree-samples", "5", "--exact-work-limit",
-                          "999", "--passes", "3", "--light-samples", "9", "--refine-levels", "1"});
+                          "999", "--light-edge-work-limit", "4321", "--passes", "3",
+                          "--light-samples", "9", "--refine-levels", "1"});
     EXPECT_EQ(g["maxLpSolves"], 77);
     EXPECT_EQ(g["minTreeSamples"], 5);
     EXPECT_EQ(g["exactWorkLimit"], 999);
+    EXPECT_EQ(g["lightEdgeWorkLimit"], 4321);
     EXPECT_EQ(g["refineLevels"], 1);
     EXPECT_EQ(g["passes"], 3);
     EXPECT_EQ(g["lightSamples"], 9);

@@ -31,6 +31,8 @@
 #include "tests/support/closed_forms.h"
 #include "tests/support/read_pfm.h"
 #include "tests/support/test_scale.h"
+#include "visibility/light_silhouette_edges.h"
+#include "visibility/mesh_edges.h"
 
 namespace {
 
@@ -286,13 +288,16 @@ TEST(Renderer, HairCrossingOccludersKeepTheirShadows) {
     expectExactPathsAgreeWithShadowRays(scene(), penumbraCamera(), s);
 }
 
-// The work-limit tests' render: 24x24 pixels, 8 shadow rays for a sampled point.
+// The work-limit tests' render: 24x24 pixels, 8 shadow rays for a sampled point, and no
+// light-edge path after the limit (these tests are about the sampling that follows it; the
+// path's own tests are below).
 RenderSettings workLimitSettings(int spp, uint64_t exactWorkLimit) {
     RenderSettings s;
     s.width = s.height = 24;
     s.spp = spp;
     s.lightSamples = 8;
     s.exactWorkLimit = exactWorkLimit;
+    s.lightEdgeWorkLimit = 0;
     return s;
 }
 
@@ -535,6 +540,113 @@ Scene gridBoxScene() {
     addGridBox(scene, {-0.35, -0.3, 0.7}, {0.3, 0.4, 1.3}, 8, grey);
     scene.collectLights();
     return scene;
+}
+
+// Over the work limit the light-edge path answers before anything is sampled
+// (RenderSettings::lightEdgeWorkLimit; where it declines, the default path again with its limit).
+// At a limit of 8 plane tests the default paths give up on most of the floor's points under the
+// box; with the path off those are sampled, with it on none is: the answers map names the path
+// for exactly the evaluations the summary counts, and
+// the image is the every-point-exact render's (the same fractions from another exact
+// computation), with trees and without. The light's index is built once, its S_L the one
+// vis::LightSilhouetteEdges finds on its own.
+TEST(Renderer, PointsOverTheWorkLimitTakeTheLightEdgePathWithTheExactImage) {
+    const Scene scene = gridBoxScene();
+    const Camera camera = penumbraCamera();
+    for (const bool trees : {true, false}) {
+        SCOPED_TRACE(trees ? "a tree for every pair" : "no tree: every point direct");
+        RenderSettings s;
+        s.width = s.height = 24;
+        s.spp = 2;
+        s.recordAnswers = true;
+        s.minTreeSamples = trees ? 0 : 1u << 30;
+        s.exactWorkLimit = 0;
+        Rig exactRig(scene);
+        const Film exact = exactRig.renderer.render(camera, s);
+        ASSERT_EQ(exactRig.renderer.effects().sampledEvaluations, 0u);
+        EXPECT_EQ(exactRig.renderer.effects().lightEdgeEvaluations, 0u);  // nothing gave up
+
+        s.exactWorkLimit = 8;
+        s.lightEdgeWorkLimit = 0;
+        Rig offRig(scene);
+        offRig.renderer.render(camera, s);
+        const EffectsSummary off = offRig.renderer.effects();
+        EXPECT_GT(off.sampledEvaluations, off.exactEvaluations / 10) << off.text();
+        EXPECT_EQ(off.lightEdgeEvaluations + off.lightEdgeNotTaken + off.lightEdgeOverLimit, 0u);
+        EXPECT_EQ(off.lightEdgeIndex.lights, 0u);
+
+        s.lightEdgeWorkLimit = RenderSettings{}.lightEdgeWorkLimit;
+        Rig onRig(scene);
+        const Film on = onRig.renderer.render(camera, s);
+        const EffectsSummary e = onRig.renderer.effects();
+        EXPECT_EQ(e.sampledEvaluations, 0u) << e.text();
+        // The default paths gave up on the same points (their decisions do not depend on it):
+        // each answered by the light-edge path, or where it declined (the edges near the cone
+        // hardly cancel) by the default path again with its limit.
+        EXPECT_GT(e.lightEdgeEvaluations, 0u) << e.text();
+        EXPECT_EQ(e.lightEdgeEvaluations + e.retriedEvaluations, off.sampledEvaluations)
+            << e.text();
+        EXPECT_EQ(e.retriedEvaluations, e.lightEdgeNotTaken);
+        EXPECT_EQ(e.lightEdgeOverLimit + e.retriedOverLimit + e.lightEdgeSkipped, 0u);
+        EXPECT_EQ(e.costs.lightEdgeEvaluations, e.lightEdgeEvaluations);
+        EXPECT_LE(e.costs.lightEdgesInCone, e.costs.lightEdgesWeighted);
+        EXPECT_LE(e.costs.lightEdgesWeighted, e.costs.lightEdgesExamined);
+        EXPECT_NE(e.text().find("light-edge path: "), std::string::npos) << e.text();
+        const std::array<uint64_t, kAnswers> total = totalAnswers(on.answers);
+        EXPECT_EQ(total[static_cast<size_t>(Answer::LightEdges)], e.lightEdgeEvaluations);
+        EXPECT_EQ(total[static_cast<size_t>(Answer::Sampled)], 0u);
+        EXPECT_NE(describeAnswers(on.answers).find("light-edge path (cyan)"), std::string::npos);
+        ASSERT_EQ(on.sum.size(), exact.sum.size());
+        size_t lit = 0;
+        for (size_t i = 0; i < on.sum.size(); ++i) {
+            const double va = channelSum(on.sum[i]), vb = channelSum(exact.sum[i]);
+            EXPECT_NEAR(va, vb, 1e-9 * std::max(1.0, std::fabs(vb))) << "pixel " << i;
+            lit += va > 0;
+        }
+        EXPECT_GT(lit, on.sum.size() / 4);
+        // One index, for the one light, its S_L found independently.
+        const vis::MeshEdges edges(scene.mesh);
+        const vis::LightSilhouetteEdges sl(scene.mesh, edges, scene.lights[0]);
+        EXPECT_EQ(e.lightEdgeIndex.lights, 1u);
+        EXPECT_EQ(e.lightEdgeIndex.silhouetteEdges, sl.size());
+        EXPECT_EQ(e.lightEdgeIndex.meshEdges, edges.size());
+        EXPECT_GT(e.lightEdgeIndex.bytes, sl.size() * sizeof(vis::MeshEdges::Edge));
+        EXPECT_NE(e.text().find("its indices (built once per light, on first use): 1 light, "),
+                  std::string::npos)
+            << e.text();
+
+        // With a light-edge limit of one plane test the path gives up too: those points are
+        // sampled, and their pixels' later points sampled without trying it again.
+        s.lightEdgeWorkLimit = 1;
+        Rig tightRig(scene);
+        tightRig.renderer.render(camera, s);
+        const EffectsSummary tight = tightRig.renderer.effects();
+        EXPECT_GT(tight.lightEdgeOverLimit, 0u) << tight.text();
+        EXPECT_GT(tight.lightEdgeSkipped, 0u) << tight.text();
+        EXPECT_EQ(tight.sampledEvaluations + tight.retriedEvaluations - tight.retriedOverLimit,
+                  tight.lightEdgeOverLimit + tight.lightEdgeNotTaken + tight.lightEdgeSkipped);
+    }
+}
+
+// Where nothing is over the work limit, the light-edge path is never taken and its index never
+// built: the image is bit for bit the one rendered with the path off.
+TEST(Renderer, ImagesWithNothingOverTheWorkLimitAreTheSameWithTheLightEdgePath) {
+    const Camera camera = penumbraCamera();
+    RenderSettings s;
+    s.width = s.height = 24;
+    s.spp = 2;
+    s.lightEdgeWorkLimit = 0;
+    Rig offRig(penumbraScene(Material{}));
+    const Film off = offRig.renderer.render(camera, s);
+    ASSERT_EQ(offRig.renderer.effects().sampledEvaluations, 0u);
+    s.lightEdgeWorkLimit = RenderSettings{}.lightEdgeWorkLimit;
+    Rig onRig(penumbraScene(Material{}));
+    const Film on = onRig.renderer.render(camera, s);
+    const EffectsSummary e = onRig.renderer.effects();
+    EXPECT_EQ(e.lightEdgeEvaluations + e.lightEdgeNotTaken + e.lightEdgeOverLimit, 0u);
+    EXPECT_EQ(e.lightEdgeIndex.lights, 0u);
+    ASSERT_EQ(on.sum.size(), off.sum.size());
+    EXPECT_EQ(std::memcmp(on.sum.data(), off.sum.data(), on.sum.size() * sizeof(Vec3)), 0);
 }
 
 // Renders `scene` twice, with a store over the BVH (which knows the face groups) and a store
@@ -868,10 +980,11 @@ TEST(Renderer, AnswerMapSaysHowEachPixelWasAnsweredAndItIsTrue) {
                       0u);
             EXPECT_GT(of(Answer::Direct), 0u);
         }
-        // Over a limit of one plane test: the queried answers are sampled (a trivial query may
-        // still fit), the others stay.
+        // Over a limit of one plane test, with no light-edge path after it: the queried answers
+        // are sampled (a trivial query may still fit), the others stay.
         rig.renderer.resetEffects();
         s.exactWorkLimit = 1;
+        s.lightEdgeWorkLimit = 0;
         const Film limited = rig.renderer.render(camera, s);
         const std::array<uint64_t, kAnswers> after = totalAnswers(limited.answers);
         EXPECT_EQ(after[static_cast<size_t>(Answer::Sampled)],

@@ -235,14 +235,17 @@ TEST_F(BenchCommand, AQuickRunSaysFirstThatItsSizesAreNotForConclusions) {
 
 TEST_F(BenchCommand, MeasuresEveryPointExactOnASmallerImageAboveTheAllPairsSize) {
     // 12000 random triangles between a floor and a light: above the bench's all-pairs size
-    // (10000 faces), and every floor point's pyramid holds thousands of them, so the default
-    // render samples points (over the work limit) and the per-point cost with every point exact
-    // comes from a render of --exact-cost-size at 1 spp, cut at --limit where it takes longer.
+    // (10000 faces), and every floor point's pyramid holds thousands of them, so the render's
+    // points go over the work limit (sampled: no light-edge path after it here) and the
+    // per-point cost with every point exact comes from a render of --exact-cost-size at 1 spp,
+    // cut at --limit where it takes longer.
     const fs::path scene = root_ / "soup.obj";
     penumbra::writeObj(penumbra::makeRandomSoup(12000, 3), scene);
     const fs::path out = root_ / "out";
     const ProcessResult r = penumbra::test::runPenumbra(
-        smallestBench(scene.string(), out, {"--exact-cost-size", "6x5"}), root_);
+        smallestBench(scene.string(), out,
+                      {"--exact-cost-size", "6x5", "--light-edge-work-limit", "0"}),
+        root_);
     ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
     const nlohmann::json bench = nlohmann::json::parse(readFile(out / "bench.json"));
     ASSERT_EQ(bench["table1"].size(), 1u);
@@ -250,13 +253,15 @@ TEST_F(BenchCommand, MeasuresEveryPointExactOnASmallerImageAboveTheAllPairsSize)
     ASSERT_GT(e["sampledEvaluations"].get<uint64_t>(), 0u) << e.dump(1);
     EXPECT_FALSE(e.contains("everyPointExact"));  // (the small scenes' full-image render)
     // How each pixel was answered: the sampled ones are the evaluations the summary sampled; the
-    // queried ones (tree walk, direct, chain, sampled) are all that needed a query, but for the
-    // direct points that the pair's first signs left without light (no light).
+    // queried ones (tree walk, direct, chain, light-edge path, sampled) are all that needed a
+    // query, but for the direct points that the pair's first signs left without light (no
+    // light).
     const nlohmann::json& answers = e["answers"]["counts"];
     EXPECT_EQ(answers["sampled"], e["sampledEvaluations"]) << answers;
     const uint64_t queried =
         answers["tree walk"].get<uint64_t>() + answers["direct"].get<uint64_t>() +
-        answers["boundary chain"].get<uint64_t>() + answers["sampled"].get<uint64_t>();
+        answers["boundary chain"].get<uint64_t>() + answers["light-edge path"].get<uint64_t>() +
+        answers["sampled"].get<uint64_t>();
     EXPECT_LE(queried, e["evaluations"].get<uint64_t>()) << answers;
     EXPECT_LE(e["evaluations"].get<uint64_t>(), queried + answers["no light"].get<uint64_t>())
         << answers;
