@@ -116,6 +116,19 @@ struct Rig {
 
 double channelSum(const Vec3& v) { return v.x + v.y + v.z; }
 
+// Two renders of the same exact image: every pixel within 1e-9 (relative above 1), and a quarter
+// of them lit at least, so that the comparison is not of two dark images.
+void expectSameImage(const Film& a, const Film& b) {
+    ASSERT_EQ(a.sum.size(), b.sum.size());
+    size_t lit = 0;
+    for (size_t i = 0; i < a.sum.size(); ++i) {
+        const double va = channelSum(a.sum[i]), vb = channelSum(b.sum[i]);
+        EXPECT_NEAR(va, vb, 1e-9 * std::max(1.0, std::fabs(vb))) << "pixel " << i;
+        lit += va > 0;
+    }
+    EXPECT_GT(lit, a.sum.size() / 4);
+}
+
 // Per-pixel mean and variance of the mean over K renders that differ only in lightSeed (the
 // pixel pattern, RenderSettings::seed, stays fixed): the light-sampling noise alone.
 struct Replicates {
@@ -491,14 +504,7 @@ TEST(Renderer, RefinedSubPatchTreesServeLaterPassesWithTheSameExactImage) {
     const Film a = refined.renderer.render(camera, s);
     EXPECT_GT(refined.renderer.effects().refinedTreesUsed, 0u);
     const Film b = plain.renderer.render(camera, s);
-    ASSERT_EQ(a.sum.size(), b.sum.size());
-    size_t lit = 0;
-    for (size_t i = 0; i < a.sum.size(); ++i) {
-        const double va = channelSum(a.sum[i]), vb = channelSum(b.sum[i]);
-        EXPECT_NEAR(va, vb, 1e-9 * std::max(1.0, std::fabs(vb))) << "pixel " << i;
-        lit += va > 0;
-    }
-    EXPECT_GT(lit, a.sum.size() / 4);
+    expectSameImage(a, b);
 }
 
 // A closed box of 6 x 2 n^2 triangles, [x0, x1] x [y0, y1] x [z0, z1], facing out: each side a
@@ -596,14 +602,7 @@ TEST(Renderer, PointsOverTheWorkLimitTakeTheLightEdgePathWithTheExactImage) {
         EXPECT_EQ(total[static_cast<size_t>(Answer::LightEdges)], e.lightEdgeEvaluations);
         EXPECT_EQ(total[static_cast<size_t>(Answer::Sampled)], 0u);
         EXPECT_NE(describeAnswers(on.answers).find("light-edge path (cyan)"), std::string::npos);
-        ASSERT_EQ(on.sum.size(), exact.sum.size());
-        size_t lit = 0;
-        for (size_t i = 0; i < on.sum.size(); ++i) {
-            const double va = channelSum(on.sum[i]), vb = channelSum(exact.sum[i]);
-            EXPECT_NEAR(va, vb, 1e-9 * std::max(1.0, std::fabs(vb))) << "pixel " << i;
-            lit += va > 0;
-        }
-        EXPECT_GT(lit, on.sum.size() / 4);
+        expectSameImage(on, exact);
         // One index, for the one light, its S_L found independently.
         const vis::MeshEdges edges(scene.mesh);
         const vis::LightSilhouetteEdges sl(scene.mesh, edges, scene.lights[0]);
@@ -663,14 +662,7 @@ std::pair<EffectsSummary, EffectsSummary> expectGroupsAgreeWithTrees(
     const Camera camera = penumbraCamera();
     const Film a = byGroups.render(camera, s);
     const Film b = byTrees.render(camera, s);
-    EXPECT_EQ(a.sum.size(), b.sum.size());
-    size_t lit = 0;
-    for (size_t i = 0; i < std::min(a.sum.size(), b.sum.size()); ++i) {
-        const double va = channelSum(a.sum[i]), vb = channelSum(b.sum[i]);
-        EXPECT_NEAR(va, vb, 1e-9 * std::max(1.0, std::fabs(vb))) << "pixel " << i;
-        lit += va > 0;
-    }
-    EXPECT_GT(lit, a.sum.size() / 4);
+    expectSameImage(a, b);
     if (treesWithGroups != nullptr) *treesWithGroups = grouped.treeCount();
     if (treesWithout != nullptr) *treesWithout = plain.treeCount();
     return {byGroups.effects(), byTrees.effects()};
