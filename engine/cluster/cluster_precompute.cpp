@@ -289,7 +289,7 @@ ClusterPrecomputeResult Coordinator::run(
     const std::function<void(const PrecomputeProgress&)>& onProgress,
     const std::function<void()>& checkpoint) {
     start_ = Clock::now();
-    const std::vector<PairKey> keys = everyPairKey(store_);
+    const std::vector<PairKey> keys = options_.keys ? *options_.keys : everyPairKey(store_);
     total_ = keys.size();
     loaded_ = store_.treeCount();
     for (const PairKey& k : keys)

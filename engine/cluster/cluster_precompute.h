@@ -32,6 +32,7 @@
 #include <chrono>
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,6 +63,10 @@ struct ClusterPrecomputeOptions {
     // mpirun kills every rank about a second after its SIGTERM.
     std::chrono::milliseconds stopLimit{500};
     bool coordinatorBuilds = true;  // rank 0 builds batches too
+    // The pairs to build, in the order they are handed out (the trees an image needs: the
+    // cluster's render, cluster_render.h); unset: every pair of the scene. Those the store holds
+    // already are skipped either way.
+    std::optional<std::vector<PairKey>> keys;
 };
 
 struct ClusterPrecomputeResult {
