@@ -337,21 +337,34 @@ void runClusterRender(cluster::MpiSession& session, const RenderOptions& o) {
     renderer.setCluster(&coordinator);
     RenderTimes times;
     Film film;
+    std::optional<std::string> failure;
     try {
         film = renderer.render(setup->camera, settings, &times, &gInterrupted);
     } catch (const cluster::MpiError& e) {
-        coordinator.finish(options.stopLimit);
-        abortJob(session, e.what());
+        failure = e.what();
     }
     if (interrupted()) {
+        // Ctrl-C reaches every rank (the launcher's SIGTERM), and so does a rank's death under
+        // Open MPI: the ranks that do not answer the stop are the dead ones. Said at once when
+        // a build round found them already: the launcher kills every rank a second after its
+        // SIGTERM.
+        if (coordinator.lostRank() && !coordinator.lostError().empty())
+            abortJob(session, coordinator.lostError());
         const std::vector<int> silent = coordinator.finish(options.stopLimit);
-        if (!silent.empty())
-            abortJob(session, "rank " + std::to_string(silent.front()) +
+        if (!silent.empty()) {
+            std::string ranks;
+            for (int r : silent) ranks += (ranks.empty() ? "rank " : ", ") + std::to_string(r);
+            abortJob(session, ranks +
                                   " did not answer the stop (it had ended: killed or crashed; "
                                   "the launcher then stops the job)");
+        }
         throw CommandError(kExitInterrupted, "interrupted after " + std::to_string(film.passes) +
                                                  " of " + std::to_string(settings.spp) +
                                                  " passes; nothing written");
+    }
+    if (failure) {
+        coordinator.finish(options.stopLimit);
+        abortJob(session, *failure);
     }
     const std::vector<int> silent = coordinator.finish(options.silenceLimit);
     if (!silent.empty())

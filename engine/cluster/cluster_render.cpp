@@ -158,9 +158,8 @@ void writeFindings(Writer& w, PassFindings& f) {
     w.u64(f.facesSeen.size());
     for (uint32_t face : f.facesSeen) w.u32(face);
     forEachCount(f.evaluations, [&](uint64_t& v) { w.u64(v); });
-    for (const CostSamples* c :
-         {&f.evaluations.costs.exactNs, &f.evaluations.costs.sampledNs,
-          &f.evaluations.costs.attemptNs})
+    for (const CostSamples* c : {&f.evaluations.costs.exactNs, &f.evaluations.costs.sampledNs,
+                                 &f.evaluations.costs.attemptNs})
         writeCosts(w, *c);
     w.keys(f.directKeys);
     w.u64s(f.overLimitNow);
@@ -222,7 +221,8 @@ RenderCoordinator::RenderCoordinator(MpiSession& session, VisibilityStore& store
       store_(store),
       options_(options),
       interrupted_(std::move(interrupted)),
-      hosts_(static_cast<size_t>(session.size())) {
+      hosts_(static_cast<size_t>(session.size())),
+      lost_(static_cast<size_t>(session.size()), false) {
     stats_.treesByRank.assign(static_cast<size_t>(session.size()), 0);
     stats_.tilesByRank.assign(static_cast<size_t>(session.size()), 0);
 }
@@ -244,6 +244,20 @@ void RenderCoordinator::lose(int rank, const std::string& why) {
     throw MpiError(name(rank) + ": " + why);
 }
 
+namespace detail_render {
+
+// What a build round said of the ranks it lost (killed: they did not answer its stop).
+void noteLost(const ClusterPrecomputeResult& r, std::vector<bool>& lost, bool& lostRank,
+              std::string& lostError) {
+    if (!r.lostRank) return;
+    lostRank = true;
+    if (lostError.empty()) lostError = r.progress.error;
+    for (int rank : r.silentRanks)
+        if (rank > 0 && static_cast<size_t>(rank) < lost.size()) lost[rank] = true;
+}
+
+}  // namespace detail_render
+
 void RenderCoordinator::start() {
     // The HELLO round: one round of the cluster precompute with no key (each worker loads the
     // scene first, then says HELLO with its scene hash or its error).
@@ -259,7 +273,7 @@ void RenderCoordinator::start() {
         session_, store_, o, interrupted_, [](const PrecomputeProgress&) {}, [] {});
     if (r.progress.state == PrecomputeProgress::State::Idle) return;
     // A worker that could not load the scene has ended; the others wait for DONE.
-    lostRank_ = r.lostRank;
+    noteLost(r, lost_, lostRank_, lostError_);
     finish(options_.stopLimit);
     throw MpiError(r.progress.state == PrecomputeProgress::State::Cancelled
                        ? std::string("interrupted while the ranks started")
@@ -290,11 +304,9 @@ bool RenderCoordinator::buildTrees(const std::vector<PairKey>& keys) {
     const ClusterPrecomputeResult r = coordinatePrecompute(
         session_, store_, o, interrupted_, [](const PrecomputeProgress&) {}, [] {});
     stats_.treeBytesToRank0 += r.bytesReceived;
+    noteLost(r, lost_, lostRank_, lostError_);
     if (r.progress.state == PrecomputeProgress::State::Cancelled) return false;
-    if (r.progress.state != PrecomputeProgress::State::Idle) {
-        lostRank_ = r.lostRank;
-        throw MpiError(r.progress.error);
-    }
+    if (r.progress.state != PrecomputeProgress::State::Idle) throw MpiError(r.progress.error);
     const size_t added = store_.treeCount() - before;
     // Rank 0's own builds: what its store gained less what the workers sent.
     size_t builtByRanks = added - std::min(added, r.treesReceived);
@@ -355,6 +367,8 @@ bool RenderCoordinator::shadePass(int pass, int width, int height, const PassCel
                                   std::atomic<bool>& stopHere, PassFindings& found,
                                   const std::atomic<bool>* cancel) {
     const int ranks = session_.size();
+    // Interrupted (a build round may have seen it first): nothing more is sent, rank 0 ends.
+    if ((cancel != nullptr && cancel->load()) || interrupted_()) return false;
     {
         Writer w;
         w.u32(static_cast<uint32_t>(pass));
@@ -468,8 +482,12 @@ std::vector<int> RenderCoordinator::finish(std::chrono::milliseconds limit) {
     std::vector<int> silent;
     if (finished_) return silent;
     finished_ = true;
-    std::vector<bool> answered(static_cast<size_t>(session_.size()), false);
+    std::vector<bool> answered = lost_;
     for (int r = 1; r < session_.size(); ++r) {
+        if (lost_[r]) {
+            silent.push_back(r);
+            continue;
+        }
         try {
             session_.send(r, kTagDone, {}, limit);
         } catch (const MpiError&) {
@@ -508,11 +526,17 @@ void serveRender(MpiSession& session, VisibilityStore& store, ProgressiveRendere
     std::deque<std::vector<int>> batches;
     tbb::task_arena arena(std::max(1, options.threads), 0);
     // The batch being shaded on the arena, and what it gives.
-    std::atomic<bool> shading{false}, shaded{false};
+    std::atomic<bool> shading{false}, shaded{false}, stopShading{false};
     std::vector<Vec3> pixels;
     std::vector<int64_t> costs;
     PassFindings found;
     std::string failure;
+    // (The batch in flight is dropped: rank 0 ends the render.)
+    const auto awaitShaded = [&] {
+        while (shading.load() && !shaded.load(std::memory_order_acquire))
+            std::this_thread::sleep_for(kPoll);
+        shading.store(false);
+    };
     auto lastBeat = Clock::now();
     auto send = [&](int tag, const Bytes& bytes) {
         session.send(0, tag, bytes);
@@ -525,7 +549,8 @@ void serveRender(MpiSession& session, VisibilityStore& store, ProgressiveRendere
                 case kTagStop:  // rank 0 could not start the render
                     return;
                 case kTagDone:
-                    while (shading.load()) std::this_thread::sleep_for(kPoll);
+                    stopShading.store(true);
+                    awaitShaded();
                     send(kTagFinal, {});
                     return;
                 case kTagBuild: {
@@ -574,8 +599,24 @@ void serveRender(MpiSession& session, VisibilityStore& store, ProgressiveRendere
             }
         }
         if (interrupted()) {  // the launcher's SIGTERM reached this rank too
-            while (shading.load()) std::this_thread::sleep_for(kPoll);
-            return;
+            stopShading.store(true);
+            awaitShaded();
+            // Rank 0 is told (a signal to this rank alone would leave it waiting), and decides
+            // when the job ends: its DONE is answered, so that it can tell a stop from a death.
+            const std::string why = "stopped by a signal (SIGTERM or SIGINT)";
+            send(kTagFailure, Bytes(why.begin(), why.end()));
+            for (;;) {
+                while (std::optional<MpiMessage> m = session.poll()) {
+                    if (m->source != 0) continue;
+                    if (m->tag == kTagStop) return;
+                    if (m->tag == kTagDone) {
+                        send(kTagFinal, {});
+                        return;
+                    }
+                }
+                if (Clock::now() - lastBeat >= kHeartbeat) send(kTagHeartbeat, {});
+                std::this_thread::sleep_for(kPoll);
+            }
         }
         if (shading.load() && shaded.load(std::memory_order_acquire)) {
             shading.store(false);
@@ -604,7 +645,7 @@ void serveRender(MpiSession& session, VisibilityStore& store, ProgressiveRendere
                 try {
                     const PassCells cells{&overLimit, &edgeFailed, &edgeDeclined};
                     renderer.shadeTiles(camera, settings, passNow, cells, tiles, pixels, costs,
-                                        found);
+                                        found, &stopShading);
                 } catch (const std::exception& e) {
                     failure = e.what();
                 }

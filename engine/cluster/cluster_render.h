@@ -92,11 +92,13 @@ class RenderCoordinator : public RenderCluster {
                    std::atomic<bool>& stopHere, PassFindings& found,
                    const std::atomic<bool>* cancel) override;
     // The render is over (or abandoned): every worker is told and answers. Returns the ranks
-    // that did not answer within `limit` (dead).
+    // that did not answer within `limit` (dead), those known dead already included.
     std::vector<int> finish(std::chrono::milliseconds limit);
     const ClusterRenderStats& stats() const { return stats_; }
-    // A worker was lost: MPI_Finalize would wait for it (the caller aborts the job instead).
+    // A worker was lost: MPI_Finalize would wait for it (the caller aborts the job instead),
+    // and what was said of it (empty when only an MpiError said it).
     bool lostRank() const { return lostRank_; }
+    const std::string& lostError() const { return lostError_; }
 
   private:
     std::string name(int rank) const;
@@ -110,6 +112,8 @@ class RenderCoordinator : public RenderCluster {
     std::vector<std::string> hosts_;
     ClusterRenderStats stats_;
     bool lostRank_ = false;
+    std::string lostError_;
+    std::vector<bool> lost_;  // per rank: known dead (finish does not wait for it)
     bool finished_ = false;
 };
 

@@ -650,7 +650,7 @@ bool ProgressiveRenderer::renderPass(const Camera& camera, const RenderSettings&
 void ProgressiveRenderer::shadeTiles(const Camera& camera, const RenderSettings& settings, int pass,
                                      const PassCells& cells, std::span<const int> tiles,
                                      std::vector<Vec3>& pixels, std::vector<int64_t>& costNs,
-                                     PassFindings& found) {
+                                     PassFindings& found, const std::atomic<bool>* cancel) {
     validate(settings);
     const int w = settings.width, h = settings.height;
     std::vector<Vec3> image(static_cast<size_t>(w) * h);
@@ -680,7 +680,7 @@ void ProgressiveRenderer::shadeTiles(const Camera& camera, const RenderSettings&
     SharedFindings shared;
     tbb::parallel_for(0, tbb::this_task_arena::max_concurrency(), [&](int) {
         TileShader shader(in, buildMissing, queries_->perThread.local());
-        shadeFromSchedule(shader, list, settings, image, nullptr, nullptr, nullptr);
+        shadeFromSchedule(shader, list, settings, image, cancel, nullptr, nullptr);
         shared.add(shader);
     });
     pixels.clear();

@@ -197,10 +197,11 @@ class ProgressiveRenderer {
     // film's earlier passes' cells in `cells`) on this process's threads; `pixels` gets each
     // tile's pixels in turn (its rows top to bottom), `costNs` each tile's thread time, `found`
     // what they found. The store must hold the trees rank 0's does (and its layout the same
-    // refinements).
+    // refinements). `cancel` is read before each tile (what is left unshaded is then garbage).
     void shadeTiles(const Camera& camera, const RenderSettings& settings, int pass,
                     const PassCells& cells, std::span<const int> tiles, std::vector<Vec3>& pixels,
-                    std::vector<int64_t>& costNs, PassFindings& found);
+                    std::vector<int64_t>& costNs, PassFindings& found,
+                    const std::atomic<bool>* cancel = nullptr);
 
     // What was simulated and why (pairs by kind, materials analytic or sampled, point lights), for
     // the images rendered since construction or the last resetEffects().

@@ -51,8 +51,6 @@ class ClusterPrecompute : public test::MpiJobTest {
         EXPECT_EQ(r.exitCode, 0) << r.err;
         return readFile(file);
     }
-
-    fs::path dir_;
 };
 
 size_t treesIn(const fs::path& scenePath, const fs::path& file, size_t* total) {
