@@ -76,8 +76,6 @@ for scene in "$@"; do
         printf '%-12s %-10s %5s %8s %8.2f %10s %12s %12s %8s %s\n' "$label" render "$ranks" \
             "$wall" "$(awk -v u="$user" -v s="$sys" 'BEGIN{print u+s}')" "$trees" "$perTree" \
             "$image" "$share" "$same"
-        if [ "$ranks" -gt 1 ]; then
-            grep -E '^(ranks|sent) ' "$tmp/r$ranks.out" | sed 's/^/    /'
-        fi
+        grep -E '^(time:|ranks |sent )' "$tmp/r$ranks.out" | sed 's/^/    /'
     done
 done

@@ -153,7 +153,17 @@ CostSamples readCosts(Reader& r) {
     return CostSamples::fromParts(std::move(p));
 }
 
+// Rank 0 takes the pairs and faces as sets: each is sent once a batch.
+template <typename T>
+void sortUnique(std::vector<T>& v) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
 void writeFindings(Writer& w, PassFindings& f) {
+    sortUnique(f.usedKeys);
+    sortUnique(f.facesSeen);
+    sortUnique(f.directKeys);
     w.keys(f.usedKeys);
     w.u64(f.facesSeen.size());
     for (uint32_t face : f.facesSeen) w.u32(face);
@@ -454,6 +464,18 @@ bool RenderCoordinator::shadePass(int pass, int width, int height, const PassCel
             if (failedRank > 0) lose(failedRank, failure);
             if ((cancel != nullptr && cancel->load(std::memory_order_relaxed)) || interrupted_()) {
                 stopped = true;
+                stopHere.store(true);
+                // The workers are asked first, and a dead one named, before this rank waits for
+                // its own tiles: the launcher kills every rank a second after its SIGTERM.
+                const std::vector<int> silent = finish(options_.stopLimit);
+                if (!silent.empty() && lostError_.empty()) {
+                    lostRank_ = true;
+                    std::string ranks;
+                    for (int r : silent) ranks += (ranks.empty() ? "" : ", ") + name(r);
+                    lostError_ = ranks + " did not answer the stop within " +
+                                 std::to_string(options_.stopLimit.count()) +
+                                 " ms (it had ended: killed or crashed)";
+                }
                 stopLocal();
                 return false;
             }
@@ -479,9 +501,9 @@ bool RenderCoordinator::shadePass(int pass, int width, int height, const PassCel
 }
 
 std::vector<int> RenderCoordinator::finish(std::chrono::milliseconds limit) {
-    std::vector<int> silent;
-    if (finished_) return silent;
+    if (finished_) return silent_;
     finished_ = true;
+    std::vector<int>& silent = silent_;
     std::vector<bool> answered = lost_;
     for (int r = 1; r < session_.size(); ++r) {
         if (lost_[r]) {

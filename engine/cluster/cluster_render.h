@@ -92,7 +92,8 @@ class RenderCoordinator : public RenderCluster {
                    std::atomic<bool>& stopHere, PassFindings& found,
                    const std::atomic<bool>* cancel) override;
     // The render is over (or abandoned): every worker is told and answers. Returns the ranks
-    // that did not answer within `limit` (dead), those known dead already included.
+    // that did not answer within `limit` (dead), those known dead already included (the same
+    // list again on a later call).
     std::vector<int> finish(std::chrono::milliseconds limit);
     const ClusterRenderStats& stats() const { return stats_; }
     // A worker was lost: MPI_Finalize would wait for it (the caller aborts the job instead),
@@ -115,6 +116,7 @@ class RenderCoordinator : public RenderCluster {
     std::string lostError_;
     std::vector<bool> lost_;  // per rank: known dead (finish does not wait for it)
     bool finished_ = false;
+    std::vector<int> silent_;  // finish's answer
 };
 
 // Every other rank: HELLO, then serves rank 0's BUILD, TREES, REFINE, PASS and TILES until DONE

@@ -4,8 +4,9 @@
 //
 // What is checked: the image 3 ranks write is bit for bit the one a single process writes (the
 // PFM's bytes), and the effects summary holds the same numbers, on two committed scenes (the
-// Cornell box with a small build budget: partial trees; the table at a small size, whose
-// default settings refine patches between passes); the trees were built once each, spread over
+// Cornell box with a tree for every pair seen and a small build budget: partial trees; the table
+// at a small size with the defaults: light-edge answers, over-limit cells carried from pass to
+// pass); the trees were built once each, spread over
 // the ranks, as were the tiles; an option that cannot work across ranks is refused once; a rank
 // killed in the middle ends the job within seconds with rank 0's error naming it.
 #include <gtest/gtest.h>
@@ -62,13 +63,23 @@ std::vector<size_t> perRank(const std::string& out, const std::string& label) {
     return n;
 }
 
+// The trees in the store after the render (the summary's "time: precompute S s (N trees").
+size_t treesIn(const std::string& out) {
+    size_t trees = 0;
+    const size_t at = out.find("time: precompute ");
+    if (at == std::string::npos ||
+        std::sscanf(out.c_str() + at, "time: precompute %*f s (%zu trees", &trees) != 1)
+        ADD_FAILURE() << "no tree count in: " << out;
+    return trees;
+}
+
 class ClusterRender : public test::MpiJobTest {};
 
 TEST_F(ClusterRender, ThreeRanksWriteTheImageOfOneProcess) {
     SKIP_WITHOUT_MPI();
     const std::vector<std::vector<std::string>> cases = {
         {scenePath("assets/cornell_box.obj").string(), "--size", "48x48", "--spp", "3",
-         "--max-lp-solves", "40"},
+         "--max-lp-solves", "40", "--min-tree-samples", "0"},
         {scenePath("assets/scenes/table.json").string(), "--size", "40x40", "--spp", "2"},
     };
     for (const auto& args : cases) {
@@ -88,14 +99,11 @@ TEST_F(ClusterRender, ThreeRanksWriteTheImageOfOneProcess) {
         ASSERT_GT(a.size(), 48u * 48u) << args[0];
         EXPECT_TRUE(a == b) << args[0] << ": the images differ";
         const std::string counts = effectCounts(single.out);
-        EXPECT_NE(counts.find("evaluations"), std::string::npos) << single.out;
+        EXPECT_NE(counts.find("pairs with a tree"), std::string::npos) << single.out;
         EXPECT_EQ(counts, effectCounts(r.out)) << args[0];
-        // The precompute line's tree count (the trees the image needed) is the same too.
-        const auto trees = [](const std::string& out) {
-            const size_t at = out.find(" s (");
-            return at == std::string::npos ? std::string() : out.substr(at, out.find(')', at) - at);
-        };
-        EXPECT_EQ(trees(single.out), trees(r.out)) << single.out << r.out;
+        // The trees the image needed: the same count.
+        const size_t trees = treesIn(single.out);
+        EXPECT_EQ(trees, treesIn(r.out)) << r.out;
 
         // Each tree built once, by some rank; every rank shaded tiles.
         EXPECT_NE(r.out.find("(0 built twice)"), std::string::npos) << r.out;
@@ -104,6 +112,11 @@ TEST_F(ClusterRender, ThreeRanksWriteTheImageOfOneProcess) {
         ASSERT_EQ(built.size(), 3u) << r.out;
         ASSERT_EQ(tiles.size(), 3u) << r.out;
         EXPECT_GT(built[0] + built[1] + built[2], 0u) << r.out;
+        // Between them the ranks built every tree one process builds, each once.
+        EXPECT_EQ(built[0] + built[1] + built[2], trees) << r.out;
+        if (args[0].find("cornell") != std::string::npos) {
+            EXPECT_NE(counts.find("partial tree"), std::string::npos) << counts;
+        }
         EXPECT_GT(tiles[1], 0u) << r.out;
         EXPECT_GT(tiles[2], 0u) << r.out;
         fs::remove(dir_ / "one.pfm");
