@@ -13,6 +13,10 @@
 // (as `penumbra precompute` writes it; a stale or corrupt file is reported and recomputed), and
 // FILE is written back atomically with every tree the render added, so the next render of the
 // scene, from any camera, reuses them.
+//
+// Started by an MPI launcher with several ranks (a build with MPI), the trees and the tiles are
+// spread over the ranks (engine/cluster/cluster_render.h): rank 0 does all of the above and
+// writes the same image, bit for bit; the other ranks serve quietly (docs/cluster.md).
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 

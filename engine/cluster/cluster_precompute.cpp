@@ -104,7 +104,7 @@ class Coordinator {
         if (error_.empty()) error_ = error;
         if (state_ == State::Running) state_ = State::Failed;
     }
-    void awaitHellos();
+    void awaitHellos(const std::function<bool()>& interrupted);
     std::vector<PairKey> nextBatch() {
         const size_t ranks = static_cast<size_t>(session_.size());
         const size_t size = std::clamp<size_t>(queue_.size() / (4 * ranks), 1, kMaxBatch);
@@ -176,7 +176,7 @@ class Coordinator {
     ClusterPrecomputeResult result_;
 };
 
-void Coordinator::awaitHellos() {
+void Coordinator::awaitHellos(const std::function<bool()>& interrupted) {
     const uint64_t hash = sceneHash(store_.scene(), store_.options());
     int waiting = session_.size() - 1;
     const auto deadline = Clock::now() + options_.helloLimit;
@@ -184,6 +184,11 @@ void Coordinator::awaitHellos() {
     while (waiting > 0) {
         std::optional<MpiMessage> m = session_.poll();
         if (!m) {
+            // (A rank killed before its HELLO: the launcher's SIGTERM says so here.)
+            if (interrupted()) {
+                if (state_ == State::Running) state_ = State::Cancelled;
+                return;
+            }
             if (Clock::now() > deadline) {
                 for (int r = 1; r < session_.size(); ++r)
                     if (!heard[r]) {
@@ -295,7 +300,7 @@ ClusterPrecomputeResult Coordinator::run(
     for (const PairKey& k : keys)
         if (!store_.find(k)) queue_.push_back(k);
 
-    awaitHellos();
+    awaitHellos(interrupted);
     std::optional<PrecomputeScheduler> local;
     PrecomputeOptions localOptions;
     localOptions.threads = options_.threads;

@@ -302,6 +302,7 @@ void RenderCoordinator::shareStore() {
 
 bool RenderCoordinator::buildTrees(const std::vector<PairKey>& keys) {
     if (keys.empty()) return true;
+    if (interrupted_()) return false;  // nothing more is sent: rank 0 ends
     const auto t0 = Clock::now();
     const size_t before = store_.treeCount();
     sendAll(kTagBuild, {});
