@@ -314,9 +314,12 @@ std::optional<Vec3> DirectLighting::lightEdgeAnswer(Evaluation& e) const {
         // path: gaveUp.)
         if (list == nullptr) {
             ++scratch.evaluations.lightEdgesNotTaken;
+            ++scratch.evaluations
+                  .lightEdgesDeclinedBy[static_cast<size_t>(query.lightEdgeDecline())];
             scratch.edgeDeclinedNow.push_back(e.cell);
         } else {
             ++scratch.evaluations.lightEdgesOverLimit;
+            ++scratch.evaluations.lightEdgesOverLimitAt[static_cast<size_t>(query.limitStage())];
             scratch.edgeFailedNow.push_back(e.cell);
         }
         return std::nullopt;
