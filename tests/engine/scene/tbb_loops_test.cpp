@@ -98,7 +98,7 @@ void expectWellFormed(const vis::BoxTree& t, size_t items) {
 }
 
 TEST(TbbLoops, ParallelLightEdgeIndexEqualsSerialAndAnIndependentComputation) {
-    const int n = std::max(60, test::scaled(220));
+    const int n = std::max(150, test::scaled(220));  // every loop in pieces at any scale
     const PolygonMesh m = bumpyGrid(n, 7);
     const auto light = static_cast<uint32_t>(m.faces.size() - 1);
     const vis::ParallelLoops loops = tbbLoops();
