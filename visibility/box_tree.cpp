@@ -7,6 +7,8 @@ namespace penumbra::vis {
 
 namespace {
 constexpr uint32_t kLeafSize = 4;
+// Subtrees over at least this many items are built concurrently (where loops are given).
+constexpr uint32_t kParallelItems = 8192;
 
 }  // namespace
 
@@ -19,7 +21,8 @@ bool BoxTree::outsideOne(std::span<const PlaneOrient> planes, const Bounds3& box
     return false;
 }
 
-BoxTree::BoxTree(std::span<const Bounds3> boxes, const std::vector<bool>& include)
+BoxTree::BoxTree(std::span<const Bounds3> boxes, const std::vector<bool>& include,
+                 const ParallelLoops& loops)
     : boxes_(boxes.begin(), boxes.end()) {
     std::vector<Vec3> centre(boxes.size());
     for (uint32_t f = 0; f < boxes.size(); ++f) {
@@ -28,13 +31,30 @@ BoxTree::BoxTree(std::span<const Bounds3> boxes, const std::vector<bool>& includ
         centre[f] = (boxes[f].lo + boxes[f].hi) * 0.5;
     }
     if (items_.empty()) return;
-    nodes_.reserve(2 * items_.size() / kLeafSize + 2);
-    build(0, static_cast<uint32_t>(items_.size()), centre);
+    nodes_.resize(subtreeNodes(static_cast<uint32_t>(items_.size())));
+    build(0, 0, static_cast<uint32_t>(items_.size()), centre, loops);
 }
 
-uint32_t BoxTree::build(uint32_t begin, uint32_t end, std::vector<Vec3>& centre) {
-    const auto index = static_cast<uint32_t>(nodes_.size());
-    nodes_.emplace_back();
+// A subtree over n items: one node, and above kLeafSize items the subtrees over n / 2 and
+// n - n / 2 (build's split). Taken for the pair (n, n + 1) from the pair (n / 2, n / 2 + 1): the
+// halves of two adjacent counts are among those two. O(log n).
+uint32_t BoxTree::subtreeNodes(uint32_t items) {
+    struct Pair {
+        uint32_t at, next;  // the node counts of a and a + 1 items
+    };
+    auto pair = [](auto& self, uint32_t a) -> Pair {
+        if (a + 1 <= kLeafSize) return {1, 1};
+        if (a <= kLeafSize)
+            return {1, 1 + self(self, (a + 1) / 2).at + self(self, (a + 1) / 2).next};
+        const Pair h = self(self, a / 2);
+        if (a % 2 == 0) return {1 + 2 * h.at, 1 + h.at + h.next};
+        return {1 + h.at + h.next, 1 + 2 * h.next};
+    };
+    return pair(pair, items).at;
+}
+
+void BoxTree::build(uint32_t index, uint32_t begin, uint32_t end, const std::vector<Vec3>& centre,
+                    const ParallelLoops& loops) {
     Bounds3 box, centres;
     for (uint32_t i = begin; i < end; ++i) {
         const Bounds3& b = boxes_[items_[i]];
@@ -42,20 +62,28 @@ uint32_t BoxTree::build(uint32_t begin, uint32_t end, std::vector<Vec3>& centre)
         box.add(b.hi);
         centres.add(centre[items_[i]]);
     }
-    nodes_[index].box = box;
-    nodes_[index].begin = begin;
-    nodes_[index].end = end;
-    if (end - begin <= kLeafSize) return index;  // a leaf (right stays 0)
+    Node& node = nodes_[index];
+    node.box = box;
+    node.begin = begin;
+    node.end = end;
+    if (end - begin <= kLeafSize) return;  // a leaf (right stays 0)
     const Vec3 extent = centres.hi - centres.lo;
     const int axis =
         extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
     const uint32_t mid = begin + (end - begin) / 2;
     std::nth_element(items_.begin() + begin, items_.begin() + mid, items_.begin() + end,
                      [&](uint32_t a, uint32_t b) { return centre[a][axis] < centre[b][axis]; });
-    build(begin, mid, centre);  // the left child is index + 1
-    const uint32_t right = build(mid, end, centre);
-    nodes_[index].right = right;
-    return index;
+    // The left child is index + 1, the right one follows the left's subtree.
+    const uint32_t right = index + 1 + subtreeNodes(mid - begin);
+    node.right = right;
+    auto left = [&] { build(index + 1, begin, mid, centre, loops); };
+    auto rightBuild = [&] { build(right, mid, end, centre, loops); };
+    if (end - begin >= kParallelItems) {
+        loops.both(left, rightBuild);
+    } else {
+        left();
+        rightBuild();
+    }
 }
 
 void BoxTree::overlapping(const Bounds3& query, std::vector<uint32_t>& out) const {

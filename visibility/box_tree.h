@@ -9,7 +9,9 @@
 // plane (PlaneBoxCull, bounded once for the root's box, or PlaneOrient::boxNegative): certain,
 // never a wrong skip. Built by median splits of the box
 // centres along the widest axis, leaves of at most 4 items: O(log n + reported) per query when
-// the reported items are clustered.
+// the reported items are clustered. Subtrees of many items are built concurrently where the
+// caller gives ParallelLoops: each subtree's nodes have fixed places (a subtree's node count
+// follows from its item count alone), so the hierarchy is the same whoever builds which part.
 #pragma once
 
 #include <algorithm>
@@ -20,6 +22,7 @@
 #include <vector>
 
 #include "visibility/bounds3.h"
+#include "visibility/parallel_loops.h"
 #include "visibility/predicates.h"
 
 namespace penumbra::vis {
@@ -29,7 +32,8 @@ class BoxTree {
     BoxTree() = default;
     // boxes[i] is item i's box; items with include[i] == false (when include is given) and items
     // with an empty box are left out of every answer.
-    explicit BoxTree(std::span<const Bounds3> boxes, const std::vector<bool>& include = {});
+    explicit BoxTree(std::span<const Bounds3> boxes, const std::vector<bool>& include = {},
+                     const ParallelLoops& loops = {});
 
     bool empty() const { return nodes_.empty(); }
     // The memory it holds (nodes, items, boxes), in bytes.
@@ -92,7 +96,11 @@ class BoxTree {
         uint32_t begin = 0, end = 0;  // the items below it: items_[begin, end)
         bool leaf() const { return right == 0; }  // (the root is no node's child)
     };
-    uint32_t build(uint32_t begin, uint32_t end, std::vector<Vec3>& centre);
+    // Builds the subtree of items_[begin, end) at nodes_[index] (its nodes: the next
+    // subtreeNodes(end - begin) places, preorder).
+    void build(uint32_t index, uint32_t begin, uint32_t end, const std::vector<Vec3>& centre,
+               const ParallelLoops& loops);
+    static uint32_t subtreeNodes(uint32_t items);
     // notOutside with PlaneOrient (boxNegative per box) or PlaneBoxCull planes.
     template <class Plane>
     uint32_t notOutsideWith(std::span<const Plane> planes, std::vector<uint32_t>& out,

@@ -27,6 +27,7 @@
 
 #include "visibility/box_tree.h"
 #include "visibility/mesh_edges.h"
+#include "visibility/parallel_loops.h"
 #include "visibility/polygon_mesh.h"
 
 namespace penumbra::vis {
@@ -40,7 +41,9 @@ class LightEdgeIndex {
 
     LightEdgeIndex() = default;
     // `edges` must be mesh's edge table (MeshEdges(mesh)); the index copies what it keeps.
-    LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, uint32_t lightFace);
+    // Its parts are built concurrently where `loops` are given (the same index either way).
+    LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, uint32_t lightFace,
+                   const ParallelLoops& loops = {});
 
     uint32_t light() const { return light_; }
     // The mesh it was built for: its face and vertex counts (a query checks them).

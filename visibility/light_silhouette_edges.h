@@ -19,7 +19,8 @@
 // The light's own face and faces coplanar with L have zero signs: their edges are kept.
 // Edges are identified by vertex ids, as ClosedSurfaces does (a soup whose faces share no vertex
 // ids has only borders: every edge kept, correct and useless). Cost: |L| orient3d per face,
-// O(edges) after the edge table (MeshEdges).
+// O(edges) after the edge table (MeshEdges); the faces and the edges shared among `loops` (the
+// same set whoever decides which edge).
 #pragma once
 
 #include <cstddef>
@@ -27,17 +28,19 @@
 #include <vector>
 
 #include "visibility/mesh_edges.h"
+#include "visibility/parallel_loops.h"
 #include "visibility/polygon_mesh.h"
 
 namespace penumbra::vis {
 
 class LightSilhouetteEdges {
   public:
-    LightSilhouetteEdges(const PolygonMesh& mesh, const MeshEdges& edges, uint32_t lightFace);
+    LightSilhouetteEdges(const PolygonMesh& mesh, const MeshEdges& edges, uint32_t lightFace,
+                         const ParallelLoops& loops = {});
 
     uint32_t light() const { return light_; }
     // Whether edge `e` (an index in MeshEdges) is in S_L.
-    bool contains(size_t e) const { return kept_[e]; }
+    bool contains(size_t e) const { return kept_[e] != 0; }
     // How many edges S_L holds, and of them those kept whatever L is (open: borders,
     // non-manifold, inconsistently oriented).
     size_t size() const { return size_; }
@@ -47,7 +50,7 @@ class LightSilhouetteEdges {
 
   private:
     uint32_t light_;
-    std::vector<bool> kept_;
+    std::vector<uint8_t> kept_;  // (bytes: written concurrently)
     size_t size_ = 0, open_ = 0;
 };
 

@@ -1,6 +1,7 @@
 // MeshEdges: the undirected edges of a polygon mesh, each with the faces that use it and the
 // direction of each use. Edges are identified by vertex ids (lo < hi), no arithmetic: exact.
-// Built once per mesh in O(uses log uses) (a sort of the directed uses).
+// Built once per mesh in O(uses log uses) (the directed uses bucketed by their lower vertex, each
+// bucket sorted), the buckets shared among `loops` (the same table whoever builds it).
 #pragma once
 
 #include <cstddef>
@@ -8,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "visibility/parallel_loops.h"
 #include "visibility/polygon_mesh.h"
 
 namespace penumbra::vis {
@@ -24,7 +26,7 @@ class MeshEdges {
     };
 
     MeshEdges() = default;
-    explicit MeshEdges(const PolygonMesh& mesh);
+    explicit MeshEdges(const PolygonMesh& mesh, const ParallelLoops& loops = {});
 
     size_t size() const { return edges_.size(); }
     const Edge& edge(size_t e) const { return edges_[e]; }

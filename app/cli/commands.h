@@ -72,5 +72,7 @@ void registerRenderCommand(CLI::App& app);
 // `penumbra precompute`: every pair's history tree into a visibility file
 // (app/cli/precompute_command.cpp).
 void registerPrecomputeCommand(CLI::App& app);
+// `penumbra merge`: visibility files and shards joined into one file (app/cli/merge_command.cpp).
+void registerMergeCommand(CLI::App& app);
 
 }  // namespace penumbra::cli

@@ -29,6 +29,7 @@ int run(int argc, char** argv) {
     penumbra::cli::registerScreenshotCommand(app);
     penumbra::cli::registerRenderCommand(app);
     penumbra::cli::registerPrecomputeCommand(app);
+    penumbra::cli::registerMergeCommand(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {  // --help, --version

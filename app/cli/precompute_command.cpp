@@ -19,11 +19,19 @@
 // Started by an MPI launcher with several ranks (a build with MPI), the pairs are built across the
 // ranks (engine/cluster/cluster_precompute.h): rank 0 does all of the above, the others build
 // quietly; the file is the same bytes (docs/cluster.md).
+//
+// With --shards, each rank writes the trees it built to its own shard, FILE.rank-RRRRR-of-NNNNN
+// (engine/io/visibility_file.h), and FILE itself is not written: `penumbra merge FILE
+// FILE.rank-*` joins them (app/cli/merge_command.cpp), so that no tree travels to rank 0. A rank
+// first reads its own shard of an earlier run (same name) and rank 0 lists the pairs that FILE and
+// every other shard present hold (any rank count), so a rerun builds only what is missing. A
+// single process with --shards is rank 0 of 1: it writes FILE.rank-00000-of-00001.
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdint>
@@ -33,6 +41,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -44,6 +53,7 @@
 #include "engine/io/visibility_file.h"
 #include "engine/precompute/patch_layout.h"
 #include "engine/precompute/precompute_scheduler.h"
+#include "engine/precompute/scene_hash.h"
 #include "engine/raytrace/embree_scene.h"
 #include "engine/scene/light_checks.h"
 
@@ -64,6 +74,7 @@ struct PrecomputeCommandOptions {
     double patchFraction = 1.0 / 4;
     ExactOptions exact;
     int threads = 0;
+    bool shards = false;
     SceneOptions sceneOptions;
 };
 
@@ -181,6 +192,89 @@ size_t writeOrThrow(const fs::path& output, const VisibilityStore& store) {
     }
 }
 
+// --shards: this rank's shard and the pairs built already elsewhere.
+struct ShardPlan {
+    fs::path path;                   // this rank's shard
+    VisibilityShard shard;           // index, count, the scene's pair total
+    ExistingFile own;                // its trees of an earlier run (read into the store)
+    std::vector<PairKey> elsewhere;  // in FILE and the other shards present (rank 0 only)
+    size_t otherFiles = 0;           // those files
+};
+ShardPlan planShard(const PrecomputeCommandOptions& o, VisibilityStore& store, int rank, int ranks,
+                    bool listOthers) {
+    ShardPlan plan;
+    plan.shard.index = static_cast<uint32_t>(rank);
+    plan.shard.count = static_cast<uint32_t>(ranks);
+    plan.shard.pairTotal = everyPairKey(store).size();
+    plan.path = shardPath(o.output, plan.shard.index, plan.shard.count);
+    plan.own = readExisting(plan.path, store);
+    if (!listOthers) return plan;
+    std::vector<fs::path> others = shardPaths(o.output);
+    std::erase(others, plan.path);
+    others.insert(others.begin(), fs::path(o.output));
+    const uint64_t hash = sceneHash(store.scene(), store.options());
+    for (const fs::path& other : others) {
+        try {
+            const std::vector<PairKey> keys = visibilityFileKeys(other, hash);
+            plan.elsewhere.insert(plan.elsewhere.end(), keys.begin(), keys.end());
+            ++plan.otherFiles;
+        } catch (const VisibilityFileError& e) {
+            if (e.status != VisibilityFileStatus::Missing)
+                std::cerr << "penumbra: warning: " << e.what() << " (" << toString(e.status)
+                          << "); its pairs are built again\n";
+        }
+    }
+    std::sort(plan.elsewhere.begin(), plan.elsewhere.end());
+    plan.elsewhere.erase(std::unique(plan.elsewhere.begin(), plan.elsewhere.end()),
+                         plan.elsewhere.end());
+    return plan;
+}
+
+size_t writeShard(const ShardPlan& plan, const VisibilityStore& store) {
+    VisibilityFileWriteOptions options;
+    options.shard = plan.shard;
+    try {
+        return writeVisibilityFile(plan.path, store, options);
+    } catch (const VisibilityFileError& e) {
+        throw inputError(e.what());
+    }
+}
+
+// The end of a run with --shards (this rank's shard written): the summary, the next step, and the
+// error for a run that stopped early. `done` counts the pairs built anywhere, `extra` what the
+// cluster adds.
+void finishShard(const PrecomputeCommandOptions& o, const PrecomputeSetup& setup,
+                 const PrecomputeProgress& p, const ShardPlan& plan, size_t shardBytes, int threads,
+                 const std::string& extra) {
+    const VisibilityStore& store = setup.store;
+    const size_t total = plan.shard.pairTotal;
+    std::printf("scene    %s: %u faces, %zu lights\n", o.scene.c_str(), setup.scene.faceCount(),
+                setup.scene.lights.size());
+    std::printf("pairs    %zu of %zu built (%zu held by %zu other files before this run)\n", p.done,
+                total, plan.elsewhere.size(), plan.otherFiles);
+    std::printf("seconds  %.3f\n", p.seconds);
+    std::printf("threads  %d\n", threads);
+    std::fputs(extra.c_str(), stdout);
+    std::printf("shard    %s: %zu trees (%zu of an earlier run), %zu bytes, written\n",
+                plan.path.string().c_str(), store.treeCount(), plan.own.trees, shardBytes);
+    if (p.state == State::Idle && p.done >= total)
+        std::printf("next     every pair is built: penumbra merge -o %s %s.rank-*\n",
+                    o.output.c_str(), o.output.c_str());
+    std::fflush(stdout);
+    if (p.state == State::Failed) throw inputError(o.scene + ": " + p.error);
+    if (p.state == State::Cancelled)
+        throw CommandError(kExitInterrupted, "interrupted after " + std::to_string(p.done) +
+                                                 " of " + std::to_string(total) +
+                                                 " pairs; the shards hold them (run again to "
+                                                 "finish)");
+    if (p.state == State::OverBudget)
+        throw inputError("memory budget of " + std::to_string(o.memoryBudgetMB) +
+                         " MB reached after " + std::to_string(p.done) + " of " +
+                         std::to_string(total) +
+                         " pairs; the shards hold them (run again with a larger --memory-budget "
+                         "to finish)");
+}
+
 // After the builds, single process or cluster: the hidden lights' warning, the file (unless
 // nothing new was built), the summary on stdout (`extra`: lines the cluster adds), and the error
 // for a run that stopped early.
@@ -240,7 +334,12 @@ void finishPrecompute(const PrecomputeCommandOptions& o, const PrecomputeSetup& 
 void runPrecompute(const PrecomputeCommandOptions& o) {
     PrecomputeSetup setup(o, false);
     VisibilityStore& store = setup.store;
-    const ExistingFile existing = readExisting(o.output, store);
+    std::optional<ShardPlan> plan;
+    ExistingFile existing;
+    if (o.shards)
+        plan = planShard(o, store, 0, 1, true);
+    else
+        existing = readExisting(o.output, store);
 
     const int threads = threadsOf(o);
     // TBB keeps one core for the thread that waits by default; this thread only polls, so let
@@ -253,7 +352,20 @@ void runPrecompute(const PrecomputeCommandOptions& o) {
     const InterruptGuard interruptGuard(SIGINT);
     const bool tty = ::isatty(STDERR_FILENO) != 0;
 
-    scheduler.requestAll();
+    size_t builtBefore = 0;  // with shards: the pairs this run does not build
+    if (plan) {
+        std::vector<PairKey> missing;
+        for (const PairKey& k : everyPairKey(store)) {
+            if (store.find(k) ||
+                std::binary_search(plan->elsewhere.begin(), plan->elsewhere.end(), k))
+                ++builtBefore;
+            else
+                missing.push_back(k);
+        }
+        scheduler.request(std::move(missing));
+    } else {
+        scheduler.requestAll();
+    }
     auto lastPrint = std::chrono::steady_clock::now();
     bool printed = false;
     PrecomputeProgress p = scheduler.progress();
@@ -274,6 +386,12 @@ void runPrecompute(const PrecomputeCommandOptions& o) {
         printProgress(p, tty);
         if (tty) std::fputc('\n', stderr);
     }
+    if (plan) {
+        const size_t bytes = writeShard(*plan, store);
+        p.done += builtBefore;
+        finishShard(o, setup, p, *plan, bytes, scheduler.threads(), "");
+        return;
+    }
     finishPrecompute(o, setup, p, existing, scheduler.threads(), "");
 }
 
@@ -288,6 +406,7 @@ void runClusterPrecompute(cluster::MpiSession& session, const PrecomputeCommandO
     cluster::ClusterPrecomputeOptions options;
     options.threads = threads;
     options.memoryBudgetBytes = static_cast<size_t>(o.memoryBudgetMB * 1024.0 * 1024.0);
+    options.shards = o.shards;
     const InterruptGuard interruptGuard(SIGINT), terminateGuard(SIGTERM);
     const auto interrupted = [] { return gInterrupted.load(std::memory_order_relaxed); };
 
@@ -300,15 +419,30 @@ void runClusterPrecompute(cluster::MpiSession& session, const PrecomputeCommandO
             cluster::refuseToServe(session, e.what());
             return;
         }
-        cluster::servePrecompute(session, setup->store, options, interrupted);
+        if (!o.shards) {
+            cluster::servePrecompute(session, setup->store, options, interrupted);
+            return;
+        }
+        const ShardPlan plan = planShard(o, setup->store, session.rank(), session.size(), false);
+        const auto write = [&]() -> std::string {
+            writeShard(plan, setup->store);
+            return {};
+        };
+        cluster::servePrecompute(session, setup->store, options, interrupted, write);
         return;
     }
 
     std::unique_ptr<PrecomputeSetup> setup;
     ExistingFile existing;
+    std::optional<ShardPlan> plan;
     try {
         setup = std::make_unique<PrecomputeSetup>(o, false);
-        existing = readExisting(o.output, setup->store);
+        if (o.shards) {
+            plan = planShard(o, setup->store, 0, session.size(), true);
+            options.builtElsewhere = plan->elsewhere;
+        } else {
+            existing = readExisting(o.output, setup->store);
+        }
     } catch (...) {
         cluster::stopWorkers(session);  // then the usual error, from rank 0 alone
         throw;
@@ -322,15 +456,20 @@ void runClusterPrecompute(cluster::MpiSession& session, const PrecomputeCommandO
     // Said and written at once: the launcher may kill every rank a second after its SIGTERM.
     const auto checkpoint = [&] {
         if (printed && tty) std::fputc('\n', stderr);
+        const fs::path written = plan ? plan->path : fs::path(o.output);
         try {
-            writeVisibilityFile(o.output, setup->store);
-            std::fprintf(stderr,
-                         "penumbra: stopping (%s): the %zu pairs finished so far are written to "
-                         "%s; asking the other ranks for theirs\n",
-                         gSignal.load() == SIGTERM ? "SIGTERM: Ctrl-C to the launcher, or a rank "
-                                                     "ended and the launcher ends the job"
-                                                   : "SIGINT",
-                         setup->store.treeCount(), o.output.c_str());
+            VisibilityFileWriteOptions writeOptions;
+            if (plan) writeOptions.shard = plan->shard;
+            writeVisibilityFile(written, setup->store, writeOptions);
+            std::fprintf(
+                stderr,
+                "penumbra: stopping (%s): the %zu pairs finished so far are written to "
+                "%s; %s\n",
+                gSignal.load() == SIGTERM ? "SIGTERM: Ctrl-C to the launcher, or a rank "
+                                            "ended and the launcher ends the job"
+                                          : "SIGINT",
+                setup->store.treeCount(), written.string().c_str(),
+                plan ? "every rank writes its own shard" : "asking the other ranks for theirs");
         } catch (const VisibilityFileError& e) {
             std::cerr << "penumbra: warning: " << e.what() << '\n';
         }
@@ -354,8 +493,35 @@ void runClusterPrecompute(cluster::MpiSession& session, const PrecomputeCommandO
                   r.treesReceived, r.bytesReceived,
                   r.treesReceived ? static_cast<double>(r.bytesReceived) / r.treesReceived : 0.0,
                   r.coordinatorSeconds);
+    if (plan)  // no tree travels: the workers' messages are counts (and WORK's keys)
+        std::snprintf(line, sizeof line,
+                      "\nsent     no trees: %zu built by the other ranks into their shards, "
+                      "reported in %zu bytes\n",
+                      r.treesReceived, r.bytesReceived);
     extra += line;
 
+    if (plan) {
+        for (const std::string& e : r.shardErrors) std::cerr << "penumbra: error: " << e << '\n';
+        if (!r.shardErrors.empty() && p.state == State::Idle) {
+            p.state = State::Failed;
+            p.error = std::to_string(r.shardErrors.size()) + " shard(s) could not be written";
+        }
+        const auto finish = [&] {
+            finishShard(o, *setup, p, *plan, writeShard(*plan, setup->store), r.threads, extra);
+        };
+        if (!r.lostRank) {
+            finish();
+            return;
+        }
+        try {
+            finish();
+        } catch (const CommandError&) {
+        }
+        std::cerr << "penumbra: error: " << p.error << "; the shards hold the " << p.done << " of "
+                  << p.total << " pairs finished (run again to finish)\n";
+        std::cerr.flush();
+        session.abort(kExitInputError);
+    }
     if (!r.lostRank) {
         finishPrecompute(o, *setup, p, existing, r.threads, extra);
         return;
@@ -420,6 +586,9 @@ void registerPrecomputeCommand(CLI::App& app) {
     sub->add_option("--patch-fraction", options->patchFraction,
                     "Receiver patch size as a fraction of the scene diagonal (0: whole faces)")
         ->check(CLI::Range(0.0, 1.0));
+    sub->add_flag("--shards", options->shards,
+                  "Write this rank's trees to its own shard FILE.rank-RRRRR-of-NNNNN instead of "
+                  "FILE (under MPI: no tree travels to rank 0); join them with penumbra merge");
     sub->add_option("--threads", options->threads,
                     "Concurrent builds (default: the number of cores)")
         ->check(CLI::PositiveNumber);

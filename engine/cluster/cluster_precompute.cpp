@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstring>
 #include <deque>
+#include <exception>
 #include <optional>
 #include <thread>
 
@@ -87,6 +88,7 @@ class Coordinator {
     Coordinator(MpiSession& session, VisibilityStore& store, const ClusterPrecomputeOptions& o)
         : session_(session), store_(store), options_(o), workers_(session.size()) {
         result_.treesByRank.assign(session.size(), 0);
+        std::sort(options_.builtElsewhere.begin(), options_.builtElsewhere.end());
     }
 
     ClusterPrecomputeResult run(const std::function<bool()>& interrupted,
@@ -125,8 +127,11 @@ class Coordinator {
     }
     void receiveTrees(int rank, const Bytes& bytes) {
         const auto start = Clock::now();
-        // (Not the store's count before and after: rank 0's own builds land meanwhile.)
-        const size_t added = decodeTreeRecords(bytes, store_, name(rank));
+        // (Not the store's count before and after: rank 0's own builds land meanwhile.) With
+        // shards, only the count: the trees stay in the worker's shard.
+        const size_t added = options_.shards ? static_cast<size_t>(getU64(bytes, 0))
+                                             : decodeTreeRecords(bytes, store_, name(rank));
+        if (options_.shards) builtByWorkers_ += added;
         result_.treesReceived += added;
         result_.treesByRank[rank] += added;
         result_.bytesReceived += bytes.size();
@@ -150,7 +155,7 @@ class Coordinator {
     PrecomputeProgress progress() const {
         PrecomputeProgress p;
         p.total = total_;
-        p.done = store_.treeCount();
+        p.done = loaded_ + (store_.treeCount() - storeLoaded_) + builtByWorkers_;
         p.seconds = seconds(Clock::now() - start_);
         const size_t built = p.done - loaded_;
         if (built > 0 && state_ == State::Running)
@@ -164,11 +169,13 @@ class Coordinator {
 
     MpiSession& session_;
     VisibilityStore& store_;
-    const ClusterPrecomputeOptions options_;
+    ClusterPrecomputeOptions options_;  // builtElsewhere sorted
     std::vector<Worker> workers_;
     std::deque<PairKey> queue_;
     std::vector<PairKey> localBatch_;
     size_t total_ = 0, loaded_ = 0;
+    size_t storeLoaded_ = 0;     // rank 0's store at the start
+    size_t builtByWorkers_ = 0;  // with shards: the trees the workers reported
     Clock::time_point start_;
     Clock::duration coordinatorTime_{};
     State state_ = State::Running;
@@ -238,8 +245,13 @@ void Coordinator::handle(MpiMessage& m) {
         case kTagFailure:
             fail(name(m.source) + ": " + text(m.bytes));
             break;
+        case kTagOverBudget:
+            if (state_ == State::Running) state_ = State::OverBudget;
+            break;
         case kTagFinal:
             receiveTrees(m.source, m.bytes);
+            if (options_.shards && m.bytes.size() > 8)
+                result_.shardErrors.push_back(name(m.source) + ": " + text(m.bytes, 8));
             w.batches.clear();
             w.final = true;
             break;
@@ -296,9 +308,14 @@ ClusterPrecomputeResult Coordinator::run(
     start_ = Clock::now();
     const std::vector<PairKey> keys = options_.keys ? *options_.keys : everyPairKey(store_);
     total_ = keys.size();
-    loaded_ = store_.treeCount();
-    for (const PairKey& k : keys)
-        if (!store_.find(k)) queue_.push_back(k);
+    storeLoaded_ = store_.treeCount();
+    const auto& elsewhere = options_.builtElsewhere;
+    for (const PairKey& k : keys) {
+        if (store_.find(k) || std::binary_search(elsewhere.begin(), elsewhere.end(), k))
+            ++loaded_;
+        else
+            queue_.push_back(k);
+    }
 
     awaitHellos(interrupted);
     std::optional<PrecomputeScheduler> local;
@@ -360,7 +377,8 @@ ClusterPrecomputeResult Coordinator::run(
     stopEveryone(local ? &*local : nullptr,
                  stoppedBySignal ? options_.stopLimit : options_.silenceLimit);
     // Rank 0 built what neither the file nor the workers gave.
-    result_.treesByRank[0] = store_.treeCount() - loaded_ - result_.treesReceived;
+    result_.treesByRank[0] =
+        store_.treeCount() - storeLoaded_ - (options_.shards ? 0 : result_.treesReceived);
     result_.progress = progress();
     result_.progress.secondsLeft = 0;
     result_.coordinatorSeconds = seconds(coordinatorTime_);
@@ -418,7 +436,8 @@ void refuseToServe(MpiSession& session, const std::string& error) {
 
 void servePrecompute(MpiSession& session, VisibilityStore& store,
                      const ClusterPrecomputeOptions& options,
-                     const std::function<bool()>& interrupted) {
+                     const std::function<bool()>& interrupted,
+                     const std::function<std::string()>& writeShard) {
     using namespace detail_cluster;
     session.send(0, kTagHello,
                  helloFrom(session, true, sceneHash(store.scene(), store.options()), ""));
@@ -426,7 +445,7 @@ void servePrecompute(MpiSession& session, VisibilityStore& store,
     schedulerOptions.threads = options.threads;
     PrecomputeScheduler scheduler(store, schedulerOptions);
     std::deque<std::vector<PairKey>> batches;
-    bool failed = false, signalled = false;
+    bool failed = false, signalled = false, overBudget = false;
     auto lastBeat = Clock::now();
     for (;;) {
         bool stop = false;
@@ -436,7 +455,7 @@ void servePrecompute(MpiSession& session, VisibilityStore& store,
                 stop = true;
                 break;
             }
-            if (m->tag == kTagWork && !failed) {
+            if (m->tag == kTagWork && !failed && !overBudget) {
                 batches.push_back(decodeKeys(m->bytes));
                 scheduler.request(batches.back());
             }
@@ -445,6 +464,12 @@ void servePrecompute(MpiSession& session, VisibilityStore& store,
         if (interrupted()) {  // the launcher's SIGTERM reached this rank too
             signalled = true;
             break;
+        }
+        const size_t budget = options.memoryBudgetBytes;
+        if (options.shards && budget > 0 && store.bytes() > budget && !overBudget) {
+            overBudget = true;
+            scheduler.cancel();
+            session.send(0, kTagOverBudget, {});
         }
         const PrecomputeProgress p = scheduler.progress();
         if (p.state == State::Failed && !failed) {
@@ -455,7 +480,9 @@ void servePrecompute(MpiSession& session, VisibilityStore& store,
         // Finished batches go back in the order they complete (any order: rank 0 sorts).
         for (auto it = batches.begin(); it != batches.end();) {
             if (allBuilt(store, *it)) {
-                session.send(0, kTagResult, encodeTreeRecords(store, *it));
+                Bytes count;
+                putU64(count, it->size());
+                session.send(0, kTagResult, options.shards ? count : encodeTreeRecords(store, *it));
                 it = batches.erase(it);
                 lastBeat = Clock::now();
             } else {
@@ -475,7 +502,21 @@ void servePrecompute(MpiSession& session, VisibilityStore& store,
     for (const auto& batch : batches)
         for (const PairKey& k : batch)
             if (store.find(k)) finished.push_back(k);
-    session.send(0, kTagFinal, encodeTreeRecords(store, finished));
+    if (options.shards) {
+        // The shard first: with a SIGTERM, the launcher kills this rank about a second later.
+        Bytes final;
+        putU64(final, finished.size());
+        std::string error;
+        try {
+            if (writeShard) error = writeShard();
+        } catch (const std::exception& e) {
+            error = e.what();
+        }
+        final.insert(final.end(), error.begin(), error.end());
+        session.send(0, kTagFinal, final);
+    } else {
+        session.send(0, kTagFinal, encodeTreeRecords(store, finished));
+    }
     if (signalled) awaitStop(session);  // rank 0 decides when the job ends
 }
 

@@ -22,6 +22,14 @@
 //      answers FINAL with the trees of its unfinished batches that are complete, then returns.
 //      Rank 0 waits for every FINAL, so the file holds every pair finished anywhere.
 //
+// Shards (ClusterPrecomputeOptions::shards, `precompute --shards`): the same protocol, but no tree
+// travels. Each rank keeps the trees it built and writes them to its own shard file at the end (or
+// when stopped); RESULT and FINAL then carry a u64 count of trees (FINAL also the shard's write
+// error, if any), so rank 0's messages are keys and counts only and its store holds only its own
+// trees. The memory budget then counts each rank's own store: a worker over it cancels its builds
+// and says OVERBUDGET, and rank 0 stops every rank as for its own. `penumbra merge` joins the
+// shards (engine/io/visibility_merge.h).
+//
 // Faults: a worker that cannot load the scene or whose build fails sends its error (FAILURE); one
 // that sends nothing for silenceLimit (killed, hung, its node gone) is named as such. Either way
 // rank 0 stops the others, keeps what was finished and reports "rank N (host): cause". Open MPI's
@@ -50,11 +58,13 @@ enum ClusterTag : int {
     kTagFailure,
     kTagStop,
     kTagFinal,
+    kTagOverBudget,  // with shards: a worker's own trees passed the memory budget
 };
 
 struct ClusterPrecomputeOptions {
-    int threads = 0;               // concurrent builds per rank (0: its cores)
-    size_t memoryBudgetBytes = 0;  // of rank 0's store, which gathers every tree; 0: no limit
+    int threads = 0;  // concurrent builds per rank (0: its cores)
+    // Of rank 0's store, which gathers every tree (with shards: of each rank's own); 0: no limit.
+    size_t memoryBudgetBytes = 0;
     // A worker that sends nothing for this long is reported as lost.
     std::chrono::milliseconds silenceLimit{10000};
     // How long rank 0 waits for the workers' HELLO (each loads the scene first).
@@ -67,6 +77,11 @@ struct ClusterPrecomputeOptions {
     // cluster's render, cluster_render.h); unset: every pair of the scene. Those the store holds
     // already are skipped either way.
     std::optional<std::vector<PairKey>> keys;
+    // Each rank keeps its trees for its own shard (above); only counts reach rank 0.
+    bool shards = false;
+    // Pairs built already but not in rank 0's store (the other shards of earlier runs, the
+    // output file): not handed out, counted as done.
+    std::vector<PairKey> builtElsewhere;
 };
 
 struct ClusterPrecomputeResult {
@@ -80,6 +95,7 @@ struct ClusterPrecomputeResult {
     std::vector<size_t> treesByRank;  // trees built by each rank (rank 0's own builds first)
     double coordinatorSeconds = 0;    // rank 0's main thread decoding and inserting trees
     int threads = 0;                  // builds per rank
+    std::vector<std::string> shardErrors;  // with shards: "rank N (host): why" per failed write
 };
 
 // Rank 0. The store holds the scene's trees read from a file (if any); the missing ones are built
@@ -99,10 +115,12 @@ void stopWorkers(MpiSession& session);
 // Every other rank: says HELLO with the store's scene hash, then builds the batches rank 0 sends
 // until it says STOP, or until `interrupted` (the launcher's SIGTERM reached this rank too): then
 // it sends what it finished at once and waits for rank 0's STOP. Throws MpiError when rank 0
-// cannot be reached.
+// cannot be reached. With shards, `writeShard` is called once the builds stopped, before FINAL
+// (which carries its error: "" when written).
 void servePrecompute(MpiSession& session, VisibilityStore& store,
                      const ClusterPrecomputeOptions& options,
-                     const std::function<bool()>& interrupted);
+                     const std::function<bool()>& interrupted,
+                     const std::function<std::string()>& writeShard = {});
 
 // A worker that could not load the scene: says HELLO with `error` and waits for rank 0's STOP (so
 // that rank 0 reports it before the launcher sees a rank end).

@@ -27,4 +27,28 @@ struct AtomicWriteOptions {
 void writeFileAtomically(const std::filesystem::path& path, std::string_view bytes,
                          const AtomicWriteOptions& options = {});
 
+// The same for a file too large to hold in memory (the merge of visibility files): append() the
+// bytes as they come, then commit() (fsync, rename, directory fsync). Destroyed without a commit
+// (an error, an exception), the temporary is removed and the target left as it was.
+class AtomicFileWriter {
+  public:
+    explicit AtomicFileWriter(const std::filesystem::path& path,
+                              const AtomicWriteOptions& options = {});  // creates the temporary
+    ~AtomicFileWriter();
+    AtomicFileWriter(const AtomicFileWriter&) = delete;
+    AtomicFileWriter& operator=(const AtomicFileWriter&) = delete;
+
+    void append(std::string_view bytes);
+    void commit();
+    size_t written() const { return written_; }
+
+  private:
+    [[noreturn]] void fail(const std::string& why);
+    std::filesystem::path path_, temp_;
+    AtomicWriteOptions options_;
+    int fd_ = -1;
+    size_t written_ = 0;
+    bool committed_ = false;
+};
+
 }  // namespace penumbra

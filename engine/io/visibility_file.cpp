@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 #include <random>
 #include <set>
 #include <span>
@@ -20,6 +21,7 @@
 
 #include "engine/io/atomic_file.h"
 #include "engine/io/finite_output.h"
+#include "engine/io/mapped_file.h"
 #include "engine/io/text_input.h"
 #include "engine/precompute/scene_hash.h"
 #include "engine/scene/hash64.h"
@@ -31,6 +33,7 @@ namespace fs = std::filesystem;
 
 constexpr std::array<unsigned char, 8> kMagic = {'P', 'E', 'N', 'U', 'M', 'V', 'I', 'S'};
 constexpr size_t kHeaderBytes = 48;
+constexpr size_t kShardHeaderBytes = 88;
 constexpr size_t kTrailerBytes = 8;
 // Fixed part of a tree record: 5 u32 + u8 + u8 + u16 + 4 u32.
 constexpr size_t kRecordFixedBytes = 5 * 4 + 1 + 1 + 2 + 5 * 4;
@@ -111,7 +114,30 @@ void writeRecord(ByteWriter& w, const PairKey& key, const PairRecord& record, bo
     }
 }
 
-std::vector<unsigned char> serialize(const VisibilityStore& store, bool withStats) {
+void writeHeader(ByteWriter& w, uint64_t hash, uint64_t treeCount, uint64_t payloadBytes,
+                 const std::optional<VisibilityShard>& shard) {
+    w.raw(kMagic);
+    w.u32(kVisibilityFileVersion);
+    w.u32(static_cast<uint32_t>(shard ? kShardHeaderBytes : kHeaderBytes));
+    w.u64(hash);
+    w.u64(treeCount);
+    w.u64(payloadBytes);
+    w.u64(shard ? kShardFlag : 0);
+    if (!shard) return;
+    w.u32(shard->index);
+    w.u32(shard->count);
+    w.u64(shard->pairTotal);
+    const VisibilitySettings& v = shard->settings;
+    w.u64(v.maxLpSolves);
+    w.f64(v.patchFraction);
+    w.u8(v.mergeLeaves ? 1 : 0);
+    w.u8(v.quadricPruning ? 1 : 0);
+    w.u16(0);
+    w.u32(v.builderRevision);
+}
+
+std::vector<unsigned char> serialize(const VisibilityStore& store, bool withStats,
+                                     std::optional<VisibilityShard> shard) {
     std::vector<std::pair<PairKey, const PairRecord*>> trees;
     // The refined sub-patches' trees are the render's cache (PatchLayout::refine): only the
     // patches' own trees are kept.
@@ -122,16 +148,11 @@ std::vector<unsigned char> serialize(const VisibilityStore& store, bool withStat
               [](const auto& a, const auto& b) { return a.first < b.first; });
 
     ByteWriter w;
-    w.raw(kMagic);
-    w.u32(kVisibilityFileVersion);
-    w.u32(kHeaderBytes);
-    w.u64(sceneHash(store.scene(), store.options()));
-    w.u64(trees.size());
-    const size_t payloadSizeAt = w.bytes().size();
-    w.u64(0);  // payload size, patched below
-    w.u64(0);  // flags
+    if (shard) shard->settings = visibilitySettings(store.options());
+    writeHeader(w, sceneHash(store.scene(), store.options()), trees.size(), 0, shard);
+    const size_t headerBytes = w.bytes().size();
     for (const auto& [key, record] : trees) writeRecord(w, key, *record, withStats);
-    w.patchU64(payloadSizeAt, w.bytes().size() - kHeaderBytes);
+    w.patchU64(32, w.bytes().size() - headerBytes);  // the payload size
     Hash64 h;
     h.addBytes(w.bytes());
     w.u64(h.value());
@@ -264,15 +285,8 @@ struct ParsedTree {
     PairRecord record;
 };
 
-// What the header says, once checked against the file and the scene.
-struct Header {
-    uint64_t treeCount = 0;
-    size_t end = 0;  // where the payload ends (the checksum follows)
-};
-
-// The header and the file as a whole (size, checksum), then the scene hash, so that a stale file
-// is told apart from a corrupt one only when it is intact.
-Header parseHeader(std::span<const unsigned char> bytes, const VisibilityStore& store) {
+// The header and the file as a whole (size, checksum, flags), without a scene.
+VisibilityFileHeader inspectHeader(std::span<const unsigned char> bytes) {
     if (bytes.size() < kHeaderBytes + kTrailerBytes)
         throw Corrupt("truncated: " + std::to_string(bytes.size()) + " bytes, not even a header");
     if (!std::equal(kMagic.begin(), kMagic.end(), bytes.begin()))
@@ -283,35 +297,66 @@ Header parseHeader(std::span<const unsigned char> bytes, const VisibilityStore& 
         throw Corrupt("format version " + std::to_string(version) + " (this program reads " +
                       std::to_string(kVisibilityFileVersion) + ")");
     const uint32_t headerBytes = r.u32();
-    if (headerBytes != kHeaderBytes)
+    if (headerBytes != kHeaderBytes && headerBytes != kShardHeaderBytes)
         throw Corrupt("header size " + std::to_string(headerBytes) + " (expected " +
-                      std::to_string(kHeaderBytes) + ")");
-    const uint64_t fileScene = r.u64();
-    const uint64_t treeCount = r.u64();
+                      std::to_string(kHeaderBytes) + ", or " + std::to_string(kShardHeaderBytes) +
+                      " for a shard)");
+    if (bytes.size() < headerBytes + kTrailerBytes)
+        throw Corrupt("truncated: " + std::to_string(bytes.size()) + " bytes, not even a header");
+    VisibilityFileHeader header;
+    header.sceneHash = r.u64();
+    header.treeCount = r.u64();
     const uint64_t payloadBytes = r.u64();
     const uint64_t flags = r.u64();
-    const uint64_t expectedSize = bytes.size() - kHeaderBytes - kTrailerBytes;
+    const uint64_t expectedSize = bytes.size() - headerBytes - kTrailerBytes;
     if (payloadBytes != expectedSize)
         throw Corrupt((payloadBytes > expectedSize ? "truncated: " : "size mismatch: ") +
                       std::string("header says ") + std::to_string(payloadBytes) +
                       " payload bytes, the file holds " + std::to_string(expectedSize));
-    const size_t end = kHeaderBytes + payloadBytes;
+    header.payloadBegin = headerBytes;
+    header.payloadEnd = headerBytes + payloadBytes;
     Hash64 h;
-    h.addBytes(bytes.first(end));
-    const uint64_t stored = ByteReader(bytes, end).u64();
+    h.addBytes(bytes.first(header.payloadEnd));
+    const uint64_t stored = ByteReader(bytes, header.payloadEnd).u64();
     if (h.value() != stored)
         throw Corrupt("checksum mismatch (expected " + hex(stored) + ", found " + hex(h.value()) +
                       ")");
-    if (flags != 0) throw Corrupt("unknown flags " + hex(flags));
+    const bool shard = flags == kShardFlag;
+    if (flags != 0 && !shard) throw Corrupt("unknown flags " + hex(flags));
+    if (shard != (headerBytes == kShardHeaderBytes))
+        throw Corrupt("header size " + std::to_string(headerBytes) + " with flags " + hex(flags));
+    if (shard) {
+        VisibilityShard& s = header.shard.emplace();
+        s.index = r.u32();
+        s.count = r.u32();
+        s.pairTotal = r.u64();
+        s.settings.maxLpSolves = r.u64();
+        s.settings.patchFraction = r.f64();
+        s.settings.mergeLeaves = r.u8() != 0;
+        s.settings.quadricPruning = r.u8() != 0;
+        r.u16();
+        s.settings.builderRevision = r.u32();
+        if (s.count == 0 || s.index >= s.count)
+            throw Corrupt("shard " + std::to_string(s.index) + " of " + std::to_string(s.count));
+    }
+    if (header.treeCount > payloadBytes / kRecordFixedBytes)
+        throw Corrupt("tree count " + std::to_string(header.treeCount) + " does not fit in " +
+                      std::to_string(payloadBytes) + " payload bytes");
+    return header;
+}
+
+// inspectHeader, then the scene hash, so that a stale file is told apart from a corrupt one only
+// when it is intact.
+VisibilityFileHeader parseHeader(std::span<const unsigned char> bytes,
+                                 const VisibilityStore& store) {
+    const VisibilityFileHeader header = inspectHeader(bytes);
     const uint64_t current = sceneHash(store.scene(), store.options());
-    if (fileScene != current)
+    if (header.sceneHash != current)
         throw VisibilityFileError(VisibilityFileStatus::Stale,
                                   "made for another scene or other build settings (scene hash " +
-                                      hex(fileScene) + " in the file, " + hex(current) + " now)");
-    if (treeCount > payloadBytes / kRecordFixedBytes)
-        throw Corrupt("tree count " + std::to_string(treeCount) + " does not fit in " +
-                      std::to_string(payloadBytes) + " payload bytes");
-    return {treeCount, end};
+                                      hex(header.sceneHash) + " in the file, " + hex(current) +
+                                      " now)");
+    return header;
 }
 
 void readStats(ByteReader& p, vis::BuildStats& s) {
@@ -322,6 +367,13 @@ void readStats(ByteReader& p, vis::BuildStats& s) {
                         &s.prunedSplits, &s.realLineTests, &s.realLineWitness, &s.mergedLeaves})
         *v = p.u64();
     s.seconds = 0;  // not in the file (visibility_file.h)
+}
+
+// The bytes of a record after its fixed part, from its counts.
+uint64_t recordBodyBytes(uint16_t reasonBytes, uint32_t nodes, uint32_t inserted,
+                         uint32_t occluders, uint32_t deferred, bool hasStats) {
+    return uint64_t{reasonBytes} + uint64_t{nodes} * kNodeBytes + uint64_t{inserted} * 4 +
+           uint64_t{occluders} * 4 + uint64_t{deferred} * 4 + (hasStats ? kStatsBytes : 0);
 }
 
 // One tree record, its fields checked on their own; validateTree checks it against the scene.
@@ -346,9 +398,8 @@ ParsedTree parseTree(ByteReader& p, const std::string& where) {
     if (hasStats > 1) throw Corrupt(where + ": bad stats flag " + std::to_string(hasStats));
     if (reasonBytes > kMaxReasonBytes) throw Corrupt(where + ": reason text too long");
     // Every count against the bytes left before anything is allocated.
-    const uint64_t need = uint64_t{reasonBytes} + uint64_t{nodes} * kNodeBytes +
-                          uint64_t{inserted} * 4 + uint64_t{occluders} * 4 +
-                          uint64_t{deferred} * 4 + (hasStats ? kStatsBytes : 0);
+    const uint64_t need =
+        recordBodyBytes(reasonBytes, nodes, inserted, occluders, deferred, hasStats != 0);
     if (need > p.left())
         throw Corrupt(where + ": truncated or bad counts (" + std::to_string(nodes) + " nodes, " +
                       std::to_string(inserted) + " occluders, " + std::to_string(occluders) +
@@ -407,8 +458,8 @@ std::vector<ParsedTree> parseRecords(ByteReader& p, uint64_t count, const Visibi
 }
 
 std::vector<ParsedTree> parse(std::span<const unsigned char> bytes, const VisibilityStore& store) {
-    const Header header = parseHeader(bytes, store);
-    ByteReader p(bytes.first(header.end), kHeaderBytes);
+    const VisibilityFileHeader header = parseHeader(bytes, store);
+    ByteReader p(bytes.first(header.payloadEnd), header.payloadBegin);
     return parseRecords(p, header.treeCount, store);
 }
 
@@ -433,7 +484,7 @@ const char* toString(VisibilityFileStatus status) {
 size_t writeVisibilityFile(const fs::path& path, const VisibilityStore& store,
                            const VisibilityFileWriteOptions& options) {
     const std::string name = path.string();
-    const std::vector<unsigned char> bytes = serialize(store, options.stats);
+    const std::vector<unsigned char> bytes = serialize(store, options.stats, options.shard);
     try {
         writeFileAtomically(
             path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
@@ -465,6 +516,149 @@ size_t readVisibilityFile(const fs::path& path, VisibilityStore& store) {
     }
     for (ParsedTree& t : trees) store.insert(t.key, std::move(t.record));
     return trees.size();
+}
+
+VisibilitySettings visibilitySettings(const VisibilityStore::Options& options) {
+    VisibilitySettings v;
+    v.maxLpSolves = options.build.maxLpSolves;
+    v.patchFraction = options.patchFraction;
+    v.mergeLeaves = options.build.mergeLeaves;
+    v.quadricPruning = options.build.quadricPruning;
+    v.builderRevision = kTreeBuilderRevision;
+    return v;
+}
+
+std::string settingsDifference(const VisibilitySettings& here, const VisibilitySettings& there) {
+    std::string out;
+    const auto clause = [&](const std::string& name, const std::string& a, const std::string& b) {
+        if (a == b) return;
+        out += (out.empty() ? "" : ", ") + name + " " + a + " here, " + b + " there";
+    };
+    const auto number = [](double v) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "%.17g", v);
+        return std::string(buf);
+    };
+    const auto onOff = [](bool v) { return std::string(v ? "on" : "off"); };
+    clause("--max-lp-solves", std::to_string(here.maxLpSolves), std::to_string(there.maxLpSolves));
+    clause("--patch-fraction", number(here.patchFraction), number(there.patchFraction));
+    clause("leaf merging", onOff(here.mergeLeaves), onOff(there.mergeLeaves));
+    clause("quadric pruning", onOff(here.quadricPruning), onOff(there.quadricPruning));
+    clause("tree builder revision", std::to_string(here.builderRevision),
+           std::to_string(there.builderRevision));
+    return out;
+}
+
+fs::path shardPath(const fs::path& output, uint32_t index, uint32_t count) {
+    char suffix[48];
+    std::snprintf(suffix, sizeof suffix, ".rank-%05u-of-%05u", index, count);
+    return fs::path(output.string() + suffix);
+}
+
+std::vector<fs::path> shardPaths(const fs::path& output) {
+    const fs::path dir = output.parent_path().empty() ? fs::path(".") : output.parent_path();
+    const std::string prefix = output.filename().string() + ".rank-";
+    std::vector<fs::path> out;
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        unsigned index = 0, count = 0;
+        char tail = 0;
+        if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+        if (std::sscanf(name.c_str() + prefix.size(), "%5u-of-%5u%c", &index, &count, &tail) != 2)
+            continue;
+        if (name != shardPath(output, index, count).filename().string()) continue;
+        out.push_back(output.parent_path() / name);
+    }
+    std::sort(out.begin(), out.end());
+    return out;
+}
+
+VisibilityFileHeader inspectVisibilityFile(std::span<const unsigned char> bytes,
+                                           const std::string& name) {
+    try {
+        return inspectHeader(bytes);
+    } catch (const Corrupt& e) {
+        throw VisibilityFileError(VisibilityFileStatus::Corrupt, name + ": " + e.what());
+    }
+}
+
+TreeRecordExtent treeRecordAt(std::span<const unsigned char> bytes, size_t offset, size_t end,
+                              const std::string& where) {
+    try {
+        ByteReader p(bytes.first(end), offset);
+        p.need(kRecordFixedBytes, "a tree record");
+        TreeRecordExtent r;
+        r.key.receiver = p.u32();
+        r.key.patch = p.u32();
+        r.key.lightFace = p.u32();
+        p.u32();
+        p.u32();
+        p.u8();
+        const uint8_t hasStats = p.u8();
+        const uint16_t reasonBytes = p.u16();
+        p.u32();
+        const uint32_t nodes = p.u32(), inserted = p.u32(), occluders = p.u32(), deferred = p.u32();
+        if (hasStats > 1) throw Corrupt("bad stats flag " + std::to_string(hasStats));
+        const uint64_t need =
+            recordBodyBytes(reasonBytes, nodes, inserted, occluders, deferred, hasStats != 0);
+        if (need > p.left())
+            throw Corrupt("truncated or bad counts (" + std::to_string(need) +
+                          " bytes after the "
+                          "record's fixed part, " +
+                          std::to_string(p.left()) + " left)");
+        r.size = kRecordFixedBytes + static_cast<size_t>(need);
+        return r;
+    } catch (const Corrupt& e) {
+        throw VisibilityFileError(VisibilityFileStatus::Corrupt, where + ": " + e.what());
+    }
+}
+
+std::vector<PairKey> visibilityFileKeys(const fs::path& path, uint64_t hash) {
+    const std::string name = path.string();
+    std::error_code ec;
+    if (!fs::exists(fs::status(path, ec)))
+        throw VisibilityFileError(VisibilityFileStatus::Missing, name + ": no such file");
+    std::optional<MappedFile> file;
+    try {
+        file.emplace(path);
+    } catch (const FileReadError& e) {
+        throw VisibilityFileError(VisibilityFileStatus::Unreadable, e.what());
+    }
+    const std::span<const unsigned char> bytes = file->bytes();
+    const VisibilityFileHeader header = inspectVisibilityFile(bytes, name);
+    if (header.sceneHash != hash)
+        throw VisibilityFileError(VisibilityFileStatus::Stale,
+                                  name +
+                                      ": made for another scene or other build settings (scene "
+                                      "hash " +
+                                      hex(header.sceneHash) + " in the file, " + hex(hash) +
+                                      " now)");
+    std::vector<PairKey> keys;
+    keys.reserve(static_cast<size_t>(header.treeCount));
+    size_t at = header.payloadBegin;
+    for (uint64_t i = 0; i < header.treeCount; ++i) {
+        const std::string where =
+            name + ": tree " + std::to_string(i) + " (byte " + std::to_string(at) + ")";
+        const TreeRecordExtent r = treeRecordAt(bytes, at, header.payloadEnd, where);
+        if (!keys.empty() && !(keys.back() < r.key))
+            throw VisibilityFileError(VisibilityFileStatus::Corrupt,
+                                      where + ": keys out of order (a file is sorted by key)");
+        keys.push_back(r.key);
+        at += r.size;
+    }
+    if (at != header.payloadEnd)
+        throw VisibilityFileError(VisibilityFileStatus::Corrupt,
+                                  name + ": " + std::to_string(header.payloadEnd - at) +
+                                      " bytes left over after the last tree");
+    return keys;
+}
+
+std::vector<unsigned char> visibilityFileHeaderBytes(uint64_t hash, uint64_t treeCount,
+                                                     uint64_t payloadBytes) {
+    ByteWriter w;
+    writeHeader(w, hash, treeCount, payloadBytes, std::nullopt);
+    return std::move(w.bytes());
 }
 
 std::vector<unsigned char> encodeTreeRecords(const VisibilityStore& store,

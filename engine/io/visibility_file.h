@@ -22,6 +22,14 @@
 // (precompute's summary) and the bench; a tree read from a file has BuildStats::seconds 0.
 //   trailer (8 bytes)  u64 checksum (engine/scene/hash64.h) of header and payload
 //
+// A shard (one rank's trees of a cluster precompute, `precompute --shards`, docs/cluster.md) is a
+// visibility file of the same version holding a subset of the pairs, with flags 1 (kShardFlag)
+// and a header of 88 bytes: the 48 above, then u32 shard index, u32 shard count, u64 the scene's
+// pair total (everyPairKey), and the settings that shape the trees, which the scene hash mixes
+// in: u64 maxLpSolves, f64 patch fraction, u8 mergeLeaves, u8 quadricPruning, u16 0, u32
+// kTreeBuilderRevision. It reads as any file (the trees it holds); `penumbra merge` joins shards
+// and files into one whole file (engine/io/visibility_merge.h), naming a setting that differs.
+//
 // Writing is atomic: a temporary file in the same directory, fsync, rename over the target (then
 // an fsync of the directory). A failure at any point leaves the old file as it was and removes the
 // temporary file.
@@ -38,6 +46,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -66,8 +75,36 @@ struct VisibilityFileError : std::runtime_error {
     VisibilityFileStatus status;
 };
 
+inline constexpr uint64_t kShardFlag = 1;
+
+// The settings that shape the trees besides the scene (sceneHash mixes them in), as a shard
+// states them so that a mismatch can be named.
+struct VisibilitySettings {
+    uint64_t maxLpSolves = 0;
+    double patchFraction = 0;
+    bool mergeLeaves = false, quadricPruning = false;
+    uint32_t builderRevision = 0;
+    bool operator==(const VisibilitySettings&) const = default;
+};
+VisibilitySettings visibilitySettings(const VisibilityStore::Options& options);
+// "" when equal, else what differs: "--max-lp-solves 40 here, 10000 there" (one clause each).
+std::string settingsDifference(const VisibilitySettings& here, const VisibilitySettings& there);
+
+struct VisibilityShard {
+    uint32_t index = 0, count = 1;
+    uint64_t pairTotal = 0;  // every pair of the scene (everyPairKey), for the merge's count
+    VisibilitySettings settings;
+};
+
+// The file names of the shards: "OUT.rank-00003-of-00064" for path OUT; shardPaths lists those
+// present for OUT (any count: the shards of earlier runs too), sorted by name.
+std::filesystem::path shardPath(const std::filesystem::path& output, uint32_t index,
+                                uint32_t count);
+std::vector<std::filesystem::path> shardPaths(const std::filesystem::path& output);
+
 struct VisibilityFileWriteOptions {
-    bool stats = true;  // store each tree's BuildStats
+    bool stats = true;                     // store each tree's BuildStats
+    std::optional<VisibilityShard> shard;  // write a shard's header (settings from the store)
     // Test hook: the write fails (throws) after this many bytes reached the temporary file,
     // standing in for a full disk or an I/O error in the middle of the write.
     size_t failAfterBytes = SIZE_MAX;
@@ -82,6 +119,34 @@ size_t writeVisibilityFile(const std::filesystem::path& path, const VisibilitySt
 // store (keys already present keep their tree). Returns the number of trees in the file. Throws
 // VisibilityFileError (Missing, Unreadable, Corrupt or Stale); the store is unchanged then.
 size_t readVisibilityFile(const std::filesystem::path& path, VisibilityStore& store);
+
+// What a file's header says, checked without a scene: magic, version, sizes, checksum, flags (the
+// merge, which copies records, and the cluster's shards, whose keys rank 0 lists).
+struct VisibilityFileHeader {
+    uint64_t sceneHash = 0;
+    uint64_t treeCount = 0;
+    size_t payloadBegin = 0, payloadEnd = 0;  // the records' bytes
+    std::optional<VisibilityShard> shard;
+};
+// Throws VisibilityFileError (Corrupt) "NAME: problem".
+VisibilityFileHeader inspectVisibilityFile(std::span<const unsigned char> bytes,
+                                           const std::string& name);
+// The key and size in bytes of the tree record at `offset` (before `end`), its counts checked
+// against the bytes left but not against a scene. Throws VisibilityFileError (Corrupt) "WHERE:
+// problem".
+struct TreeRecordExtent {
+    PairKey key;
+    size_t size = 0;
+};
+TreeRecordExtent treeRecordAt(std::span<const unsigned char> bytes, size_t offset, size_t end,
+                              const std::string& where);
+// The keys a file or shard holds (in file order: increasing), checked as inspectVisibilityFile
+// does and against `sceneHash`; the trees are not read into memory. Throws VisibilityFileError
+// as readVisibilityFile does (Missing, Unreadable, Corrupt, Stale).
+std::vector<PairKey> visibilityFileKeys(const std::filesystem::path& path, uint64_t sceneHash);
+// The 48 header bytes of a whole file (not a shard) with these fields.
+std::vector<unsigned char> visibilityFileHeaderBytes(uint64_t sceneHash, uint64_t treeCount,
+                                                     uint64_t payloadBytes);
 
 // Trees in transit between processes (the cluster's precompute, engine/cluster/): the published
 // trees of `keys` (those the store holds, in the order given) as a u64 count followed by their

@@ -203,6 +203,23 @@ void lightEdgePoints(const EffectsSummary& e, Lines& out) {
             std::to_string(e.retriedOverLimit) + " over it too; " +
             std::to_string(e.lightEdgeSkipped) +
             " more were sampled without trying (their pixel's attempt had failed)");
+    // Why: each decline's reason, and the stage each run over its limit was in.
+    std::string why;
+    for (size_t i = 1; i < vis::kEdgeDeclines; ++i) {
+        if (e.lightEdgeDeclinedBy[i] == 0) continue;
+        why += (why.empty() ? "" : ", ") +
+               std::string(vis::toString(static_cast<vis::EdgeDecline>(i))) + " " +
+               std::to_string(e.lightEdgeDeclinedBy[i]);
+    }
+    if (!why.empty()) out.add("  declined where: " + why);
+    std::string stages;
+    for (size_t i = 0; i < vis::kWorkStages; ++i) {
+        if (e.lightEdgeOverLimitAt[i] == 0) continue;
+        stages += (stages.empty() ? "" : ", ") +
+                  std::string(vis::toString(static_cast<vis::WorkStage>(i))) + " " +
+                  std::to_string(e.lightEdgeOverLimitAt[i]);
+    }
+    if (!stages.empty()) out.add("  where it reached its limit: " + stages);
     const LightEdgeIndexStats& index = e.lightEdgeIndex;
     if (index.lights == 0) return;
     char cost[200];

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "engine/render/cost_samples.h"
+#include "visibility/fp_query/edge_decline.h"
 #include "visibility/fp_query/work_budget.h"
 
 namespace penumbra {
@@ -101,6 +102,10 @@ struct ExactEvaluations {
     // declined the pixel's earlier point), or over its own limit; and those that did not try
     // it, their pixel's earlier attempt (or retry) having spent its limit.
     uint64_t lightEdges = 0, lightEdgesNotTaken = 0, lightEdgesOverLimit = 0, lightEdgesSkipped = 0;
+    // Of those it declined at the point itself, why (vis::EdgeDecline), and of those over its
+    // limit, the stage its run was in (vis::WorkStage).
+    std::array<uint64_t, vis::kEdgeDeclines> lightEdgesDeclinedBy{};
+    std::array<uint64_t, vis::kWorkStages> lightEdgesOverLimitAt{};
     // Of those it declined (not taken), the ones that took the default path again with its
     // limit, and those of them that reached that limit too (sampled).
     uint64_t retried = 0, retriedOverLimit = 0;
@@ -126,6 +131,10 @@ struct ExactEvaluations {
         lightEdgesNotTaken += o.lightEdgesNotTaken;
         lightEdgesOverLimit += o.lightEdgesOverLimit;
         lightEdgesSkipped += o.lightEdgesSkipped;
+        for (size_t i = 0; i < vis::kEdgeDeclines; ++i)
+            lightEdgesDeclinedBy[i] += o.lightEdgesDeclinedBy[i];
+        for (size_t i = 0; i < vis::kWorkStages; ++i)
+            lightEdgesOverLimitAt[i] += o.lightEdgesOverLimitAt[i];
         retried += o.retried;
         retriedOverLimit += o.retriedOverLimit;
         for (size_t i = 0; i < overLimitAt.size(); ++i) overLimitAt[i] += o.overLimitAt[i];
@@ -163,6 +172,11 @@ struct EffectsSummary {
     // those sampled without trying it (ExactEvaluations); the light-edge indices it built.
     uint64_t lightEdgeEvaluations = 0, lightEdgeNotTaken = 0, lightEdgeOverLimit = 0,
              lightEdgeSkipped = 0, lightEdgeWorkLimit = 0;
+    // Of those it could not take, why (indexed by vis::EdgeDecline; the rest were declined by
+    // their pixel's earlier point), and of those over its limit, the stage it was in
+    // (vis::WorkStage) (ExactEvaluations::lightEdgesDeclinedBy, lightEdgesOverLimitAt).
+    std::array<uint64_t, vis::kEdgeDeclines> lightEdgeDeclinedBy{};
+    std::array<uint64_t, vis::kWorkStages> lightEdgeOverLimitAt{};
     // Of those it could not take or that would not pay there, the ones that took the default
     // path again with its limit (ExactEvaluations::retried), and those over that limit too.
     uint64_t retriedEvaluations = 0, retriedOverLimit = 0;

@@ -944,6 +944,8 @@ EffectsSummary ProgressiveRenderer::effects() const {
     s.lightEdgeNotTaken = evaluations_.lightEdgesNotTaken;
     s.lightEdgeOverLimit = evaluations_.lightEdgesOverLimit;
     s.lightEdgeSkipped = evaluations_.lightEdgesSkipped;
+    s.lightEdgeDeclinedBy = evaluations_.lightEdgesDeclinedBy;
+    s.lightEdgeOverLimitAt = evaluations_.lightEdgesOverLimitAt;
     s.retriedEvaluations = evaluations_.retried;
     s.retriedOverLimit = evaluations_.retriedOverLimit;
     s.lightEdgeIndex = lighting_->lightEdgeStats();

@@ -75,7 +75,7 @@ struct RenderSettings {
     // tests of its own before it is sampled; a pixel whose attempt reached it, or could not take
     // the path (a face cut by the light's plane near its cone), is sampled in the later passes
     // without trying. Easy points never pay for it. 0 = never tried (sampled at once).
-    uint64_t lightEdgeWorkLimit = 262144;
+    uint64_t lightEdgeWorkLimit = 4194304;
     // Exact: a point clipped against at least this many occluders (a partial tree's deferred
     // ones, or the direct path's) is evaluated by their boundary chain when most of their edges
     // cancel (vis::FromPointQuery::ChainOptions; the same answer). 0 = never.

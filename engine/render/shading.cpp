@@ -1,5 +1,7 @@
 #include "engine/render/shading.h"
 
+#include <oneapi/tbb/collaborative_call_once.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -9,6 +11,7 @@
 
 #include "engine/raytrace/embree_scene.h"
 #include "engine/render/shading_point.h"
+#include "engine/scene/tbb_loops.h"
 #include "visibility/face_plane.h"
 #include "visibility/form_factor.h"
 #include "visibility/fp_query/from_point_query.h"
@@ -84,11 +87,20 @@ bool groupsWillAnswer(const VisibilityStore::ShaftCount& shaft, size_t minFaces)
 
 // One light's light-edge index, built on first use (DirectLighting::lightEdges); `built` is set
 // (release) once it is, for lightEdgeStats to read it from another thread.
+//
+// Built in parallel (tbbLoops) under a collaborative once flag: the threads that need the index
+// while it is built join its loops instead of waiting idle.
 struct DirectLighting::LightEdgeSlot {
-    std::once_flag once;
+    tbb::collaborative_once_flag once;
     vis::LightEdgeIndex index;
     double seconds = 0;
     std::atomic<bool> built{false};
+};
+
+struct DirectLighting::MeshEdgesSlot {
+    tbb::collaborative_once_flag once;
+    vis::MeshEdges edges;
+    double seconds = 0;
 };
 
 DirectLighting::~DirectLighting() = default;
@@ -97,7 +109,8 @@ DirectLighting::DirectLighting(const Scene& scene, const EmbreeScene& bvh, Visib
     : scene_(scene),
       bvh_(bvh),
       store_(store),
-      lightEdges_(std::make_unique<LightEdgeSlot[]>(scene.lights.size())) {
+      lightEdges_(std::make_unique<LightEdgeSlot[]>(scene.lights.size())),
+      meshEdges_(std::make_unique<MeshEdgesSlot>()) {
     for (uint32_t face : scene.lights) {
         AreaLight light;
         light.face = face;
@@ -301,9 +314,12 @@ std::optional<Vec3> DirectLighting::lightEdgeAnswer(Evaluation& e) const {
         // path: gaveUp.)
         if (list == nullptr) {
             ++scratch.evaluations.lightEdgesNotTaken;
+            ++scratch.evaluations
+                  .lightEdgesDeclinedBy[static_cast<size_t>(query.lightEdgeDecline())];
             scratch.edgeDeclinedNow.push_back(e.cell);
         } else {
             ++scratch.evaluations.lightEdgesOverLimit;
+            ++scratch.evaluations.lightEdgesOverLimitAt[static_cast<size_t>(query.limitStage())];
             scratch.edgeFailedNow.push_back(e.cell);
         }
         return std::nullopt;
@@ -317,14 +333,16 @@ std::optional<Vec3> DirectLighting::lightEdgeAnswer(Evaluation& e) const {
 
 const vis::LightEdgeIndex& DirectLighting::lightEdges(size_t k) const {
     LightEdgeSlot& slot = lightEdges_[k];
-    std::call_once(slot.once, [&] {
-        std::call_once(meshEdgesOnce_, [&] {
+    tbb::collaborative_call_once(slot.once, [&] {
+        const vis::ParallelLoops loops = tbbLoops();
+        MeshEdgesSlot& table = *meshEdges_;
+        tbb::collaborative_call_once(table.once, [&] {
             const auto t0 = Clock::now();
-            meshEdges_ = vis::MeshEdges(scene_.mesh);
-            meshEdgesSeconds_ = std::chrono::duration<double>(Clock::now() - t0).count();
+            table.edges = vis::MeshEdges(scene_.mesh, loops);
+            table.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
         });
         const auto t0 = Clock::now();
-        slot.index = vis::LightEdgeIndex(scene_.mesh, meshEdges_, lights_[k].face);
+        slot.index = vis::LightEdgeIndex(scene_.mesh, table.edges, lights_[k].face, loops);
         slot.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
         slot.built.store(true, std::memory_order_release);
     });
@@ -350,8 +368,8 @@ LightEdgeIndexStats DirectLighting::lightEdgeStats() const {
         out.silhouetteEdges += slot.index.size();
     }
     if (out.lights > 0) {  // (the edge table was built before the first index)
-        out.seconds += meshEdgesSeconds_;
-        out.meshEdges = meshEdges_.size();
+        out.seconds += meshEdges_->seconds;
+        out.meshEdges = meshEdges_->edges.size();
     }
     return out;
 }

@@ -310,10 +310,9 @@ class DirectLighting {
     // The light-edge indices, one slot per light (a once flag each: not movable), and the mesh's
     // edge table they are built from (once, by the first light's build).
     struct LightEdgeSlot;
+    struct MeshEdgesSlot;
     std::unique_ptr<LightEdgeSlot[]> lightEdges_;
-    mutable std::once_flag meshEdgesOnce_;
-    mutable vis::MeshEdges meshEdges_;
-    mutable double meshEdgesSeconds_ = 0;
+    std::unique_ptr<MeshEdgesSlot> meshEdges_;
 };
 
 }  // namespace penumbra

@@ -51,4 +51,33 @@ class Hash64 {
     uint64_t words_ = 0;
 };
 
+// Hash64::addBytes over bytes that arrive in pieces (a file written as it streams, the merge of
+// visibility files): value() equals Hash64::addBytes of the pieces' concatenation, then value().
+class Hash64ByteStream {
+  public:
+    void add(std::span<const unsigned char> bytes) {
+        for (unsigned char b : bytes) {
+            pending_ |= static_cast<uint64_t>(b) << (8 * pendingBytes_);
+            if (++pendingBytes_ == 8) {
+                h_.addU64(pending_);
+                pending_ = 0;
+                pendingBytes_ = 0;
+            }
+        }
+        count_ += bytes.size();
+    }
+    uint64_t value() const {
+        Hash64 h = h_;
+        if (pendingBytes_ > 0) h.addU64(pending_);
+        h.addU64(count_);
+        return h.value();
+    }
+
+  private:
+    Hash64 h_;
+    uint64_t pending_ = 0;
+    size_t pendingBytes_ = 0;
+    uint64_t count_ = 0;
+};
+
 }  // namespace penumbra

@@ -28,11 +28,16 @@ bool EdgePath::prepare(const BoxTree& faces, const LightEdgeIndex& index) {
     QueryRun& r = q_.run;
     const PolygonMesh& mesh = r.mesh();
     if (index.light() != r.pair.light() || index.faceCount() != mesh.faces.size() ||
-        index.vertexCount() != mesh.vertices.size())
+        index.vertexCount() != mesh.vertices.size()) {
+        decline_ = EdgeDecline::OtherIndex;
         return false;
+    }
     // x strictly behind B's plane (an answered point is not: answered_point.h): its rays may
     // meet faces behind B that the clip to B's front leaves out.
-    if (r.pair.frontB().orient.sign(r.x) == Sign::Negative) return false;
+    if (r.pair.frontB().orient.sign(r.x) == Sign::Negative) {
+        decline_ = EdgeDecline::BehindReceiver;
+        return false;
+    }
     r.prepareCone();
     const std::vector<PlaneOrient>& cone = r.cone();
     // An Across face (other than B and L) that may meet the cone: its chord on L's plane may
@@ -60,7 +65,10 @@ bool EdgePath::prepare(const BoxTree& faces, const LightEdgeIndex& index) {
             },
             visited);
         r.budget.spend(visited);
-        if (across) return false;
+        if (across) {
+            decline_ = EdgeDecline::AcrossFace;
+            return false;
+        }
     }
     index_ = &index;
     faces_ = &faces;

@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "visibility/box_tree.h"
+#include "visibility/fp_query/edge_decline.h"
 #include "visibility/fp_query/line_tests.h"
 #include "visibility/light_edge_index.h"
 
@@ -59,6 +60,7 @@ class EdgePath {
         examined_ = 0;
         recentHits_.fill(UINT32_MAX);
         recentNext_ = 0;
+        decline_ = EdgeDecline::None;
     }
     // Takes the path for this run (after QueryRun::preparePyramid): `index` built for this
     // pair's light and mesh, no Across face near the cone, x on or in front of B's plane. Finds
@@ -66,6 +68,9 @@ class EdgePath {
     // False: not taken (the face-by-face path answers; the check's work is counted).
     bool prepare(const BoxTree& faces, const LightEdgeIndex& index);
     bool active() const { return index_ != nullptr; }
+    // Why the last run did not take it (None: taken, or not tried).
+    EdgeDecline decline() const { return decline_; }
+    void declined(EdgeDecline why) { decline_ = why; }
     // The edges of nonzero weight among those found (in the order the hierarchy found them).
     const std::vector<Remaining>& remaining() const { return remaining_; }
     // The S_L edges the hierarchy found near the cone (each one's weight taken).
@@ -98,6 +103,7 @@ class EdgePath {
     static constexpr uint32_t kRecentHits = 8;
     std::array<uint32_t, kRecentHits> recentHits_{};
     uint32_t recentNext_ = 0;
+    EdgeDecline decline_ = EdgeDecline::None;
 };
 
 }  // namespace penumbra::vis

@@ -151,7 +151,11 @@ const FragmentList* FromPointQuery::runLightEdges(const PolygonMesh& mesh, uint3
     if (!q.startPair(mesh, receiver, light, point.at)) return &r.fragments;
     r.x = point.at;
     r.preparePyramid();
-    if (r.chainOptions.minOccluders == 0 || !q.edges.prepare(faces, lightEdges)) return nullptr;
+    if (r.chainOptions.minOccluders == 0) {
+        q.edges.declined(EdgeDecline::ChainOff);
+        return nullptr;
+    }
+    if (!q.edges.prepare(faces, lightEdges)) return nullptr;
     if (r.budget.reached()) return &r.fragments;
     // Where the edges found near the cone mostly remain (separate faces, leaves: few cancel),
     // the chain cut by them costs more than the face-by-face paths, which drop a hidden part at
@@ -159,6 +163,7 @@ const FragmentList* FromPointQuery::runLightEdges(const PolygonMesh& mesh, uint3
     const uint32_t gain = r.chainOptions.gain;
     if (gain != 0 && q.edges.remaining().size() * gain > q.edges.examined()) {
         q.edges.reset();
+        q.edges.declined(EdgeDecline::FewCancel);
         return nullptr;
     }
     q.deferredPrepared = true;
@@ -226,6 +231,7 @@ void FromPointQuery::setChainOptions(const ChainOptions& o) { q_->run.chainOptio
 const ChainCounts& FromPointQuery::chainCounts() const { return q_->chain.counts(); }
 bool FromPointQuery::usedSilhouettes() const { return q_->silhouettes.active(); }
 bool FromPointQuery::usedLightEdges() const { return q_->edges.active(); }
+EdgeDecline FromPointQuery::lightEdgeDecline() const { return q_->edges.decline(); }
 uint32_t FromPointQuery::clustersUsed() const {
     return static_cast<uint32_t>(q_->clusters.used().size());
 }

@@ -28,6 +28,7 @@
 
 #include "visibility/answered_point.h"
 #include "visibility/face_clusters.h"
+#include "visibility/fp_query/edge_decline.h"
 #include "visibility/fp_query/fragment_list.h"
 #include "visibility/fp_query/work_budget.h"
 #include "visibility/history_tree.h"
@@ -192,6 +193,8 @@ class FromPointQuery {
     bool usedSilhouettes() const;
     // The last direct run took the light-edge path (fp_query/edge_path.h).
     bool usedLightEdges() const;
+    // Why the last runLightEdges did not take that path (EdgeDecline::None where it did).
+    EdgeDecline lightEdgeDecline() const;
     // The face groups the last direct run took whole (face_clusters.h).
     uint32_t clustersUsed() const;
     // Of them, those decided by every face's exact side (exactFacing), not the cone test.

@@ -6,7 +6,8 @@
 // What is checked: the file 3 ranks write has the bytes a single process writes (two committed
 // scenes, one with partial trees); a bad scene is refused once, by rank 0; a rank killed in the
 // middle ends the job within seconds with rank 0's error naming it; an interrupted run (the memory
-// budget, Ctrl-C to mpirun) leaves a valid file that a rerun completes.
+// budget, Ctrl-C to mpirun) leaves a valid file that a rerun completes; with --shards, the ranks'
+// shards merge (`penumbra merge`) to the bytes of one process, also after an interruption.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -53,9 +54,10 @@ class ClusterPrecompute : public test::MpiJobTest {
     }
 };
 
-size_t treesIn(const fs::path& scenePath, const fs::path& file, size_t* total) {
+size_t treesIn(const fs::path& scenePath, const fs::path& file, size_t* total,
+               const VisibilityStore::Options& options = {}) {
     const Scene scene = loadScene(scenePath);
-    VisibilityStore store(scene);
+    VisibilityStore store(scene, nullptr, options);
     const size_t trees = readVisibilityFile(file, store);
     if (total) *total = everyPairKey(store).size();
     return trees;
@@ -188,6 +190,73 @@ TEST_F(ClusterPrecompute, AnInterruptedRunIsValidAndARerunCompletesIt) {
     EXPECT_GT(interrupted, 0u) << err;
     EXPECT_LT(interrupted, total) << err;
     EXPECT_NE(err.find("penumbra: stopping"), std::string::npos) << err;
+}
+
+// --shards: each of 3 ranks writes its own shard (no tree travels to rank 0, which writes no whole
+// file), and `penumbra merge` joins them to the bytes of one process (partial trees included).
+// Interrupted (the memory budget, which counts each rank's own store), the shards hold what was
+// finished; a rerun with 2 ranks builds only the rest (the merge finds no pair twice), and the
+// merge of all five shards is again the bytes of one process.
+TEST_F(ClusterPrecompute, ShardsOfThreeRanksMergeToTheBytesOfOneProcess) {
+    SKIP_WITHOUT_MPI();
+    const std::string box = (sourceDir() / "assets/cornell_box.obj").string();
+    const std::vector<std::string> settings = {box, "--max-lp-solves", "40"};
+    const std::string one = singleProcessBytes(settings, dir_ / "one.pvis");
+    const fs::path file = dir_ / "box.pvis";
+    VisibilityStore::Options options;
+    options.build.maxLpSolves = 40;
+    const auto precompute = [&](int ranks, std::vector<std::string> extra) {
+        std::vector<std::string> all = {"precompute"};
+        all.insert(all.end(), settings.begin(), settings.end());
+        all.insert(all.end(), {"-o", file.string(), "--shards", "--threads", "1"});
+        all.insert(all.end(), extra.begin(), extra.end());
+        return mpirun(ranks, all);
+    };
+    const auto merge = [&](const fs::path& out, const std::vector<fs::path>& inputs) {
+        std::vector<std::string> args = {"merge", "-o", out.string()};
+        for (const fs::path& p : inputs) args.push_back(p.string());
+        return runPenumbra(args);
+    };
+    const auto shard = [&](int index, int count) {
+        return shardPath(file, static_cast<uint32_t>(index), static_cast<uint32_t>(count));
+    };
+
+    ProcessResult r = precompute(3, {});
+    ASSERT_EQ(r.exitCode, 0) << r.err << r.out;
+    EXPECT_FALSE(fs::exists(file)) << "rank 0 wrote a whole file";
+    EXPECT_NE(r.out.find("sent     no trees"), std::string::npos) << r.out;
+    size_t total = 0, sum = 0;
+    for (int k = 0; k < 3; ++k) {
+        ASSERT_TRUE(fs::exists(shard(k, 3))) << r.out;
+        const size_t trees = treesIn(box, shard(k, 3), &total, options);
+        EXPECT_GT(trees, 0u) << "rank " << k << " built nothing";
+        sum += trees;
+    }
+    EXPECT_EQ(sum, total);
+    r = merge(dir_ / "merged.pvis", {shard(0, 3), shard(1, 3), shard(2, 3)});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("(0 present twice"), std::string::npos) << r.out;
+    EXPECT_EQ(readFile(dir_ / "merged.pvis"), one) << "the merged shards differ from one process";
+
+    // Interrupted, then finished with another rank count.
+    for (int k = 0; k < 3; ++k) fs::remove(shard(k, 3));
+    r = precompute(3, {"--memory-budget", "0.002"});
+    EXPECT_EQ(r.exitCode, 1) << r.err;
+    EXPECT_NE(r.err.find("memory budget"), std::string::npos) << r.err;
+    size_t first = 0;
+    for (int k = 0; k < 3; ++k)
+        if (fs::exists(shard(k, 3))) first += treesIn(box, shard(k, 3), nullptr, options);
+    EXPECT_GT(first, 0u);
+    EXPECT_LT(first, total);
+    r = precompute(2, {});
+    ASSERT_EQ(r.exitCode, 0) << r.err << r.out;
+    std::vector<fs::path> all = shardPaths(file);
+    EXPECT_GE(all.size(), 3u);
+    r = merge(dir_ / "resumed.pvis", all);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_NE(r.out.find("(0 present twice"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("complete"), std::string::npos) << r.out;
+    EXPECT_EQ(readFile(dir_ / "resumed.pvis"), one);
 }
 
 }  // namespace

@@ -593,6 +593,13 @@ TEST(Renderer, PointsOverTheWorkLimitTakeTheLightEdgePathWithTheExactImage) {
         EXPECT_EQ(e.lightEdgeEvaluations + e.retriedEvaluations, off.sampledEvaluations)
             << e.text();
         EXPECT_EQ(e.retriedEvaluations, e.lightEdgeNotTaken);
+        // Each decline at the point itself has its reason (the rest were their pixel's earlier
+        // point's), and none is "taken".
+        uint64_t declined = 0;
+        for (uint64_t n : e.lightEdgeDeclinedBy) declined += n;
+        EXPECT_LE(declined, e.lightEdgeNotTaken);
+        EXPECT_EQ(declined > 0, e.lightEdgeNotTaken > 0);
+        EXPECT_EQ(e.lightEdgeDeclinedBy[static_cast<size_t>(vis::EdgeDecline::None)], 0u);
         EXPECT_EQ(e.lightEdgeOverLimit + e.retriedOverLimit + e.lightEdgeSkipped, 0u);
         EXPECT_EQ(e.costs.lightEdgeEvaluations, e.lightEdgeEvaluations);
         EXPECT_LE(e.costs.lightEdgesInCone, e.costs.lightEdgesWeighted);
@@ -622,6 +629,12 @@ TEST(Renderer, PointsOverTheWorkLimitTakeTheLightEdgePathWithTheExactImage) {
         const EffectsSummary tight = tightRig.renderer.effects();
         EXPECT_GT(tight.lightEdgeOverLimit, 0u) << tight.text();
         EXPECT_GT(tight.lightEdgeSkipped, 0u) << tight.text();
+        // Each run over its limit counted at the stage it was in, and shown.
+        uint64_t overAt = 0;
+        for (uint64_t n : tight.lightEdgeOverLimitAt) overAt += n;
+        EXPECT_EQ(overAt, tight.lightEdgeOverLimit);
+        EXPECT_NE(tight.text().find("where it reached its limit: "), std::string::npos)
+            << tight.text();
         EXPECT_EQ(tight.sampledEvaluations + tight.retriedEvaluations - tight.retriedOverLimit,
                   tight.lightEdgeOverLimit + tight.lightEdgeNotTaken + tight.lightEdgeSkipped);
     }
