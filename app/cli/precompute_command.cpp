@@ -447,6 +447,9 @@ void runClusterPrecompute(cluster::MpiSession& session, const PrecomputeCommandO
         cluster::stopWorkers(session);  // then the usual error, from rank 0 alone
         throw;
     }
+    // A message still arriving when interrupted is given up on at once (mpi_session.h): a rank
+    // that died mid-message must not keep rank 0 from writing and naming it before the SIGKILL.
+    session.setInterrupted(interrupted);
     const bool tty = ::isatty(STDERR_FILENO) != 0;
     bool printed = false;
     const auto onProgress = [&](const PrecomputeProgress& p) {

@@ -326,6 +326,10 @@ void runClusterRender(cluster::MpiSession& session, const RenderOptions& o) {
     VisibilityStore& store = setup->store;
     const bool exact = settings.method == DirectMethod::Exact;
     VisibilityInput visibility;
+    // Interrupted, rank 0 writes nothing: a message still arriving is given up on at once, so
+    // that a rank that died mid-message (the launcher's SIGTERM follows) is named before the
+    // launcher's SIGKILL a second later (mpi_session.h).
+    session.setInterrupted(interrupted);
     cluster::RenderCoordinator coordinator(session, store, options, interrupted);
     try {
         coordinator.start();

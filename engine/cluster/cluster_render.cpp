@@ -102,6 +102,18 @@ class Reader {
 };
 
 // The counts of ExactEvaluations, in one order for both ends (the cost samples apart: below).
+// Every uint64_t count of ExactEvaluations and EvaluationCosts must be listed: a new one left out
+// would read 0 on rank 0 for the workers' tiles, and the summary would differ from one
+// process's. The size checks below fail to compile when a count is added without it.
+constexpr size_t kEvaluationCounts =
+    14 + vis::kEdgeDeclines + 2 * vis::kWorkStages + 2 * vis::kWorkStages;
+constexpr size_t kCostCounts = 9;
+static_assert(sizeof(ExactEvaluations) ==
+                  kEvaluationCounts * sizeof(uint64_t) + sizeof(EvaluationCosts),
+              "a count was added to ExactEvaluations: send it in forEachCount");
+static_assert(sizeof(EvaluationCosts) == 3 * sizeof(CostSamples) + kCostCounts * sizeof(uint64_t),
+              "a count was added to EvaluationCosts: send it in forEachCount");
+
 template <typename E, typename F>
 void forEachCount(E& e, F&& f) {
     for (auto* v : {&e.all,
@@ -128,6 +140,8 @@ void forEachCount(E& e, F&& f) {
                     &e.costs.lightEdgesWeighted,
                     &e.costs.lightEdgesInCone})
         f(*v);
+    for (auto& v : e.lightEdgesDeclinedBy) f(v);
+    for (auto& v : e.lightEdgesOverLimitAt) f(v);
     for (auto& v : e.overLimitAt) f(v);
     for (auto& stage : e.workAt)
         for (auto& v : stage) f(v);

@@ -49,6 +49,15 @@ class MpiJobTest : public ::testing::Test {
                shellQuote(err.string());
     }
 
+    // When a rank dies, Open MPI's launcher sends the others SIGCONT, then SIGTERM and SIGKILL
+    // each odls_base_sigkill_timeout (1 s by default) later; rank 0 names the dead rank about
+    // 0.6 s after the SIGTERM (docs/cluster.md), which a loaded 2-core machine running test
+    // shards in parallel can stretch past that second. A test about rank 0's message gives it
+    // `seconds` (the launcher's SIGTERM then also comes that much later).
+    void giveRanksAfterSigterm(int seconds) {
+        launcherEnv_ = "OMPI_MCA_odls_base_sigkill_timeout=" + std::to_string(seconds) + " ";
+    }
+
     ProcessResult mpirun(int ranks, const std::vector<std::string>& args) {
         const std::filesystem::path out = dir_ / "mpi.out", err = dir_ / "mpi.err";
         const int status = std::system(mpirunCommand(ranks, args, out, err).c_str());
@@ -62,10 +71,10 @@ class MpiJobTest : public ::testing::Test {
     // Starts mpirun in the background (its exit status into dir_/rc when it ends).
     void start(int ranks, const std::vector<std::string>& args) {
         const std::string rcTmp = shellQuote((dir_ / "rc.tmp").string());
-        const std::string c = "(" + mpirunCommand(ranks, args, dir_ / "mpi.out", dir_ / "mpi.err") +
-                              "; echo $? >" + rcTmp + "; mv " + rcTmp + " " +
-                              shellQuote((dir_ / "rc").string()) + ") & echo $! >" +
-                              shellQuote((dir_ / "shell.pid").string());
+        const std::string c =
+            "(" + launcherEnv_ + mpirunCommand(ranks, args, dir_ / "mpi.out", dir_ / "mpi.err") +
+            "; echo $? >" + rcTmp + "; mv " + rcTmp + " " + shellQuote((dir_ / "rc").string()) +
+            ") & echo $! >" + shellQuote((dir_ / "shell.pid").string());
         ASSERT_EQ(std::system(c.c_str()), 0);
     }
     // The exit status of the background run, waiting at most `limit`; -1 if it has not ended.
@@ -120,6 +129,7 @@ class MpiJobTest : public ::testing::Test {
     }
 
     std::filesystem::path dir_;
+    std::string launcherEnv_;  // variables set for the launcher (giveRanksAfterSigterm)
 };
 
 }  // namespace penumbra::test

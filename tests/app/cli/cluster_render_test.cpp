@@ -149,6 +149,7 @@ TEST_F(ClusterRender, WhatCannotWorkAcrossRanksIsRefusedOnce) {
 TEST_F(ClusterRender, AKilledRankEndsTheJobWithAnErrorNamingIt) {
     SKIP_WITHOUT_MPI();
     const fs::path image = dir_ / "killed.pfm";
+    giveRanksAfterSigterm(3);
     start(3, {"render", scenePath("assets/scenes/table.json").string(), "--size", "96x96", "--spp",
               "400", "--out", image.string(), "--threads", "1"});
     // The workers are up and shading once they have been running a while.
