@@ -48,6 +48,7 @@
 
 #include "app/cli/arguments.h"
 #include "app/cli/commands.h"
+#include "app/cli/interrupt_guard.h"
 #include "engine/io/scene_loader.h"
 #include "engine/io/visibility_file.h"
 #include "engine/precompute/patch_layout.h"
@@ -66,8 +67,6 @@ namespace {
 namespace fs = std::filesystem;
 using State = PrecomputeProgress::State;
 
-constexpr int kExitInterrupted = 130;  // the shell's convention for a SIGINT
-
 struct PrecomputeCommandOptions {
     std::string scene;
     std::string output;
@@ -77,42 +76,6 @@ struct PrecomputeCommandOptions {
     int threads = 0;
     bool shards = false;
     SceneOptions sceneOptions;
-};
-
-// The one piece of global state here: a signal handler can only reach a global, and only a
-// lock-free atomic (or sig_atomic_t) may be written from it.
-std::atomic<bool> gInterrupted{false};
-static_assert(std::atomic<bool>::is_always_lock_free);
-
-std::atomic<int> gSignal{0};  // the signal that set gInterrupted (SIGINT or SIGTERM)
-static_assert(std::atomic<int>::is_always_lock_free);
-
-extern "C" void onInterrupt(int signal) {
-    gSignal.store(signal, std::memory_order_relaxed);
-    gInterrupted.store(true, std::memory_order_relaxed);
-}
-
-// Installs the handler of `signal` (SIGINT; under MPI also SIGTERM, which the launcher sends on
-// Ctrl-C) for the command's lifetime and restores the previous one.
-class InterruptGuard {
-  public:
-    explicit InterruptGuard(int signal) : signal_(signal) {
-        gInterrupted.store(false);
-        struct sigaction action {};
-        action.sa_handler = &onInterrupt;
-        sigemptyset(&action.sa_mask);
-        installed_ = ::sigaction(signal_, &action, &previous_) == 0;
-    }
-    ~InterruptGuard() {
-        if (installed_) ::sigaction(signal_, &previous_, nullptr);
-    }
-    InterruptGuard(const InterruptGuard&) = delete;
-    InterruptGuard& operator=(const InterruptGuard&) = delete;
-
-  private:
-    int signal_;
-    struct sigaction previous_ {};
-    bool installed_ = false;
 };
 
 std::string duration(double s) {
@@ -484,6 +447,9 @@ void runClusterPrecompute(cluster::MpiSession& session, const PrecomputeCommandO
         cluster::stopWorkers(session);  // then the usual error, from rank 0 alone
         throw;
     }
+    // A message still arriving when interrupted is given up on at once (mpi_session.h): a rank
+    // that died mid-message must not keep rank 0 from writing and naming it before the SIGKILL.
+    session.setInterrupted(interrupted);
     const bool tty = ::isatty(STDERR_FILENO) != 0;
     bool printed = false;
     const auto onProgress = [&](const PrecomputeProgress& p) {

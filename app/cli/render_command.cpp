@@ -13,12 +13,19 @@
 // (as `penumbra precompute` writes it; a stale or corrupt file is reported and recomputed), and
 // FILE is written back atomically with every tree the render added, so the next render of the
 // scene, from any camera, reuses them.
+//
+// Started by an MPI launcher with several ranks (a build with MPI), the trees and the tiles are
+// spread over the ranks (engine/cluster/cluster_render.h): rank 0 does all of the above and
+// writes the same image, bit for bit; the other ranks serve quietly (docs/cluster.md).
 #include <tbb/global_control.h>
+#include <tbb/info.h>
 
 #include <CLI/CLI.hpp>
 #include <charconv>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -30,7 +37,9 @@
 
 #include "app/cli/arguments.h"
 #include "app/cli/commands.h"
+#include "app/cli/interrupt_guard.h"
 #include "engine/io/image_io.h"
+#include "engine/io/scene_loader.h"
 #include "engine/io/text_input.h"
 #include "engine/io/visibility_file.h"
 #include "engine/precompute/visibility_store.h"
@@ -38,6 +47,11 @@
 #include "engine/render/default_camera.h"
 #include "engine/render/renderer.h"
 #include "engine/scene/scene_validation.h"
+
+#ifdef PENUMBRA_HAVE_MPI
+#include "engine/cluster/cluster_precompute.h"
+#include "engine/cluster/cluster_render.h"
+#endif
 
 namespace penumbra::cli {
 namespace {
@@ -198,6 +212,221 @@ void writeImages(const Film& film, const Outputs& out, double exposure,
     }
 }
 
+void runRender(const RenderOptions& o);
+
+#ifdef PENUMBRA_HAVE_MPI
+// What every rank of a render under MPI sets up, as a single process does: rank 0 loads the scene
+// as every command does (its warnings on stderr), the other ranks quietly.
+struct RenderSetup {
+    RenderSetup(const RenderOptions& o, bool quiet)
+        : settings(renderSettings(o)),
+          scene(quiet ? loadScene(o.scene, o.sceneOptions.load())
+                      : loadSceneFile(o.scene, o.sceneOptions.load())),
+          bvh(scene.mesh),
+          store(scene, &bvh, storeOptions(o)),
+          camera(cameraOf(o, scene, bvh)) {
+        outputs(o);  // refused here, by every rank alike
+        if (!o.outAnswers.empty())
+            throw usageError(
+                "--out-answers: not across the ranks of an MPI job (each pixel's answers stay "
+                "on the rank that shaded it); render it in one process");
+    }
+    static VisibilityStore::Options storeOptions(const RenderOptions& o) {
+        VisibilityStore::Options options;
+        o.exact.applyTo(options);
+        return options;
+    }
+    static Camera cameraOf(const RenderOptions& o, const Scene& scene, const EmbreeScene& bvh) {
+        std::optional<Vec3> up;
+        if (!o.up.empty()) up = parseDirection("--up", o.up);
+        if (o.camera.empty()) return defaultCamera(scene, bvh, up);
+        Camera c = parseCamera("--camera", o.camera);
+        if (up) c.up = *up;
+        return c;
+    }
+    const RenderSettings settings;
+    const Scene scene;
+    const EmbreeScene bvh;
+    VisibilityStore store;
+    const Camera camera;
+};
+
+std::string clusterLines(const cluster::ClusterRenderStats& s, size_t tilesInAll) {
+    const size_t ranks = s.tilesByRank.size();
+    size_t workerTiles = 0, workerTrees = 0;
+    for (size_t r = 1; r < ranks; ++r) {
+        workerTiles += s.tilesByRank[r];
+        workerTrees += s.treesByRank[r];
+    }
+    std::string out = "ranks    " + std::to_string(ranks) + ": trees built by rank";
+    for (size_t r = 0; r < ranks; ++r)
+        out += (r ? ", " : " ") + std::to_string(r) + " " + std::to_string(s.treesByRank[r]);
+    out += " (" + std::to_string(s.duplicateTrees) + " built twice); tiles shaded by rank";
+    for (size_t r = 0; r < ranks; ++r) {
+        const size_t tiles =
+            r == 0 ? tilesInAll - std::min(tilesInAll, workerTiles) : s.tilesByRank[r];
+        out += (r ? ", " : " ") + std::to_string(r) + " " + std::to_string(tiles);
+    }
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "\nsent     trees: %zu bytes to rank 0 (%.0f per tree), %zu from rank 0 to the "
+                  "workers; image: %zu bytes of pixels and tile costs, %zu of findings, %zu of "
+                  "pass starts, %zu of tile batches; rank 0 handled them in %.3f s, its build "
+                  "rounds took %.3f s\n",
+                  s.treeBytesToRank0,
+                  workerTrees ? static_cast<double>(s.treeBytesToRank0) / workerTrees : 0.0,
+                  s.treeBytesFromRank0, s.pixelBytes, s.findingsBytes, s.passBytes, s.tileBytes,
+                  s.coordinatorSeconds, s.buildSeconds);
+    return out + line;
+}
+
+// Ends a job that lost a rank: MPI_Finalize would wait for it.
+[[noreturn]] void abortJob(cluster::MpiSession& session, const std::string& error) {
+    std::fflush(stdout);
+    std::cerr << "penumbra: error: " << error << "; nothing written\n";
+    std::cerr.flush();
+    session.abort(kExitInputError);
+}
+
+// Under an MPI launcher with more than one rank (engine/cluster/cluster_render.h): rank 0 renders
+// as a single process does, the trees and the tiles spread over the ranks, and writes the image
+// and the summary; the other ranks serve quietly. Ctrl-C (the launcher's SIGTERM) stops every
+// rank, and rank 0 writes nothing.
+void runClusterRender(cluster::MpiSession& session, const RenderOptions& o) {
+    const int threads = o.threads > 0 ? o.threads : std::max(1, tbb::info::default_concurrency());
+    // This thread coordinates: `threads` others shade and build.
+    tbb::global_control parallelism(tbb::global_control::max_allowed_parallelism, threads + 1);
+    cluster::ClusterRenderOptions options;
+    options.threads = threads;
+    const InterruptGuard interruptGuard(SIGINT), terminateGuard(SIGTERM);
+    const auto interrupted = [] { return gInterrupted.load(std::memory_order_relaxed); };
+
+    if (session.rank() != 0) {
+        std::unique_ptr<RenderSetup> setup;
+        try {
+            setup = std::make_unique<RenderSetup>(o, true);
+        } catch (const std::exception& e) {
+            cluster::refuseToServe(session, e.what());  // rank 0 says it, once
+            return;
+        }
+        ProgressiveRenderer renderer(setup->scene, setup->bvh, setup->store);
+        cluster::serveRender(session, setup->store, renderer, setup->camera, setup->settings,
+                             options, interrupted);
+        return;
+    }
+
+    std::unique_ptr<RenderSetup> setup;
+    try {
+        setup = std::make_unique<RenderSetup>(o, false);
+    } catch (...) {
+        cluster::stopWorkers(session);  // then the usual error, from rank 0 alone
+        throw;
+    }
+    const RenderSettings& settings = setup->settings;
+    VisibilityStore& store = setup->store;
+    const bool exact = settings.method == DirectMethod::Exact;
+    VisibilityInput visibility;
+    // Interrupted, rank 0 writes nothing: a message still arriving is given up on at once, so
+    // that a rank that died mid-message (the launcher's SIGTERM follows) is named before the
+    // launcher's SIGKILL a second later (mpi_session.h).
+    session.setInterrupted(interrupted);
+    cluster::RenderCoordinator coordinator(session, store, options, interrupted);
+    try {
+        coordinator.start();
+        if (!o.visibility.empty() && exact) {
+            visibility = readVisibility(o.visibility, store);
+            coordinator.shareStore();
+        }
+    } catch (const cluster::MpiError& e) {
+        if (coordinator.lostRank()) abortJob(session, e.what());
+        throw inputError(e.what());
+    }
+    ProgressiveRenderer renderer(setup->scene, setup->bvh, store);
+    renderer.setCluster(&coordinator);
+    RenderTimes times;
+    Film film;
+    std::optional<std::string> failure;
+    try {
+        film = renderer.render(setup->camera, settings, &times, &gInterrupted);
+    } catch (const cluster::MpiError& e) {
+        failure = e.what();
+    }
+    if (interrupted()) {
+        // Ctrl-C reaches every rank (the launcher's SIGTERM), and so does a rank's death under
+        // Open MPI: the ranks that do not answer the stop are the dead ones. Said at once when
+        // a build round found them already: the launcher kills every rank a second after its
+        // SIGTERM.
+        if (coordinator.lostRank() && !coordinator.lostError().empty())
+            abortJob(session, coordinator.lostError());
+        const std::vector<int> silent = coordinator.finish(options.stopLimit);
+        if (!silent.empty()) {
+            std::string ranks;
+            for (int r : silent) ranks += (ranks.empty() ? "rank " : ", ") + std::to_string(r);
+            abortJob(session, ranks +
+                                  " did not answer the stop (it had ended: killed or crashed; "
+                                  "the launcher then stops the job)");
+        }
+        throw CommandError(kExitInterrupted, "interrupted after " + std::to_string(film.passes) +
+                                                 " of " + std::to_string(settings.spp) +
+                                                 " passes; nothing written");
+    }
+    if (failure) {
+        coordinator.finish(options.stopLimit);
+        abortJob(session, *failure);
+    }
+    const std::vector<int> silent = coordinator.finish(options.silenceLimit);
+    if (!silent.empty())
+        abortJob(session, "rank " + std::to_string(silent.front()) +
+                              " did not answer the end of the render (killed or crashed)");
+
+    printTimes(o, setup->scene, settings, times, store);
+    std::fputs(clusterLines(coordinator.stats(), static_cast<size_t>(TileSchedule::tileCount(
+                                                     settings.width, settings.height)) *
+                                                     static_cast<size_t>(film.passes))
+                   .c_str(),
+               stdout);
+    if (!o.visibility.empty()) {
+        if (!exact)
+            std::printf("visibility: %s not used (the %s method needs no history trees)\n",
+                        o.visibility.c_str(), toString(settings.method));
+        else
+            writeVisibility(o.visibility, store, visibility);
+    }
+    const EffectsSummary effects = renderer.effects();
+    for (const std::string& w : effects.hiddenLights)
+        std::cerr << "penumbra: warning: " << w << '\n';
+    printEffects(effects.text());
+    writeImages(film, outputs(o), o.exposure, "");
+    std::fflush(stdout);
+}
+#endif
+
+void runRenderCommand(const RenderOptions& o) {
+#ifdef PENUMBRA_HAVE_MPI
+    if (cluster::launchedByMpiLauncher()) {
+        int exitCode = kExitOk;
+        {
+            cluster::MpiSession session;
+            try {
+                if (session.size() > 1)
+                    runClusterRender(session, o);
+                else
+                    runRender(o);  // one rank: as without a launcher
+            } catch (...) {
+                // Said before MPI_Finalize: the launcher may kill this rank during it.
+                exitCode = reportError(std::current_exception());
+            }
+            std::fflush(stdout);
+            std::cerr.flush();
+        }  // MPI_Finalize
+        // As the precompute's ranks (precompute_command.cpp): oneTBB's wait for its threads at
+        // exit was seen to hang after MPI_Finalize.
+        std::_Exit(exitCode);
+    }
+#endif
+    runRender(o);
+}
+
 void runRender(const RenderOptions& o) {
     const RenderSettings settings = renderSettings(o);
     const Outputs out = outputs(o);
@@ -296,7 +525,7 @@ void registerRenderCommand(CLI::App& app) {
                     "Visibility file (.pvis): read the history trees from it when current, write "
                     "it back with the trees this render added (exact method)");
     addSceneOptions(*sub, o->sceneOptions);
-    sub->callback([o] { runRender(*o); });
+    sub->callback([o] { runRenderCommand(*o); });
 }
 
 }  // namespace penumbra::cli

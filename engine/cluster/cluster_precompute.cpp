@@ -106,7 +106,7 @@ class Coordinator {
         if (error_.empty()) error_ = error;
         if (state_ == State::Running) state_ = State::Failed;
     }
-    void awaitHellos();
+    void awaitHellos(const std::function<bool()>& interrupted);
     std::vector<PairKey> nextBatch() {
         const size_t ranks = static_cast<size_t>(session_.size());
         const size_t size = std::clamp<size_t>(queue_.size() / (4 * ranks), 1, kMaxBatch);
@@ -183,7 +183,7 @@ class Coordinator {
     ClusterPrecomputeResult result_;
 };
 
-void Coordinator::awaitHellos() {
+void Coordinator::awaitHellos(const std::function<bool()>& interrupted) {
     const uint64_t hash = sceneHash(store_.scene(), store_.options());
     int waiting = session_.size() - 1;
     const auto deadline = Clock::now() + options_.helloLimit;
@@ -191,6 +191,11 @@ void Coordinator::awaitHellos() {
     while (waiting > 0) {
         std::optional<MpiMessage> m = session_.poll();
         if (!m) {
+            // (A rank killed before its HELLO: the launcher's SIGTERM says so here.)
+            if (interrupted()) {
+                if (state_ == State::Running) state_ = State::Cancelled;
+                return;
+            }
             if (Clock::now() > deadline) {
                 for (int r = 1; r < session_.size(); ++r)
                     if (!heard[r]) {
@@ -301,7 +306,7 @@ ClusterPrecomputeResult Coordinator::run(
     const std::function<void(const PrecomputeProgress&)>& onProgress,
     const std::function<void()>& checkpoint) {
     start_ = Clock::now();
-    const std::vector<PairKey> keys = everyPairKey(store_);
+    const std::vector<PairKey> keys = options_.keys ? *options_.keys : everyPairKey(store_);
     total_ = keys.size();
     storeLoaded_ = store_.treeCount();
     const auto& elsewhere = options_.builtElsewhere;
@@ -312,7 +317,7 @@ ClusterPrecomputeResult Coordinator::run(
             queue_.push_back(k);
     }
 
-    awaitHellos();
+    awaitHellos(interrupted);
     std::optional<PrecomputeScheduler> local;
     PrecomputeOptions localOptions;
     localOptions.threads = options_.threads;

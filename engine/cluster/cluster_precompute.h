@@ -40,6 +40,7 @@
 #include <chrono>
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -72,6 +73,10 @@ struct ClusterPrecomputeOptions {
     // mpirun kills every rank about a second after its SIGTERM.
     std::chrono::milliseconds stopLimit{500};
     bool coordinatorBuilds = true;  // rank 0 builds batches too
+    // The pairs to build, in the order they are handed out (the trees an image needs: the
+    // cluster's render, cluster_render.h); unset: every pair of the scene. Those the store holds
+    // already are skipped either way.
+    std::optional<std::vector<PairKey>> keys;
     // Each rank keeps its trees for its own shard (above); only counts reach rank 0.
     bool shards = false;
     // Pairs built already but not in rank 0's store (the other shards of earlier runs, the

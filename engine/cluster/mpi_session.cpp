@@ -4,6 +4,7 @@
 
 #include <climits>
 #include <cstdlib>
+#include <functional>
 #include <thread>
 
 namespace penumbra::cluster {
@@ -53,6 +54,43 @@ MpiSession::~MpiSession() {
     if (active_) MPI_Finalize();
 }
 
+namespace detail_mpi {
+
+// Waits, sleeping, until `request` completes. Past `timeout`, or past
+// MpiSession::kInterruptedGrace once `interrupted` says so, the request is cancelled and freed
+// and the returned error says why (its buffer may still be written to: the caller keeps it).
+std::optional<MpiError> await(MPI_Request& request, const std::string& what,
+                              std::chrono::milliseconds timeout,
+                              const std::function<bool()>& interrupted, const char* lateCause) {
+    const auto start = std::chrono::steady_clock::now();
+    auto deadline = start + timeout;
+    bool sawInterrupt = false;
+    auto pause = std::chrono::microseconds(20);
+    for (;;) {
+        int done = 0;
+        check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), what);
+        if (done) return std::nullopt;
+        const auto now = std::chrono::steady_clock::now();
+        if (!sawInterrupt && interrupted && interrupted()) {
+            sawInterrupt = true;
+            deadline = std::min(deadline, now + MpiSession::kInterruptedGrace);
+        }
+        if (now > deadline) {
+            MPI_Cancel(&request);
+            MPI_Request_free(&request);
+            const auto waited =
+                std::chrono::duration_cast<std::chrono::milliseconds>(now - start).count();
+            return MpiError(what + ": " + lateCause + " after " + std::to_string(waited) +
+                            " ms (the rank stopped answering" +
+                            (sawInterrupt ? ", and this one was interrupted)" : ")"));
+        }
+        std::this_thread::sleep_for(pause);
+        pause = std::min<std::chrono::microseconds>(pause * 2, std::chrono::milliseconds(2));
+    }
+}
+
+}  // namespace detail_mpi
+
 void MpiSession::send(int to, int tag, std::span<const unsigned char> bytes,
                       std::chrono::milliseconds timeout) {
     if (!active_) throw MpiError("no MPI session (not started by an MPI launcher)");
@@ -64,29 +102,19 @@ void MpiSession::send(int to, int tag, std::span<const unsigned char> bytes,
     detail_mpi::check(MPI_Isend(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, to, tag,
                                 MPI_COMM_WORLD, &request),
                       what);
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    auto pause = std::chrono::microseconds(20);
-    for (;;) {
-        int done = 0;
-        detail_mpi::check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), what);
-        if (done) return;
-        if (std::chrono::steady_clock::now() > deadline) {
-            MPI_Cancel(&request);
-            MPI_Request_free(&request);
-            throw MpiError(what + ": not received after " + std::to_string(timeout.count() / 1000) +
-                           " s (the rank stopped answering)");
-        }
-        std::this_thread::sleep_for(pause);
-        pause = std::min<std::chrono::microseconds>(pause * 2, std::chrono::milliseconds(2));
-    }
+    // (A send's buffer is the caller's, which the abort that follows a lost rank ends.)
+    if (auto error = detail_mpi::await(request, what, timeout, interrupted_, "not received"))
+        throw *error;
 }
 
-std::optional<MpiMessage> MpiSession::poll() {
+std::optional<MpiMessage> MpiSession::poll(std::chrono::milliseconds timeout) {
     if (!active_) return std::nullopt;
     int arrived = 0;
+    MPI_Message handle;
     MPI_Status status;
-    detail_mpi::check(MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &arrived, &status),
-                      "polling for messages");
+    detail_mpi::check(
+        MPI_Improbe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &arrived, &handle, &status),
+        "polling for messages");
     if (!arrived) return std::nullopt;
     int count = 0;
     MPI_Get_count(&status, MPI_BYTE, &count);
@@ -94,10 +122,16 @@ std::optional<MpiMessage> MpiSession::poll() {
     m.source = status.MPI_SOURCE;
     m.tag = status.MPI_TAG;
     m.bytes.resize(static_cast<size_t>(count));
-    // The message is here (probed): this receive completes at once.
-    detail_mpi::check(MPI_Recv(m.bytes.data(), count, MPI_BYTE, m.source, m.tag, MPI_COMM_WORLD,
-                               MPI_STATUS_IGNORE),
-                      "receiving from rank " + std::to_string(m.source));
+    // The matched message (MPI_Improbe: no other receive can take it), which may still be
+    // arriving (mpi_session.h).
+    const std::string what = "receiving from rank " + std::to_string(m.source);
+    MPI_Request request;
+    detail_mpi::check(MPI_Imrecv(m.bytes.data(), count, MPI_BYTE, &handle, &request), what);
+    if (auto error = detail_mpi::await(request, what, timeout, interrupted_,
+                                       "the message stopped arriving")) {
+        abandoned_.push_back(std::move(m.bytes));  // MPI may still write to it
+        throw *error;
+    }
     return m;
 }
 

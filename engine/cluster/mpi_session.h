@@ -17,6 +17,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -55,16 +56,32 @@ class MpiSession {
 
     // Sends `bytes` to rank `to` with `tag` and waits (sleeping, not spinning) until MPI has
     // taken them; throws MpiError when that takes longer than `timeout` (a peer that stopped
-    // receiving) or MPI reports an error.
+    // receiving), or kInterruptedGrace once interrupted (below), or MPI reports an error.
     void send(int to, int tag, std::span<const unsigned char> bytes,
               std::chrono::milliseconds timeout = std::chrono::seconds(60));
-    // The next message from any rank, if one has arrived (never waits for one to arrive).
-    std::optional<MpiMessage> poll();
+    // The next message from any rank, if one has begun to arrive (never waits for one to
+    // begin). A probed message may still be arriving: a large one comes in fragments, and a
+    // sender that dies between them leaves its receive unfinished for ever (Open MPI's TCP
+    // transport reports the broken connection on stderr, not to the receive). So the receive is
+    // waited for like a send: at most `timeout`, or kInterruptedGrace once interrupted; then
+    // MpiError naming the rank ("the message stopped arriving").
+    std::optional<MpiMessage> poll(std::chrono::milliseconds timeout = std::chrono::seconds(60));
+
+    // The process was interrupted (Ctrl-C; the launcher's SIGTERM, which Open MPI also sends
+    // when another rank dies, a second before its SIGKILL): the waits above then give up after
+    // kInterruptedGrace, so that rank 0 can still say which rank ended before the SIGKILL.
+    void setInterrupted(std::function<bool()> interrupted) {
+        interrupted_ = std::move(interrupted);
+    }
+    static constexpr std::chrono::milliseconds kInterruptedGrace{100};
 
     // Ends every process of the job (MPI_Abort) with this exit status.
     [[noreturn]] void abort(int exitCode);
 
   private:
+    std::function<bool()> interrupted_;
+    // The buffers of receives given up on (poll): kept while MPI might still write to them.
+    std::vector<std::vector<unsigned char>> abandoned_;
     bool active_ = false;
     int rank_ = 0;
     int size_ = 1;

@@ -13,6 +13,7 @@
 #include <random>
 #include <set>
 #include <span>
+#include <stdexcept>
 #include <string_view>
 #include <system_error>
 #include <utility>
@@ -218,8 +219,10 @@ void validateTree(const PairKey& key, const vis::HistoryTree& t, const Visibilit
     if (t.receiver != key.receiver || t.light != key.lightFace)
         fail("tree faces (" + std::to_string(t.receiver) + ", " + std::to_string(t.light) +
              ") differ from its key");
+    // (A refined sub-patch's key, as the cluster's render sends them, is checked against the
+    // layout's refinements when its region is taken: parseRecords.)
     const size_t patches = std::max<size_t>(store.layout().patches(key.receiver).patches.size(), 1);
-    if (key.patch >= patches)
+    if (PatchLayout::refineLevel(key) == 0 && key.patch >= patches)
         fail("patch out of range (the receiver has " + std::to_string(patches) + ")");
     if (t.meshVertexCount != scene.mesh.vertices.size())
         fail("mesh vertex count " + std::to_string(t.meshVertexCount) + " (the scene has " +
@@ -434,8 +437,18 @@ std::vector<ParsedTree> parseRecords(ByteReader& p, uint64_t count, const Visibi
             "tree " + std::to_string(i) + " (byte " + std::to_string(p.offset()) + ")";
         ParsedTree pt = parseTree(p, where);
         validateTree(pt.key, pt.record.tree, store, where);
-        vis::prepareForQueries(store.scene().mesh, pt.record.tree,
-                               store.layout().patches(pt.key.receiver).patches[pt.key.patch]);
+        if (PatchLayout::refineLevel(pt.key) == 0) {
+            vis::prepareForQueries(store.scene().mesh, pt.record.tree,
+                                   store.layout().patches(pt.key.receiver).patches[pt.key.patch]);
+        } else {
+            std::vector<Vec3> region;
+            try {
+                region = store.layout().region(pt.key);
+            } catch (const std::out_of_range&) {
+                throw Corrupt(where + ": a sub-patch of a pair not refined here");
+            }
+            vis::prepareForQueries(store.scene().mesh, pt.record.tree, region);
+        }
         if (!seen.insert(pt.key).second) throw Corrupt(where + ": a second tree for the same pair");
         out.push_back(std::move(pt));
     }

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "engine/scene/quantiles.h"
@@ -50,6 +51,23 @@ class CostSamples {
     // Nearest-rank quantiles of the kept costs: of every cost added while stride() is 1. Zeros
     // when none was added.
     Quantiles quantiles() const;
+
+    // Its whole state, to send it to another process (the cluster's render gathers the workers'
+    // timed evaluations: engine/cluster/cluster_render.cpp), and back.
+    struct Parts {
+        std::vector<float> kept;
+        uint64_t count = 0, stride = 1;
+        double sum = 0;
+    };
+    Parts parts() const { return {kept_, count_, stride_, sum_}; }
+    static CostSamples fromParts(Parts p) {
+        CostSamples c;
+        c.kept_ = std::move(p.kept);
+        c.count_ = p.count;
+        c.stride_ = p.stride;
+        c.sum_ = p.sum;
+        return c;
+    }
 
   private:
     // Keeps every other kept cost and doubles the stride.

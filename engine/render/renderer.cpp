@@ -351,39 +351,56 @@ class TileShader {
 };
 
 // What one pass's tiles found, merged under the lock as each task ends.
-struct PassFindings {
+struct SharedFindings {
     std::mutex mutex;
-    std::vector<PairKey> usedKeys;
-    std::vector<uint32_t> facesSeen;
-    ExactEvaluations evaluations;
-    std::vector<PairKey> directKeys;
-    std::vector<uint64_t> overLimitNow, edgeFailedNow, edgeDeclinedNow;
-    std::vector<OverLimitPoint> overLimitTrees;
+    PassFindings all;
 
     void add(const TileShader& shader) {
         const ExactScratch& scratch = shader.scratch;
         std::lock_guard lock(mutex);
-        usedKeys.insert(usedKeys.end(), scratch.used.begin(), scratch.used.end());
-        facesSeen.insert(facesSeen.end(), shader.faces.begin(), shader.faces.end());
-        evaluations += scratch.evaluations;
-        directKeys.insert(directKeys.end(), scratch.usedDirect.begin(), scratch.usedDirect.end());
-        overLimitNow.insert(overLimitNow.end(), scratch.overLimitNow.begin(),
-                            scratch.overLimitNow.end());
-        overLimitTrees.insert(overLimitTrees.end(), scratch.overLimitTrees.begin(),
-                              scratch.overLimitTrees.end());
-        edgeFailedNow.insert(edgeFailedNow.end(), scratch.edgeFailedNow.begin(),
-                             scratch.edgeFailedNow.end());
-        edgeDeclinedNow.insert(edgeDeclinedNow.end(), scratch.edgeDeclinedNow.begin(),
-                               scratch.edgeDeclinedNow.end());
+        auto append = [](auto& to, const auto& from) {
+            to.insert(to.end(), from.begin(), from.end());
+        };
+        append(all.usedKeys, scratch.used);
+        append(all.facesSeen, shader.faces);
+        all.evaluations += scratch.evaluations;
+        append(all.directKeys, scratch.usedDirect);
+        append(all.overLimitNow, scratch.overLimitNow);
+        append(all.overLimitTrees, scratch.overLimitTrees);
+        append(all.edgeFailedNow, scratch.edgeFailedNow);
+        append(all.edgeDeclinedNow, scratch.edgeDeclinedNow);
     }
+};
+
+// The tiles a process was handed (ProgressiveRenderer::shadeTiles), taken by its threads as a
+// pass's TileSchedule is: each tile's thread time kept by its place in the list.
+class TileList {
+  public:
+    TileList(std::span<const int> tiles, std::vector<int64_t>& costNs)
+        : tiles_(tiles), costNs_(costNs) {
+        costNs_.assign(tiles.size(), 0);
+        for (size_t i = 0; i < tiles.size(); ++i) placeOf_[tiles[i]] = i;
+    }
+    int next() {
+        const size_t i = next_.fetch_add(1, std::memory_order_relaxed);
+        return i < tiles_.size() ? tiles_[i] : -1;
+    }
+    void record(int index, int64_t ns) { costNs_[placeOf_.at(index)] = ns; }
+
+  private:
+    std::span<const int> tiles_;
+    std::vector<int64_t>& costNs_;
+    std::unordered_map<int, size_t> placeOf_;
+    std::atomic<size_t> next_{0};
 };
 
 // One worker's share of a pass: the tiles it takes from the schedule, traced and shaded into
 // image, each tile's thread time recorded in the schedule and added to primaryNs and shadingNs
-// (when not null); false when cancelled before a tile.
-bool shadeTiles(TileShader& shader, TileSchedule& schedule, const RenderSettings& settings,
-                std::vector<Vec3>& image, const std::atomic<bool>* cancel,
-                std::atomic<int64_t>* primaryNs, std::atomic<int64_t>* shadingNs) {
+// (when not null); false when cancelled before a tile. `Tiles`: a TileSchedule or a TileList.
+template <typename Tiles>
+bool shadeFromSchedule(TileShader& shader, Tiles& schedule, const RenderSettings& settings,
+                       std::vector<Vec3>& image, const std::atomic<bool>* cancel,
+                       std::atomic<int64_t>* primaryNs, std::atomic<int64_t>* shadingNs) {
     auto ns = [](Clock::time_point a, Clock::time_point b) {
         return std::chrono::duration_cast<std::chrono::nanoseconds>(b - a).count();
     };
@@ -587,11 +604,13 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
     // partial tree would be answered by the direct path with the groups (groupsWillAnswer).
     const bool skipGrouped = settings.minTreeSamples > 0 && settings.groupedShaftMin > 0;
     std::vector<std::pair<PairKey, size_t>> grouped;  // by mutex: the pairs left, their shafts
+    std::vector<PairKey> toBuild;                     // (the same) those to build
     tbb::parallel_for(tbb::blocked_range<size_t>(0, keys.size(), 1),
                       [&](const tbb::blocked_range<size_t>& range) {
                           for (size_t i = range.begin(); i != range.end(); ++i) {
                               if (cancelled()) return;
-                              if (skipGrouped && store_.find(keys[i]) == nullptr) {
+                              if (store_.find(keys[i]) != nullptr) continue;
+                              if (skipGrouped) {
                                   const auto shaft = store_.shaftCount(keys[i]);
                                   if (groupsWillAnswer(shaft, settings.groupedShaftMin)) {
                                       std::lock_guard lock(mutex);
@@ -599,9 +618,19 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
                                       continue;
                                   }
                               }
-                              store_.getOrBuild(keys[i]);
+                              if (cluster_ != nullptr) {
+                                  std::lock_guard lock(mutex);
+                                  toBuild.push_back(keys[i]);
+                              } else {
+                                  store_.getOrBuild(keys[i]);
+                              }
                           }
                       });
+    if (cluster_ != nullptr && !cancelled()) {
+        // In key order, so that the ranks' batches do not depend on this process's threads.
+        std::sort(toBuild.begin(), toBuild.end());
+        cluster_->buildTrees(toBuild);
+    }
     {
         std::lock_guard lock(mutex_);
         groupedShaftMin_ = settings.groupedShaftMin;
@@ -616,6 +645,53 @@ double ProgressiveRenderer::prepare(const Camera& camera, const RenderSettings& 
 bool ProgressiveRenderer::renderPass(const Camera& camera, const RenderSettings& settings,
                                      Film& film, const std::atomic<bool>* cancel) {
     return renderPassTimed(camera, settings, film, cancel, nullptr);
+}
+
+void ProgressiveRenderer::shadeTiles(const Camera& camera, const RenderSettings& settings, int pass,
+                                     const PassCells& cells, std::span<const int> tiles,
+                                     std::vector<Vec3>& pixels, std::vector<int64_t>& costNs,
+                                     PassFindings& found, const std::atomic<bool>* cancel) {
+    validate(settings);
+    const int w = settings.width, h = settings.height;
+    std::vector<Vec3> image(static_cast<size_t>(w) * h);
+    const CameraRays rays(camera, w, h);
+    const bool exact = settings.method == DirectMethod::Exact;
+    const PassInputs in{scene_,
+                        bvh_,
+                        store_,
+                        *lighting_,
+                        faceNormal_,
+                        faceOrigin_,
+                        rays,
+                        settings,
+                        pass,
+                        settings.method == DirectMethod::Reference ? settings.referenceSamples
+                                                                   : settings.lightSamples,
+                        exact,
+                        cells.overLimit,
+                        cells.edgeFailed,
+                        cells.edgeDeclined,
+                        nullptr,
+                        nullptr};
+    // As rank 0's prepare() leaves it: with minTreeSamples the pairs without a tree are evaluated
+    // point by point.
+    const bool buildMissing = !(exact && settings.minTreeSamples > 0);
+    TileList list(tiles, costNs);
+    SharedFindings shared;
+    tbb::parallel_for(0, tbb::this_task_arena::max_concurrency(), [&](int) {
+        TileShader shader(in, buildMissing, queries_->perThread.local());
+        shadeFromSchedule(shader, list, settings, image, cancel, nullptr, nullptr);
+        shared.add(shader);
+    });
+    pixels.clear();
+    for (const int t : tiles) {
+        const Tile tile = tileAt(t, settings);
+        for (int y = tile.y0; y < tile.y1; ++y)
+            for (int x = tile.x0; x < tile.x1; ++x)
+                pixels.push_back(image[static_cast<size_t>(y) * w + x]);
+    }
+    found = std::move(shared.all);
+    found.lightEdgeIndices = lighting_->lightEdgesBuilt();
 }
 
 bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSettings& settings,
@@ -639,7 +715,7 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
         settings.method == DirectMethod::Exact && settings.recordVisibleFraction && lights > 0;
     passSeen_.assign(seeing ? image.size() * lights : 0, ExactScratch::kNoAnswer);
     std::atomic<bool> cancelled{false};
-    PassFindings found;
+    SharedFindings shared;
     // The cells of the film's earlier passes, for this film, work limit and store only: with
     // trees added since (the viewer's background precompute) a remembered pixel's pair may have
     // one now, whose walk is far cheaper than the direct path that reached the limit, so every
@@ -675,19 +751,38 @@ bool ProgressiveRenderer::renderPassTimed(const Camera& camera, const RenderSett
 
     // Each worker takes tiles from the schedule until none is left (tile_schedule.h).
     schedule_.start(w, h);
-    tbb::parallel_for(0, tbb::this_task_arena::max_concurrency(), [&](int) {
-        TileShader shader(in, !directMissing_, queries_->perThread.local());
-        if (!shadeTiles(shader, schedule_, settings, image, cancel,
-                        times != nullptr ? &times->primaryNs : nullptr,
-                        times != nullptr ? &times->shadingNs : nullptr)) {
-            cancelled.store(true, std::memory_order_relaxed);
-            return;
-        }
-        found.add(shader);
-    });
+    std::atomic<bool> stopHere{false};
+    const std::atomic<bool>* stop = cluster_ != nullptr ? &stopHere : cancel;
+    const auto shadeHere = [&] {
+        tbb::parallel_for(0, tbb::this_task_arena::max_concurrency(), [&](int) {
+            TileShader shader(in, !directMissing_, queries_->perThread.local());
+            if (!shadeFromSchedule(shader, schedule_, settings, image, stop,
+                                   times != nullptr ? &times->primaryNs : nullptr,
+                                   times != nullptr ? &times->shadingNs : nullptr)) {
+                cancelled.store(true, std::memory_order_relaxed);
+                return;
+            }
+            shared.add(shader);
+        });
+    };
+    if (cluster_ == nullptr) {
+        shadeHere();
+    } else {
+        // (Merged once the pass is whole: this process's threads add to `shared` meanwhile.)
+        const PassCells cells{&overLimitCells_, &edgeFailedCells_, &edgeDeclinedCells_};
+        PassFindings remote;
+        if (!cluster_->shadePass(pass, w, h, cells, schedule_, image, shadeHere, stopHere, remote,
+                                 cancel))
+            cancelled.store(true);
+        shared.all.add(remote);
+        // The light-edge indices the other processes built: the summary counts them here too.
+        for (const uint32_t k : remote.lightEdgeIndices)
+            if (k < scene_.lights.size()) lighting_->buildLightEdges(k);
+    }
     if (cancelled.load()) return false;
     schedule_.finish();
 
+    const PassFindings& found = shared.all;
     overLimitCells_.insert(found.overLimitNow.begin(), found.overLimitNow.end());
     edgeFailedCells_.insert(found.edgeFailedNow.begin(), found.edgeFailedNow.end());
     edgeDeclinedCells_.insert(found.edgeDeclinedNow.begin(), found.edgeDeclinedNow.end());
@@ -716,9 +811,11 @@ bool ProgressiveRenderer::refineWhere(const std::vector<OverLimitPoint>& points,
     // Per sub-patch of a refinable tree's patch, this pass's sampled points in it, and the tree.
     std::map<PairKey, std::pair<uint64_t, PairKey>> subPatches;
     std::vector<std::pair<PairKey, uint64_t>> cells;  // per point considered: sub-patch, cell
+    std::set<PairKey> refined;                        // the pairs refined
     for (const OverLimitPoint& p : points) {
         if (PatchLayout::refineLevel(p.key) >= settings.refineLevels) continue;
         if (!store_.layout().refine(p.key)) continue;
+        refined.insert(p.key);
         const PairKey sub = store_.layout().subKeyAt(p.key, p.x);
         auto& [count, parent] = subPatches[sub];
         ++count;
@@ -745,17 +842,26 @@ bool ProgressiveRenderer::refineWhere(const std::vector<OverLimitPoint>& points,
     }
     const size_t trees0 = store_.treeCount();
     std::atomic<bool> stopped{false};
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, keys.size(), 1),
-                      [&](const tbb::blocked_range<size_t>& range) {
-                          for (size_t i = range.begin(); i != range.end(); ++i) {
-                              try {
-                                  store_.getOrBuild(keys[i], cancel);
-                              } catch (const vis::BuildCancelled&) {
-                                  stopped.store(true, std::memory_order_relaxed);
-                                  return;
+    if (cluster_ != nullptr) {
+        // Every process refines its layout as this one did, then the trees are built across them.
+        cluster_->refined(std::vector<PairKey>(refined.begin(), refined.end()));
+        std::vector<PairKey> missing;
+        for (const PairKey& key : keys)
+            if (store_.find(key) == nullptr) missing.push_back(key);
+        if (!cluster_->buildTrees(missing)) stopped.store(true);
+    } else {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, keys.size(), 1),
+                          [&](const tbb::blocked_range<size_t>& range) {
+                              for (size_t i = range.begin(); i != range.end(); ++i) {
+                                  try {
+                                      store_.getOrBuild(keys[i], cancel);
+                                  } catch (const vis::BuildCancelled&) {
+                                      stopped.store(true, std::memory_order_relaxed);
+                                      return;
+                                  }
                               }
-                          }
-                      });
+                          });
+    }
     // The next pass tries again the cells of the points whose sub-patch got a tree; the other
     // cells stay skipped (their pairs did not change), unless trees came from elsewhere too.
     const std::set<PairKey> built(keys.begin(), keys.end());

@@ -23,9 +23,11 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <set>
+#include <span>
 #include <string>
 #include <unordered_set>
 #include <vector>
@@ -33,6 +35,7 @@
 #include "engine/precompute/visibility_store.h"
 #include "engine/render/answers.h"
 #include "engine/render/effects_summary.h"
+#include "engine/render/pass_findings.h"
 #include "engine/render/tile_schedule.h"
 #include "engine/render/visible_fraction.h"
 #include "engine/scene/camera.h"
@@ -140,6 +143,32 @@ struct RenderTimes {
     double totalCpu = 0;
 };
 
+// Where the trees an image needs are built and the tiles of its passes shaded besides this
+// process: the other ranks of an MPI job (engine/cluster/cluster_render.h). The renderer calls it
+// from the thread that called render(), which must then only coordinate (the shading of this
+// process's own tiles runs on other threads meanwhile). Each call either succeeds or throws (a
+// rank lost, a failed build: the render is over).
+class RenderCluster {
+  public:
+    virtual ~RenderCluster() = default;
+    // Builds the trees of `keys` (none in the store yet) across the processes: each ends up in
+    // this store and in every other process's. False when cancelled.
+    virtual bool buildTrees(const std::vector<PairKey>& keys) = 0;
+    // The store's layout was refined at `keys` (refineWhere), before any of their sub-patch
+    // trees is built: every process refines its layout the same way.
+    virtual void refined(const std::vector<PairKey>& keys) = 0;
+    // Shades pass `pass` of a width x height image: hands tiles of `schedule` (most expensive
+    // first) to the other processes while `shadeHere` runs on this process's threads, taking tiles
+    // from the same schedule; a remote tile's pixels go into `image` (row-major, the whole image),
+    // its cost into the schedule, and what the remote tiles found into `found`. Cancelled
+    // (`cancel`, read about every millisecond), it sets `stopHere`, which `shadeHere` reads before
+    // each tile, waits for `shadeHere` and returns false.
+    virtual bool shadePass(int pass, int width, int height, const PassCells& cells,
+                           TileSchedule& schedule, std::vector<Vec3>& image,
+                           const std::function<void()>& shadeHere, std::atomic<bool>& stopHere,
+                           PassFindings& found, const std::atomic<bool>* cancel) = 0;
+};
+
 class ProgressiveRenderer {
   public:
     // All three must outlive the renderer. The store is used only by DirectMethod::Exact.
@@ -160,6 +189,19 @@ class ProgressiveRenderer {
     // prepare + settings.spp passes.
     Film render(const Camera& camera, const RenderSettings& settings, RenderTimes* times = nullptr,
                 const std::atomic<bool>* cancel = nullptr);
+
+    // Builds the trees and shades the passes across the processes of `cluster` too (null: this
+    // process alone, the default). The image and the effects summary are the same either way.
+    void setCluster(RenderCluster* cluster) { cluster_ = cluster; }
+    // The other processes' side of RenderCluster::shadePass: shades `tiles` of pass `pass` (the
+    // film's earlier passes' cells in `cells`) on this process's threads; `pixels` gets each
+    // tile's pixels in turn (its rows top to bottom), `costNs` each tile's thread time, `found`
+    // what they found. The store must hold the trees rank 0's does (and its layout the same
+    // refinements). `cancel` is read before each tile (what is left unshaded is then garbage).
+    void shadeTiles(const Camera& camera, const RenderSettings& settings, int pass,
+                    const PassCells& cells, std::span<const int> tiles, std::vector<Vec3>& pixels,
+                    std::vector<int64_t>& costNs, PassFindings& found,
+                    const std::atomic<bool>* cancel = nullptr);
 
     // What was simulated and why (pairs by kind, materials analytic or sampled, point lights), for
     // the images rendered since construction or the last resetEffects().
@@ -242,6 +284,7 @@ class ProgressiveRenderer {
     // point by point instead of building them (written by prepare, read by the passes, never at
     // the same time).
     bool directMissing_ = false;
+    RenderCluster* cluster_ = nullptr;
 };
 
 // Output (engine/io/image_io.cpp). PFM: linear float, little-endian, bottom-to-top rows as the

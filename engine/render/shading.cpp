@@ -349,6 +349,14 @@ const vis::LightEdgeIndex& DirectLighting::lightEdges(size_t k) const {
     return slot.index;
 }
 
+std::vector<uint32_t> DirectLighting::lightEdgesBuilt() const {
+    std::vector<uint32_t> built;
+    for (size_t k = 0; k < lights_.size(); ++k)
+        if (lightEdges_[k].built.load(std::memory_order_acquire))
+            built.push_back(static_cast<uint32_t>(k));
+    return built;
+}
+
 LightEdgeIndexStats DirectLighting::lightEdgeStats() const {
     LightEdgeIndexStats out;
     for (size_t k = 0; k < lights_.size(); ++k) {

@@ -254,6 +254,11 @@ class DirectLighting {
     // The light-edge index of every light built so far (built on a light's first point that
     // the default path gave up on: lightEdges()), for the effects summary.
     LightEdgeIndexStats lightEdgeStats() const;
+    // The lights (indices into the scene's lights) whose light-edge index is built, and the
+    // build of one: what the other ranks' shading built is built on rank 0 too, so that its
+    // effects summary counts it (the cluster's render).
+    std::vector<uint32_t> lightEdgesBuilt() const;
+    void buildLightEdges(size_t k) const { lightEdges(k); }
     // The same with `samples` stratified shadow rays per light.
     Vec3 sampledAreaLights(const SurfacePoint& p, int samples, SplitMix64& rng) const;
     // Every point light, one shadow ray each.

@@ -62,6 +62,11 @@ class TileSchedule {
         const size_t i = next_.fetch_add(1, std::memory_order_relaxed);
         return i < order_.size() ? static_cast<int>(order_[i]) : -1;
     }
+    // How many tiles of the pass are not handed out yet (about, while others take them).
+    size_t remaining() const {
+        const size_t taken = next_.load(std::memory_order_relaxed);
+        return taken < order_.size() ? order_.size() - taken : 0;
+    }
     // What tile `index` cost in this pass (nanoseconds of its thread). Each tile is recorded by
     // the one thread that shaded it.
     void record(int index, int64_t ns) { cost_[static_cast<size_t>(index)] = ns; }

@@ -23,6 +23,7 @@
 #include "engine/io/scene_loader.h"
 #include "engine/io/visibility_file.h"
 #include "engine/precompute/precompute_scheduler.h"
+#include "tests/support/mpi_job.h"
 #include "tests/support/run_penumbra.h"
 #include "tests/support/test_files.h"
 
@@ -33,106 +34,14 @@ namespace fs = std::filesystem;
 using test::ProcessResult;
 using test::readFile;
 using test::runPenumbra;
-using test::shellQuote;
 using Clock = std::chrono::steady_clock;
-
-#define SKIP_WITHOUT_MPI()                                                                  \
-    if (!test::haveMpi())                                                                   \
-    GTEST_SKIP() << "this build has no MPI (Open MPI not found, or PENUMBRA_MPI=OFF): the " \
-                    "cluster precompute is not compiled in"
 
 fs::path sourceDir() { return PENUMBRA_SOURCE_DIR; }
 
-// `mpirun ... -np N penumbra ARGS...` writing to out/err.
-std::string mpirunCommand(int ranks, const std::vector<std::string>& args, const fs::path& out,
-                          const fs::path& err) {
-    return test::mpirunCommand(ranks, args) + " >" + shellQuote(out.string()) + " 2>" +
-           shellQuote(err.string());
-}
-
-class ClusterPrecompute : public ::testing::Test {
+class ClusterPrecompute : public test::MpiJobTest {
   protected:
-    void SetUp() override {
-        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-        dir_ = fs::temp_directory_path() /
-               ("penumbra_cluster_" + std::to_string(::getpid()) + "_" + info->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override {
-        std::error_code ec;
-        fs::remove_all(dir_, ec);
-    }
-
-    ProcessResult mpirun(int ranks, const std::vector<std::string>& args) {
-        const fs::path out = dir_ / "mpi.out", err = dir_ / "mpi.err";
-        const int status = std::system(mpirunCommand(ranks, args, out, err).c_str());
-        ProcessResult r;
-        r.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-        r.out = readFile(out);
-        r.err = readFile(err);
-        return r;
-    }
-
-    // Starts mpirun in the background (its exit status into dir_/rc when it ends).
-    void start(int ranks, const std::vector<std::string>& args) {
-        const std::string c = "(" + mpirunCommand(ranks, args, dir_ / "mpi.out", dir_ / "mpi.err") +
-                              "; echo $? >" + shellQuote((dir_ / "rc.tmp").string()) + "; mv " +
-                              shellQuote((dir_ / "rc.tmp").string()) + " " +
-                              shellQuote((dir_ / "rc").string()) + ") & echo $! >" +
-                              shellQuote((dir_ / "shell.pid").string());
-        ASSERT_EQ(std::system(c.c_str()), 0);
-    }
-    // The exit status of the background run, waiting at most `limit`; -1 if it has not ended.
-    int awaitEnd(std::chrono::seconds limit) {
-        const auto deadline = Clock::now() + limit;
-        while (Clock::now() < deadline) {
-            if (fs::exists(dir_ / "rc")) return std::stoi(readFile(dir_ / "rc"));
-            std::this_thread::sleep_for(std::chrono::milliseconds(50));
-        }
-        return -1;
-    }
     // Waits until rank 0 printed a progress line (the builds run), at most `limit`.
-    bool awaitProgress(std::chrono::seconds limit) {
-        const auto deadline = Clock::now() + limit;
-        while (Clock::now() < deadline) {
-            if (readFile(dir_ / "mpi.err").find("precompute: ") != std::string::npos) return true;
-            std::this_thread::sleep_for(std::chrono::milliseconds(20));
-        }
-        return false;
-    }
-
-    // The pid of a process whose command line names `marker` and that `accept`s its command
-    // line (NULs between the words) and environment (one variable a line), or -1.
-    template <typename Accept>
-    static pid_t findProcess(const std::string& marker, Accept accept) {
-        for (const auto& entry : fs::directory_iterator("/proc")) {
-            const std::string name = entry.path().filename().string();
-            if (name.find_first_not_of("0123456789") != std::string::npos) continue;
-            const std::string cmdline = readFile(entry.path() / "cmdline");
-            if (cmdline.find(marker) == std::string::npos) continue;
-            std::string env = readFile(entry.path() / "environ");
-            for (char& c : env)
-                if (c == '\0') c = '\n';
-            if (accept(cmdline, "\n" + env)) return static_cast<pid_t>(std::stol(name));
-        }
-        return -1;
-    }
-    // The penumbra process of rank `rank` (Open MPI tells each its rank in the environment).
-    static pid_t findRank(const std::string& marker, int rank) {
-        const std::string variable = "\nOMPI_COMM_WORLD_RANK=" + std::to_string(rank) + "\n";
-        return findProcess(marker, [&](const std::string&, const std::string& env) {
-            return env.find(variable) != std::string::npos;
-        });
-    }
-    // mpirun itself (not the shell or `timeout` that started it).
-    static pid_t findLauncher(const std::string& marker) {
-        return findProcess(marker, [](const std::string& cmdline, const std::string&) {
-            const std::string program = cmdline.substr(0, cmdline.find('\0'));
-            const std::string name = fs::path(program).filename().string();
-            return name == "mpirun" || name == "mpiexec" || name == "orterun";
-        });
-    }
+    bool awaitProgress(std::chrono::seconds limit) { return awaitStderr("precompute: ", limit); }
 
     // The file a single process writes for these arguments.
     std::string singleProcessBytes(const std::vector<std::string>& args, const fs::path& file) {
@@ -143,8 +52,6 @@ class ClusterPrecompute : public ::testing::Test {
         EXPECT_EQ(r.exitCode, 0) << r.err;
         return readFile(file);
     }
-
-    fs::path dir_;
 };
 
 size_t treesIn(const fs::path& scenePath, const fs::path& file, size_t* total,
