@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <array>
+#include <stdexcept>
+#include <utility>
 
 namespace penumbra::vis {
 
@@ -84,6 +86,19 @@ void BoxTree::build(uint32_t index, uint32_t begin, uint32_t end, const std::vec
         left();
         rightBuild();
     }
+}
+
+std::vector<uint32_t> BoxTree::numberItemsInLeafOrder() {
+    if (items_.size() != boxes_.size())
+        throw std::logic_error("BoxTree::numberItemsInLeafOrder: an item is left out");
+    std::vector<uint32_t> old = items_;
+    std::vector<Bounds3> boxes(boxes_.size());
+    for (uint32_t p = 0; p < old.size(); ++p) {
+        boxes[p] = boxes_[old[p]];
+        items_[p] = p;
+    }
+    boxes_ = std::move(boxes);
+    return old;
 }
 
 void BoxTree::overlapping(const Bounds3& query, std::vector<uint32_t>& out) const {

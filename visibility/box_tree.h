@@ -42,6 +42,13 @@ class BoxTree {
                boxes_.capacity() * sizeof(Bounds3);
     }
 
+    // Renumbers the items in the order the leaves hold them (the p-th item of the leaves becomes
+    // item p, its box with it) and returns each new item's old id. The hierarchy is unchanged: a
+    // query visits the same nodes in the same order and finds the same boxes, as new ids, which
+    // now increase along the leaves (a caller that keeps its per-item data in that order reads it
+    // in order). Every item must be in the hierarchy (none left out by `include` or an empty box).
+    std::vector<uint32_t> numberItemsInLeafOrder();
+
     // Appends to `out` every item whose box meets `query` (closed), in no order.
     void overlapping(const Bounds3& query, std::vector<uint32_t>& out) const;
     // Appends to `out` every item whose box is not certainly outside one of `planes` (strictly on

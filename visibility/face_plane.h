@@ -6,6 +6,7 @@
 // PlaneOrient of one, goes through facePlane().
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include "visibility/polygon_mesh.h"
@@ -22,6 +23,12 @@ struct FacePlane {
 inline FacePlane facePlane(const PolygonMesh& mesh, uint32_t face) {
     const auto& f = mesh.faces[face];
     return {mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]};
+}
+
+// The same plane from a face's first three vertex ids kept apart from the mesh's face lists
+// (LightEdgeIndex::corners).
+inline FacePlane facePlane(const PolygonMesh& mesh, const std::array<uint32_t, 3>& corners) {
+    return {mesh.vertices[corners[0]], mesh.vertices[corners[1]], mesh.vertices[corners[2]]};
 }
 
 }  // namespace penumbra::vis

@@ -1,6 +1,7 @@
 #include "visibility/light_edge_index.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "visibility/face_plane.h"
 #include "visibility/light_silhouette_edges.h"
@@ -17,6 +18,7 @@ LightEdgeIndex::LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, 
         for (size_t v = begin; v < end; ++v) vertexSide[v] = lightPlane.sign(mesh.vertices[v]);
     });
     sides_.resize(mesh.faces.size(), Side::Behind);
+    corners_.resize(mesh.faces.size(), {0, 0, 0});
     std::vector<Bounds3> acrossBoxes(mesh.faces.size());
     loops.run(mesh.faces.size(), 8192, [&](size_t begin, size_t end) {
         for (size_t f = begin; f < end; ++f) {
@@ -28,6 +30,7 @@ LightEdgeIndex::LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, 
                 behind = behind || vertexSide[v] == Sign::Negative;
             }
             sides_[f] = !front ? Side::Behind : behind ? Side::Across : Side::Front;
+            if (sides_[f] == Side::Front) corners_[f] = {ids[0], ids[1], ids[2]};
             if (sides_[f] != Side::Across) continue;
             for (uint32_t v : ids) acrossBoxes[f].add(mesh.vertices[v]);
         }
@@ -76,6 +79,23 @@ LightEdgeIndex::LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, 
         }
     });
     edgeBoxes_ = BoxTree(boxes, {}, loops);
+    // S_L's edges renumbered in the hierarchy's leaf order: a query's edges then lie together
+    // here, as their boxes do in the hierarchy, and a point's weights read them in order (the
+    // same edges in the same order as before: the hierarchy is unchanged).
+    const std::vector<uint32_t> old = edgeBoxes_.numberItemsInLeafOrder();
+    std::vector<MeshEdges::Edge> leafEdges(edges_.size());
+    std::vector<MeshEdges::Use> leafUses(uses_.size());
+    std::vector<uint32_t> leafBegin(begin_.size());
+    uint32_t u = 0;
+    for (size_t i = 0; i < old.size(); ++i) {
+        leafEdges[i] = edges_[old[i]];
+        leafBegin[i] = u;
+        for (uint32_t k = begin_[old[i]]; k < begin_[old[i] + 1]; ++k) leafUses[u++] = uses_[k];
+    }
+    leafBegin[old.size()] = u;
+    edges_ = std::move(leafEdges);
+    uses_ = std::move(leafUses);
+    begin_ = std::move(leafBegin);
 }
 
 }  // namespace penumbra::vis

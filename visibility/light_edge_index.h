@@ -20,6 +20,7 @@
 //     by that clip.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -49,7 +50,8 @@ class LightEdgeIndex {
     // The mesh it was built for: its face and vertex counts (a query checks them).
     size_t faceCount() const { return sides_.size(); }
     size_t vertexCount() const { return vertexCount_; }
-    // S_L's edges (mesh vertex ids, lo < hi), each with its uses (face and direction).
+    // S_L's edges (mesh vertex ids, lo < hi), each with its uses (face and direction), numbered
+    // in the order of edgeBoxes()'s leaves.
     size_t size() const { return edges_.size(); }
     const MeshEdges::Edge& edge(uint32_t i) const { return edges_[i]; }
     std::span<const MeshEdges::Use> uses(uint32_t i) const {
@@ -62,6 +64,9 @@ class LightEdgeIndex {
     // A hierarchy over S_L's edges' boxes (items: indices in edge()).
     const BoxTree& edgeBoxes() const { return edgeBoxes_; }
     Side side(uint32_t face) const { return sides_[face]; }
+    // A Front face's first three vertex ids, those its plane is taken from (face_plane.h): a
+    // point's weights read them here, one entry per face, not through the mesh's face lists.
+    const std::array<uint32_t, 3>& corners(uint32_t face) const { return corners_[face]; }
     // A hierarchy over the Across faces' boxes (items: face ids); empty when there are none.
     const BoxTree& acrossFaces() const { return acrossFaces_; }
     size_t acrossCount() const { return acrossCount_; }
@@ -69,7 +74,9 @@ class LightEdgeIndex {
     size_t bytes() const {
         return edges_.capacity() * sizeof(MeshEdges::Edge) +
                uses_.capacity() * sizeof(MeshEdges::Use) + begin_.capacity() * sizeof(uint32_t) +
-               sides_.capacity() * sizeof(Side) + edgeBoxes_.bytes() + acrossFaces_.bytes();
+               sides_.capacity() * sizeof(Side) +
+               corners_.capacity() * sizeof(std::array<uint32_t, 3>) + edgeBoxes_.bytes() +
+               acrossFaces_.bytes();
     }
 
   private:
@@ -82,6 +89,7 @@ class LightEdgeIndex {
     size_t open_ = 0, acrossCount_ = 0;
     BoxTree edgeBoxes_;
     std::vector<Side> sides_;
+    std::vector<std::array<uint32_t, 3>> corners_;  // per face; set for Front faces
     BoxTree acrossFaces_;
 };
 

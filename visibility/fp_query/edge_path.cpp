@@ -72,12 +72,9 @@ bool EdgePath::prepare(const BoxTree& faces, const LightEdgeIndex& index) {
     }
     index_ = &index;
     faces_ = &faces;
-    if (faceStamp_.size() < mesh.faces.size()) {
-        faceStamp_.resize(mesh.faces.size(), 0);
-        faceSide_.resize(mesh.faces.size(), 0);
-    }
-    if (++runStamp_ == 0) {  // wrapped: no stale stamp may match
-        std::fill(faceStamp_.begin(), faceStamp_.end(), 0);
+    if (faceMemo_.size() < mesh.faces.size()) faceMemo_.resize(mesh.faces.size(), 0);
+    if (++runStamp_ == kStampEnd) {  // wrapped: no stale stamp may match
+        std::fill(faceMemo_.begin(), faceMemo_.end(), 0);
         runStamp_ = 1;
     }
     // The S_L edges whose box is not certainly outside the cone (conservative: the exact test of
@@ -102,17 +99,19 @@ bool EdgePath::prepare(const BoxTree& faces, const LightEdgeIndex& index) {
 }
 
 int EdgePath::faceSide(uint32_t face) {
-    if (faceStamp_[face] == runStamp_) return faceSide_[face];
+    // The memo: the run's stamp above two bits of s_f + 1 (one word per face, one read).
+    const uint32_t memo = faceMemo_[face];
+    if (memo >> 2 == runStamp_) return static_cast<int>(memo & 3) - 1;
     QueryRun& r = q_.run;
-    faceStamp_[face] = runStamp_;
-    faceSide_[face] = 0;
-    if (face == r.pair.receiver() || face == r.pair.light() ||
-        index_->side(face) != LightEdgeIndex::Side::Front)
-        return 0;
-    if (!r.budget.spend()) return 0;
-    const Sign s = r.occluderSide(facePlane(r.mesh(), face).orient());
-    faceSide_[face] = static_cast<int8_t>(s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0);
-    return faceSide_[face];
+    int side = 0;
+    if (face != r.pair.receiver() && face != r.pair.light() &&
+        index_->side(face) == LightEdgeIndex::Side::Front) {
+        if (!r.budget.spend()) return 0;
+        const Sign s = r.occluderSide(facePlane(r.mesh(), index_->corners(face)).orient());
+        side = s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
+    }
+    faceMemo_[face] = runStamp_ << 2 | static_cast<uint32_t>(side + 1);
+    return side;
 }
 
 void EdgePath::activateRest() {

@@ -95,8 +95,9 @@ class EdgePath {
     std::vector<uint32_t> found_;
     std::vector<Remaining> remaining_;
     std::vector<PlaneOrient> rayPlanes_;
-    std::vector<uint32_t> faceStamp_;  // per face: the run whose side faceSide_ holds
-    std::vector<int8_t> faceSide_;
+    // Per face: the run whose s_f it holds (above two bits) and s_f + 1 (faceSide).
+    std::vector<uint32_t> faceMemo_;
+    static constexpr uint32_t kStampEnd = 1u << 30;
     uint32_t runStamp_ = 0;
     // The last faces that hid a cell (a hidden cell's neighbour is mostly hidden by the same
     // few): tried before the hierarchy.

@@ -166,18 +166,37 @@ TEST(TbbLoops, ParallelLightEdgeIndexEqualsSerialAndAnIndependentComputation) {
     ASSERT_EQ(serial.size(), kept);
     EXPECT_EQ(index.share(), serial.share());
     EXPECT_EQ(index.open(), open);
-    size_t i = 0;
-    for (size_t t = 0; t < edges.size(); ++t) {
-        if (!set.contains(t)) continue;
-        for (const LightEdgeIndex* x : {&serial, &index}) {
-            ASSERT_EQ(x->edge(static_cast<uint32_t>(i)).lo, edges.edge(t).lo);
-            ASSERT_EQ(x->edge(static_cast<uint32_t>(i)).hi, edges.edge(t).hi);
-            const auto got = x->uses(static_cast<uint32_t>(i));
-            const auto want = edges.uses(t);
-            ASSERT_EQ(got.size(), want.size());
-            for (size_t u = 0; u < want.size(); ++u) EXPECT_EQ(got[u].face, want[u].face);
+    // Its edges: S_L's, each once with its uses, numbered in the order of the hierarchy's leaves
+    // (item p of the leaves is edge p, its box the edge's).
+    std::map<std::pair<uint32_t, uint32_t>, size_t> inTable;
+    for (size_t t = 0; t < edges.size(); ++t)
+        if (set.contains(t)) inTable[{edges.edge(t).lo, edges.edge(t).hi}] = t;
+    for (const LightEdgeIndex* x : {&serial, &index}) {
+        std::vector<bool> seen(edges.size(), false);
+        const auto leaves = x->edgeBoxes().nodeItems(0);
+        ASSERT_EQ(leaves.size(), kept);
+        for (uint32_t i = 0; i < x->size(); ++i) {
+            EXPECT_EQ(leaves[i], i);
+            const MeshEdges::Edge& got = x->edge(i);
+            const auto at = inTable.find({got.lo, got.hi});
+            ASSERT_NE(at, inTable.end()) << got.lo << "-" << got.hi;
+            ASSERT_FALSE(seen[at->second]);
+            seen[at->second] = true;
+            const auto gotUses = x->uses(i);
+            const auto want = edges.uses(at->second);
+            ASSERT_EQ(gotUses.size(), want.size());
+            for (size_t u = 0; u < want.size(); ++u) {
+                EXPECT_EQ(gotUses[u].face, want[u].face);
+                EXPECT_EQ(gotUses[u].forward, want[u].forward);
+            }
+            const vis::Bounds3& box = x->edgeBoxes().itemBox(i);
+            for (const uint32_t v : {got.lo, got.hi}) {
+                EXPECT_LE(box.lo.x, m.vertices[v].x);
+                EXPECT_GE(box.hi.x, m.vertices[v].x);
+            }
+            EXPECT_EQ(box.lo.x, std::min(m.vertices[got.lo].x, m.vertices[got.hi].x));
+            EXPECT_EQ(box.hi.z, std::max(m.vertices[got.lo].z, m.vertices[got.hi].z));
         }
-        ++i;
     }
     // Each face's side of L's plane from its vertices' exact signs.
     const vis::FacePlane lp = vis::facePlane(m, light);
@@ -194,6 +213,11 @@ TEST(TbbLoops, ParallelLightEdgeIndexEqualsSerialAndAnIndependentComputation) {
         across += want == LightEdgeIndex::Side::Across;
         EXPECT_EQ(index.side(f), want) << f;
         EXPECT_EQ(serial.side(f), want) << f;
+        if (want != LightEdgeIndex::Side::Front) continue;
+        for (size_t k = 0; k < 3; ++k) {  // its plane's vertices, as facePlane takes them
+            EXPECT_EQ(index.corners(f)[k], m.faces[f][k]) << f;
+            EXPECT_EQ(serial.corners(f)[k], m.faces[f][k]) << f;
+        }
     }
     EXPECT_GT(across, 1000u);
     EXPECT_EQ(index.acrossCount(), across);
