@@ -351,7 +351,7 @@ void runClusterRender(cluster::MpiSession& session, const RenderOptions& o) {
     } catch (const cluster::MpiError& e) {
         failure = e.what();
     }
-    if (interrupted()) {
+    if (coordinator.interrupted()) {
         // Ctrl-C reaches every rank (the launcher's SIGTERM), and so does a rank's death under
         // Open MPI: the ranks that do not answer the stop are the dead ones. Said at once when
         // a build round found them already: the launcher kills every rank a second after its

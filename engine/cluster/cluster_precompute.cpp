@@ -165,7 +165,10 @@ class Coordinator {
         p.error = error_;
         return p;
     }
-    void stopEveryone(PrecomputeScheduler* local, std::chrono::milliseconds limit);
+    // Stops every worker and waits for their FINAL at most `limit`, or stopLimit once
+    // `interrupted` says so (the launcher's SIGKILL follows its SIGTERM within a second or so).
+    void stopEveryone(PrecomputeScheduler* local, std::chrono::milliseconds limit,
+                      const std::function<bool()>& interrupted);
 
     MpiSession& session_;
     VisibilityStore& store_;
@@ -243,6 +246,11 @@ void Coordinator::handle(MpiMessage& m) {
             break;
         }
         case kTagFailure:
+            if (text(m.bytes) == kStoppedBySignal) {
+                if (state_ == State::Running) state_ = State::Cancelled;
+                w.final = true;  // it ends on the stop, without FINAL
+                break;
+            }
             fail(name(m.source) + ": " + text(m.bytes));
             break;
         case kTagOverBudget:
@@ -260,7 +268,8 @@ void Coordinator::handle(MpiMessage& m) {
     }
 }
 
-void Coordinator::stopEveryone(PrecomputeScheduler* local, std::chrono::milliseconds limit) {
+void Coordinator::stopEveryone(PrecomputeScheduler* local, std::chrono::milliseconds limit,
+                               const std::function<bool()>& interrupted) {
     if (local) local->cancel();
     for (int r = 1; r < session_.size(); ++r) {
         if (!workers_[r].alive) continue;
@@ -274,9 +283,17 @@ void Coordinator::stopEveryone(PrecomputeScheduler* local, std::chrono::millisec
             fail(name(r) + ": " + e.what());
         }
     }
-    // Every live worker answers FINAL with what it finished, within `limit`.
-    const auto deadline = Clock::now() + limit;
+    // Every live worker answers FINAL with what it finished, within `limit` (stopLimit once
+    // interrupted: a failure, such as a send to a rank that had died, waits up to the silence
+    // limit for the others, and the launcher's SIGTERM may come meanwhile).
+    auto deadline = Clock::now() + limit;
+    bool sawInterrupt = false;
     for (;;) {
+        if (!sawInterrupt && interrupted && interrupted()) {
+            sawInterrupt = true;
+            limit = std::min(limit, options_.stopLimit);
+            deadline = std::min(deadline, Clock::now() + options_.stopLimit);
+        }
         bool waiting = false;
         for (int r = 1; r < session_.size(); ++r) waiting = waiting || !workers_[r].final;
         if (!waiting) break;
@@ -375,7 +392,7 @@ ClusterPrecomputeResult Coordinator::run(
     const bool stoppedBySignal = state_ == State::Cancelled;
     if (stoppedBySignal) checkpoint();
     stopEveryone(local ? &*local : nullptr,
-                 stoppedBySignal ? options_.stopLimit : options_.silenceLimit);
+                 stoppedBySignal ? options_.stopLimit : options_.silenceLimit, interrupted);
     // Rank 0 built what neither the file nor the workers gave.
     result_.treesByRank[0] =
         store_.treeCount() - storeLoaded_ - (options_.shards ? 0 : result_.treesReceived);

@@ -42,6 +42,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/cluster/mpi_session.h"
@@ -60,6 +61,12 @@ enum ClusterTag : int {
     kTagFinal,
     kTagOverBudget,  // with shards: a worker's own trees passed the memory budget
 };
+
+// What a render worker (cluster_render.h) that the launcher's SIGTERM, or a SIGINT, reached sends
+// rank 0 as kTagFailure: an interruption, not a failure. A build round takes it as its own
+// interrupt (and that worker as answered: it ends on the stop), so that the ranks that then do
+// not answer are named as the cause, not the one that said it was stopped.
+inline constexpr std::string_view kStoppedBySignal = "stopped by a signal (SIGTERM or SIGINT)";
 
 struct ClusterPrecomputeOptions {
     int threads = 0;  // concurrent builds per rank (0: its cores)

@@ -263,6 +263,15 @@ void RenderCoordinator::sendAll(int tag, const std::vector<unsigned char>& bytes
     }
 }
 
+bool RenderCoordinator::stopNote(const MpiMessage& m) {
+    if (m.tag != kTagFailure || m.source <= 0 ||
+        std::string_view(reinterpret_cast<const char*>(m.bytes.data()), m.bytes.size()) !=
+            kStoppedBySignal)
+        return false;
+    peerStopped_ = true;
+    return true;
+}
+
 void RenderCoordinator::lose(int rank, const std::string& why) {
     lostRank_ = true;
     throw MpiError(name(rank) + ": " + why);
@@ -294,7 +303,8 @@ void RenderCoordinator::start() {
     o.keys = std::vector<PairKey>{};
     o.coordinatorBuilds = false;
     const ClusterPrecomputeResult r = coordinatePrecompute(
-        session_, store_, o, interrupted_, [](const PrecomputeProgress&) {}, [] {});
+        session_, store_, o, [this] { return interrupted(); }, [](const PrecomputeProgress&) {},
+        [] {});
     if (r.progress.state == PrecomputeProgress::State::Idle) return;
     // A worker that could not load the scene has ended; the others wait for DONE.
     noteLost(r, lost_, lostRank_, lostError_);
@@ -316,7 +326,7 @@ void RenderCoordinator::shareStore() {
 
 bool RenderCoordinator::buildTrees(const std::vector<PairKey>& keys) {
     if (keys.empty()) return true;
-    if (interrupted_()) return false;  // nothing more is sent: rank 0 ends
+    if (interrupted()) return false;  // nothing more is sent: rank 0 ends
     const auto t0 = Clock::now();
     const size_t before = store_.treeCount();
     sendAll(kTagBuild, {});
@@ -327,10 +337,14 @@ bool RenderCoordinator::buildTrees(const std::vector<PairKey>& keys) {
     o.stopLimit = options_.stopLimit;
     o.keys = keys;
     const ClusterPrecomputeResult r = coordinatePrecompute(
-        session_, store_, o, interrupted_, [](const PrecomputeProgress&) {}, [] {});
+        session_, store_, o, [this] { return interrupted(); }, [](const PrecomputeProgress&) {},
+        [] {});
     stats_.treeBytesToRank0 += r.bytesReceived;
     noteLost(r, lost_, lostRank_, lostError_);
-    if (r.progress.state == PrecomputeProgress::State::Cancelled) return false;
+    if (r.progress.state == PrecomputeProgress::State::Cancelled) {
+        peerStopped_ = true;  // this rank's signal or a worker's: interrupted either way
+        return false;
+    }
     if (r.progress.state != PrecomputeProgress::State::Idle) throw MpiError(r.progress.error);
     const size_t added = store_.treeCount() - before;
     // Rank 0's own builds: what its store gained less what the workers sent.
@@ -349,7 +363,7 @@ bool RenderCoordinator::buildTrees(const std::vector<PairKey>& keys) {
     while (waiting > 0) {
         std::optional<MpiMessage> m = session_.poll();
         if (!m) {
-            if (interrupted_()) return false;
+            if (interrupted()) return false;
             if (Clock::now() - lastHeard > options_.silenceLimit)
                 for (int w = 1; w < session_.size(); ++w)
                     if (!acked[w])
@@ -360,6 +374,7 @@ bool RenderCoordinator::buildTrees(const std::vector<PairKey>& keys) {
             continue;
         }
         lastHeard = Clock::now();
+        if (stopNote(*m)) continue;
         if (m->tag == kTagFailure) lose(m->source, std::string(m->bytes.begin(), m->bytes.end()));
         if (m->tag != kTagTreesAck || acked[m->source]) continue;
         Reader rd(m->bytes, name(m->source));
@@ -393,7 +408,7 @@ bool RenderCoordinator::shadePass(int pass, int width, int height, const PassCel
                                   const std::atomic<bool>* cancel) {
     const int ranks = session_.size();
     // Interrupted (a build round may have seen it first): nothing more is sent, rank 0 ends.
-    if ((cancel != nullptr && cancel->load()) || interrupted_()) return false;
+    if ((cancel != nullptr && cancel->load()) || interrupted()) return false;
     {
         Writer w;
         w.u32(static_cast<uint32_t>(pass));
@@ -443,6 +458,7 @@ bool RenderCoordinator::shadePass(int pass, int width, int height, const PassCel
                 const int r = m->source;
                 if (r <= 0 || r >= ranks) continue;
                 lastHeard[r] = Clock::now();
+                if (stopNote(*m)) continue;
                 if (m->tag == kTagFailure) {
                     failedRank = r;
                     failure = std::string(m->bytes.begin(), m->bytes.end());
@@ -477,7 +493,7 @@ bool RenderCoordinator::shadePass(int pass, int width, int height, const PassCel
                 handOut(r);
             }
             if (failedRank > 0) lose(failedRank, failure);
-            if ((cancel != nullptr && cancel->load(std::memory_order_relaxed)) || interrupted_()) {
+            if ((cancel != nullptr && cancel->load(std::memory_order_relaxed)) || interrupted()) {
                 stopped = true;
                 stopHere.store(true);
                 // The workers are asked first, and a dead one named, before this rank waits for
@@ -640,8 +656,7 @@ void serveRender(MpiSession& session, VisibilityStore& store, ProgressiveRendere
             awaitShaded();
             // Rank 0 is told (a signal to this rank alone would leave it waiting), and decides
             // when the job ends: its DONE is answered, so that it can tell a stop from a death.
-            const std::string why = "stopped by a signal (SIGTERM or SIGINT)";
-            send(kTagFailure, Bytes(why.begin(), why.end()));
+            send(kTagFailure, Bytes(kStoppedBySignal.begin(), kStoppedBySignal.end()));
             for (;;) {
                 while (std::optional<MpiMessage> m = session.poll()) {
                     if (m->source != 0) continue;

@@ -100,8 +100,18 @@ class RenderCoordinator : public RenderCluster {
     // and what was said of it (empty when only an MpiError said it).
     bool lostRank() const { return lostRank_; }
     const std::string& lostError() const { return lostError_; }
+    // Interrupted: this rank's own signal, or a worker's note that the launcher's signal reached
+    // it (serveRender sends kStoppedBySignal, cluster_precompute.h): Open MPI signals the ranks one
+    // after another, and a worker's note is an interruption, not the failure to report (the ranks
+    // that then do not answer the stop are the dead ones).
+    bool interrupted() const { return peerStopped_ || interrupted_(); }
+
+    RenderCoordinator(const RenderCoordinator&) = delete;
+    RenderCoordinator& operator=(const RenderCoordinator&) = delete;
 
   private:
+    // True (and noted) when `m` is a worker's kStoppedBySignal.
+    bool stopNote(const MpiMessage& m);
     std::string name(int rank) const;
     void sendAll(int tag, const std::vector<unsigned char>& bytes);
     [[noreturn]] void lose(int rank, const std::string& why);
@@ -110,6 +120,7 @@ class RenderCoordinator : public RenderCluster {
     VisibilityStore& store_;
     ClusterRenderOptions options_;
     std::function<bool()> interrupted_;
+    bool peerStopped_ = false;
     std::vector<std::string> hosts_;
     ClusterRenderStats stats_;
     bool lostRank_ = false;

@@ -51,9 +51,9 @@ class MpiJobTest : public ::testing::Test {
 
     // When a rank dies, Open MPI's launcher sends the others SIGCONT, then SIGTERM and SIGKILL
     // each odls_base_sigkill_timeout (1 s by default) later; rank 0 names the dead rank about
-    // 0.6 s after the SIGTERM (docs/cluster.md), which a loaded 2-core machine running test
-    // shards in parallel can stretch past that second. A test about rank 0's message gives it
-    // `seconds` (the launcher's SIGTERM then also comes that much later).
+    // 0.6 s after the SIGTERM (docs/cluster.md): a test about rank 0's message gives it
+    // `seconds` instead, a margin for a CI machine running test shards in parallel (the
+    // launcher's SIGTERM then also comes that much later).
     void giveRanksAfterSigterm(int seconds) {
         launcherEnv_ = "OMPI_MCA_odls_base_sigkill_timeout=" + std::to_string(seconds) + " ";
     }
