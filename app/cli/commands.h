@@ -48,7 +48,7 @@ inline CommandError inputError(const std::string& message) {
 int fail(int code, const std::string& message);
 // What main() does with an exception a command threw: its message on stderr (fail) and its exit
 // code (CommandError's; SceneError, bad_alloc and any other: an input error). The cluster's ranks
-// say it before MPI_Finalize (app/cli/precompute_command.cpp).
+// say it before MPI_Finalize (app/cli/mpi_launch.h).
 int reportError(const std::exception_ptr& error);
 
 // Loads a scene file with engine/io/scene_loader.h, choosing the reader by extension

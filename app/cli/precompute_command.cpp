@@ -49,6 +49,7 @@
 #include "app/cli/arguments.h"
 #include "app/cli/commands.h"
 #include "app/cli/interrupt_guard.h"
+#include "app/cli/mpi_launch.h"
 #include "engine/io/scene_loader.h"
 #include "engine/io/visibility_file.h"
 #include "engine/precompute/patch_layout.h"
@@ -545,28 +546,9 @@ void runClusterPrecompute(cluster::MpiSession& session, const PrecomputeCommandO
 
 void runPrecomputeCommand(const PrecomputeCommandOptions& o) {
 #ifdef PENUMBRA_HAVE_MPI
-    if (cluster::launchedByMpiLauncher()) {
-        int exitCode = kExitOk;
-        {
-            cluster::MpiSession session;
-            try {
-                if (session.size() > 1)
-                    runClusterPrecompute(session, o);
-                else
-                    runPrecompute(o);  // one rank: as without a launcher
-            } catch (...) {
-                // Said before MPI_Finalize: the launcher may kill this rank during it (a second
-                // after its SIGTERM).
-                exitCode = reportError(std::current_exception());
-            }
-            std::fflush(stdout);
-            std::cerr.flush();
-        }  // MPI_Finalize
-        // A rank ends here, its builds stopped and its file written: oneTBB's wait for its
-        // threads at exit (WorkerThreadsJoinedAtExit) was seen to never return on a worker rank
-        // after MPI_Finalize (1 run in 5, Open MPI 4.1.4, oneTBB 2021.8).
-        std::_Exit(exitCode);
-    }
+    if (cluster::launchedByMpiLauncher())
+        runLaunched([&](cluster::MpiSession& session) { runClusterPrecompute(session, o); },
+                    [&] { runPrecompute(o); });
 #endif
     runPrecompute(o);
 }

@@ -38,6 +38,7 @@
 #include "app/cli/arguments.h"
 #include "app/cli/commands.h"
 #include "app/cli/interrupt_guard.h"
+#include "app/cli/mpi_launch.h"
 #include "engine/io/image_io.h"
 #include "engine/io/scene_loader.h"
 #include "engine/io/text_input.h"
@@ -403,26 +404,9 @@ void runClusterRender(cluster::MpiSession& session, const RenderOptions& o) {
 
 void runRenderCommand(const RenderOptions& o) {
 #ifdef PENUMBRA_HAVE_MPI
-    if (cluster::launchedByMpiLauncher()) {
-        int exitCode = kExitOk;
-        {
-            cluster::MpiSession session;
-            try {
-                if (session.size() > 1)
-                    runClusterRender(session, o);
-                else
-                    runRender(o);  // one rank: as without a launcher
-            } catch (...) {
-                // Said before MPI_Finalize: the launcher may kill this rank during it.
-                exitCode = reportError(std::current_exception());
-            }
-            std::fflush(stdout);
-            std::cerr.flush();
-        }  // MPI_Finalize
-        // As the precompute's ranks (precompute_command.cpp): oneTBB's wait for its threads at
-        // exit was seen to hang after MPI_Finalize.
-        std::_Exit(exitCode);
-    }
+    if (cluster::launchedByMpiLauncher())
+        runLaunched([&](cluster::MpiSession& session) { runClusterRender(session, o); },
+                    [&] { runRender(o); });
 #endif
     runRender(o);
 }

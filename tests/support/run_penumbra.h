@@ -29,7 +29,7 @@ bool haveMpi();
 // The shell command line (no redirections) that runs `penumbra ARGS...` as `ranks` ranks of one
 // mpirun on this machine (as root too, more ranks than cores) under `timeout` (exit status 124
 // when it hangs). Empty without MPI. (The ranks end with _Exit after MPI_Finalize,
-// app/cli/precompute_command.cpp: no LeakSanitizer check runs in them, so nothing Open MPI keeps
+// app/cli/mpi_launch.h: no LeakSanitizer check runs in them, so nothing Open MPI keeps
 // at exit needs a suppression.)
 std::string mpirunCommand(int ranks, const std::vector<std::string>& args,
                           int timeoutSeconds = 120);
