@@ -213,6 +213,26 @@ void writeImages(const Film& film, const Outputs& out, double exposure,
     }
 }
 
+// What a finished render writes, in one process or on rank 0 of a cluster: the visibility file
+// back (exact method), the hidden-light warnings, the effects summary and the images.
+void writeResults(const RenderOptions& o, const RenderSettings& settings,
+                  const VisibilityStore& store, const VisibilityInput& visibility,
+                  const ProgressiveRenderer& renderer, const Film& film, const Outputs& out,
+                  const std::string& answers) {
+    if (!o.visibility.empty()) {
+        if (settings.method != DirectMethod::Exact)
+            std::printf("visibility: %s not used (the %s method needs no history trees)\n",
+                        o.visibility.c_str(), toString(settings.method));
+        else
+            writeVisibility(o.visibility, store, visibility);
+    }
+    const EffectsSummary effects = renderer.effects();
+    for (const std::string& w : effects.hiddenLights)
+        std::cerr << "penumbra: warning: " << w << '\n';
+    printEffects(effects.text());
+    writeImages(film, out, o.exposure, answers);
+}
+
 void runRender(const RenderOptions& o);
 
 #ifdef PENUMBRA_HAVE_MPI
@@ -386,18 +406,7 @@ void runClusterRender(cluster::MpiSession& session, const RenderOptions& o) {
                                                      static_cast<size_t>(film.passes))
                    .c_str(),
                stdout);
-    if (!o.visibility.empty()) {
-        if (!exact)
-            std::printf("visibility: %s not used (the %s method needs no history trees)\n",
-                        o.visibility.c_str(), toString(settings.method));
-        else
-            writeVisibility(o.visibility, store, visibility);
-    }
-    const EffectsSummary effects = renderer.effects();
-    for (const std::string& w : effects.hiddenLights)
-        std::cerr << "penumbra: warning: " << w << '\n';
-    printEffects(effects.text());
-    writeImages(film, outputs(o), o.exposure, "");
+    writeResults(o, settings, store, visibility, renderer, film, outputs(o), "");
     std::fflush(stdout);
 }
 #endif
@@ -439,18 +448,7 @@ void runRender(const RenderOptions& o) {
     const Film film = renderer.render(*camera, settings, &times);
 
     printTimes(o, scene, settings, times, store);
-    if (!o.visibility.empty()) {
-        if (!exact)
-            std::printf("visibility: %s not used (the %s method needs no history trees)\n",
-                        o.visibility.c_str(), toString(settings.method));
-        else
-            writeVisibility(o.visibility, store, visibility);
-    }
-    const EffectsSummary effects = renderer.effects();
-    for (const std::string& w : effects.hiddenLights)
-        std::cerr << "penumbra: warning: " << w << '\n';
-    printEffects(effects.text());
-    writeImages(film, out, o.exposure, o.outAnswers);
+    writeResults(o, settings, store, visibility, renderer, film, out, o.outAnswers);
     std::fflush(stdout);
 }
 

@@ -291,20 +291,25 @@ void noteLost(const ClusterPrecomputeResult& r, std::vector<bool>& lost, bool& l
 
 }  // namespace detail_render
 
-void RenderCoordinator::start() {
-    // The HELLO round: one round of the cluster precompute with no key (each worker loads the
-    // scene first, then says HELLO with its scene hash or its error).
+ClusterPrecomputeResult RenderCoordinator::buildRound(const std::vector<PairKey>& keys,
+                                                      bool coordinatorBuilds) {
     sendAll(kTagBuild, {});
     ClusterPrecomputeOptions o;
     o.threads = options_.threads;
     o.silenceLimit = options_.silenceLimit;
     o.helloLimit = options_.helloLimit;
     o.stopLimit = options_.stopLimit;
-    o.keys = std::vector<PairKey>{};
-    o.coordinatorBuilds = false;
-    const ClusterPrecomputeResult r = coordinatePrecompute(
+    o.keys = keys;
+    o.coordinatorBuilds = coordinatorBuilds;
+    return coordinatePrecompute(
         session_, store_, o, [this] { return interrupted(); }, [](const PrecomputeProgress&) {},
         [] {});
+}
+
+void RenderCoordinator::start() {
+    // The HELLO round: one round of the cluster precompute with no key (each worker loads the
+    // scene first, then says HELLO with its scene hash or its error).
+    const ClusterPrecomputeResult r = buildRound({}, false);
     if (r.progress.state == PrecomputeProgress::State::Idle) return;
     // A worker that could not load the scene has ended; the others wait for DONE.
     noteLost(r, lost_, lostRank_, lostError_);
@@ -329,16 +334,7 @@ bool RenderCoordinator::buildTrees(const std::vector<PairKey>& keys) {
     if (interrupted()) return false;  // nothing more is sent: rank 0 ends
     const auto t0 = Clock::now();
     const size_t before = store_.treeCount();
-    sendAll(kTagBuild, {});
-    ClusterPrecomputeOptions o;
-    o.threads = options_.threads;
-    o.silenceLimit = options_.silenceLimit;
-    o.helloLimit = options_.helloLimit;
-    o.stopLimit = options_.stopLimit;
-    o.keys = keys;
-    const ClusterPrecomputeResult r = coordinatePrecompute(
-        session_, store_, o, [this] { return interrupted(); }, [](const PrecomputeProgress&) {},
-        [] {});
+    const ClusterPrecomputeResult r = buildRound(keys, true);
     stats_.treeBytesToRank0 += r.bytesReceived;
     noteLost(r, lost_, lostRank_, lostError_);
     if (r.progress.state == PrecomputeProgress::State::Cancelled) {

@@ -110,6 +110,9 @@ class RenderCoordinator : public RenderCluster {
     RenderCoordinator& operator=(const RenderCoordinator&) = delete;
 
   private:
+    // One round of the cluster precompute over `keys` (none: the HELLO round only), the workers
+    // told first (BUILD); rank 0 builds too when `coordinatorBuilds`.
+    ClusterPrecomputeResult buildRound(const std::vector<PairKey>& keys, bool coordinatorBuilds);
     // True (and noted) when `m` is a worker's kStoppedBySignal.
     bool stopNote(const MpiMessage& m);
     std::string name(int rank) const;
