@@ -122,35 +122,8 @@ void BoxTree::overlapping(const Bounds3& query, std::vector<uint32_t>& out) cons
 
 uint32_t BoxTree::notOutside(std::span<const PlaneOrient> planes, std::vector<uint32_t>& out,
                              uint64_t maxVisits) const {
-    if (nodes_.empty()) return 0;
-    if (planes.size() <= kMaxCullPlanes) {
-        std::array<PlaneBoxCull, kMaxCullPlanes> cull;
-        return notOutsideWith(cullPlanes(planes, cull), out, maxVisits);
-    }
-    return notOutsideWith(planes, out, maxVisits);
-}
-
-template <class Plane>
-uint32_t BoxTree::notOutsideWith(std::span<const Plane> planes, std::vector<uint32_t>& out,
-                                 uint64_t maxVisits) const {
-    uint32_t visited = 0;
-    uint32_t stack[64];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        if (maxVisits != 0 && visited > maxVisits) break;
-        const Node& n = nodes_[stack[--top]];
-        ++visited;
-        if (outsideOne(planes, n.box)) continue;
-        if (n.leaf()) {
-            for (uint32_t i = n.begin; i < n.end; ++i)
-                if (!outsideOne(planes, boxes_[items_[i]])) out.push_back(items_[i]);
-            continue;
-        }
-        stack[top++] = n.right;
-        stack[top++] = static_cast<uint32_t>(&n - nodes_.data()) + 1;
-    }
-    return visited;
+    return notOutsideUnless(
+        planes, [](uint32_t) { return false; }, out, maxVisits);
 }
 
 }  // namespace penumbra::vis

@@ -56,6 +56,12 @@ class BoxTree {
     // with an incomplete answer, once more than maxVisits nodes were visited (0 = no limit).
     uint32_t notOutside(std::span<const PlaneOrient> planes, std::vector<uint32_t>& out,
                         uint64_t maxVisits = 0) const;
+    // The same, less the nodes for which `skip(node)` is true (checked after the planes, a
+    // node's items left out whole): for a caller that can prove a subtree holds nothing it wants
+    // (silhouette_cull.h). The visit count includes the skipped nodes.
+    template <class Skip>
+    uint32_t notOutsideUnless(std::span<const PlaneOrient> planes, Skip&& skip,
+                              std::vector<uint32_t>& out, uint64_t maxVisits = 0) const;
     // The same items, each passed to `stop(item)` as it is found (in no order) until one call
     // returns true: then the search ends and returns true. `visited` gets the nodes visited.
     // For "is any of them hit": the first hit ends the search. Planes beyond kMaxCullPlanes are
@@ -108,9 +114,9 @@ class BoxTree {
     void build(uint32_t index, uint32_t begin, uint32_t end, const std::vector<Vec3>& centre,
                const ParallelLoops& loops);
     static uint32_t subtreeNodes(uint32_t items);
-    // notOutside with PlaneOrient (boxNegative per box) or PlaneBoxCull planes.
-    template <class Plane>
-    uint32_t notOutsideWith(std::span<const Plane> planes, std::vector<uint32_t>& out,
+    // notOutsideUnless with PlaneOrient (boxNegative per box) or PlaneBoxCull planes.
+    template <class Plane, class Skip>
+    uint32_t notOutsideWith(std::span<const Plane> planes, Skip& skip, std::vector<uint32_t>& out,
                             uint64_t maxVisits) const;
 
     std::vector<Node> nodes_;
@@ -141,6 +147,41 @@ bool BoxTree::anyNotOutside(std::span<const PlaneOrient> planes, Stop&& stop,
         stack[top++] = static_cast<uint32_t>(&n - nodes_.data()) + 1;
     }
     return false;
+}
+
+template <class Skip>
+uint32_t BoxTree::notOutsideUnless(std::span<const PlaneOrient> planes, Skip&& skip,
+                                   std::vector<uint32_t>& out, uint64_t maxVisits) const {
+    if (nodes_.empty()) return 0;
+    if (planes.size() <= kMaxCullPlanes) {
+        std::array<PlaneBoxCull, kMaxCullPlanes> cull;
+        return notOutsideWith(cullPlanes(planes, cull), skip, out, maxVisits);
+    }
+    return notOutsideWith(planes, skip, out, maxVisits);
+}
+
+template <class Plane, class Skip>
+uint32_t BoxTree::notOutsideWith(std::span<const Plane> planes, Skip& skip,
+                                 std::vector<uint32_t>& out, uint64_t maxVisits) const {
+    uint32_t visited = 0;
+    uint32_t stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+        if (maxVisits != 0 && visited > maxVisits) break;
+        const uint32_t index = stack[--top];
+        const Node& n = nodes_[index];
+        ++visited;
+        if (outsideOne(planes, n.box) || skip(index)) continue;
+        if (n.leaf()) {
+            for (uint32_t i = n.begin; i < n.end; ++i)
+                if (!outsideOne(planes, boxes_[items_[i]])) out.push_back(items_[i]);
+            continue;
+        }
+        stack[top++] = n.right;
+        stack[top++] = index + 1;
+    }
+    return visited;
 }
 
 }  // namespace penumbra::vis

@@ -96,6 +96,33 @@ LightEdgeIndex::LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, 
     edges_ = std::move(leafEdges);
     uses_ = std::move(leafUses);
     begin_ = std::move(leafBegin);
+
+    loops.both(
+        [&] {
+            silhouettes_ = SilhouetteCull(
+                mesh, edgeBoxes_,
+                {uses_, begin_, corners_, [&](uint32_t f) { return sides_[f] == Side::Front; }},
+                loops);
+        },
+        [&] {
+            // Edges are in the table's (lo, hi) order before the renumbering: old[i] increases
+            // with the key, so sorting by old index sorts by key.
+            std::vector<uint32_t> byKey(old.size());
+            for (size_t i = 0; i < old.size(); ++i) byKey[old[i]] = static_cast<uint32_t>(i);
+            sortedKeys_.resize(old.size());
+            sortedIds_ = std::move(byKey);
+            for (size_t k = 0; k < sortedIds_.size(); ++k) {
+                const MeshEdges::Edge& e = edges_[sortedIds_[k]];
+                sortedKeys_[k] = uint64_t{e.lo} << 32 | e.hi;
+            }
+        });
+}
+
+std::optional<uint32_t> LightEdgeIndex::find(uint32_t lo, uint32_t hi) const {
+    const uint64_t key = uint64_t{lo} << 32 | hi;
+    const auto it = std::lower_bound(sortedKeys_.begin(), sortedKeys_.end(), key);
+    if (it == sortedKeys_.end() || *it != key) return std::nullopt;
+    return sortedIds_[static_cast<size_t>(it - sortedKeys_.begin())];
 }
 
 }  // namespace penumbra::vis

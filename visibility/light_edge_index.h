@@ -8,6 +8,9 @@
 // conservatively (BoxTree: a box is skipped only when certainly outside a plane).
 //
 // Why each part:
+//   - Per node of the edge hierarchy, bounds on its edges' Front faces' planes
+//     (silhouette_cull.h): a point skips the subtrees it certainly sees from one side, where no
+//     edge is a silhouette (most of those near a hard point's cone).
 //   - S_L holds every edge that can bound a shadow of L (light_silhouette_edges.h), so a point
 //     needs only those of its edges that may meet its cone over L: the edge hierarchy finds them
 //     in O(log |S_L| + found), whatever the number of faces in that cone.
@@ -23,6 +26,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -30,6 +34,7 @@
 #include "visibility/mesh_edges.h"
 #include "visibility/parallel_loops.h"
 #include "visibility/polygon_mesh.h"
+#include "visibility/silhouette_cull.h"
 
 namespace penumbra::vis {
 
@@ -63,6 +68,11 @@ class LightEdgeIndex {
     size_t open() const { return open_; }
     // A hierarchy over S_L's edges' boxes (items: indices in edge()).
     const BoxTree& edgeBoxes() const { return edgeBoxes_; }
+    // Per node of edgeBoxes(): whether a point certainly sees no edge below as a silhouette
+    // (silhouette_cull.h; the counting uses are those by Front faces).
+    const SilhouetteCull& silhouettes() const { return silhouettes_; }
+    // The index in edge() of the S_L edge between mesh vertices lo < hi, if it is in S_L.
+    std::optional<uint32_t> find(uint32_t lo, uint32_t hi) const;
     Side side(uint32_t face) const { return sides_[face]; }
     // A Front face's first three vertex ids, those its plane is taken from (face_plane.h): a
     // point's weights read them here, one entry per face, not through the mesh's face lists.
@@ -76,7 +86,8 @@ class LightEdgeIndex {
                uses_.capacity() * sizeof(MeshEdges::Use) + begin_.capacity() * sizeof(uint32_t) +
                sides_.capacity() * sizeof(Side) +
                corners_.capacity() * sizeof(std::array<uint32_t, 3>) + edgeBoxes_.bytes() +
-               acrossFaces_.bytes();
+               acrossFaces_.bytes() + silhouettes_.bytes() +
+               sortedKeys_.capacity() * sizeof(uint64_t) + sortedIds_.capacity() * sizeof(uint32_t);
     }
 
   private:
@@ -88,6 +99,10 @@ class LightEdgeIndex {
     double share_ = 0;
     size_t open_ = 0, acrossCount_ = 0;
     BoxTree edgeBoxes_;
+    SilhouetteCull silhouettes_;
+    // S_L's edges by (lo << 32 | hi), increasing, with their indices in edge() (find).
+    std::vector<uint64_t> sortedKeys_;
+    std::vector<uint32_t> sortedIds_;
     std::vector<Side> sides_;
     std::vector<std::array<uint32_t, 3>> corners_;  // per face; set for Front faces
     BoxTree acrossFaces_;

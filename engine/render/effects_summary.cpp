@@ -276,10 +276,11 @@ void exactCosts(const EvaluationCosts& costs, Lines& out) {
     }
     if (costs.lightEdgeEvaluations > 0) {
         const double n = static_cast<double>(costs.lightEdgeEvaluations);
-        char per[200];
+        char per[300];
         std::snprintf(per, sizeof per,
-                      "%.1f light silhouette edges examined, %.1f of nonzero weight, %.1f of "
-                      "them in the cone (K)",
+                      "%.1f light silhouette edges examined (their weights taken; those of "
+                      "the subtrees seen wholly from one side skipped), %.1f of nonzero weight, "
+                      "%.1f of them in the cone (K)",
                       static_cast<double>(costs.lightEdgesExamined) / n,
                       static_cast<double>(costs.lightEdgesWeighted) / n,
                       static_cast<double>(costs.lightEdgesInCone) / n);

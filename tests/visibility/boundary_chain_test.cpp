@@ -348,6 +348,10 @@ struct Checked {
     int solid = 0, hiddenBySolid = 0;
     // Points the light-edge path answered (edge_path.h), with the chain forced, and their cells.
     int lightEdges = 0, lightEdgeCells = 0;
+    // Runs of the light-edge path that skipped subtrees of edges seen wholly from one side
+    // (silhouette_cull.h), and the edges they skipped.
+    int lightEdgeSkips = 0;
+    long lightEdgesSkipped = 0;
     // Points FromPointQuery::runLightEdges answered (the path alone, default options).
     int lightEdgesAlone = 0;
 };
@@ -419,6 +423,12 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
                 measureOutline(s.mesh, x, edged));
         used.lightEdges += chain.usedLightEdges();
         used.lightEdgeCells += chain.usedLightEdges() ? chain.chainCounts().cells : 0;
+        if (chain.usedLightEdges()) {
+            const vis::ChainCounts& k = chain.chainCounts();
+            EXPECT_LE(k.lightEdgesExamined, k.occluderEdges);
+            used.lightEdgeSkips += k.occluderEdges > k.lightEdgesExamined;
+            used.lightEdgesSkipped += k.occluderEdges - k.lightEdgesExamined;
+        }
         compare(
             "direct, light edges, default options",
             measure(s.mesh, x, defaults.runDirect(s.mesh, 0, 1, x, faces, &groups, &lightEdges)));
@@ -463,6 +473,10 @@ TEST(BoundaryChainQuery, ClosedSphereMatchesTheExactReference) {
     EXPECT_EQ(used.lightEdges, test::scaled(60));
     EXPECT_GT(used.lightEdgesAlone, 0);
     EXPECT_GT(used.lightEdgeCells, test::scaled(60));
+    // From below, the sphere's lower cap faces every point and its upper cap faces none: those
+    // subtrees of S_L hold no silhouette and are skipped whole at most points (the answers the
+    // same as the reference's).
+    EXPECT_GT(used.lightEdgeSkips, test::scaled(60) / 2);
 }
 
 // Three closed spheres that overlap as seen from the floor: where their shadows overlap a line

@@ -115,7 +115,7 @@ void ChainBuild::buildFromLightEdges() {
         weights_.push_back(e.weight);
     }
     counts_.lightEdgesExamined = q_.edges.examined();
-    counts_.occluderEdges = q_.edges.examined();
+    counts_.occluderEdges = q_.edges.nearCone();
     counts_.boundaryEdges = static_cast<uint32_t>(refs_.size());
     pays_ = true;
     chain_.clear();

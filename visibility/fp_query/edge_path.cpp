@@ -78,11 +78,35 @@ bool EdgePath::prepare(const BoxTree& faces, const LightEdgeIndex& index) {
         runStamp_ = 1;
     }
     // The S_L edges whose box is not certainly outside the cone (conservative: the exact test of
-    // each segment against the cone is ChainBuild::keepEdgesInCone's).
+    // each segment against the cone is ChainBuild::keepEdgesInCone's), less the subtrees whose
+    // edges x certainly sees none of as a silhouette (silhouette_cull.h: all of weight 0). B's
+    // uses count for nothing here, so a subtree holding one of B's edges is searched; and where x
+    // was moved, a face whose plane holds the input counts for nothing (occluderSide), so a
+    // subtree is skipped only if the input is certainly off all its planes too.
     r.budget.enter(WorkStage::FindOccluders);
     found_.clear();
-    if (!r.budget.spend(index.edgeBoxes().notOutside(cone, found_, r.budget.left()))) return true;
+    receiverEdges_.clear();
+    const auto& bFace = mesh.faces[r.pair.receiver()];
+    for (size_t k = 0; k < bFace.size(); ++k) {
+        const uint32_t v = bFace[k], w = bFace[(k + 1) % bFace.size()];
+        if (const auto id = index.find(std::min(v, w), std::max(v, w)))
+            receiverEdges_.push_back(*id);
+    }
+    const SilhouetteCull& cull = index.silhouettes();
+    uint32_t skipped = 0;
+    const BoxTree& tree = index.edgeBoxes();
+    auto skip = [&](uint32_t node) {
+        if (!cull.noSilhouetteFrom(node, r.x)) return false;
+        if (r.moved && !cull.oneSideOfEvery(node, r.input)) return false;
+        const std::span<const uint32_t> items = tree.nodeItems(node);
+        for (uint32_t id : receiverEdges_)
+            if (id >= items.front() && id <= items.back()) return false;
+        skipped += static_cast<uint32_t>(items.size());
+        return true;
+    };
+    if (!r.budget.spend(tree.notOutsideUnless(cone, skip, found_, r.budget.left()))) return true;
     examined_ = static_cast<uint32_t>(found_.size());
+    nearCone_ = examined_ + skipped;
     // Each one's weight from its faces' exact sides.
     r.budget.enter(WorkStage::BuildChain);
     remaining_.clear();

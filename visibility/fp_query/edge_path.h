@@ -58,6 +58,7 @@ class EdgePath {
         faces_ = nullptr;
         restActivated_ = false;
         examined_ = 0;
+        nearCone_ = 0;
         recentHits_.fill(UINT32_MAX);
         recentNext_ = 0;
         decline_ = EdgeDecline::None;
@@ -73,8 +74,12 @@ class EdgePath {
     void declined(EdgeDecline why) { decline_ = why; }
     // The edges of nonzero weight among those found (in the order the hierarchy found them).
     const std::vector<Remaining>& remaining() const { return remaining_; }
-    // The S_L edges the hierarchy found near the cone (each one's weight taken).
+    // The S_L edges the hierarchy found near the cone, each one's weight taken.
     uint32_t examined() const { return examined_; }
+    // Those and the edges of the subtrees skipped whole as holding no silhouette from x (their
+    // node's box not outside the cone): the edges near the cone, as a face-by-face path would
+    // meet them.
+    uint32_t nearCone() const { return nearCone_; }
     // A cell that needs Algorithm 1: the faces in the pyramid activated, once per run.
     void activateRest();
     // The line tests of this path: the faces of G on the ray from x through y.
@@ -91,8 +96,9 @@ class EdgePath {
     const LightEdgeIndex* index_ = nullptr;
     const BoxTree* faces_ = nullptr;
     bool restActivated_ = false;
-    uint32_t examined_ = 0;
+    uint32_t examined_ = 0, nearCone_ = 0;
     std::vector<uint32_t> found_;
+    std::vector<uint32_t> receiverEdges_;  // B's edges in S_L (their index ids)
     std::vector<Remaining> remaining_;
     std::vector<PlaneOrient> rayPlanes_;
     // Per face: the run whose s_f it holds (above two bits) and s_f + 1 (faceSide).

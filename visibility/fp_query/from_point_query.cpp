@@ -161,7 +161,7 @@ const FragmentList* FromPointQuery::runLightEdges(const PolygonMesh& mesh, uint3
     // the chain cut by them costs more than the face-by-face paths, which drop a hidden part at
     // once (ChainOptions::gain, as ChainBuild decides for those paths): not taken.
     const uint32_t gain = r.chainOptions.gain;
-    if (gain != 0 && q.edges.remaining().size() * gain > q.edges.examined()) {
+    if (gain != 0 && q.edges.remaining().size() * gain > q.edges.nearCone()) {
         q.edges.reset();
         q.edges.declined(EdgeDecline::FewCancel);
         return nullptr;

@@ -75,9 +75,10 @@ struct ChainCounts {
     // Cells decided whole before the chain's edges left in them were cut
     // (ChainCells::decideWhole), hidden or seen.
     uint32_t hiddenWhole = 0, seenWhole = 0;
-    // On the light-edge path: the S_L edges the hierarchy found near the cone (each one's weight
-    // taken), against boundaryEdges (those of nonzero weight) and the chain's edges in the cone
-    // (chainInCone, also on the other paths).
+    // On the light-edge path: the S_L edges the hierarchy found near the cone, less those in
+    // subtrees skipped as seen wholly from one side (silhouette_cull.h), each one's weight taken
+    // (occluderEdges: with the skipped ones), against boundaryEdges (those of nonzero weight) and
+    // the chain's edges in the cone (chainInCone, also on the other paths).
     uint32_t lightEdgesExamined = 0, chainInCone = 0;
 };
 
