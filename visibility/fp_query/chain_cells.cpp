@@ -106,7 +106,7 @@ void ChainCells::classify(std::span<const Vec3> poly, size_t depth) {
         ++counts.fallbacks;
         if (q_.silhouettes.active()) q_.silhouettes.activateRest();
         if (q_.clusters.active()) q_.clusters.dissolve();
-        if (q_.edges.active()) q_.edges.activateRest();
+        if (q_.edges.active()) q_.edges.activateNear(poly);
         if (r.budget.reached()) return;
         q_.clip.clip(poly, depth);
         return;

@@ -75,6 +75,7 @@ bool EdgePath::prepare(const BoxTree& faces, const LightEdgeIndex& index) {
     if (faceMemo_.size() < mesh.faces.size()) faceMemo_.resize(mesh.faces.size(), 0);
     if (++runStamp_ == kStampEnd) {  // wrapped: no stale stamp may match
         std::fill(faceMemo_.begin(), faceMemo_.end(), 0);
+        std::fill(activeMemo_.begin(), activeMemo_.end(), 0);
         runStamp_ = 1;
     }
     // The S_L edges whose box is not certainly outside the cone (conservative: the exact test of
@@ -145,9 +146,38 @@ void EdgePath::activateRest() {
     r.budget.enter(WorkStage::FindOccluders);
     r.candidates.clear();
     if (!r.budget.spend(faces_->notOutside(r.pyramid, r.candidates, r.budget.left()))) return;
+    activate(r.candidates);
+}
+
+void EdgePath::activateNear(std::span<const Vec3> poly) {
+    if (restActivated_) return;
+    QueryRun& r = q_.run;
+    // The faces that may meet the cell's hull: those whose box is not certainly outside the
+    // pyramid nor one of the hull's planes (OccluderClip::hullCone: exact signs of the cell's
+    // vertices; Algorithm 1 culls its occluders for the cell by the same planes). Where no plane
+    // holds the cell (a rounded sliver that is not convex), every face in the pyramid.
+    const std::vector<PlaneOrient>& hull = q_.clip.hullCone(poly);
+    if (r.budget.reached()) return;
+    if (hull.empty()) {
+        activateRest();
+        return;
+    }
+    nearPlanes_.assign(r.pyramid.begin(), r.pyramid.end());
+    nearPlanes_.insert(nearPlanes_.end(), hull.begin(), hull.end());
+    r.budget.enter(WorkStage::FindOccluders);
+    nearFaces_.clear();
+    if (!r.budget.spend(faces_->notOutside(nearPlanes_, nearFaces_, r.budget.left()))) return;
+    activate(nearFaces_);
+}
+
+void EdgePath::activate(std::span<const uint32_t> faces) {
+    QueryRun& r = q_.run;
     r.budget.enter(WorkStage::ActivateOccluders);
-    for (uint32_t f : r.candidates) {
+    if (activeMemo_.size() < faceMemo_.size()) activeMemo_.resize(faceMemo_.size(), 0);
+    for (uint32_t f : faces) {
         if (f == r.pair.receiver() || f == r.pair.light()) continue;
+        if (activeMemo_[f] == runStamp_) continue;  // activated for an earlier cell of this run
+        activeMemo_[f] = runStamp_;
         if (!r.budget.spend()) return;
         q_.active.activate(f);
     }

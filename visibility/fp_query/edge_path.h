@@ -32,6 +32,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "visibility/box_tree.h"
@@ -80,7 +81,10 @@ class EdgePath {
     // node's box not outside the cone): the edges near the cone, as a face-by-face path would
     // meet them.
     uint32_t nearCone() const { return nearCone_; }
-    // A cell that needs Algorithm 1: the faces in the pyramid activated, once per run.
+    // A cell that needs Algorithm 1: the faces that may meet its hull activated (those not yet
+    // activated this run), or every face in the pyramid once per run (activateRest) where no
+    // plane through x and an edge of the cell holds it.
+    void activateNear(std::span<const Vec3> poly);
     void activateRest();
     // The line tests of this path: the faces of G on the ray from x through y.
     bool lineBlocked(const Vec3& y);
@@ -89,6 +93,8 @@ class EdgePath {
   private:
     // s_f for a face of G, 0 for any other face; taken once per run.
     int faceSide(uint32_t face);
+    // Activates those of `faces` (other than B and L) not activated yet this run.
+    void activate(std::span<const uint32_t> faces);
     // rayPlanes_: the culling planes of the ray from x through y (a certified cell point).
     void setRayPlanes(const Vec3& y);
 
@@ -103,6 +109,10 @@ class EdgePath {
     std::vector<PlaneOrient> rayPlanes_;
     // Per face: the run whose s_f it holds (above two bits) and s_f + 1 (faceSide).
     std::vector<uint32_t> faceMemo_;
+    // Per face: the run that activated it (activate).
+    std::vector<uint32_t> activeMemo_;
+    std::vector<PlaneOrient> nearPlanes_;
+    std::vector<uint32_t> nearFaces_;
     static constexpr uint32_t kStampEnd = 1u << 30;
     uint32_t runStamp_ = 0;
     // The last faces that hid a cell (a hidden cell's neighbour is mostly hidden by the same

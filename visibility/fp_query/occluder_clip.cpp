@@ -41,14 +41,9 @@ void OccluderClip::order() {
     active.reorder(order_);
 }
 
-bool OccluderClip::cullFor(std::span<const Vec3> poly, size_t from) {
+const std::vector<PlaneOrient>& OccluderClip::hullCone(std::span<const Vec3> poly) {
     QueryRun& r = q_.run;
     const std::vector<Vec3>& light = r.light();
-    r.budget.enter(WorkStage::ClipOccluders);
-    // The planes through x and the polygon's edges that have no vertex of it strictly on their
-    // negative side (exact signs of its vertices, doubles: a rounded polygon that is not quite
-    // convex loses only the planes that would cut it), oriented as L is seen from x: each holds
-    // the polygon's hull, so an occluder whose box lies strictly outside one blocks none of it.
     if (lightTurn_ == Sign::Zero)  // x strictly in front of L (startPair): not zero
         lightTurn_ = PlaneOrient(r.x, light[0], light[1]).sign(light[2]);
     hullCone_.clear();
@@ -66,7 +61,16 @@ bool OccluderClip::cullFor(std::span<const Vec3> poly, size_t from) {
         }
         if (holds && strict) hullCone_.push_back(h);
     }
-    if (!r.budget.spend(n)) return false;
+    r.budget.spend(n);
+    return hullCone_;
+}
+
+bool OccluderClip::cullFor(std::span<const Vec3> poly, size_t from) {
+    QueryRun& r = q_.run;
+    r.budget.enter(WorkStage::ClipOccluders);
+    // The occluders that may meet the polygon's hull (hullCone).
+    hullCone(poly);
+    if (r.budget.reached()) return false;
     const BoxTree& boxes = q_.active.boxes();
     cullOut_.clear();
     if (!r.budget.spend(boxes.notOutside(hullCone_, cullOut_, r.budget.left()))) return false;

@@ -32,6 +32,12 @@ class OccluderClip {
     void clip(std::span<const Vec3> poly, size_t depth) { clipByOccluders(poly, 0, depth); }
     // The clips that changed a piece (split or removed it) this run.
     uint32_t clips() const { return clips_; }
+    // The planes through x and `poly`'s edges that have no vertex of it strictly on their
+    // negative side (exact signs of its vertices: a rounded polygon that is not quite convex
+    // loses only the planes that would cut it), oriented as L is seen from x: each holds the
+    // polygon's hull, so a face whose box lies strictly outside one blocks none of it. Valid
+    // until the next call; its n sign tests are spent from the run's budget.
+    const std::vector<PlaneOrient>& hullCone(std::span<const Vec3> poly);
 
   private:
     // `poly` clipped against the occluders from `from` on (those that may meet it).
