@@ -69,6 +69,8 @@ class SilhouetteCull {
     // for all): off every one of them, as the contact rule's check at a moved query's input
     // needs.
     bool oneSideOfEvery(uint32_t node, const Vec3& p) const { return oneSide(nodes_[node], p); }
+    // Every node's bounds equal (a build given ParallelLoops against a serial one).
+    bool operator==(const SilhouetteCull&) const = default;
 
   private:
     struct Node {
@@ -77,6 +79,7 @@ class SilhouetteCull {
         double nhi[3] = {0, 0, 0};
         double elo = 1, ehi = 1;  // bounds on every exact (c - a) . N below
         bool balanced = false;    // every edge below balanced over its Front uses
+        bool operator==(const Node&) const = default;
     };
     static bool oneSide(const Node& n, const Vec3& p);
 

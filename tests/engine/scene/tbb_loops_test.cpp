@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <optional>
 #include <random>
 #include <utility>
 #include <vector>
@@ -224,6 +225,18 @@ TEST(TbbLoops, ParallelLightEdgeIndexEqualsSerialAndAnIndependentComputation) {
     expectSameTree(index.edgeBoxes(), serial.edgeBoxes());
     expectSameTree(index.acrossFaces(), serial.acrossFaces());
     expectWellFormed(index.edgeBoxes(), index.size());
+    // The silhouette cull's bounds per node, and the lookup of an edge by its vertices.
+    EXPECT_EQ(index.silhouettes().bytes(), serial.silhouettes().bytes());
+    EXPECT_TRUE(index.silhouettes() == serial.silhouettes());
+    for (uint32_t i = 0; i < index.size(); i += 97) {
+        EXPECT_EQ(index.find(index.edge(i).lo, index.edge(i).hi), std::optional<uint32_t>(i));
+        EXPECT_EQ(serial.find(serial.edge(i).lo, serial.edge(i).hi), std::optional<uint32_t>(i));
+    }
+    for (size_t t = 0; t < edges.size(); t += 101) {
+        if (!set.contains(t)) {
+            EXPECT_EQ(index.find(edges.edge(t).lo, edges.edge(t).hi), std::nullopt);
+        }
+    }
 }
 
 }  // namespace
