@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/cluster/cluster_precompute.h"
 #include "engine/cluster/mpi_session.h"
 #include "engine/precompute/visibility_store.h"
 #include "engine/render/renderer.h"

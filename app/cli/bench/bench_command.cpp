@@ -37,6 +37,7 @@
 #include "engine/io/finite_output.h"
 #include "engine/io/text_input.h"
 #include "engine/render/renderer.h"
+#include "engine/scene/scene_error.h"
 #include "engine/studies/study_harness.h"
 
 #ifndef PENUMBRA_BUILD_TYPE
