@@ -119,8 +119,10 @@ void addExactOptions(CLI::App& sub, ExactOptions& o, ExactOptionSet set) {
                    "the groups, as its partial tree's would (the same answer; 0 = build it)")
         ->capture_default_str();
     sub.add_option("--exact-work-limit", o.exactWorkLimit,
-                   "Exact: plane tests one point's query may make; a point that needs more is "
-                   "sampled with --light-samples rays and counted (0 = every point exact)")
+                   "Exact: plane tests one point's query may make on the tree and direct paths; "
+                   "a point that needs more takes the light-edge path (the same answer), and is "
+                   "sampled with --light-samples rays and counted only over its limit too (0 = "
+                   "no limit: every point on the first paths, often slower)")
         ->capture_default_str();
     sub.add_option("--light-edge-work-limit", o.lightEdgeWorkLimit,
                    "Exact: a point over --exact-work-limit first takes the light-edge path (the "
