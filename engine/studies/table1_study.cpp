@@ -96,6 +96,8 @@ void countEvaluations(const EffectsSummary& fx, ExactRender& e) {
     e.cost.chainOccluderEdges = fx.costs.chainOccluderEdges;
     const EvaluationCosts::TimeSplit split = fx.costs.timeSplit();
     e.cost.timeSplit = {split.exact, split.attempts, split.rays};
+    e.cost.lightEdges = LightEdgeCounts{fx.costs.lightEdgeEvaluations, fx.costs.lightEdgesExamined,
+                                        fx.costs.lightEdgesWeighted, fx.costs.lightEdgesInCone};
     e.refined = {fx.refinedPairs, fx.refinedTrees, fx.refinedTreesUsed, fx.refineNotWorth,
                  fx.refineSeconds};
 }

@@ -69,6 +69,14 @@ struct TimeSplit {
     double exactSeconds = 0, attemptSeconds = 0, raysSeconds = 0;
 };
 
+// The light-edge path's evaluations in the default exact render (EvaluationCosts, all of them,
+// not only the timed ones), summed: the S_L edges each examined (its weight taken; those in the
+// subtrees seen wholly from one side are skipped uncounted), those of nonzero weight, and those of
+// them that meet the cone over L (K: the edges that can bound the point's shadow).
+struct LightEdgeCounts {
+    uint64_t evaluations = 0, examined = 0, weighted = 0, inCone = 0;
+};
+
 // The default exact render's evaluation costs.
 struct ExactCost {
     EvaluationTimes times;
@@ -76,6 +84,7 @@ struct ExactCost {
     uint64_t sampledQuantileStride = 1;  // (of sampledMedianUs: kHistogramQuantiles)
     uint64_t chainOccluderEdges = 0;     // the edges of the occluders the chain's edges came from
     TimeSplit timeSplit;
+    std::optional<LightEdgeCounts> lightEdges;  // (absent from a bench.json that predates it)
 };
 
 // The evaluation costs of a render without the work limit, and the image it came from.

@@ -212,13 +212,24 @@ struct Schema<TimeSplit> {
 };
 
 template <>
+struct Schema<LightEdgeCounts> {
+    using S = LightEdgeCounts;
+    static auto fields() {
+        return std::tuple{field("evaluations", &S::evaluations), field("examined", &S::examined),
+                          field("weighted", &S::weighted), field("inCone", &S::inCone)};
+    }
+};
+
+template <>
 struct Schema<ExactCost> {
     using S = ExactCost;
     static auto fields() {
-        return std::tuple{inlined(&S::times), field("sampledMedianUs", &S::sampledMedianUs),
+        return std::tuple{inlined(&S::times),
+                          field("sampledMedianUs", &S::sampledMedianUs),
                           field("sampledQuantileStride", &S::sampledQuantileStride),
                           field("chainOccluderEdges", &S::chainOccluderEdges),
-                          field("timeSplit", &S::timeSplit)};
+                          field("timeSplit", &S::timeSplit),
+                          optional("lightEdges", &S::lightEdges)};
     }
 };
 

@@ -572,6 +572,45 @@ void writeShadowEdges(std::ostream& r, const std::vector<Table1Row>& rows) {
     r << "\n";
 }
 
+// Of Table 1's exact renders: the light-edge path's edges per evaluation against K, the edges
+// that can bound the point's shadow (what an output-sensitive finder would look at).
+void writeLightEdges(std::ostream& r, const std::vector<Table1Row>& rows) {
+    const auto has = [](const Table1Row& row) {
+        return row.exact.render && row.exact.render->cost.lightEdges.has_value();
+    };
+    if (std::none_of(rows.begin(), rows.end(), has)) return;
+    r << "### Edges examined per point against K\n\n"
+      << "Table 1's exact renders, the evaluations the light-edge path answered (all of them, not "
+         "only the timed ones), per evaluation: the S_L edges near the point's cone whose weight "
+         "was taken (those of the subtrees the point sees wholly from one side are skipped "
+         "without it: docs/design.md, the light-edge path), those of nonzero weight, and those of "
+         "them "
+         "that meet the cone over L: *K*, the edges that can bound this point's shadow. An "
+         "output-sensitive finder would examine about K; the last column says how far from that "
+         "the search is.\n\n"
+      << "| scene | light-edge evaluations | edges examined | of nonzero weight | in the cone (K) "
+         "| examined / K |\n|---|---|---|---|---|---|\n";
+    for (const Table1Row& row : rows) {
+        if (!has(row)) continue;
+        const LightEdgeCounts& c = *row.exact.render->cost.lightEdges;
+        r << "| " << sceneName(row.scene) << " | " << c.evaluations << " | ";
+        if (c.evaluations == 0) {
+            r << "- | - | - | - |\n";
+            continue;
+        }
+        const double n = static_cast<double>(c.evaluations);
+        r << num(static_cast<double>(c.examined) / n, "%.1f") << " | "
+          << num(static_cast<double>(c.weighted) / n, "%.1f") << " | "
+          << num(static_cast<double>(c.inCone) / n, "%.1f") << " | "
+          << (c.inCone > 0
+                  ? num(static_cast<double>(c.examined) / static_cast<double>(c.inCone), "%.1f") +
+                        "x"
+                  : std::string("-"))
+          << " |\n";
+    }
+    r << "\n";
+}
+
 // Of Table 1's scenes: the image with every point exact, and the shadow rays at which sampling
 // comes within the target error over its penumbra, with the search's points.
 void writeEqualError(std::ostream& r, const std::vector<Table1Row>& rows) {
@@ -668,6 +707,7 @@ void writeTable1(std::ostream& r, const std::vector<Table1Row>& rows,
     writeCost(r, rows);
     writeCostEveryPointExact(r, rows);
     writeShadowEdges(r, rows);
+    writeLightEdges(r, rows);
     writeEqualError(r, rows);
 }
 

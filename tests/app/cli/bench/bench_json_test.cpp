@@ -44,6 +44,7 @@ std::vector<Table1Row> sampleTable1() {
     e.workAt.direct[2] = 25;
     e.cost.times.evaluations = 125;
     e.cost.timeSplit = {0.1, 0.2, 0.3};
+    e.cost.lightEdges = LightEdgeCounts{4, 36, 10, 8};
     e.exactWorkLimit = 1024;
     e.everyPointExact = EveryPointExactRender{true, 0.75, 1.5, WorkByPath{}};
     e.costEveryPointExact = EveryPointExactCost{{}, 8, 8, 1, "--exact-cost-size", false};
@@ -147,6 +148,8 @@ TEST(BenchJson, ReadsBackWhatItWrites) {
     EXPECT_EQ(back.table1[0].allPairs->fileBytes, 4096u);
     ASSERT_TRUE(back.table1[0].shadowEdges.has_value());
     EXPECT_EQ(back.table1[0].shadowEdges->keptOverLights, 2911u);
+    ASSERT_TRUE(back.table1[0].exact.render->cost.lightEdges.has_value());
+    EXPECT_EQ(back.table1[0].exact.render->cost.lightEdges->inCone, 8u);
     EXPECT_FALSE(back.table1[1].shadowEdges.has_value());  // a run written before S_L
     EXPECT_FALSE(back.table1[1].exact.render.has_value());
     EXPECT_FALSE(back.table1[1].speedup.has_value());
@@ -224,6 +227,23 @@ TEST(BenchJson, AFileFromBeforeTheEqualErrorStudyStillReads) {
     EXPECT_EQ(readError(j), "bench.json: table1[0].equalError: missing \"penumbraPixels\"");
 }
 
+// A bench.json from before the light-edge counts still reads, the counts absent, and the report
+// leaves their table out; inside their object every key is required.
+TEST(BenchJson, AFileFromBeforeTheLightEdgeCountsStillReads) {
+    json j = benchJson(sample());
+    ASSERT_NE(benchReport(readBenchJson(j), false, "--no-plots")
+                  .find("### Edges examined per point against K"),
+              std::string::npos);
+    j["table1"][0]["exact"]["cost"].erase("lightEdges");
+    const BenchResults back = readBenchJson(j);
+    EXPECT_FALSE(back.table1[0].exact.render->cost.lightEdges.has_value());
+    EXPECT_EQ(benchReport(back, false, "--no-plots").find("### Edges examined per point against K"),
+              std::string::npos);
+    j = benchJson(sample());
+    j["table1"][0]["exact"]["cost"]["lightEdges"].erase("inCone");
+    EXPECT_EQ(readError(j), "bench.json: table1[0].exact.cost.lightEdges: missing \"inCone\"");
+}
+
 TEST(BenchJson, AMissingKeyOrAWrongTypeNamesItsPlace) {
     json j = benchJson(sample());
     j["table1"][1]["exact"].erase("trees");
@@ -258,6 +278,10 @@ TEST(BenchReport, WritesTheRowsFromTheStructs) {
               std::string::npos)
         << report;
     EXPECT_NE(report.find("| table.json | 3181 | 2316 | 25.0-50.0% | 0.125 |"), std::string::npos)
+        << report;
+    // The light-edge path's 4 evaluations: 36 edges examined, 10 of nonzero weight, 8 in the cone,
+    // per evaluation 9, 2.5 and 2; examined over K 36 / 8.
+    EXPECT_NE(report.find("| table.json | 4 | 9.0 | 2.5 | 2.0 | 4.5x |\n"), std::string::npos)
         << report;
     // Table 1's last columns: every point exact (0.5 s wall, 0.75 CPU), the sampled render at
     // equal error (4 rays, 0.25 / 0.5) and the speed-up 0.25 / 0.5; the dragon has none.
