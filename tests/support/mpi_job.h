@@ -68,8 +68,12 @@ class MpiJobTest : public ::testing::Test {
         return r;
     }
 
-    // Starts mpirun in the background (its exit status into dir_/rc when it ends).
+    // Starts mpirun in the background (its exit status into dir_/rc when it ends). The files an
+    // earlier run left are removed first: the background shell truncates them only once it runs,
+    // and until then awaitStderr would find the earlier run's lines (and awaitEnd its status).
     void start(int ranks, const std::vector<std::string>& args) {
+        for (const char* name : {"mpi.out", "mpi.err", "rc", "rc.tmp"})
+            std::filesystem::remove(dir_ / name);
         const std::string rcTmp = shellQuote((dir_ / "rc.tmp").string());
         const std::string c =
             "(" + launcherEnv_ + mpirunCommand(ranks, args, dir_ / "mpi.out", dir_ / "mpi.err") +
