@@ -106,6 +106,27 @@ class Coordinator {
         if (error_.empty()) error_ = error;
         if (state_ == State::Running) state_ = State::Failed;
     }
+    // Rank `r` died or stopped answering: nothing more is sent to it or awaited from it, and the
+    // run fails with `why` (which names it); MPI_Finalize would wait for it (lostRank).
+    void lose(int r, const std::string& why) {
+        Worker& w = workers_[r];
+        if (!w.alive && w.final) return;
+        w.alive = false;
+        w.final = true;
+        result_.lostRank = true;
+        result_.silentRanks.push_back(r);
+        fail(why);
+    }
+    // The next message; a receive that failed (its sender died mid-message) loses the sender.
+    std::optional<MpiMessage> receive() {
+        try {
+            return session_.poll();
+        } catch (const MpiError& e) {
+            if (e.peer <= 0 || e.peer >= session_.size()) throw;
+            lose(e.peer, name(e.peer) + ": " + e.what());
+            return std::nullopt;
+        }
+    }
     void awaitHellos(const std::function<bool()>& interrupted);
     std::vector<PairKey> nextBatch() {
         const size_t ranks = static_cast<size_t>(session_.size());
@@ -122,7 +143,12 @@ class Coordinator {
         while (state_ == State::Running && w.alive && !queue_.empty() &&
                w.batches.size() < kBatchesInFlight) {
             w.batches.push_back(nextBatch());
-            session_.send(rank, kTagWork, encodeKeys(w.batches.back()));
+            try {
+                session_.send(rank, kTagWork, encodeKeys(w.batches.back()));
+            } catch (const MpiError& e) {
+                // (Its batches are lost with it: the run fails, and a rerun builds them.)
+                lose(rank, name(rank) + ": " + e.what());
+            }
         }
     }
     void receiveTrees(int rank, const Bytes& bytes) {
@@ -143,13 +169,9 @@ class Coordinator {
         for (int r = 1; r < session_.size(); ++r) {
             Worker& w = workers_[r];
             if (!w.alive || w.final || now - w.lastHeard <= options_.silenceLimit) continue;
-            w.alive = false;
-            w.final = true;
-            result_.lostRank = true;
-            result_.silentRanks.push_back(r);
-            fail(name(r) + " stopped answering: no message for " +
-                 std::to_string(options_.silenceLimit.count() / 1000) +
-                 " s (killed, hung, out of memory or its node lost)");
+            lose(r, name(r) + " stopped answering: no message for " +
+                        std::to_string(options_.silenceLimit.count() / 1000) +
+                        " s (killed, hung, out of memory or its node lost)");
         }
     }
     PrecomputeProgress progress() const {
@@ -192,8 +214,9 @@ void Coordinator::awaitHellos(const std::function<bool()>& interrupted) {
     const auto deadline = Clock::now() + options_.helloLimit;
     std::vector<bool> heard(session_.size(), false);
     while (waiting > 0) {
-        std::optional<MpiMessage> m = session_.poll();
+        std::optional<MpiMessage> m = receive();
         if (!m) {
+            if (result_.lostRank) return;  // one died mid-HELLO: the run has failed
             // (A rank killed before its HELLO: the launcher's SIGTERM says so here.)
             if (interrupted()) {
                 if (state_ == State::Running) state_ = State::Cancelled;
@@ -201,14 +224,11 @@ void Coordinator::awaitHellos(const std::function<bool()>& interrupted) {
             }
             if (Clock::now() > deadline) {
                 for (int r = 1; r < session_.size(); ++r)
-                    if (!heard[r]) {
-                        workers_[r].alive = false;
-                        workers_[r].final = true;
-                        result_.lostRank = true;
-                        fail(name(r) + " did not answer within " +
-                             std::to_string(options_.helloLimit.count() / 1000) +
-                             " s of the start (could not start, or stuck loading the scene)");
-                    }
+                    if (!heard[r])
+                        lose(r, name(r) + " did not answer within " +
+                                    std::to_string(options_.helloLimit.count() / 1000) +
+                                    " s of the start (could not start, or stuck loading the "
+                                    "scene)");
                 return;
             }
             std::this_thread::sleep_for(kPoll);
@@ -276,11 +296,7 @@ void Coordinator::stopEveryone(PrecomputeScheduler* local, std::chrono::millisec
         try {
             session_.send(r, kTagStop, {}, limit);
         } catch (const MpiError& e) {
-            workers_[r].alive = false;
-            workers_[r].final = true;
-            result_.lostRank = true;
-            result_.silentRanks.push_back(r);
-            fail(name(r) + ": " + e.what());
+            lose(r, name(r) + ": " + e.what());
         }
     }
     // Every live worker answers FINAL with what it finished, within `limit` (stopLimit once
@@ -297,20 +313,16 @@ void Coordinator::stopEveryone(PrecomputeScheduler* local, std::chrono::millisec
         bool waiting = false;
         for (int r = 1; r < session_.size(); ++r) waiting = waiting || !workers_[r].final;
         if (!waiting) break;
-        if (std::optional<MpiMessage> m = session_.poll()) {
+        if (std::optional<MpiMessage> m = receive()) {
             handle(*m);
             continue;
         }
         if (Clock::now() > deadline) {
             for (int r = 1; r < session_.size(); ++r)
-                if (!workers_[r].final) {
-                    workers_[r].final = true;
-                    workers_[r].alive = false;
-                    result_.lostRank = true;
-                    result_.silentRanks.push_back(r);
-                    fail(name(r) + " did not answer the stop within " +
-                         std::to_string(limit.count()) + " ms (it had ended: killed or crashed)");
-                }
+                if (!workers_[r].final)
+                    lose(r, name(r) + " did not answer the stop within " +
+                                std::to_string(limit.count()) +
+                                " ms (it had ended: killed or crashed)");
             break;
         }
         std::this_thread::sleep_for(kPoll);
@@ -349,7 +361,7 @@ ClusterPrecomputeResult Coordinator::run(
     const size_t budget = options_.memoryBudgetBytes;
     while (state_ == State::Running) {
         bool busy = false;
-        while (std::optional<MpiMessage> m = session_.poll()) {
+        while (std::optional<MpiMessage> m = receive()) {
             handle(*m);
             busy = true;
         }
@@ -389,7 +401,9 @@ ClusterPrecomputeResult Coordinator::run(
     // Interrupted: the launcher may kill every rank a second after its SIGTERM (Open MPI's
     // mpirun does, on Ctrl-C or when a rank died), so what rank 0 holds is written first, then the
     // workers get a short while to send what they finished.
-    const bool stoppedBySignal = state_ == State::Cancelled;
+    // (Also when a lost rank failed the run: the launcher's SIGTERM that followed its death
+    // may be here already.)
+    const bool stoppedBySignal = state_ == State::Cancelled || interrupted();
     if (stoppedBySignal) checkpoint();
     stopEveryone(local ? &*local : nullptr,
                  stoppedBySignal ? options_.stopLimit : options_.silenceLimit, interrupted);

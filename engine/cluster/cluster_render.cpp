@@ -253,6 +253,23 @@ RenderCoordinator::RenderCoordinator(MpiSession& session, VisibilityStore& store
 
 std::string RenderCoordinator::name(int rank) const { return "rank " + std::to_string(rank); }
 
+void RenderCoordinator::send(int to, int tag, const std::vector<unsigned char>& bytes) {
+    try {
+        session_.send(to, tag, bytes, options_.silenceLimit);
+    } catch (const MpiError& e) {
+        lose(to, e.what());
+    }
+}
+
+std::optional<MpiMessage> RenderCoordinator::receive() {
+    try {
+        return session_.poll();
+    } catch (const MpiError& e) {
+        if (e.peer <= 0 || e.peer >= session_.size()) throw;
+        lose(e.peer, e.what());
+    }
+}
+
 void RenderCoordinator::sendAll(int tag, const std::vector<unsigned char>& bytes) {
     for (int r = 1; r < session_.size(); ++r) {
         try {
@@ -357,7 +374,7 @@ bool RenderCoordinator::buildTrees(const std::vector<PairKey>& keys) {
     int waiting = session_.size() - 1;
     auto lastHeard = Clock::now();
     while (waiting > 0) {
-        std::optional<MpiMessage> m = session_.poll();
+        std::optional<MpiMessage> m = receive();
         if (!m) {
             if (interrupted()) return false;
             if (Clock::now() - lastHeard > options_.silenceLimit)
@@ -436,7 +453,7 @@ bool RenderCoordinator::shadePass(int pass, int width, int height, const PassCel
             Writer w;
             w.u64(batch.size());
             for (int t : batch) w.u32(static_cast<uint32_t>(t));
-            session_.send(r, kTagTiles, w.bytes(), options_.silenceLimit);
+            send(r, kTagTiles, w.bytes());
             stats_.tileBytes += w.bytes().size();
             inFlight[r].push_back(std::move(batch));
         }
@@ -449,7 +466,7 @@ bool RenderCoordinator::shadePass(int pass, int width, int height, const PassCel
         for (int r = 1; r < ranks; ++r) handOut(r);
         for (;;) {
             bool busy = false;
-            while (std::optional<MpiMessage> m = session_.poll()) {
+            while (std::optional<MpiMessage> m = receive()) {
                 busy = true;
                 const int r = m->source;
                 if (r <= 0 || r >= ranks) continue;
@@ -549,7 +566,16 @@ std::vector<int> RenderCoordinator::finish(std::chrono::milliseconds limit) {
         bool waiting = false;
         for (int r = 1; r < session_.size(); ++r) waiting = waiting || !answered[r];
         if (!waiting) break;
-        if (std::optional<MpiMessage> m = session_.poll()) {
+        std::optional<MpiMessage> m;
+        try {
+            m = session_.poll();
+        } catch (const MpiError& e) {
+            if (e.peer <= 0 || e.peer >= session_.size()) throw;
+            if (!answered[e.peer]) silent.push_back(e.peer);  // it died mid-message
+            answered[e.peer] = true;
+            continue;
+        }
+        if (m) {
             if (m->tag == kTagFinal && m->source > 0 && m->source < session_.size())
                 answered[m->source] = true;
             continue;

@@ -118,6 +118,10 @@ class RenderCoordinator : public RenderCluster {
     bool stopNote(const MpiMessage& m);
     std::string name(int rank) const;
     void sendAll(int tag, const std::vector<unsigned char>& bytes);
+    // One message to rank `to`, and the next message from any rank: a send or a receive that
+    // failed (the rank died or stopped answering) loses that rank (lose).
+    void send(int to, int tag, const std::vector<unsigned char>& bytes);
+    std::optional<MpiMessage> receive();
     [[noreturn]] void lose(int rank, const std::string& why);
 
     MpiSession& session_;

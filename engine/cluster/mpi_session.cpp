@@ -18,8 +18,9 @@ std::string errorText(int code) {
     return std::string(text, static_cast<size_t>(length));
 }
 
-void check(int code, const std::string& what) {
-    if (code != MPI_SUCCESS) throw MpiError(what + ": " + errorText(code));
+// `peer`: the rank the call was a send to or a receive from (MpiError::peer), -1 for none.
+void check(int code, const std::string& what, int peer = -1) {
+    if (code != MPI_SUCCESS) throw MpiError(what + ": " + errorText(code), peer);
 }
 
 }  // namespace detail_mpi
@@ -59,7 +60,7 @@ namespace detail_mpi {
 // Waits, sleeping, until `request` completes. Past `timeout`, or past
 // MpiSession::kInterruptedGrace once `interrupted` says so, the request is cancelled and freed
 // and the returned error says why (its buffer may still be written to: the caller keeps it).
-std::optional<MpiError> await(MPI_Request& request, const std::string& what,
+std::optional<MpiError> await(MPI_Request& request, int peer, const std::string& what,
                               std::chrono::milliseconds timeout,
                               const std::function<bool()>& interrupted, const char* lateCause) {
     const auto start = std::chrono::steady_clock::now();
@@ -68,7 +69,7 @@ std::optional<MpiError> await(MPI_Request& request, const std::string& what,
     auto pause = std::chrono::microseconds(20);
     for (;;) {
         int done = 0;
-        check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), what);
+        check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), what, peer);
         if (done) return std::nullopt;
         const auto now = std::chrono::steady_clock::now();
         if (!sawInterrupt && interrupted && interrupted()) {
@@ -81,8 +82,9 @@ std::optional<MpiError> await(MPI_Request& request, const std::string& what,
             const auto waited =
                 std::chrono::duration_cast<std::chrono::milliseconds>(now - start).count();
             return MpiError(what + ": " + lateCause + " after " + std::to_string(waited) +
-                            " ms (the rank stopped answering" +
-                            (sawInterrupt ? ", and this one was interrupted)" : ")"));
+                                " ms (the rank stopped answering" +
+                                (sawInterrupt ? ", and this one was interrupted)" : ")"),
+                            peer);
         }
         std::this_thread::sleep_for(pause);
         pause = std::min<std::chrono::microseconds>(pause * 2, std::chrono::milliseconds(2));
@@ -101,9 +103,9 @@ void MpiSession::send(int to, int tag, std::span<const unsigned char> bytes,
     const std::string what = "sending to rank " + std::to_string(to);
     detail_mpi::check(MPI_Isend(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, to, tag,
                                 MPI_COMM_WORLD, &request),
-                      what);
+                      what, to);
     // (A send's buffer is the caller's, which the abort that follows a lost rank ends.)
-    if (auto error = detail_mpi::await(request, what, timeout, interrupted_, "not received"))
+    if (auto error = detail_mpi::await(request, to, what, timeout, interrupted_, "not received"))
         throw *error;
 }
 
@@ -126,8 +128,9 @@ std::optional<MpiMessage> MpiSession::poll(std::chrono::milliseconds timeout) {
     // arriving (mpi_session.h).
     const std::string what = "receiving from rank " + std::to_string(m.source);
     MPI_Request request;
-    detail_mpi::check(MPI_Imrecv(m.bytes.data(), count, MPI_BYTE, &handle, &request), what);
-    if (auto error = detail_mpi::await(request, what, timeout, interrupted_,
+    detail_mpi::check(MPI_Imrecv(m.bytes.data(), count, MPI_BYTE, &handle, &request), what,
+                      m.source);
+    if (auto error = detail_mpi::await(request, m.source, what, timeout, interrupted_,
                                        "the message stopped arriving")) {
         abandoned_.push_back(std::move(m.bytes));  // MPI may still write to it
         throw *error;

@@ -26,9 +26,13 @@
 
 namespace penumbra::cluster {
 
-// An MPI call failed, or a peer did not answer in time. what() names the rank and the cause.
+// An MPI call failed, or a peer did not answer in time. what() names the rank and the cause;
+// `peer` is that rank when the failure was a send to it or a receive from it (a rank that died
+// or stopped answering), so that a coordinator can treat it as that rank's loss. -1 otherwise.
 struct MpiError : std::runtime_error {
-    using std::runtime_error::runtime_error;
+    explicit MpiError(const std::string& what, int peer = -1)
+        : std::runtime_error(what), peer(peer) {}
+    int peer;
 };
 
 struct MpiMessage {
