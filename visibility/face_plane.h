@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 
 #include "visibility/polygon_mesh.h"
 #include "visibility/predicates.h"
@@ -29,6 +30,12 @@ inline FacePlane facePlane(const PolygonMesh& mesh, uint32_t face) {
 // (LightEdgeIndex::corners).
 inline FacePlane facePlane(const PolygonMesh& mesh, const std::array<uint32_t, 3>& corners) {
     return {mesh.vertices[corners[0]], mesh.vertices[corners[1]], mesh.vertices[corners[2]]};
+}
+
+// The same plane from copies of those three vertices, indexed by `corners` in `vertices`
+// (LightEdgeIndex::localFace).
+inline FacePlane facePlane(std::span<const Vec3> vertices, const std::array<uint32_t, 3>& corners) {
+    return {vertices[corners[0]], vertices[corners[1]], vertices[corners[2]]};
 }
 
 }  // namespace penumbra::vis

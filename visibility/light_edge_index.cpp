@@ -115,6 +115,31 @@ LightEdgeIndex::LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, 
                 const MeshEdges::Edge& e = edges_[sortedIds_[k]];
                 sortedKeys_[k] = uint64_t{e.lo} << 32 | e.hi;
             }
+            // The Front faces and their corners, numbered as the uses (in leaf order) meet them.
+            std::vector<uint32_t> faceLocal(mesh.faces.size(), kNotFront);
+            std::vector<uint32_t> vertexLocal(mesh.vertices.size(), kNotFront);
+            useLocal_.resize(uses_.size());
+            for (size_t u = 0; u < uses_.size(); ++u) {
+                const uint32_t f = uses_[u].face;
+                if (sides_[f] != Side::Front) {
+                    useLocal_[u] = kNotFront;
+                    continue;
+                }
+                if (faceLocal[f] == kNotFront) {
+                    LocalFace local{f, {}};
+                    for (size_t k = 0; k < 3; ++k) {
+                        uint32_t& v = vertexLocal[corners_[f][k]];
+                        if (v == kNotFront) {
+                            v = static_cast<uint32_t>(localVertices_.size());
+                            localVertices_.push_back(mesh.vertices[corners_[f][k]]);
+                        }
+                        local.corners[k] = v;
+                    }
+                    faceLocal[f] = static_cast<uint32_t>(localFaces_.size());
+                    localFaces_.push_back(local);
+                }
+                useLocal_[u] = faceLocal[f];
+            }
         });
 }
 

@@ -77,6 +77,24 @@ class LightEdgeIndex {
     // A Front face's first three vertex ids, those its plane is taken from (face_plane.h): a
     // point's weights read them here, one entry per face, not through the mesh's face lists.
     const std::array<uint32_t, 3>& corners(uint32_t face) const { return corners_[face]; }
+    // The Front faces that S_L's edges use, numbered in the order the edges (in leaf order) first
+    // use them, each with its first three vertices (those of corners()) as indices into a copy
+    // of those vertices numbered the same way: a point's weights read the faces of nearby edges
+    // from nearby memory, not from the mesh's face and vertex lists, scattered over the whole
+    // model. The copies are the input coordinates: the planes taken from them are the same.
+    struct LocalFace {
+        uint32_t face = 0;
+        std::array<uint32_t, 3> corners{};  // indices into localVertex()
+    };
+    static constexpr uint32_t kNotFront = UINT32_MAX;
+    // Per use of edge i (as uses(i)), its face's number in localFace(), or kNotFront where the
+    // face is not Front.
+    std::span<const uint32_t> useLocalFaces(uint32_t i) const {
+        return {useLocal_.data() + begin_[i], useLocal_.data() + begin_[i + 1]};
+    }
+    size_t localFaceCount() const { return localFaces_.size(); }
+    const LocalFace& localFace(uint32_t l) const { return localFaces_[l]; }
+    std::span<const Vec3> localVertices() const { return localVertices_; }
     // A hierarchy over the Across faces' boxes (items: face ids); empty when there are none.
     const BoxTree& acrossFaces() const { return acrossFaces_; }
     size_t acrossCount() const { return acrossCount_; }
@@ -87,7 +105,10 @@ class LightEdgeIndex {
                sides_.capacity() * sizeof(Side) +
                corners_.capacity() * sizeof(std::array<uint32_t, 3>) + edgeBoxes_.bytes() +
                acrossFaces_.bytes() + silhouettes_.bytes() +
-               sortedKeys_.capacity() * sizeof(uint64_t) + sortedIds_.capacity() * sizeof(uint32_t);
+               sortedKeys_.capacity() * sizeof(uint64_t) +
+               sortedIds_.capacity() * sizeof(uint32_t) + useLocal_.capacity() * sizeof(uint32_t) +
+               localFaces_.capacity() * sizeof(LocalFace) +
+               localVertices_.capacity() * sizeof(Vec3);
     }
 
   private:
@@ -105,6 +126,9 @@ class LightEdgeIndex {
     std::vector<uint32_t> sortedIds_;
     std::vector<Side> sides_;
     std::vector<std::array<uint32_t, 3>> corners_;  // per face; set for Front faces
+    std::vector<uint32_t> useLocal_;                // per use: its face in localFaces_
+    std::vector<LocalFace> localFaces_;
+    std::vector<Vec3> localVertices_;
     BoxTree acrossFaces_;
 };
 

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <span>
 #include <vector>
 
 #include "tests/support/test_scale.h"
@@ -240,6 +241,48 @@ TEST(LightEdgeIndex, KeepsSLWithItsUsesAndSortsTheFacesByLightsPlane) {
         index.acrossFaces().notOutside(none, found);
         std::sort(found.begin(), found.end());
         EXPECT_EQ(found, (std::vector<uint32_t>{2, 3, 4, 5}));
+    }
+}
+
+// The copies the weights read (LightEdgeIndex::localFace): every use of a Front face names that
+// face, and its corners are the face's first three input vertices, bit for bit; a use by any
+// other face names none. Each Front face and each vertex is copied once. The mesh itself is the
+// reference; both of the cube's placements (all Front, then Front, Behind and Across).
+TEST(LightEdgeIndex, CopiesEachFrontFacesCornersOnceForItsUses) {
+    for (const double lightZ : {3.0, 0.5}) {
+        const PolygonMesh m = cubeUnderLight(lightZ, 0.1);
+        const LightEdgeIndex index(m, MeshEdges(m), 6);
+        std::vector<int> copies(m.faces.size(), 0);
+        for (uint32_t l = 0; l < index.localFaceCount(); ++l) ++copies[index.localFace(l).face];
+        size_t frontUses = 0, otherUses = 0;
+        for (uint32_t i = 0; i < index.size(); ++i) {
+            const std::span<const MeshEdges::Use> uses = index.uses(i);
+            const std::span<const uint32_t> locals = index.useLocalFaces(i);
+            ASSERT_EQ(locals.size(), uses.size());
+            for (size_t k = 0; k < uses.size(); ++k) {
+                const uint32_t face = uses[k].face;
+                if (index.side(face) != LightEdgeIndex::Side::Front) {
+                    EXPECT_EQ(locals[k], LightEdgeIndex::kNotFront) << "face " << face;
+                    ++otherUses;
+                    continue;
+                }
+                ++frontUses;
+                ASSERT_LT(locals[k], index.localFaceCount());
+                const LightEdgeIndex::LocalFace& local = index.localFace(locals[k]);
+                EXPECT_EQ(local.face, face);
+                EXPECT_EQ(copies[face], 1) << "face " << face;
+                for (size_t c = 0; c < 3; ++c) {
+                    const Vec3& copy = index.localVertices()[local.corners[c]];
+                    const Vec3& input = m.vertices[m.faces[face][c]];
+                    EXPECT_TRUE(copy.x == input.x && copy.y == input.y && copy.z == input.z)
+                        << "face " << face << " corner " << c;
+                }
+            }
+        }
+        // Above the cube every use is by a Front face but the light's own; through it, S_L's edges
+        // lie on the sides (Across) and the top (Behind).
+        EXPECT_GT(lightZ == 3.0 ? frontUses : otherUses, 0u);
+        EXPECT_LE(index.localVertices().size(), m.vertices.size());
     }
 }
 

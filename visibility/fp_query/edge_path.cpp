@@ -73,8 +73,10 @@ bool EdgePath::prepare(const BoxTree& faces, const LightEdgeIndex& index) {
     index_ = &index;
     faces_ = &faces;
     if (faceMemo_.size() < mesh.faces.size()) faceMemo_.resize(mesh.faces.size(), 0);
+    if (localMemo_.size() < index.localFaceCount()) localMemo_.resize(index.localFaceCount(), 0);
     if (++runStamp_ == kStampEnd) {  // wrapped: no stale stamp may match
         std::fill(faceMemo_.begin(), faceMemo_.end(), 0);
+        std::fill(localMemo_.begin(), localMemo_.end(), 0);
         std::fill(activeMemo_.begin(), activeMemo_.end(), 0);
         runStamp_ = 1;
     }
@@ -113,9 +115,11 @@ bool EdgePath::prepare(const BoxTree& faces, const LightEdgeIndex& index) {
     remaining_.clear();
     for (uint32_t i : found_) {
         int w = 0;
-        for (const MeshEdges::Use& u : index.uses(i)) {
-            const int s = faceSide(u.face);
-            w += u.forward ? s : -s;
+        const std::span<const MeshEdges::Use> uses = index.uses(i);
+        const std::span<const uint32_t> locals = index.useLocalFaces(i);
+        for (size_t k = 0; k < uses.size(); ++k) {
+            const int s = localSide(locals[k]);
+            w += uses[k].forward ? s : -s;
         }
         if (r.budget.reached()) return true;
         if (w != 0) remaining_.push_back({index.edge(i).lo, index.edge(i).hi, w});
@@ -136,6 +140,22 @@ int EdgePath::faceSide(uint32_t face) {
         side = s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
     }
     faceMemo_[face] = runStamp_ << 2 | static_cast<uint32_t>(side + 1);
+    return side;
+}
+
+int EdgePath::localSide(uint32_t local) {
+    if (local == LightEdgeIndex::kNotFront) return 0;
+    const uint32_t memo = localMemo_[local];
+    if (memo >> 2 == runStamp_) return static_cast<int>(memo & 3) - 1;
+    QueryRun& r = q_.run;
+    const LightEdgeIndex::LocalFace& f = index_->localFace(local);
+    int side = 0;
+    if (f.face != r.pair.receiver() && f.face != r.pair.light()) {
+        if (!r.budget.spend()) return 0;
+        const Sign s = r.occluderSide(facePlane(index_->localVertices(), f.corners).orient());
+        side = s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
+    }
+    localMemo_[local] = runStamp_ << 2 | static_cast<uint32_t>(side + 1);
     return side;
 }
 

@@ -93,6 +93,9 @@ class EdgePath {
   private:
     // s_f for a face of G, 0 for any other face; taken once per run.
     int faceSide(uint32_t face);
+    // The same for the Front face numbered `local` in the index (LightEdgeIndex::localFace), from
+    // the index's copy of its corners (the weights' loop: nearby edges' faces in nearby memory).
+    int localSide(uint32_t local);
     // Activates those of `faces` (other than B and L) not activated yet this run.
     void activate(std::span<const uint32_t> faces);
     // rayPlanes_: the culling planes of the ray from x through y (a certified cell point).
@@ -109,6 +112,8 @@ class EdgePath {
     std::vector<PlaneOrient> rayPlanes_;
     // Per face: the run whose s_f it holds (above two bits) and s_f + 1 (faceSide).
     std::vector<uint32_t> faceMemo_;
+    // Per local face of the index: the same as faceMemo_ (localSide).
+    std::vector<uint32_t> localMemo_;
     // Per face: the run that activated it (activate).
     std::vector<uint32_t> activeMemo_;
     std::vector<PlaneOrient> nearPlanes_;
