@@ -71,6 +71,12 @@ class ActiveOccluders {
         return (ref & kPencilRef) != 0 ? exactSign(pencils_[ref & ~kPencilRef], y)
                                        : exactSign(planes_[ref], y);
     }
+    // f(plane) with the plane of `ref` (a PlaneOrient or a PencilPlane): for loops that take many
+    // signs against one plane, with the filter inlined in them (exactSign(plane, y)).
+    template <class F>
+    decltype(auto) withRefPlane(uint32_t ref, F&& f) const {
+        return (ref & kPencilRef) != 0 ? f(pencils_[ref & ~kPencilRef]) : f(planes_[ref]);
+    }
     SplitOutcome splitByRef(uint32_t ref, std::span<const Vec3> poly, SplitParts& parts,
                             std::span<const Vec3> light) const {
         return (ref & kPencilRef) != 0

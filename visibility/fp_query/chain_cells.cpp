@@ -58,18 +58,23 @@ void ChainCells::cut(std::span<const Vec3> poly, size_t depth, size_t level) {
         // taken once for both cells.
         std::vector<uint8_t>& reach = sides_[level];
         reach.clear();
-        for (size_t j = i + 1; j < lists_[level].size(); ++j) {
-            const ChainBuild::Edge& f = chain[lists_[level][j]];
-            uint8_t sides = 3;
-            if (f.segment) {
-                if (!r.budget.spend(2)) return;
-                const Sign sa = q_.active.refSign(e.ref, f.a), sb = q_.active.refSign(e.ref, f.b);
-                sides =
-                    static_cast<uint8_t>((sa == Sign::Positive || sb == Sign::Positive ? 1 : 0) |
-                                         (sa == Sign::Negative || sb == Sign::Negative ? 2 : 0));
+        const std::vector<uint32_t>& list = lists_[level];
+        const bool within = q_.active.withRefPlane(e.ref, [&](const auto& plane) {
+            for (size_t j = i + 1; j < list.size(); ++j) {
+                const ChainBuild::Edge& f = chain[list[j]];
+                uint8_t sides = 3;
+                if (f.segment) {
+                    if (!r.budget.spend(2)) return false;
+                    const Sign sa = exactSign(plane, f.a), sb = exactSign(plane, f.b);
+                    sides = static_cast<uint8_t>(
+                        (sa == Sign::Positive || sb == Sign::Positive ? 1 : 0) |
+                        (sa == Sign::Negative || sb == Sign::Negative ? 2 : 0));
+                }
+                reach.push_back(sides);
             }
-            reach.push_back(sides);
-        }
+            return true;
+        });
+        if (!within) return;
         for (int k = 0; k < 2; ++k) {
             const Sign side = k == 0 ? Sign::Positive : Sign::Negative;
             std::vector<uint32_t>& next = lists_[level + 1];
