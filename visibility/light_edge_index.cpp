@@ -19,7 +19,6 @@ LightEdgeIndex::LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, 
     });
     sides_.resize(mesh.faces.size(), Side::Behind);
     corners_.resize(mesh.faces.size(), {0, 0, 0});
-    std::vector<Bounds3> acrossBoxes(mesh.faces.size());
     loops.run(mesh.faces.size(), 8192, [&](size_t begin, size_t end) {
         for (size_t f = begin; f < end; ++f) {
             const auto& ids = mesh.faces[f];
@@ -31,12 +30,20 @@ LightEdgeIndex::LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, 
             }
             sides_[f] = !front ? Side::Behind : behind ? Side::Across : Side::Front;
             if (sides_[f] == Side::Front) corners_[f] = {ids[0], ids[1], ids[2]};
-            if (sides_[f] != Side::Across) continue;
-            for (uint32_t v : ids) acrossBoxes[f].add(mesh.vertices[v]);
         }
     });
-    for (Side s : sides_) acrossCount_ += s == Side::Across;
-    if (acrossCount_ > 0) acrossFaces_ = BoxTree(acrossBoxes, {}, loops);
+    // The Across faces' boxes, those alone (most meshes have few or none).
+    for (uint32_t f = 0; f < sides_.size(); ++f)
+        if (sides_[f] == Side::Across) acrossIds_.push_back(f);
+    acrossCount_ = acrossIds_.size();
+    if (acrossCount_ > 0) {
+        std::vector<Bounds3> acrossBoxes(acrossCount_);
+        loops.run(acrossCount_, 8192, [&](size_t begin, size_t end) {
+            for (size_t i = begin; i < end; ++i)
+                for (uint32_t v : mesh.faces[acrossIds_[i]]) acrossBoxes[i].add(mesh.vertices[v]);
+        });
+        acrossFaces_ = BoxTree(acrossBoxes, {}, loops);
+    }
 
     const LightSilhouetteEdges set(mesh, edges, lightFace, loops);
     share_ = set.share();
@@ -97,12 +104,37 @@ LightEdgeIndex::LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, 
     uses_ = std::move(leafUses);
     begin_ = std::move(leafBegin);
 
+    // The Front faces and their corners, numbered as the uses (in leaf order) meet them.
+    std::vector<uint32_t> faceLocal(mesh.faces.size(), kNotFront);
+    std::vector<uint32_t> vertexLocal(mesh.vertices.size(), kNotFront);
+    useLocal_.resize(uses_.size());
+    for (size_t u = 0; u < uses_.size(); ++u) {
+        const uint32_t f = uses_[u].face;
+        if (sides_[f] != Side::Front) {
+            useLocal_[u] = kNotFront;
+            continue;
+        }
+        if (faceLocal[f] == kNotFront) {
+            std::array<uint32_t, 3> local{};
+            for (size_t k = 0; k < 3; ++k) {
+                uint32_t& v = vertexLocal[corners_[f][k]];
+                if (v == kNotFront) {
+                    v = static_cast<uint32_t>(localVertices_.size());
+                    localVertices_.push_back(mesh.vertices[corners_[f][k]]);
+                }
+                local[k] = v;
+            }
+            faceLocal[f] = static_cast<uint32_t>(localFaces_.size());
+            localFaces_.push_back(f);
+            localCorners_.push_back(local);
+        }
+        useLocal_[u] = faceLocal[f];
+    }
+
     loops.both(
         [&] {
             silhouettes_ = SilhouetteCull(
-                mesh, edgeBoxes_,
-                {uses_, begin_, corners_, [&](uint32_t f) { return sides_[f] == Side::Front; }},
-                loops);
+                edgeBoxes_, {uses_, begin_, useLocal_, localCorners_, localVertices_}, loops);
         },
         [&] {
             // Edges are in the table's (lo, hi) order before the renumbering: old[i] increases
@@ -114,31 +146,6 @@ LightEdgeIndex::LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, 
             for (size_t k = 0; k < sortedIds_.size(); ++k) {
                 const MeshEdges::Edge& e = edges_[sortedIds_[k]];
                 sortedKeys_[k] = uint64_t{e.lo} << 32 | e.hi;
-            }
-            // The Front faces and their corners, numbered as the uses (in leaf order) meet them.
-            std::vector<uint32_t> faceLocal(mesh.faces.size(), kNotFront);
-            std::vector<uint32_t> vertexLocal(mesh.vertices.size(), kNotFront);
-            useLocal_.resize(uses_.size());
-            for (size_t u = 0; u < uses_.size(); ++u) {
-                const uint32_t f = uses_[u].face;
-                if (sides_[f] != Side::Front) {
-                    useLocal_[u] = kNotFront;
-                    continue;
-                }
-                if (faceLocal[f] == kNotFront) {
-                    LocalFace local{f, {}};
-                    for (size_t k = 0; k < 3; ++k) {
-                        uint32_t& v = vertexLocal[corners_[f][k]];
-                        if (v == kNotFront) {
-                            v = static_cast<uint32_t>(localVertices_.size());
-                            localVertices_.push_back(mesh.vertices[corners_[f][k]]);
-                        }
-                        local.corners[k] = v;
-                    }
-                    faceLocal[f] = static_cast<uint32_t>(localFaces_.size());
-                    localFaces_.push_back(local);
-                }
-                useLocal_[u] = faceLocal[f];
             }
         });
 }

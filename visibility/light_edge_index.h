@@ -82,21 +82,23 @@ class LightEdgeIndex {
     // of those vertices numbered the same way: a point's weights read the faces of nearby edges
     // from nearby memory, not from the mesh's face and vertex lists, scattered over the whole
     // model. The copies are the input coordinates: the planes taken from them are the same.
-    struct LocalFace {
-        uint32_t face = 0;
-        std::array<uint32_t, 3> corners{};  // indices into localVertex()
-    };
-    static constexpr uint32_t kNotFront = UINT32_MAX;
-    // Per use of edge i (as uses(i)), its face's number in localFace(), or kNotFront where the
-    // face is not Front.
+    static constexpr uint32_t kNotFront = SilhouetteCull::kNotCounted;
+    // Per use of edge i (as uses(i)), its face's local number, or kNotFront where the face is not
+    // Front.
     std::span<const uint32_t> useLocalFaces(uint32_t i) const {
         return {useLocal_.data() + begin_[i], useLocal_.data() + begin_[i + 1]};
     }
     size_t localFaceCount() const { return localFaces_.size(); }
-    const LocalFace& localFace(uint32_t l) const { return localFaces_[l]; }
+    // The face numbered `local`, and its first three vertices as indices into localVertices().
+    uint32_t localFace(uint32_t local) const { return localFaces_[local]; }
+    const std::array<uint32_t, 3>& localCorners(uint32_t local) const {
+        return localCorners_[local];
+    }
     std::span<const Vec3> localVertices() const { return localVertices_; }
-    // A hierarchy over the Across faces' boxes (items: face ids); empty when there are none.
+    // A hierarchy over the Across faces' boxes (items: indices for acrossFace()); empty when
+    // there are none.
     const BoxTree& acrossFaces() const { return acrossFaces_; }
+    uint32_t acrossFace(uint32_t item) const { return acrossIds_[item]; }
     size_t acrossCount() const { return acrossCount_; }
     // The memory it holds, in bytes (the edges, their uses, the faces' sides, both hierarchies).
     size_t bytes() const {
@@ -104,10 +106,11 @@ class LightEdgeIndex {
                uses_.capacity() * sizeof(MeshEdges::Use) + begin_.capacity() * sizeof(uint32_t) +
                sides_.capacity() * sizeof(Side) +
                corners_.capacity() * sizeof(std::array<uint32_t, 3>) + edgeBoxes_.bytes() +
-               acrossFaces_.bytes() + silhouettes_.bytes() +
-               sortedKeys_.capacity() * sizeof(uint64_t) +
+               acrossFaces_.bytes() + acrossIds_.capacity() * sizeof(uint32_t) +
+               silhouettes_.bytes() + sortedKeys_.capacity() * sizeof(uint64_t) +
                sortedIds_.capacity() * sizeof(uint32_t) + useLocal_.capacity() * sizeof(uint32_t) +
-               localFaces_.capacity() * sizeof(LocalFace) +
+               localFaces_.capacity() * sizeof(uint32_t) +
+               localCorners_.capacity() * sizeof(std::array<uint32_t, 3>) +
                localVertices_.capacity() * sizeof(Vec3);
     }
 
@@ -125,10 +128,12 @@ class LightEdgeIndex {
     std::vector<uint64_t> sortedKeys_;
     std::vector<uint32_t> sortedIds_;
     std::vector<Side> sides_;
-    std::vector<std::array<uint32_t, 3>> corners_;  // per face; set for Front faces
-    std::vector<uint32_t> useLocal_;                // per use: its face in localFaces_
-    std::vector<LocalFace> localFaces_;
+    std::vector<std::array<uint32_t, 3>> corners_;       // per face; set for Front faces
+    std::vector<uint32_t> useLocal_;                     // per use: its face in localFaces_
+    std::vector<uint32_t> localFaces_;                   // per local face: its face
+    std::vector<std::array<uint32_t, 3>> localCorners_;  // per local face: in localVertices_
     std::vector<Vec3> localVertices_;
+    std::vector<uint32_t> acrossIds_;  // per item of acrossFaces_: its face
     BoxTree acrossFaces_;
 };
 

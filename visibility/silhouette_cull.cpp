@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "visibility/face_plane.h"
 #include "visibility/predicates.h"
 
 namespace penumbra::vis {
@@ -16,19 +17,14 @@ struct RoundedPlane {
 
 }  // namespace
 
-SilhouetteCull::SilhouetteCull(const PolygonMesh& mesh, const BoxTree& tree, const Edges& edges,
+SilhouetteCull::SilhouetteCull(const BoxTree& tree, const Edges& edges,
                                const ParallelLoops& loops) {
     constexpr double u = DBL_EPSILON / 2;
     // Each counting face's rounded plane, once.
-    const size_t faceCount = mesh.faces.size();
-    std::vector<RoundedPlane> planes(faceCount);
-    std::vector<uint8_t> counts(faceCount, 0);
-    loops.run(faceCount, 8192, [&](size_t begin, size_t end) {
+    std::vector<RoundedPlane> planes(edges.faces.size());
+    loops.run(edges.faces.size(), 8192, [&](size_t begin, size_t end) {
         for (size_t f = begin; f < end; ++f) {
-            if (!edges.front(static_cast<uint32_t>(f))) continue;
-            counts[f] = 1;
-            const auto& k = edges.corners[f];
-            const PlaneOrient p(mesh.vertices[k[0]], mesh.vertices[k[1]], mesh.vertices[k[2]]);
+            const PlaneOrient p = facePlane(edges.vertices, edges.faces[f]).orient();
             planes[f].a = p.a;
             for (int i = 0; i < 3; ++i) {
                 planes[f].n[i] = p.n[i];
@@ -43,8 +39,7 @@ SilhouetteCull::SilhouetteCull(const PolygonMesh& mesh, const BoxTree& tree, con
         for (size_t i = begin; i < end; ++i) {
             int sum = 0;
             for (uint32_t k = edges.begin[i]; k < edges.begin[i + 1]; ++k) {
-                const MeshEdges::Use& use = edges.uses[k];
-                if (counts[use.face]) sum += use.forward ? 1 : -1;
+                if (edges.faceOfUse[k] != kNotCounted) sum += edges.uses[k].forward ? 1 : -1;
             }
             balanced[i] = sum == 0;
         }
@@ -68,11 +63,16 @@ SilhouetteCull::SilhouetteCull(const PolygonMesh& mesh, const BoxTree& tree, con
             out.c[1] = box.lo.y + (box.hi.y - box.lo.y) * 0.5;
             out.c[2] = box.lo.z + (box.hi.z - box.lo.z) * 0.5;
             bool any = false, allBalanced = true;
+            if (tree.nodeItems(node).size() > kMaxBoundedItems) {
+                // Never certain (N = 0, E in [-1, 1]: every bound straddles zero).
+                out.elo = -1;
+                continue;
+            }
             for (uint32_t item : tree.nodeItems(node)) {
                 allBalanced = allBalanced && balanced[item];
                 for (uint32_t k = edges.begin[item]; k < edges.begin[item + 1]; ++k) {
-                    const uint32_t f = edges.uses[k].face;
-                    if (!counts[f]) continue;
+                    const uint32_t f = edges.faceOfUse[k];
+                    if (f == kNotCounted) continue;
                     const RoundedPlane& p = planes[f];
                     const double d[3] = {out.c[0] - p.a.x, out.c[1] - p.a.y, out.c[2] - p.a.z};
                     const double e = d[0] * p.n[0] + d[1] * p.n[1] + d[2] * p.n[2];

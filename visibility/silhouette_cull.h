@@ -19,6 +19,12 @@
 // of B's edges, and the contact rule (an occluder whose plane holds the query's input point
 // counts for nothing) is the caller's too (oneSideOfEvery at that point).
 //
+// Only the nodes of at most kMaxBoundedItems edges are bounded: each node's bounds are taken from
+// every face below it (a node's reference point is its own), so the build costs the edges times
+// the levels bounded, and a node larger than that is never skipped (on the motorbike and the
+// dragon no node of more than 2,047 edges ever was: a hard point's cone sees both sides of so
+// large a part). The walk descends into it as into any node not skipped.
+//
 // Memory: 11 doubles and a flag per node of the hierarchy.
 #pragma once
 
@@ -27,14 +33,12 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <span>
 #include <vector>
 
 #include "visibility/box_tree.h"
 #include "visibility/mesh_edges.h"
 #include "visibility/parallel_loops.h"
-#include "visibility/polygon_mesh.h"
 #include "visibility/vec3.h"
 
 namespace penumbra::vis {
@@ -42,19 +46,21 @@ namespace penumbra::vis {
 class SilhouetteCull {
   public:
     // The hierarchy's items (edges) with their uses: item i's are uses[begin[i], begin[i + 1]).
-    // Only the uses by faces for which front(face) is true count; front(face) faces have at least
-    // three vertices, and their plane is that of their first three (corners[face], face_plane.h).
+    // Only the uses by counting faces count: use k's face is faces[faceOfUse[k]], or none where
+    // faceOfUse[k] is kNotCounted. A counting face's plane is that of its first three vertices
+    // (face_plane.h), given as indices into `vertices` (copies of the input coordinates).
     struct Edges {
         std::span<const MeshEdges::Use> uses;
         std::span<const uint32_t> begin;
-        std::span<const std::array<uint32_t, 3>> corners;
-        std::function<bool(uint32_t face)> front;
+        std::span<const uint32_t> faceOfUse;
+        std::span<const std::array<uint32_t, 3>> faces;
+        std::span<const Vec3> vertices;
     };
+    static constexpr uint32_t kNotCounted = UINT32_MAX;
 
     SilhouetteCull() = default;
     // For each node of `tree`, over `edges` (the tree's items).
-    SilhouetteCull(const PolygonMesh& mesh, const BoxTree& tree, const Edges& edges,
-                   const ParallelLoops& loops = {});
+    SilhouetteCull(const BoxTree& tree, const Edges& edges, const ParallelLoops& loops = {});
 
     bool empty() const { return nodes_.empty(); }
     size_t bytes() const { return nodes_.capacity() * sizeof(Node); }
@@ -71,6 +77,7 @@ class SilhouetteCull {
     bool oneSideOfEvery(uint32_t node, const Vec3& p) const { return oneSide(nodes_[node], p); }
     // Every node's bounds equal (a build given ParallelLoops against a serial one).
     bool operator==(const SilhouetteCull&) const = default;
+    static constexpr size_t kMaxBoundedItems = 4096;
 
   private:
     struct Node {

@@ -239,6 +239,7 @@ TEST(LightEdgeIndex, KeepsSLWithItsUsesAndSortsTheFacesByLightsPlane) {
         std::vector<uint32_t> found;
         const std::vector<PlaneOrient> none;
         index.acrossFaces().notOutside(none, found);
+        for (uint32_t& item : found) item = index.acrossFace(item);
         std::sort(found.begin(), found.end());
         EXPECT_EQ(found, (std::vector<uint32_t>{2, 3, 4, 5}));
     }
@@ -253,7 +254,7 @@ TEST(LightEdgeIndex, CopiesEachFrontFacesCornersOnceForItsUses) {
         const PolygonMesh m = cubeUnderLight(lightZ, 0.1);
         const LightEdgeIndex index(m, MeshEdges(m), 6);
         std::vector<int> copies(m.faces.size(), 0);
-        for (uint32_t l = 0; l < index.localFaceCount(); ++l) ++copies[index.localFace(l).face];
+        for (uint32_t l = 0; l < index.localFaceCount(); ++l) ++copies[index.localFace(l)];
         size_t frontUses = 0, otherUses = 0;
         for (uint32_t i = 0; i < index.size(); ++i) {
             const std::span<const MeshEdges::Use> uses = index.uses(i);
@@ -268,11 +269,10 @@ TEST(LightEdgeIndex, CopiesEachFrontFacesCornersOnceForItsUses) {
                 }
                 ++frontUses;
                 ASSERT_LT(locals[k], index.localFaceCount());
-                const LightEdgeIndex::LocalFace& local = index.localFace(locals[k]);
-                EXPECT_EQ(local.face, face);
+                EXPECT_EQ(index.localFace(locals[k]), face);
                 EXPECT_EQ(copies[face], 1) << "face " << face;
                 for (size_t c = 0; c < 3; ++c) {
-                    const Vec3& copy = index.localVertices()[local.corners[c]];
+                    const Vec3& copy = index.localVertices()[index.localCorners(locals[k])[c]];
                     const Vec3& input = m.vertices[m.faces[face][c]];
                     EXPECT_TRUE(copy.x == input.x && copy.y == input.y && copy.z == input.z)
                         << "face " << face << " corner " << c;

@@ -53,6 +53,7 @@ struct Tent {
     std::vector<MeshEdges::Use> uses;
     std::vector<uint32_t> begin;
     std::vector<std::array<uint32_t, 3>> corners;
+    std::vector<uint32_t> faceOfUse;
     BoxTree tree;
     SilhouetteCull cull;
 
@@ -75,7 +76,9 @@ struct Tent {
         }
         tree = BoxTree(boxes);
         tree.numberItemsInLeafOrder();
-        cull = SilhouetteCull(mesh, tree, {uses, begin, corners, [](uint32_t) { return true; }});
+        // Both roofs count; their corners index the mesh's own vertices.
+        for (const MeshEdges::Use& use : uses) faceOfUse.push_back(use.face);
+        cull = SilhouetteCull(tree, {uses, begin, faceOfUse, corners, mesh.vertices});
     }
 };
 

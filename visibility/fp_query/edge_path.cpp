@@ -48,7 +48,8 @@ bool EdgePath::prepare(const BoxTree& faces, const LightEdgeIndex& index) {
         uint32_t visited = 0;
         const bool across = index.acrossFaces().anyNotOutside(
             cone,
-            [&](uint32_t f) {
+            [&](uint32_t item) {
+                const uint32_t f = index.acrossFace(item);
                 if (f == r.pair.receiver() || f == r.pair.light()) return false;
                 for (const PlaneOrient& h : cone) {
                     bool inside = false;
@@ -148,11 +149,12 @@ int EdgePath::localSide(uint32_t local) {
     const uint32_t memo = localMemo_[local];
     if (memo >> 2 == runStamp_) return static_cast<int>(memo & 3) - 1;
     QueryRun& r = q_.run;
-    const LightEdgeIndex::LocalFace& f = index_->localFace(local);
+    const uint32_t face = index_->localFace(local);
     int side = 0;
-    if (f.face != r.pair.receiver() && f.face != r.pair.light()) {
+    if (face != r.pair.receiver() && face != r.pair.light()) {
         if (!r.budget.spend()) return 0;
-        const Sign s = r.occluderSide(facePlane(index_->localVertices(), f.corners).orient());
+        const Sign s = r.occluderSide(
+            facePlane(index_->localVertices(), index_->localCorners(local)).orient());
         side = s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
     }
     localMemo_[local] = runStamp_ << 2 | static_cast<uint32_t>(side + 1);

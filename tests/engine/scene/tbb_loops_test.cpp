@@ -222,6 +222,11 @@ TEST(TbbLoops, ParallelLightEdgeIndexEqualsSerialAndAnIndependentComputation) {
     }
     EXPECT_GT(across, 1000u);
     EXPECT_EQ(index.acrossCount(), across);
+    // The Across faces' hierarchy holds each of them once (its items name them).
+    for (uint32_t item = 0; item < index.acrossCount(); ++item) {
+        EXPECT_EQ(index.side(index.acrossFace(item)), LightEdgeIndex::Side::Across) << item;
+        if (item > 0) EXPECT_LT(index.acrossFace(item - 1), index.acrossFace(item)) << item;
+    }
     expectSameTree(index.edgeBoxes(), serial.edgeBoxes());
     expectSameTree(index.acrossFaces(), serial.acrossFaces());
     expectWellFormed(index.edgeBoxes(), index.size());
