@@ -61,6 +61,7 @@ run_suite() {
     return
   fi
   echo "=== ${name}: build"
+  local built_at=${SECONDS}
   local target=()
   # shellcheck disable=SC2206 # a list of targets, split on blanks
   [[ -n "${SUITE_TARGET:-}" ]] && target=(--target ${SUITE_TARGET})
@@ -68,6 +69,8 @@ run_suite() {
     problems+=("${name}: build failed")
     return
   fi
+  # (Each stage's wall seconds, so that the run's 15 minutes can be kept where they go.)
+  echo "=== ${name}: built in $((SECONDS - built_at)) s"
   echo "=== ${name}: test (PENUMBRA_TEST_SCALE=${scale})"
   if [[ -n "${SUITE_SHARDS:-}" ]]; then
     run_shards "${name}" "${dir}" "${scale}"
@@ -111,7 +114,7 @@ run_suite() {
 # as one failure and prints its whole log, the report and the test that was running included.
 run_shards() {
   local name=$1 dir=$2 scale=$3
-  local logs
+  local logs started_at=${SECONDS}
   logs=$(mktemp -d)
   local jobs=() exe n i
   for exe in penumbra_tests penumbra_concurrency_tests; do
@@ -163,7 +166,7 @@ run_shards() {
   fi
   total_passed=$((total_passed + passed))
   total_failed=$((total_failed + failed))
-  echo "=== ${name}: ${passed} passed, ${failed} failed"
+  echo "=== ${name}: ${passed} passed, ${failed} failed in $((SECONDS - started_at)) s"
   ((failed == 0)) || problems+=("${name}: ${failed} failed")
 }
 
@@ -239,6 +242,7 @@ fi
 for p in "${problems[@]}"; do
   echo "run_tests: ${p}" >&2
 done
+echo "run_tests: ${SECONDS} s in all"
 echo "${total_passed} passed, ${total_failed} failed"
 if ((${#problems[@]} > 0 || total_failed > 0)); then
   exit 1
