@@ -67,21 +67,20 @@ class ActiveOccluders {
     // An occluder was cut by L's plane (a chord on it) this run.
     bool lightChord() const { return lightChord_; }
 
-    Sign refSign(uint32_t ref, const Vec3& y) const {
-        return (ref & kPencilRef) != 0 ? exactSign(pencils_[ref & ~kPencilRef], y)
-                                       : exactSign(planes_[ref], y);
-    }
-    // f(plane) with the plane of `ref` (a PlaneOrient or a PencilPlane): for loops that take many
-    // signs against one plane, with the filter inlined in them (exactSign(plane, y)).
+    // f(plane) with the plane of `ref` (a PlaneOrient or a PencilPlane): every use of a ref's
+    // plane goes through it; a loop that takes many signs against one plane calls it once, with
+    // the filter inlined in the loop (exactSign(plane, y)).
     template <class F>
     decltype(auto) withRefPlane(uint32_t ref, F&& f) const {
         return (ref & kPencilRef) != 0 ? f(pencils_[ref & ~kPencilRef]) : f(planes_[ref]);
     }
+    Sign refSign(uint32_t ref, const Vec3& y) const {
+        return withRefPlane(ref, [&](const auto& plane) { return exactSign(plane, y); });
+    }
     SplitOutcome splitByRef(uint32_t ref, std::span<const Vec3> poly, SplitParts& parts,
                             std::span<const Vec3> light) const {
-        return (ref & kPencilRef) != 0
-                   ? splitConstructed(poly, pencils_[ref & ~kPencilRef], light, parts)
-                   : splitConstructed(poly, planes_[ref], light, parts);
+        return withRefPlane(
+            ref, [&](const auto& plane) { return splitConstructed(poly, plane, light, parts); });
     }
 
     // The hierarchy of the occluders' boxes: built on demand (and again when occluders were

@@ -128,36 +128,39 @@ bool EdgePath::prepare(const BoxTree& faces, const LightEdgeIndex& index) {
     return true;
 }
 
-int EdgePath::faceSide(uint32_t face) {
-    // The memo: the run's stamp above two bits of s_f + 1 (one word per face, one read).
-    const uint32_t memo = faceMemo_[face];
-    if (memo >> 2 == runStamp_) return static_cast<int>(memo & 3) - 1;
+namespace {
+
+// A memo word: the run's stamp above two bits of s_f + 1 (one word per face, one read).
+uint32_t memoWord(uint32_t stamp, int side) { return stamp << 2 | static_cast<uint32_t>(side + 1); }
+bool memoHolds(uint32_t memo, uint32_t stamp) { return memo >> 2 == stamp; }
+int memoSide(uint32_t memo) { return static_cast<int>(memo & 3) - 1; }
+
+}  // namespace
+
+int EdgePath::sideOf(uint32_t face, const FacePlane& plane) {
     QueryRun& r = q_.run;
-    int side = 0;
-    if (face != r.pair.receiver() && face != r.pair.light() &&
-        index_->side(face) == LightEdgeIndex::Side::Front) {
-        if (!r.budget.spend()) return 0;
-        const Sign s = r.occluderSide(facePlane(r.mesh(), index_->corners(face)).orient());
-        side = s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
-    }
-    faceMemo_[face] = runStamp_ << 2 | static_cast<uint32_t>(side + 1);
+    if (face == r.pair.receiver() || face == r.pair.light() || !r.budget.spend()) return 0;
+    const Sign s = r.occluderSide(plane.orient());
+    return s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
+}
+
+int EdgePath::faceSide(uint32_t face) {
+    uint32_t& memo = faceMemo_[face];
+    if (memoHolds(memo, runStamp_)) return memoSide(memo);
+    const int side = index_->side(face) == LightEdgeIndex::Side::Front
+                         ? sideOf(face, facePlane(q_.run.mesh(), index_->corners(face)))
+                         : 0;
+    memo = memoWord(runStamp_, side);
     return side;
 }
 
 int EdgePath::localSide(uint32_t local) {
     if (local == LightEdgeIndex::kNotFront) return 0;
-    const uint32_t memo = localMemo_[local];
-    if (memo >> 2 == runStamp_) return static_cast<int>(memo & 3) - 1;
-    QueryRun& r = q_.run;
-    const uint32_t face = index_->localFace(local);
-    int side = 0;
-    if (face != r.pair.receiver() && face != r.pair.light()) {
-        if (!r.budget.spend()) return 0;
-        const Sign s = r.occluderSide(
-            facePlane(index_->localVertices(), index_->localCorners(local)).orient());
-        side = s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
-    }
-    localMemo_[local] = runStamp_ << 2 | static_cast<uint32_t>(side + 1);
+    uint32_t& memo = localMemo_[local];
+    if (memoHolds(memo, runStamp_)) return memoSide(memo);
+    const int side = sideOf(index_->localFace(local),
+                            facePlane(index_->localVertices(), index_->localCorners(local)));
+    memo = memoWord(runStamp_, side);
     return side;
 }
 

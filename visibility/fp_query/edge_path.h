@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "visibility/box_tree.h"
+#include "visibility/face_plane.h"
 #include "visibility/fp_query/edge_decline.h"
 #include "visibility/fp_query/line_tests.h"
 #include "visibility/light_edge_index.h"
@@ -93,6 +94,9 @@ class EdgePath {
   private:
     // s_f for a face of G, 0 for any other face; taken once per run.
     int faceSide(uint32_t face);
+    // x's side of `plane`, the plane of `face` (Front), under the contact rule: s_f, or 0 for B
+    // and L (and once the work limit is reached: the run then gives up); one plane test.
+    int sideOf(uint32_t face, const FacePlane& plane);
     // The same for the Front face numbered `local` in the index (LightEdgeIndex::localFace), from
     // the index's copy of its corners (the weights' loop: nearby edges' faces in nearby memory).
     int localSide(uint32_t local);
