@@ -26,12 +26,6 @@ inline FacePlane facePlane(const PolygonMesh& mesh, uint32_t face) {
     return {mesh.vertices[f[0]], mesh.vertices[f[1]], mesh.vertices[f[2]]};
 }
 
-// The same plane from a face's first three vertex ids kept apart from the mesh's face lists
-// (LightEdgeIndex::corners).
-inline FacePlane facePlane(const PolygonMesh& mesh, const std::array<uint32_t, 3>& corners) {
-    return {mesh.vertices[corners[0]], mesh.vertices[corners[1]], mesh.vertices[corners[2]]};
-}
-
 // The same plane from copies of those three vertices, indexed by `corners` in `vertices`
 // (LightEdgeIndex::localFace).
 inline FacePlane facePlane(std::span<const Vec3> vertices, const std::array<uint32_t, 3>& corners) {

@@ -18,7 +18,6 @@ LightEdgeIndex::LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, 
         for (size_t v = begin; v < end; ++v) vertexSide[v] = lightPlane.sign(mesh.vertices[v]);
     });
     sides_.resize(mesh.faces.size(), Side::Behind);
-    corners_.resize(mesh.faces.size(), {0, 0, 0});
     loops.run(mesh.faces.size(), 8192, [&](size_t begin, size_t end) {
         for (size_t f = begin; f < end; ++f) {
             const auto& ids = mesh.faces[f];
@@ -29,7 +28,6 @@ LightEdgeIndex::LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, 
                 behind = behind || vertexSide[v] == Sign::Negative;
             }
             sides_[f] = !front ? Side::Behind : behind ? Side::Across : Side::Front;
-            if (sides_[f] == Side::Front) corners_[f] = {ids[0], ids[1], ids[2]};
         }
     });
     // The Across faces' boxes, those alone (most meshes have few or none).
@@ -117,10 +115,11 @@ LightEdgeIndex::LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, 
         if (faceLocal[f] == kNotFront) {
             std::array<uint32_t, 3> local{};
             for (size_t k = 0; k < 3; ++k) {
-                uint32_t& v = vertexLocal[corners_[f][k]];
+                const uint32_t corner = mesh.faces[f][k];  // its plane's vertices (face_plane.h)
+                uint32_t& v = vertexLocal[corner];
                 if (v == kNotFront) {
                     v = static_cast<uint32_t>(localVertices_.size());
-                    localVertices_.push_back(mesh.vertices[corners_[f][k]]);
+                    localVertices_.push_back(mesh.vertices[corner]);
                 }
                 local[k] = v;
             }

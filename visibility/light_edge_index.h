@@ -74,14 +74,12 @@ class LightEdgeIndex {
     // The index in edge() of the S_L edge between mesh vertices lo < hi, if it is in S_L.
     std::optional<uint32_t> find(uint32_t lo, uint32_t hi) const;
     Side side(uint32_t face) const { return sides_[face]; }
-    // A Front face's first three vertex ids, those its plane is taken from (face_plane.h): a
-    // point's weights read them here, one entry per face, not through the mesh's face lists.
-    const std::array<uint32_t, 3>& corners(uint32_t face) const { return corners_[face]; }
     // The Front faces that S_L's edges use, numbered in the order the edges (in leaf order) first
-    // use them, each with its first three vertices (those of corners()) as indices into a copy
-    // of those vertices numbered the same way: a point's weights read the faces of nearby edges
-    // from nearby memory, not from the mesh's face and vertex lists, scattered over the whole
-    // model. The copies are the input coordinates: the planes taken from them are the same.
+    // use them, each with its first three vertices (those its plane is taken from, face_plane.h)
+    // as indices into a copy of those vertices numbered the same way: a point's weights read the
+    // faces of nearby edges from nearby memory, not from the mesh's face and vertex lists,
+    // scattered over the whole model. The copies are the input coordinates: the planes taken
+    // from them are the same.
     static constexpr uint32_t kNotFront = SilhouetteCull::kNotCounted;
     // Per use of edge i (as uses(i)), its face's local number, or kNotFront where the face is not
     // Front.
@@ -104,8 +102,7 @@ class LightEdgeIndex {
     size_t bytes() const {
         return edges_.capacity() * sizeof(MeshEdges::Edge) +
                uses_.capacity() * sizeof(MeshEdges::Use) + begin_.capacity() * sizeof(uint32_t) +
-               sides_.capacity() * sizeof(Side) +
-               corners_.capacity() * sizeof(std::array<uint32_t, 3>) + edgeBoxes_.bytes() +
+               sides_.capacity() * sizeof(Side) + edgeBoxes_.bytes() +
                acrossFaces_.bytes() + acrossIds_.capacity() * sizeof(uint32_t) +
                silhouettes_.bytes() + sortedKeys_.capacity() * sizeof(uint64_t) +
                sortedIds_.capacity() * sizeof(uint32_t) + useLocal_.capacity() * sizeof(uint32_t) +
@@ -128,7 +125,6 @@ class LightEdgeIndex {
     std::vector<uint64_t> sortedKeys_;
     std::vector<uint32_t> sortedIds_;
     std::vector<Side> sides_;
-    std::vector<std::array<uint32_t, 3>> corners_;       // per face; set for Front faces
     std::vector<uint32_t> useLocal_;                     // per use: its face in localFaces_
     std::vector<uint32_t> localFaces_;                   // per local face: its face
     std::vector<std::array<uint32_t, 3>> localCorners_;  // per local face: in localVertices_

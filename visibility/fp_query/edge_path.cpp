@@ -148,7 +148,7 @@ int EdgePath::faceSide(uint32_t face) {
     uint32_t& memo = faceMemo_[face];
     if (memoHolds(memo, runStamp_)) return memoSide(memo);
     const int side = index_->side(face) == LightEdgeIndex::Side::Front
-                         ? sideOf(face, facePlane(q_.run.mesh(), index_->corners(face)))
+                         ? sideOf(face, facePlane(q_.run.mesh(), face))
                          : 0;
     memo = memoWord(runStamp_, side);
     return side;
