@@ -36,7 +36,7 @@ int8_t sideOver(const PlaneOrient& plane, const Bounds3& box) {
         const Vec3 corner{(k & 1) != 0 ? box.hi.x : box.lo.x, (k & 2) != 0 ? box.hi.y : box.lo.y,
                           (k & 4) != 0 ? box.hi.z : box.lo.z};
         const Sign s = plane.sign(corner);
-        const int8_t v = s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
+        const int8_t v = static_cast<int8_t>(toInt(s));
         if (v == 0 || (k > 0 && v != side)) return 0;
         side = v;
     }

@@ -54,7 +54,7 @@ int ClusterPath::exactFacing(std::span<const uint32_t> faces) {
     for (uint32_t face : faces) {
         if (!r.budget.spend()) return 0;
         const Sign s = r.occluderSide(facePlane(r.mesh(), face).orient());
-        const int f = s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
+        const int f = toInt(s);
         if (f == 0 || (side != 0 && f != side)) return 0;
         side = f;
     }

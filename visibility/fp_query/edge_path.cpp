@@ -140,8 +140,7 @@ int memoSide(uint32_t memo) { return static_cast<int>(memo & 3) - 1; }
 int EdgePath::sideOf(uint32_t face, const FacePlane& plane) {
     QueryRun& r = q_.run;
     if (face == r.pair.receiver() || face == r.pair.light() || !r.budget.spend()) return 0;
-    const Sign s = r.occluderSide(plane.orient());
-    return s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0;
+    return toInt(r.occluderSide(plane.orient()));
 }
 
 int EdgePath::faceSide(uint32_t face) {

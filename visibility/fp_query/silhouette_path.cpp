@@ -72,7 +72,7 @@ int SilhouettePath::sideAt(uint32_t slot) {
     const Sign s =
         r.moved && plane.sign(r.input) == Sign::Zero ? Sign::Zero : exactSign(plane, r.x);
     slotStamp_[slot] = runStamp_;
-    slotSide_[slot] = static_cast<int8_t>(s == Sign::Positive ? 1 : s == Sign::Negative ? -1 : 0);
+    slotSide_[slot] = static_cast<int8_t>(toInt(s));
     return slotSide_[slot];
 }
 
