@@ -343,6 +343,8 @@ struct Checked {
     int cells = 0, crossingLabels = 0;
     // Cells decided whole before the edges left in them were cut (FromPointQuery::ChainCounts).
     int hiddenWhole = 0, seenWhole = 0;
+    // Cells labelled from the point of a cell holding them, found inside them on the way down.
+    int refLabels = 0;
     // Points that left out faces of a closed surface seen from behind (closed_surfaces.h), and
     // points that such a surface hid whole.
     int solid = 0, hiddenBySolid = 0;
@@ -406,6 +408,7 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
         used.crossingLabels += chain.chainCounts().crossingLabels;
         used.hiddenWhole += chain.chainCounts().hiddenWhole;
         used.seenWhole += chain.chainCounts().seenWhole;
+        used.refLabels += chain.chainCounts().refLabels;
         compare("direct, one by one",
                 measure(s.mesh, x, oneByOne.runDirect(s.mesh, 0, 1, x, faces)));
         compare("direct, face groups",
@@ -426,6 +429,7 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
                 measureOutline(s.mesh, x, edged));
         used.lightEdges += chain.usedLightEdges();
         used.lightEdgeCells += chain.usedLightEdges() ? chain.chainCounts().cells : 0;
+        used.refLabels += chain.chainCounts().refLabels;
         if (chain.usedLightEdges()) {
             const vis::ChainCounts& k = chain.chainCounts();
             EXPECT_LE(k.lightEdgesExamined, k.occluderEdges);
@@ -454,6 +458,7 @@ Checked checkScene(const Scene& s, const std::string& what, int points, uint64_t
         used.crossingLabels += chain.chainCounts().crossingLabels;
         used.hiddenWhole += chain.chainCounts().hiddenWhole;
         used.seenWhole += chain.chainCounts().seenWhole;
+        used.refLabels += chain.chainCounts().refLabels;
         compare("partial tree, one by one", measure(s.mesh, x, oneByOne.run(s.mesh, partial, x)));
         EXPECT_FALSE(oneByOne.usedSilhouettes());  // the chain is off
     }
@@ -497,6 +502,9 @@ TEST(BoundaryChainQuery, CellsDecidedWholeUnderOverlappingSpheresMatchTheExactRe
     EXPECT_GT(used.hiddenWhole, 0);
     // Decided whole, a cell is not cut further: fewer cells than the leaves would be.
     EXPECT_LT(used.hiddenWhole + used.seenWhole, used.cells);
+    // A cell's point that did not decide it lies in one of the cells it is cut into, which is
+    // then decided or labelled from it (no point of its own), with the same answers.
+    EXPECT_GT(used.refLabels, 0);
     EXPECT_EQ(used.lightEdges, test::scaled(60));
     EXPECT_GT(used.lightEdgesAlone, 0);
 }

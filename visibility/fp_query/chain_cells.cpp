@@ -17,7 +17,7 @@ void ChainCells::prepare(size_t edges, bool crossings) {
     bounds_.clear();
 }
 
-void ChainCells::cut(std::span<const Vec3> poly, size_t depth, size_t level) {
+void ChainCells::cut(std::span<const Vec3> poly, size_t depth, size_t level, uint32_t refInside) {
     QueryRun& r = q_.run;
     const ChainBuild& chain = q_.chain;
     r.budget.enter(WorkStage::CutCells);
@@ -29,10 +29,21 @@ void ChainCells::cut(std::span<const Vec3> poly, size_t depth, size_t level) {
     if (wholeTriedAt_.size() <= level) wholeTriedAt_.resize(level + 1);
     const size_t listSize = lists_[level].size();
     wholeTriedAt_[level] = level == 0 ? SIZE_MAX : wholeTriedAt_[level - 1];
-    if (crossings_ && level > 0 && listSize <= kWholeMax && listSize > 1 &&
-        2 * listSize <= wholeTriedAt_[level]) {
-        wholeTriedAt_[level] = listSize;
-        if (decideWhole(poly, level)) return;
+    // The ref point strictly inside this cell (refInside names it): the cell is decided from it
+    // for free (no new point, no count); else from a new point where the list has halved since
+    // the last try on the path. A new point that does not decide the cell becomes the ref, inside.
+    uint32_t inside = refHere(refInside) ? refSerial_ : 0;
+    if (crossings_ && level > 0 && listSize <= kWholeMax && listSize > 1) {
+        if (inside != 0) {
+            r.budget.enter(WorkStage::LabelCells);
+            if (decideWholeFromRef(poly, level)) return;
+        } else if (2 * listSize <= wholeTriedAt_[level]) {
+            wholeTriedAt_[level] = listSize;
+            const uint32_t before = refSerial_;
+            if (decideWhole(poly, level)) return;
+            if (refSerial_ != before) inside = refSerial_;
+        }
+        r.budget.enter(WorkStage::CutCells);
     }
     for (size_t i = 0; i < lists_[level].size(); ++i) {
         if (!r.budget.spend()) return;
@@ -43,9 +54,11 @@ void ChainCells::cut(std::span<const Vec3> poly, size_t depth, size_t level) {
             return;
         }
         if (outcome != SplitOutcome::Split) {
-            bounds_.push_back({e.ref,
-                               outcome == SplitOutcome::Positive ? Sign::Positive : Sign::Negative,
-                               lists_[level][i]});
+            const Sign side = outcome == SplitOutcome::Positive ? Sign::Positive : Sign::Negative;
+            bounds_.push_back({e.ref, side, lists_[level][i]});
+            // The ref stays inside where it lies strictly on the cell's side of this bound.
+            if (inside != 0 && refSide(lists_[level][i]) != side) inside = 0;
+            if (r.budget.reached()) return;
             continue;
         }
         // Two cells: each takes the rest of the list but the edges whose segment lies on the
@@ -87,23 +100,32 @@ void ChainCells::cut(std::span<const Vec3> poly, size_t depth, size_t level) {
                 crossIndex_ = i;
             }
             bounds_.push_back({e.ref, side, lists_[level][i]});
-            cut(sides[k], depth + 1, level + 1);
+            // (A ref taken in the positive cell is not in the negative one.)
+            const uint32_t childInside =
+                refHere(inside) && refSide(lists_[level][i]) == side ? inside : 0;
+            if (r.budget.reached()) return;
+            cut(sides[k], depth + 1, level + 1, childInside);
             bounds_.pop_back();
             if (r.budget.reached()) return;
         }
         bounds_.resize(boundsAtEntry);
         return;
     }
-    classify(poly, depth);
+    classify(poly, depth, inside);
     bounds_.resize(boundsAtEntry);
 }
 
-void ChainCells::classify(std::span<const Vec3> poly, size_t depth) {
+void ChainCells::classify(std::span<const Vec3> poly, size_t depth, uint32_t refInside) {
     QueryRun& r = q_.run;
     ChainCounts& counts = q_.chain.counts();
     r.budget.enter(WorkStage::LabelCells);
     ++counts.cells;
     if (poly.size() < 3) return;
+    if (refHere(refInside)) {  // c is constant on the open cell, and the ref lies in it
+        ++counts.refLabels;
+        if (refCount_ == 0) r.fragments.add(poly);
+        return;
+    }
     Vec3 y;
     const bool certified = certifiedPoint(poly, y);
     if (r.budget.reached()) return;
@@ -165,6 +187,7 @@ bool ChainCells::certifiedPoint(std::span<const Vec3> poly, Vec3& y) {
 
 void ChainCells::takeRef(const Vec3& y, int count, size_t level) {
     haveRef_ = true;
+    if (++refSerial_ == 0) refSerial_ = 1;  // (0 names no ref)
     refY_ = y;
     refCount_ = count;
     // The chain edges' sides taken at y are now the ref's.
@@ -181,6 +204,65 @@ void ChainCells::nextYStamp() {
         std::fill(stampY_.begin(), stampY_.end(), 0);
         yStamp_ = 1;
     }
+}
+
+Sign ChainCells::refSide(uint32_t idx) {
+    if (stampRef_[idx] != refStamp_) {  // (not taken yet at the ref: one plane test)
+        q_.run.budget.spend();
+        sideRef_[idx] = static_cast<int8_t>(q_.active.refSign(q_.chain[idx].ref, refY_));
+        stampRef_[idx] = refStamp_;
+    }
+    return static_cast<Sign>(sideRef_[idx]);
+}
+
+bool ChainCells::decideWholeFromRef(std::span<const Vec3> poly, size_t level) {
+    // decideWhole's bounds from the ref point, which lies strictly inside this cell (the cell's
+    // bounds and the cone, by exact signs taken when it was certified in a cell holding this
+    // one and on the way down to it), with its count: no new point, no count, and its sides
+    // mostly taken already.
+    if (poly.size() < 3) return false;
+    const ChainBuild& chain = q_.chain;
+    if (chain.hasChords()) {
+        for (uint32_t idx : lists_[level])
+            if (!chain[idx].segment) return false;
+    }
+    int down = 0, up = 0;
+    for (uint32_t idx : lists_[level]) {
+        const Sign s = refSide(idx);
+        if (q_.run.budget.reached()) return true;
+        addJumps(chain[idx].jump, s, down, up);
+    }
+    // The path from the ref to any later cell point inside this cell lies in it.
+    crossLevel_ = level;
+    crossIndex_ = 0;
+    return decidedBy(poly, refCount_, down, up);
+}
+
+void ChainCells::addJumps(int jump, Sign s, int& down, int& up) {
+    const int toNegative = jump, toPositive = -jump;
+    if (s != Sign::Negative) {  // may leave the positive side (or the plane)
+        down += std::max(0, -toNegative);
+        up += std::max(0, toNegative);
+    }
+    if (s != Sign::Positive) {
+        down += std::max(0, -toPositive);
+        up += std::max(0, toPositive);
+    }
+}
+
+bool ChainCells::decidedBy(std::span<const Vec3> poly, int c, int down, int up) {
+    if (c > down) {
+        ++q_.chain.counts().cells;
+        ++q_.chain.counts().hiddenWhole;
+        return true;
+    }
+    if (c == 0 && up == 0) {
+        ++q_.chain.counts().cells;
+        ++q_.chain.counts().seenWhole;
+        q_.run.fragments.add(poly);
+        return true;
+    }
+    return false;
 }
 
 bool ChainCells::decideWhole(std::span<const Vec3> poly, size_t level) {
@@ -222,31 +304,12 @@ bool ChainCells::decideWhole(std::span<const Vec3> poly, size_t level) {
             sideY_[idx] = static_cast<int8_t>(s);
             stampY_[idx] = yStamp_;
         }
-        const int toNegative = e.jump, toPositive = -e.jump;
-        if (s != Sign::Negative) {  // may leave the positive side (or the plane)
-            down += std::max(0, -toNegative);
-            up += std::max(0, toNegative);
-        }
-        if (s != Sign::Positive) {
-            down += std::max(0, -toPositive);
-            up += std::max(0, toPositive);
-        }
+        addJumps(e.jump, s, down, up);
     }
     // y is the ref from now on; the path from it to any later cell point inside this cell lies
     // in this cell, which only this level's list may cross.
     takeRef(y, *c, level);
-    if (*c > down) {
-        ++q_.chain.counts().cells;
-        ++q_.chain.counts().hiddenWhole;
-        return true;
-    }
-    if (*c == 0 && up == 0) {
-        ++q_.chain.counts().cells;
-        ++q_.chain.counts().seenWhole;
-        r.fragments.add(poly);
-        return true;
-    }
-    return false;
+    return decidedBy(poly, *c, down, up);
 }
 
 std::optional<int> ChainCells::countByCrossings(const Vec3& y) {

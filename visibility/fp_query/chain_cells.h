@@ -13,9 +13,12 @@
 // inside every bounding plane of the cell by exact orient3d signs, so c(y) is the cell's value,
 // and the line through y is tested exactly against each occluder (closed: a line along an edge
 // that cancels still sees c >= 1 on both sides of it). Where y cannot be certified (a cell
-// thinner than the rounding of its centroid), the cell is clipped by Algorithm 1 instead. The
-// cells' vertices are rounded constructions, as the fragments of Algorithm 1 are (polygon_clip.h
-// splitConstructed); no label depends on them.
+// thinner than the rounding of its centroid), the cell is clipped by Algorithm 1 instead. A cell
+// cut from one whose point did not decide it, and that holds that point (its exact signs against
+// the planes on the way down, each strictly on the cell's side), takes that point and its count:
+// no new point, no count (decideWholeFromRef, classify). The cells' vertices are rounded
+// constructions, as the fragments of Algorithm 1 are (polygon_clip.h splitConstructed); no label
+// depends on them.
 #pragma once
 
 #include <cstddef>
@@ -48,16 +51,31 @@ class ChainCells {
     // A chain of `edges` was built; `crossings`: its cells may be labelled by crossings.
     void prepare(size_t edges, bool crossings);
     // `poly` cut by the chain's edges (those in the list of `level`) into cells, each labelled;
-    // the visible ones go to the run's fragments.
-    void cut(std::span<const Vec3> poly, size_t depth, size_t level);
+    // the visible ones go to the run's fragments. `refInside`: the serial of the ref point when
+    // it is known to lie strictly inside `poly`'s cell (0: not known).
+    void cut(std::span<const Vec3> poly, size_t depth, size_t level, uint32_t refInside = 0);
 
   private:
-    void classify(std::span<const Vec3> poly, size_t depth);
+    // A cell no edge left in its list cuts: labelled from the ref inside it where there is one
+    // (c(ref), no test), else by its own certified point.
+    void classify(std::span<const Vec3> poly, size_t depth, uint32_t refInside);
     // A cell of the chain's cutting, before it is cut further: labelled by its point y as a leaf
     // is, and decided whole where the edges left to cut it cannot change the answer (c(y) above
     // what crossing them all could take away: hidden; c(y) = 0 and none can add: seen). True:
     // decided (or the work limit reached), nothing more to cut.
     bool decideWhole(std::span<const Vec3> poly, size_t level);
+    // decideWhole from the ref point, known to lie strictly inside the cell: its count and its
+    // sides, no new point (a cell the ref's own try could not decide is often decided once it is
+    // cut: fewer edges are left to take the count away).
+    bool decideWholeFromRef(std::span<const Vec3> poly, size_t level);
+    // What crossing an edge of weight `jump` from side `s` of its plane can add to and take away
+    // from c, summed into up and down; and the cell decided by them from a point counted c.
+    static void addJumps(int jump, Sign s, int& down, int& up);
+    bool decidedBy(std::span<const Vec3> poly, int c, int down, int up);
+    // The ref point's side of chain edge idx's plane (exact; taken once per ref).
+    Sign refSide(uint32_t idx);
+    // Whether `serial` names the current ref (a cell's refInside).
+    bool refHere(uint32_t serial) const { return haveRef_ && serial != 0 && serial == refSerial_; }
     // A cell's point y, the rounded centroid of `poly` (a cell the chain cut), and whether it is
     // certified strictly inside the cone and every bound of the cell (exact signs), so that c(y)
     // is the cell's value; with crossings, the sides of y taken on the way are kept in sideY_
@@ -98,6 +116,8 @@ class ChainCells {
     // two points lies in that level's cell, which only its list's edges from that index on may
     // cross.
     bool haveRef_ = false;
+    // Advanced by each takeRef (never 0): a cell's refInside is valid while it names the ref.
+    uint32_t refSerial_ = 0;
     Vec3 refY_;
     int refCount_ = 0;
     size_t crossLevel_ = kNoLevel, crossIndex_ = 0;

@@ -75,6 +75,9 @@ struct ChainCounts {
     // Cells decided whole before the chain's edges left in them were cut
     // (ChainCells::decideWhole), hidden or seen.
     uint32_t hiddenWhole = 0, seenWhole = 0;
+    // Cells labelled from the ref point of a cell holding them, found inside them on the way
+    // down by exact signs: no point of their own, no count (ChainCells::classify).
+    uint32_t refLabels = 0;
     // On the light-edge path: the S_L edges the hierarchy found near the cone, less those in
     // subtrees skipped as seen wholly from one side (silhouette_cull.h), each one's weight taken
     // (occluderEdges: with the skipped ones), against boundaryEdges (those of nonzero weight) and
