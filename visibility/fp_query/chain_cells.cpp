@@ -222,10 +222,7 @@ bool ChainCells::decideWholeFromRef(std::span<const Vec3> poly, size_t level) {
     // mostly taken already.
     if (poly.size() < 3) return false;
     const ChainBuild& chain = q_.chain;
-    if (chain.hasChords()) {
-        for (uint32_t idx : lists_[level])
-            if (!chain[idx].segment) return false;
-    }
+    if (chordLeft(level)) return false;
     int down = 0, up = 0;
     for (uint32_t idx : lists_[level]) {
         const Sign s = refSide(idx);
@@ -236,6 +233,14 @@ bool ChainCells::decideWholeFromRef(std::span<const Vec3> poly, size_t level) {
     crossLevel_ = level;
     crossIndex_ = 0;
     return decidedBy(poly, refCount_, down, up);
+}
+
+bool ChainCells::chordLeft(size_t level) const {
+    const ChainBuild& chain = q_.chain;
+    if (!chain.hasChords()) return false;
+    for (uint32_t idx : lists_[level])
+        if (!chain[idx].segment) return true;
+    return false;
 }
 
 void ChainCells::addJumps(int jump, Sign s, int& down, int& up) {
@@ -279,10 +284,7 @@ bool ChainCells::decideWhole(std::span<const Vec3> poly, size_t level) {
     // up = 0 (c is never negative). y is certified as a leaf's point is; the sides are exact.
     r.budget.enter(WorkStage::LabelCells);
     if (poly.size() < 3) return false;
-    if (chain.hasChords()) {  // a chord left in the list may cut the cell: its jump is not known
-        for (uint32_t idx : lists_[level])
-            if (!chain[idx].segment) return false;
-    }
+    if (chordLeft(level)) return false;  // it may cut the cell: its jump is not known
     Vec3 y;
     const bool certified = certifiedPoint(poly, y);
     if (r.budget.reached()) return true;

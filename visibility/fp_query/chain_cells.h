@@ -68,6 +68,8 @@ class ChainCells {
     // sides, no new point (a cell the ref's own try could not decide is often decided once it is
     // cut: fewer edges are left to take the count away).
     bool decideWholeFromRef(std::span<const Vec3> poly, size_t level);
+    // Whether a chord (whose jump is not known) is left in the list of `level`.
+    bool chordLeft(size_t level) const;
     // What crossing an edge of weight `jump` from side `s` of its plane can add to and take away
     // from c, summed into up and down; and the cell decided by them from a point counted c.
     static void addJumps(int jump, Sign s, int& down, int& up);
