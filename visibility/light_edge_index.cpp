@@ -130,10 +130,22 @@ LightEdgeIndex::LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, 
         useLocal_[u] = faceLocal[f];
     }
 
+    // For the silhouette cull only: a Front triangle that repeats another's three vertices (the
+    // motorbike stores 67,326 of its faces twice, each copy turned the other way: two-sided
+    // sheets) counts as that one, its uses turned where it is turned. Exact: a copy's plane is
+    // the same three points, so x's side of it is the same (a rotation of the other's order) or
+    // the opposite (a reversal), and each use's term s_f (+-1) is the same with the use so
+    // turned. Seen from one side a two-sided sheet's edges then cancel in the cull as a
+    // one-sided surface's do; with both copies a node holding them was never one-sided. The
+    // weights themselves are still taken face by face (useLocal_), so B's own copy counts for
+    // nothing as before (the caller searches any subtree holding B's edges).
+    std::vector<MeshEdges::Use> cullUses;
+    std::vector<uint32_t> cullLocal;
+    twinUses(mesh, cullUses, cullLocal);
     loops.both(
         [&] {
             silhouettes_ = SilhouetteCull(
-                edgeBoxes_, {uses_, begin_, useLocal_, localCorners_, localVertices_}, loops);
+                edgeBoxes_, {cullUses, begin_, cullLocal, localCorners_, localVertices_}, loops);
         },
         [&] {
             // Edges are in the table's (lo, hi) order before the renumbering: old[i] increases
@@ -147,6 +159,48 @@ LightEdgeIndex::LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, 
                 sortedKeys_[k] = uint64_t{e.lo} << 32 | e.hi;
             }
         });
+}
+
+void LightEdgeIndex::twinUses(const PolygonMesh& mesh, std::vector<MeshEdges::Use>& uses,
+                              std::vector<uint32_t>& local) const {
+    // The local triangles by their sorted vertex ids: each run of equal keys is one triangle
+    // stored several times; its first (lowest local number) stands for the others.
+    std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> keys;
+    keys.reserve(localFaces_.size());
+    for (uint32_t l = 0; l < localFaces_.size(); ++l) {
+        const auto& f = mesh.faces[localFaces_[l]];
+        if (f.size() != 3) continue;
+        std::array<uint32_t, 3> key{f[0], f[1], f[2]};
+        std::sort(key.begin(), key.end());
+        keys.emplace_back(key, l);
+    }
+    std::sort(keys.begin(), keys.end());
+    std::vector<uint32_t> twinOf(localFaces_.size());
+    std::vector<uint8_t> turned(localFaces_.size(), 0);
+    for (uint32_t l = 0; l < twinOf.size(); ++l) twinOf[l] = l;
+    for (size_t i = 0; i < keys.size();) {
+        size_t j = i + 1;
+        while (j < keys.size() && keys[j].first == keys[i].first) ++j;
+        const uint32_t first = keys[i].second;
+        const auto& a = mesh.faces[localFaces_[first]];
+        for (size_t k = i + 1; k < j; ++k) {
+            const uint32_t l = keys[k].second;
+            const auto& b = mesh.faces[localFaces_[l]];
+            // The same order up to rotation: b[1] follows b[0] in a as it does in b.
+            size_t at = 0;
+            while (a[at] != b[0]) ++at;
+            twinOf[l] = first;
+            turned[l] = a[(at + 1) % 3] == b[1] ? 0 : 1;
+        }
+        i = j;
+    }
+    uses = uses_;
+    local = useLocal_;
+    for (size_t u = 0; u < uses.size(); ++u) {
+        if (local[u] == kNotFront) continue;
+        if (turned[local[u]] != 0) uses[u].forward = !uses[u].forward;
+        local[u] = twinOf[local[u]];
+    }
 }
 
 std::optional<uint32_t> LightEdgeIndex::find(uint32_t lo, uint32_t hi) const {

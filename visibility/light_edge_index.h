@@ -10,7 +10,10 @@
 // Why each part:
 //   - Per node of the edge hierarchy, bounds on its edges' Front faces' planes
 //     (silhouette_cull.h): a point skips the subtrees it certainly sees from one side, where no
-//     edge is a silhouette (most of those near a hard point's cone).
+//     edge is a silhouette (most of those near a hard point's cone). A triangle stored again
+//     (the same three vertex ids, either way round) counts there as its first copy, its uses
+//     turned where it is turned (twinUses): a two-sided sheet stored as two opposite faces
+//     (the motorbike's 67,326) is then one-sided to the cull, as it is to the weights.
 //   - S_L holds every edge that can bound a shadow of L (light_silhouette_edges.h), so a point
 //     needs only those of its edges that may meet its cone over L: the edge hierarchy finds them
 //     in O(log |S_L| + found), whatever the number of faces in that cone.
@@ -112,6 +115,12 @@ class LightEdgeIndex {
     }
 
   private:
+    // The uses as the silhouette cull counts them: a Front triangle stored more than once (the
+    // same three vertex ids) counts as its first copy, each use turned where its copy runs the
+    // other way round.
+    void twinUses(const PolygonMesh& mesh, std::vector<MeshEdges::Use>& uses,
+                  std::vector<uint32_t>& local) const;
+
     uint32_t light_ = 0;
     size_t vertexCount_ = 0;
     std::vector<MeshEdges::Edge> edges_;

@@ -48,7 +48,10 @@ class SilhouetteCull {
     // The hierarchy's items (edges) with their uses: item i's are uses[begin[i], begin[i + 1]).
     // Only the uses by counting faces count: use k's face is faces[faceOfUse[k]], or none where
     // faceOfUse[k] is kNotCounted. A counting face's plane is that of its first three vertices
-    // (face_plane.h), given as indices into `vertices` (copies of the input coordinates).
+    // (face_plane.h), given as indices into `vertices` (copies of the input coordinates). A use
+    // may name another face than its own where that face's plane is the same three points, the
+    // use turned where their order is reversed: every use's term +-s_f, and so every weight, is
+    // the same (LightEdgeIndex counts a repeated triangle as its first copy so).
     struct Edges {
         std::span<const MeshEdges::Use> uses;
         std::span<const uint32_t> begin;
