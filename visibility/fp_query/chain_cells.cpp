@@ -330,6 +330,9 @@ std::optional<int> ChainCells::countByCrossings(const Vec3& y) {
     // Whether the triangle (x, ref, y) lies in the closed half-space in front of B's plane
     // (exact signs; asked only when an edge cut by that plane crosses it: 0 = not yet known).
     int triangleInFront = 0;
+    // The triangle's plane, formed at the first edge whose plane separates the two points.
+    PlaneOrient triangle;
+    bool haveTriangle = false;
     for (size_t j = crossIndex_; j < list.size(); ++j) {
         const ChainBuild::Edge& e = q_.chain[list[j]];
         const uint32_t idx = list[j];
@@ -352,13 +355,19 @@ std::optional<int> ChainCells::countByCrossings(const Vec3& y) {
         if (s0 == s1 && s0 != Sign::Zero) continue;  // both strictly on one side of its plane
         // A chord's plane between them: the path may cross the chord, by an unknown jump.
         if (!e.segment) return std::nullopt;
+        // (Counted as the five signs the test decides, two of them known already: s0 and s1.)
         if (!r.budget.spend(5)) return std::nullopt;
-        const Sign qa = orientSign(x, refY_, y, e.a), qb = orientSign(x, refY_, y, e.b);
+        if (!haveTriangle) {
+            triangle = PlaneOrient(x, refY_, y);
+            haveTriangle = true;
+        }
+        const Sign qa = exactSign(triangle, e.a), qb = exactSign(triangle, e.b);
         if (qa == qb && qa != Sign::Zero) continue;  // the segment misses the triangle's plane
         if (qa == Sign::Zero || qb == Sign::Zero) return std::nullopt;
-        // The segment's line against the triangle's three sides.
-        const Sign t0 = orientSign(e.a, e.b, x, refY_), t1 = orientSign(e.a, e.b, refY_, y),
-                   t2 = orientSign(e.a, e.b, y, x);
+        // The segment's line against the triangle's three sides: orient3d(a, b, x, ref) and
+        // orient3d(a, b, y, x) are the edge's plane (x, a, b) at the ref and at y, an even and
+        // an odd permutation of it: s0 and -s1, exactly.
+        const Sign t0 = s0, t1 = orientSign(e.a, e.b, refY_, y), t2 = -s1;
         if ((t0 == -t1 && t0 != Sign::Zero) || (t1 == -t2 && t1 != Sign::Zero) ||
             (t2 == -t0 && t2 != Sign::Zero))
             continue;  // it passes beside the triangle
