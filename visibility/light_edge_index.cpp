@@ -1,6 +1,7 @@
 #include "visibility/light_edge_index.h"
 
 #include <algorithm>
+#include <numeric>
 #include <utility>
 
 #include "visibility/face_plane.h"
@@ -139,11 +140,12 @@ LightEdgeIndex::LightEdgeIndex(const PolygonMesh& mesh, const MeshEdges& edges, 
     // one-sided surface's do; with both copies a node holding them was never one-sided. The
     // weights themselves are still taken face by face (useLocal_), so B's own copy counts for
     // nothing as before (the caller searches any subtree holding B's edges).
-    std::vector<MeshEdges::Use> cullUses;
-    std::vector<uint32_t> cullLocal;
-    twinUses(mesh, cullUses, cullLocal);
+    // (Found in the cull's branch: only it reads them, beside the sorted keys' build.)
     loops.both(
         [&] {
+            std::vector<MeshEdges::Use> cullUses;
+            std::vector<uint32_t> cullLocal;
+            twinUses(mesh, cullUses, cullLocal);
             silhouettes_ = SilhouetteCull(
                 edgeBoxes_, {cullUses, begin_, cullLocal, localCorners_, localVertices_}, loops);
         },
@@ -176,8 +178,8 @@ void LightEdgeIndex::twinUses(const PolygonMesh& mesh, std::vector<MeshEdges::Us
     }
     std::sort(keys.begin(), keys.end());
     std::vector<uint32_t> twinOf(localFaces_.size());
+    std::iota(twinOf.begin(), twinOf.end(), 0u);
     std::vector<uint8_t> turned(localFaces_.size(), 0);
-    for (uint32_t l = 0; l < twinOf.size(); ++l) twinOf[l] = l;
     for (size_t i = 0; i < keys.size();) {
         size_t j = i + 1;
         while (j < keys.size() && keys[j].first == keys[i].first) ++j;
